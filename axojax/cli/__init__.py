@@ -1,0 +1,1 @@
+"""The ``axojax`` command line (see INTERFACE.md). One module per subcommand."""

@@ -1,0 +1,152 @@
+"""Flags shared by every subcommand that builds a model, and their validation.
+
+Every bad value ends in :class:`CLIError`, which ``main`` prints as one line on stderr
+naming the flag, with a non-zero exit status.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from typing import Any
+
+import numpy as np
+
+from ..models import PRESETS, Model, from_file, preset
+from ..params import PARAM_NAMES, Params
+from ..units import Units
+
+
+class CLIError(Exception):
+    """A user error, reported as one line on stderr."""
+
+
+# flag name -> Params field
+PARAM_FLAGS = {
+    "p": "p",
+    "ks": "ks",
+    "kl": "kl",
+    "cl": "cl",
+    "gamma": "gamma",
+    "ktheta": "ktheta",
+    "out-of-plane": "out_of_plane",
+    "inactive-factor": "inactive_factor",
+    "imbalance": "imbalance",
+    "a0": "a0",
+}
+FIELD_FLAGS = {v: k for k, v in PARAM_FLAGS.items()}
+
+
+def finite_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
+    return value
+
+
+def add_model_flags(parser: argparse.ArgumentParser, params: tuple[str, ...] = tuple(PARAM_FLAGS)) -> None:
+    g = parser.add_argument_group("model")
+    src = g.add_mutually_exclusive_group()
+    src.add_argument("--model", default=None, help=f"preset: {', '.join(PRESETS)} (default seven)")
+    src.add_argument("--model-file", default=None, metavar="PATH", help="TOML/JSON cross-section file")
+    g.add_argument("--elements", default=10, metavar="N", help="elements per filament (default 10)")
+    d = Params()
+    for flag in params:
+        field = PARAM_FLAGS[flag]
+        g.add_argument(f"--{flag}", type=finite_float, default=None, metavar="X", help=f"dimensionless {field} (default {getattr(d, field):g})")
+    g.add_argument("--kl-ratio", type=finite_float, default=None, metavar="R", help="tie kl = ks / R wherever ks is set, swept or fitted")
+    u = parser.add_argument_group("units")
+    du = Units()
+    u.add_argument("--length-um", type=finite_float, default=du.length_um, metavar="UM", help="cilium length L in um (default 12)")
+    u.add_argument("--ei", type=finite_float, default=du.ei_pn_um2, metavar="PN_UM2", help="EI of one filament, pN um^2 (default 800/11)")
+    u.add_argument("--cn", type=finite_float, default=du.cn_pn_s_um2, metavar="PN_S_UM2", help="resistive coefficient, pN s um^-2 (default 0.003)")
+    parser.add_argument("--json", action="store_true", help="print one JSON document on stdout and nothing else")
+
+
+def model_from_args(args: argparse.Namespace) -> Model:
+    try:
+        n = int(str(args.elements))
+    except ValueError:
+        raise CLIError(f"--elements: expected an integer >= 1, got {args.elements!r}") from None
+    if n < 1:
+        raise CLIError(f"--elements: expected an integer >= 1, got {n}")
+    try:
+        if args.model_file is not None:
+            return from_file(args.model_file, n_elements=n)
+        return preset(args.model or "seven", n_elements=n)
+    except ValueError as err:
+        flag = "--model-file" if args.model_file is not None else "--model"
+        raise CLIError(f"{flag}: {err}") from None
+
+
+def kl_ratio(args: argparse.Namespace) -> float | None:
+    r = getattr(args, "kl_ratio", None)
+    if r is not None and r <= 0:
+        raise CLIError(f"--kl-ratio: must be > 0, got {r:g}")
+    return r
+
+
+def params_from_args(args: argparse.Namespace) -> Params:
+    values = {}
+    for flag, field in PARAM_FLAGS.items():
+        v = getattr(args, field, None)
+        if v is not None:
+            values[field] = v
+    params = Params().with_values(values, kl_ratio(args))
+    check_params(params)
+    return params
+
+
+def check_params(params: Params) -> None:
+    try:
+        params.validate()
+    except ValueError as err:
+        bad = next((f for f in PARAM_NAMES if f" {f} " in f" {err} "), None)
+        flag = f"--{FIELD_FLAGS[bad]}" if bad else "parameters"
+        raise CLIError(f"{flag}: {err}") from None
+
+
+def units_from_args(args: argparse.Namespace) -> Units:
+    try:
+        return Units(args.length_um, args.ei, args.cn)
+    except ValueError as err:
+        name = str(err).split()[1]
+        flag = {"length_um": "--length-um", "ei_pn_um2": "--ei", "cn_pn_s_um2": "--cn"}.get(name, "units")
+        raise CLIError(f"{flag}: {err}") from None
+
+
+def parse_names(text: str, flag: str) -> list[str]:
+    """Comma-separated dimensionless flag names -> Params fields."""
+    names = [t.strip() for t in text.split(",") if t.strip()]
+    if not names:
+        raise CLIError(f"{flag}: expected comma-separated parameter names")
+    out = []
+    for n in names:
+        field = PARAM_FLAGS.get(n) or (n if n in PARAM_NAMES else None)
+        if field is None:
+            raise CLIError(f"{flag}: unknown parameter {n!r}; choose from {', '.join(PARAM_FLAGS)}")
+        out.append(field)
+    return out
+
+
+def to_jsonable(obj: Any) -> Any:
+    if isinstance(obj, dict):
+        return {k: to_jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [to_jsonable(v) for v in obj]
+    if isinstance(obj, (np.ndarray,)) or hasattr(obj, "__array__"):
+        arr = np.asarray(obj)
+        return to_jsonable(arr.tolist()) if arr.ndim else to_jsonable(arr.item())
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return obj
+
+
+def emit_json(doc: dict) -> None:
+    json.dump(to_jsonable(doc), sys.stdout, indent=2, allow_nan=False)
+    sys.stdout.write("\n")

@@ -1,0 +1,54 @@
+"""Entry point of the ``axojax`` command."""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+from .common import CLIError, emit_json
+
+SUBCOMMANDS = {
+    "modes": "spectrum and dominant mode at one parameter point",
+}
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors (no usage block) on stderr."""
+
+    def error(self, message: str) -> None:  # noqa: D401
+        raise CLIError(message)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="axojax", description="Flutter of the ciliary axoneme: eigen-analysis, sweeps, fits and simulations.")
+    sub = parser.add_subparsers(dest="command", parser_class=_Parser)
+    for name, help_text in SUBCOMMANDS.items():
+        module = importlib.import_module(f"axojax.cli.{name}")
+        p = sub.add_parser(name, help=help_text, description=help_text)
+        module.add_arguments(p)
+        p.set_defaults(_module=module)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+        if args.command is None:
+            parser.print_help(sys.stderr)
+            return 2
+        doc = args._module.run(args)
+    except CLIError as err:
+        print(f"axojax: error: {err}", file=sys.stderr)
+        return 2
+    if doc is not None:
+        if getattr(args, "json", False):
+            emit_json(doc)
+        else:
+            print(args._module.render(doc))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,88 @@
+"""``axojax modes``: spectrum and dominant mode at one parameter point."""
+
+from __future__ import annotations
+
+import argparse
+
+import jax
+import numpy as np
+
+from ..eigen.mode import dominant_mode, spectrum
+from ..units import Units
+from . import common
+
+METRICS = ("growth_rate_per_s", "frequency_hz", "wavelength_um")
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    common.add_model_flags(parser)
+    parser.add_argument("--top", type=int, default=10, metavar="K", help="how many eigenvalues to list (default 10)")
+    parser.add_argument("--grad", default=None, metavar="NAMES", help="comma-separated parameters to differentiate by, e.g. p,ks")
+
+
+def metric_gradients(model, params, names: list[str], kl_ratio, units: Units) -> dict:
+    """d(metric)/d(name) for the INTERFACE metrics (forward mode, one jvp per name)."""
+
+    def metrics(values):
+        mode = dominant_mode(model, params.with_values(values, kl_ratio))
+        return {
+            "growth_rate_per_s": mode.growth_rate_per_s(units),
+            "frequency_hz": mode.frequency_hz(units),
+            "wavelength_um": mode.wavelength_um(units),
+        }
+
+    values = {n: jax.numpy.asarray(getattr(params, n), dtype=float) for n in names}
+    jac = jax.jit(jax.jacfwd(metrics))(values)
+    return {m: {common.FIELD_FLAGS[n]: float(jac[m][n]) for n in names} for m in METRICS}
+
+
+def run(args: argparse.Namespace) -> dict:
+    model = common.model_from_args(args)
+    params = common.params_from_args(args)
+    units = common.units_from_args(args)
+    if args.top < 1:
+        raise common.CLIError(f"--top: expected an integer >= 1, got {args.top}")
+    names = common.parse_names(args.grad, "--grad") if args.grad else []
+    lam = np.asarray(spectrum(model, params, min(args.top, model.n_dof)))
+    mode = dominant_mode(model, params)
+    doc = {
+        "model": model.name,
+        "n_dof": model.n_dof,
+        "tau_s": units.tau_s,
+        "eigenvalues": [[float(z.real), float(z.imag)] for z in lam],
+        "dominant": mode.report(units),
+    }
+    if names:
+        doc["gradients"] = metric_gradients(model, params, names, common.kl_ratio(args), units)
+    return doc
+
+
+def render(doc: dict) -> str:
+    d = doc["dominant"]
+    lines = [
+        f"model {doc['model']}: {doc['n_dof']} unknowns, tau = {doc['tau_s']:.5g} s",
+        "",
+        "  #        Re(lambda)        Im(lambda)",
+    ]
+    for k, (re, im) in enumerate(doc["eigenvalues"]):
+        lines.append(f"{k:3d}  {re:16.6f}  {im:+16.6f}")
+
+    def fmt(x, unit, spec=".4g"):
+        return "-" if x is None else f"{x:{spec}} {unit}"
+
+    lines += [
+        "",
+        f"dominant mode: {d['classification']}",
+        f"  eigenvalue      {d['eigenvalue'][0]:.6f} {d['eigenvalue'][1]:+.6f}i",
+        f"  growth rate     {fmt(d['growth_rate_per_s'], '1/s')}",
+        f"  frequency       {fmt(d['frequency_hz'], 'Hz')}",
+        f"  wavelength      {fmt(d['wavelength_um'], 'um')}",
+        f"  velocity        {fmt(d['velocity_um_per_s'], 'um/s')}",
+        f"  direction       {d['direction'] or '-'}",
+        f"  out-of-plane    {fmt(d['out_of_plane_ratio'], '', '.3g')}",
+    ]
+    if "gradients" in doc:
+        lines += ["", "gradients (per unit of the dimensionless parameter):"]
+        for metric, g in doc["gradients"].items():
+            lines.append(f"  d {metric:18s} " + "  ".join(f"/d{k}: {v:.6g}" for k, v in g.items()))
+    return "\n".join(lines)

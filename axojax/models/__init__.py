@@ -1,0 +1,22 @@
+"""Axoneme models: cross-sections, presets and model files.
+
+``ax.models.seven(n_elements=10)`` builds a preset; ``ax.models.from_file(path)`` a
+user's cross-section; ``ax.models.build_model(section)`` any :class:`CrossSection`.
+"""
+
+from ..fem import Profiles
+from .io import load_section, section_from_dict
+from .presets import PRESETS, beck, four, nine, preset, seven, single, two
+from .section import ActivePair, CrossSection, Link, Model, build_model
+
+
+def from_file(path, n_elements: int = 10, profiles: Profiles = Profiles()) -> Model:
+    """Build a model from a TOML/JSON cross-section file (see :mod:`axojax.models.io`)."""
+    return build_model(load_section(path), n_elements, profiles)
+
+
+__all__ = [
+    "ActivePair", "CrossSection", "Link", "Model", "Profiles", "PRESETS",
+    "beck", "build_model", "four", "from_file", "load_section", "nine", "preset",
+    "section_from_dict", "seven", "single", "two",
+]

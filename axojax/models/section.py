@@ -1,0 +1,274 @@
+"""Cross-sections and models: the static structure of an axoneme model.
+
+A :class:`CrossSection` says where the filaments sit, how they are linked and which
+pairs carry dynein. A :class:`Model` adds the mesh and the filament-level matrices, and
+precomputes the small "truss" matrices over (filament, direction) pairs that the
+assembly Kronecker-multiplies with filament-level matrices (MODEL.md sections 2-3).
+Nothing here is traced: a model is built once with numpy and hashed by identity, so it
+can be a static argument of ``jax.jit``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from typing import Literal, Sequence
+
+import numpy as np
+
+from ..fem import FilamentMatrices, Mesh, Profiles, filament_matrices, make_mesh
+
+LinkKind = Literal["spoke", "link"]
+LoadKind = Literal["pairs", "distributed", "tip"]
+LOADS = ("pairs", "distributed", "tip")
+KINDS = ("spoke", "link")
+
+
+@dataclasses.dataclass(frozen=True)
+class Link:
+    """A distributed elastic/viscous link between filaments ``i`` and ``j``.
+
+    ``kind="spoke"`` takes stiffness k_s; ``kind="link"`` takes k_l, times
+    ``inactive_factor`` when (i, j) is not an active pair.
+    """
+
+    i: int
+    j: int
+    kind: LinkKind = "link"
+
+
+@dataclasses.dataclass(frozen=True)
+class ActivePair:
+    """Dynein between ``i`` (pulled baseward) and ``j`` (pulled tipward).
+
+    ``group`` 0 carries force p, group 1 carries p / imbalance (``Params.imbalance``).
+    """
+
+    i: int
+    j: int
+    group: int = 0
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class CrossSection:
+    """Filament layout of a model.
+
+    Attributes:
+        name: label used in outputs.
+        positions: (F, 2) cross-section positions (y, z), y = beat-plane direction.
+            Only the directions between linked filaments matter; units are arbitrary.
+        links: the elastic/viscous links.
+        active_pairs: the dynein-loaded pairs.
+        n_dirs: transverse directions, 1 (planar, y only) or 2 (y and z).
+        ei: (F,) relative flexural rigidity of each filament (1 = EI of the unit).
+        drag: (F,) relative resistive coefficient of each filament (1 = c_n).
+        load: "pairs" (balanced dynein on active pairs), "distributed" (unbalanced
+            distributed follower load on every filament, the ``single`` preset) or
+            "tip" (Beck's tip follower load on every filament).
+    """
+
+    name: str
+    positions: np.ndarray
+    links: tuple[Link, ...] = ()
+    active_pairs: tuple[ActivePair, ...] = ()
+    n_dirs: int = 2
+    ei: np.ndarray | None = None
+    drag: np.ndarray | None = None
+    load: LoadKind = "pairs"
+
+    def __post_init__(self) -> None:
+        pos = np.asarray(self.positions, dtype=float)
+        if pos.ndim == 1:
+            pos = np.stack([pos, np.zeros_like(pos)], axis=1)
+        if pos.ndim != 2 or pos.shape[1] != 2 or pos.shape[0] < 1:
+            raise ValueError(f"positions must have shape (F, 2), got {np.shape(self.positions)}")
+        if not np.all(np.isfinite(pos)):
+            raise ValueError(f"positions of cross-section {self.name!r} must be finite")
+        n = pos.shape[0]
+        object.__setattr__(self, "positions", pos)
+        for field, default in (("ei", 1.0), ("drag", 1.0)):
+            val = getattr(self, field)
+            arr = np.full(n, default) if val is None else np.asarray(val, dtype=float).reshape(-1)
+            if arr.shape != (n,):
+                raise ValueError(f"{field} must have one value per filament ({n}), got {arr.shape[0]}")
+            if not np.all(np.isfinite(arr)) or np.any(arr <= 0):
+                raise ValueError(f"{field} must be finite and positive, got {arr.tolist()}")
+            object.__setattr__(self, field, arr)
+        if self.n_dirs not in (1, 2):
+            raise ValueError(f"n_dirs must be 1 or 2, got {self.n_dirs!r}")
+        if self.load not in LOADS:
+            raise ValueError(f"load must be one of {LOADS}, got {self.load!r}")
+        links = tuple(l if isinstance(l, Link) else Link(*l) for l in self.links)
+        pairs = tuple(a if isinstance(a, ActivePair) else ActivePair(*a) for a in self.active_pairs)
+        object.__setattr__(self, "links", links)
+        object.__setattr__(self, "active_pairs", pairs)
+        for what, items in (("link", links), ("active pair", pairs)):
+            for it in items:
+                for idx in (it.i, it.j):
+                    if isinstance(idx, bool) or not isinstance(idx, (int, np.integer)) or not 0 <= idx < n:
+                        raise ValueError(
+                            f"{what} ({it.i}, {it.j}) of {self.name!r} names filament {idx!r}, "
+                            f"but filaments are 0..{n - 1}"
+                        )
+                if it.i == it.j:
+                    raise ValueError(f"{what} ({it.i}, {it.j}) of {self.name!r} joins a filament to itself")
+                if self.n_dirs == 2 and np.allclose(pos[it.i], pos[it.j]):
+                    raise ValueError(f"{what} ({it.i}, {it.j}) of {self.name!r} joins coincident filaments")
+        for l in links:
+            if l.kind not in KINDS:
+                raise ValueError(f"link ({l.i}, {l.j}) has kind {l.kind!r}; expected one of {KINDS}")
+        for a in pairs:
+            if a.group not in (0, 1):
+                raise ValueError(f"active pair ({a.i}, {a.j}) has group {a.group!r}; expected 0 or 1")
+        if self.load == "pairs" and self.n_dirs == 1:
+            ys = pos[:, 0]
+            for it in links + pairs:
+                if ys[it.j] == ys[it.i]:
+                    raise ValueError(f"planar link ({it.i}, {it.j}) joins filaments at the same y")
+
+    @property
+    def n_filaments(self) -> int:
+        return self.positions.shape[0]
+
+    def rotated(self, angle_rad: float) -> "CrossSection":
+        """The same cross-section with every position rotated by ``angle_rad``."""
+        c, s = math.cos(angle_rad), math.sin(angle_rad)
+        rot = np.array([[c, -s], [s, c]])
+        return dataclasses.replace(self, positions=self.positions @ rot.T)
+
+    def relabelled(self, order: Sequence[int]) -> "CrossSection":
+        """The same cross-section with filament ``order[k]`` renamed ``k``."""
+        order = list(order)
+        new = {old: k for k, old in enumerate(order)}
+        return dataclasses.replace(
+            self,
+            positions=self.positions[order],
+            ei=self.ei[order],
+            drag=self.drag[order],
+            links=tuple(Link(new[l.i], new[l.j], l.kind) for l in self.links),
+            active_pairs=tuple(ActivePair(new[a.i], new[a.j], a.group) for a in self.active_pairs),
+        )
+
+
+def _unit(v: np.ndarray, n_dirs: int) -> np.ndarray:
+    if n_dirs == 1:
+        return np.sign(v[:1])
+    return v / np.linalg.norm(v)
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class Model:
+    """A cross-section discretised on a mesh, with precomputed static truss matrices.
+
+    Unknowns are ordered filament-major, ``q[f, a, r]`` flattened: filament f,
+    direction a (0 = y, 1 = z), filament dof r (2 N_e of them). ``n_fd = F * d``.
+
+    Truss arrays (all numpy, static):
+        link_B: (E, n_fd) rows B_e (-n_e at i, +n_e at j).
+        link_is_spoke, link_is_active: (E,) booleans.
+        link_D: (E, n_fd) rows (e_j - e_i) for each direction (tangent-angle coupling),
+            stacked as (E * d, n_fd) in ``theta_laplacian``.
+        pair_B: (P, n_fd) B_a of each active pair; pair_w: (P, n_fd) w_a (n_a/2 at i, j).
+        pair_follow: (P, n_fd, n_fd) the matrices (e_j - e_i)(e_i + e_j)^T / 2 (x) I_d.
+        pair_sign: (P, n_fd) -1 at i, +1 at j in every direction (axial force sign).
+        pair_group: (P,) 0 or 1.
+    """
+
+    section: CrossSection
+    mesh: Mesh
+    matrices: FilamentMatrices
+    profiles: Profiles
+    link_B: np.ndarray
+    link_is_spoke: np.ndarray
+    link_is_active: np.ndarray
+    theta_laplacian: np.ndarray
+    pair_B: np.ndarray
+    pair_w: np.ndarray
+    pair_follow: np.ndarray
+    pair_sign: np.ndarray
+    pair_group: np.ndarray
+
+    @property
+    def name(self) -> str:
+        return self.section.name
+
+    @property
+    def n_filaments(self) -> int:
+        return self.section.n_filaments
+
+    @property
+    def n_dirs(self) -> int:
+        return self.section.n_dirs
+
+    @property
+    def n_elements(self) -> int:
+        return self.mesh.n_elements
+
+    @property
+    def n_fd(self) -> int:
+        return self.n_filaments * self.n_dirs
+
+    @property
+    def n_dof(self) -> int:
+        """Total unknowns, F * d * 2 N_e."""
+        return self.n_fd * self.mesh.n_dof
+
+    def __repr__(self) -> str:
+        return (
+            f"Model({self.name!r}, filaments={self.n_filaments}, dirs={self.n_dirs}, "
+            f"elements={self.n_elements}, n_dof={self.n_dof}, load={self.section.load!r})"
+        )
+
+
+def build_model(section: CrossSection, n_elements: int = 10, profiles: Profiles = Profiles()) -> Model:
+    """Discretise ``section`` with ``n_elements`` cubic Hermite elements per filament."""
+    mesh = make_mesh(n_elements)
+    mats = filament_matrices(mesh, profiles)
+    F, d = section.n_filaments, section.n_dirs
+    nfd = F * d
+    pos = section.positions
+
+    def dirvec(i: int, j: int) -> np.ndarray:
+        return _unit(pos[j] - pos[i], d)
+
+    def spread(values_i: np.ndarray, i: int, values_j: np.ndarray, j: int) -> np.ndarray:
+        row = np.zeros((F, d))
+        row[i] += values_i
+        row[j] += values_j
+        return row.ravel()
+
+    active = {frozenset((a.i, a.j)) for a in section.active_pairs}
+    link_B = np.array([spread(-dirvec(l.i, l.j), l.i, dirvec(l.i, l.j), l.j) for l in section.links]).reshape(-1, nfd)
+    is_spoke = np.array([l.kind == "spoke" for l in section.links], dtype=bool)
+    is_active = np.array([frozenset((l.i, l.j)) in active for l in section.links], dtype=bool)
+    eye_d = np.eye(d)
+    lap = np.zeros((nfd, nfd))
+    for l in section.links:
+        diff = np.zeros(F)
+        diff[l.j], diff[l.i] = 1.0, -1.0
+        lap += np.kron(np.outer(diff, diff), eye_d)
+
+    pair_B, pair_w, pair_follow, pair_sign = [], [], [], []
+    for a in section.active_pairs:
+        n = dirvec(a.i, a.j)
+        pair_B.append(spread(-n, a.i, n, a.j))
+        pair_w.append(spread(n / 2, a.i, n / 2, a.j))
+        e_i, e_j = np.eye(F)[a.i], np.eye(F)[a.j]
+        pair_follow.append(np.kron(np.outer(e_j - e_i, e_i + e_j) / 2, eye_d))
+        pair_sign.append(spread(-np.ones(d), a.i, np.ones(d), a.j))
+    P = len(section.active_pairs)
+    return Model(
+        section=section,
+        mesh=mesh,
+        matrices=mats,
+        profiles=profiles,
+        link_B=link_B,
+        link_is_spoke=is_spoke,
+        link_is_active=is_active,
+        theta_laplacian=lap,
+        pair_B=np.array(pair_B).reshape(P, nfd),
+        pair_w=np.array(pair_w).reshape(P, nfd),
+        pair_follow=np.array(pair_follow).reshape(P, nfd, nfd),
+        pair_sign=np.array(pair_sign).reshape(P, nfd),
+        pair_group=np.array([a.group for a in section.active_pairs], dtype=int),
+    )

@@ -1,0 +1,112 @@
+"""The parameter pytree: every traced, dimensionless quantity of a model.
+
+``Params`` is an equinox Module, so it is a pytree: ``jax.vmap`` over a batch of
+parameters, ``jax.grad`` with respect to any field, ``optax`` updates on it. Every
+field is dimensionless (MODEL.md section 1); :class:`axojax.Units` converts from
+physical values.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+from jaxtyping import ArrayLike
+
+PARAM_NAMES = ("p", "ks", "kl", "cl", "gamma", "ktheta", "out_of_plane", "inactive_factor", "imbalance", "a0")
+
+# (lower bound, inclusive?) of each field; gamma is unbounded.
+_BOUNDS = {
+    "p": (0.0, True),
+    "ks": (0.0, True),
+    "kl": (0.0, True),
+    "cl": (0.0, True),
+    "ktheta": (0.0, True),
+    "out_of_plane": (0.0, False),
+    "inactive_factor": (0.0, True),
+    "imbalance": (0.0, False),
+    "a0": (0.0, True),
+}
+
+
+class Params(eqx.Module):
+    """Dimensionless model parameters (defaults: paper figure 7, MODEL.md section 6).
+
+    Attributes:
+        p: dynein force per length on each active pair, p_dim L^3 / EI (for ``beck``,
+            the tip load P L^2 / EI).
+        ks: radial-spoke stiffness per length, k_dim L^4 / EI.
+        kl: inter-doublet (nexin) link stiffness per length, k_dim L^4 / EI.
+        cl: damping of every link and spoke, c_dim / c_n.
+        gamma: dynein moment gain (paper section 2.3.1).
+        ktheta: tangent-angle coupling, k_theta_dim L^2 / EI.
+        out_of_plane: ratio of z- to y-bending stiffness (paper: 2).
+        inactive_factor: stiffness factor of ring links that are not active pairs.
+        imbalance: force ratio of active group 0 to group 1 (group 1 carries p / imbalance).
+        a0: dynein arm spacing / L, sets the static moment p a0 (only the load b).
+    """
+
+    p: ArrayLike = 300.0
+    ks: ArrayLike = 1e6
+    kl: ArrayLike = 1e3
+    cl: ArrayLike = 1 / 200
+    gamma: ArrayLike = 0.0
+    ktheta: ArrayLike = 0.0
+    out_of_plane: ArrayLike = 2.0
+    inactive_factor: ArrayLike = 10.0
+    imbalance: ArrayLike = 1.0
+    a0: ArrayLike = 0.2 / 12
+
+    def replace(self, **changes: Any) -> "Params":
+        """A copy with some fields changed (unknown names raise ``ValueError``)."""
+        bad = set(changes) - set(PARAM_NAMES)
+        if bad:
+            raise ValueError(f"unknown parameter(s) {sorted(bad)}; known: {', '.join(PARAM_NAMES)}")
+        out = self
+        for k, v in changes.items():
+            out = eqx.tree_at(lambda prm, k=k: getattr(prm, k), out, v)
+        return out
+
+    def with_values(self, values: dict[str, Any], kl_ratio: Any = None) -> "Params":
+        """A copy with ``values`` set; with ``kl_ratio`` R, kl is tied to ks / R (after
+        the values are set, so a swept or fitted ks carries kl along)."""
+        out = self.replace(**values)
+        if kl_ratio is not None:
+            out = out.replace(kl=out.ks / kl_ratio)
+        return out
+
+    def as_dict(self) -> dict[str, Any]:
+        return {k: getattr(self, k) for k in PARAM_NAMES}
+
+    def validate(self) -> "Params":
+        """Check concrete values; raise a one-line ``ValueError`` naming the bad one.
+
+        Traced values (inside ``jit``/``vmap``) are not checked. Returns ``self``.
+        """
+        for name in PARAM_NAMES:
+            value = getattr(self, name)
+            if isinstance(value, jax.core.Tracer):
+                continue
+            arr = jnp.asarray(value)
+            if not jnp.issubdtype(arr.dtype, jnp.number):
+                raise ValueError(f"parameter {name} must be a number, got {value!r}")
+            if not bool(jnp.all(jnp.isfinite(arr))):
+                raise ValueError(f"parameter {name} must be finite, got {value!r}")
+            if name in _BOUNDS:
+                low, inclusive = _BOUNDS[name]
+                ok = jnp.all(arr >= low) if inclusive else jnp.all(arr > low)
+                if not bool(ok):
+                    rel = ">=" if inclusive else ">"
+                    raise ValueError(f"parameter {name} must be {rel} {low:g}, got {_show(value)}")
+        return self
+
+
+def _show(value: Any) -> str:
+    try:
+        f = float(value)
+        return f"{f:g}" if math.isfinite(f) else str(f)
+    except (TypeError, ValueError):
+        return repr(value)

@@ -1,0 +1,81 @@
+"""Physical units: converting dimensionless results to Hz, 1/s and um, and physical
+parameters to the dimensionless ones (MODEL.md section 1).
+
+Scales: length L, force EI / L^2 (EI of one filament), time tau = c_n L^4 / EI.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import jax.numpy as jnp
+from jaxtyping import ArrayLike
+
+
+@dataclasses.dataclass(frozen=True)
+class Units:
+    """Physical scales of a model (defaults: paper table 2).
+
+    Attributes:
+        length_um: cilium length L in um.
+        ei_pn_um2: flexural rigidity of one filament in pN um^2 (800/11: one of 11
+            microtubules of an 800 pN um^2 axoneme).
+        cn_pn_s_um2: resistive-force coefficient of one filament in pN s um^-2.
+    """
+
+    length_um: float = 12.0
+    ei_pn_um2: float = 800.0 / 11.0
+    cn_pn_s_um2: float = 0.003
+
+    def __post_init__(self) -> None:
+        for name in ("length_um", "ei_pn_um2", "cn_pn_s_um2"):
+            v = getattr(self, name)
+            if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
+                raise ValueError(f"unit {name} must be a finite positive number, got {v!r}")
+
+    # -- scales ---------------------------------------------------------------------
+    @property
+    def tau_s(self) -> float:
+        """Time scale tau = c_n L^4 / EI in seconds."""
+        return self.cn_pn_s_um2 * self.length_um**4 / self.ei_pn_um2
+
+    @property
+    def force_pn(self) -> float:
+        """Force scale EI / L^2 in pN."""
+        return self.ei_pn_um2 / self.length_um**2
+
+    # -- results to physical ----------------------------------------------------------
+    def frequency_hz(self, eigenvalue: ArrayLike) -> ArrayLike:
+        """|Im lambda| / (2 pi tau)."""
+        return jnp.abs(jnp.imag(eigenvalue)) / (2 * jnp.pi * self.tau_s)
+
+    def growth_rate_per_s(self, eigenvalue: ArrayLike) -> ArrayLike:
+        """Re lambda / tau."""
+        return jnp.real(eigenvalue) / self.tau_s
+
+    def length_to_um(self, length: ArrayLike) -> ArrayLike:
+        return length * self.length_um
+
+    # -- physical parameters to dimensionless ---------------------------------------
+    def p_from_pn_per_um(self, p_pn_per_um: ArrayLike) -> ArrayLike:
+        """Dynein force per length (pN/um) to p = p_dim L^3 / EI."""
+        return p_pn_per_um * self.length_um**3 / self.ei_pn_um2
+
+    def p_to_pn_per_um(self, p: ArrayLike) -> ArrayLike:
+        return p * self.ei_pn_um2 / self.length_um**3
+
+    def k_from_pn_per_um2(self, k_pn_per_um2: ArrayLike) -> ArrayLike:
+        """Distributed stiffness (pN/um^2) to k = k_dim L^4 / EI."""
+        return k_pn_per_um2 * self.length_um**4 / self.ei_pn_um2
+
+    def k_to_pn_per_um2(self, k: ArrayLike) -> ArrayLike:
+        return k * self.ei_pn_um2 / self.length_um**4
+
+    def c_from_pn_s_per_um2(self, c_pn_s_per_um2: ArrayLike) -> ArrayLike:
+        """Link damping (pN s/um^2) to c = c_dim / c_n."""
+        return c_pn_s_per_um2 / self.cn_pn_s_um2
+
+    def ktheta_from_pn_um2(self, ktheta_pn_um2: ArrayLike) -> ArrayLike:
+        """Tangent-angle coupling (pN um^2 per rad, per length) to k_theta L^2 / EI."""
+        return ktheta_pn_um2 * self.length_um**2 / self.ei_pn_um2

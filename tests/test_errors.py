@@ -1,0 +1,80 @@
+"""Bad input ends in one clear line, in Python and on the command line."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import axojax as ax
+from axojax.cli.main import main
+
+
+@pytest.mark.parametrize(
+    "change,match",
+    [({"ks": -1.0}, "ks must be >= 0"), ({"p": float("nan")}, "p must be finite"), ({"cl": -0.1}, "cl must be >= 0"), ({"out_of_plane": 0.0}, "out_of_plane must be > 0")],
+)
+def test_python_bad_params(change, match):
+    with pytest.raises(ValueError, match=match):
+        ax.dominant_mode(ax.models.two(), ax.Params().replace(**change))
+
+
+def test_python_bad_models(tmp_path):
+    with pytest.raises(ValueError, match="n_elements must be an integer >= 1"):
+        ax.models.seven(n_elements=0)
+    with pytest.raises(ValueError, match="unknown model 'eleven'"):
+        ax.models.preset("eleven")
+    with pytest.raises(ValueError, match="names filament 5, but filaments are 0..1"):
+        ax.models.CrossSection("bad", np.array([[0.0, 0.0], [1.0, 0.0]]), links=(ax.models.Link(0, 5),))
+    bad = tmp_path / "bad.toml"
+    bad.write_text("filaments = [ {position = [0, 0]} \n")
+    with pytest.raises(ValueError, match="malformed"):
+        ax.models.from_file(bad)
+    nofil = tmp_path / "nofil.json"
+    nofil.write_text(json.dumps({"links": []}))
+    with pytest.raises(ValueError, match="non-empty 'filaments'"):
+        ax.models.from_file(nofil)
+    with pytest.raises(ValueError, match="unknown parameter"):
+        ax.Params().replace(stiffness=1.0)
+
+
+def run_cli(args, capsys):
+    code = main(args)
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+@pytest.mark.parametrize(
+    "args,flag",
+    [
+        (["modes", "--ks", "-1"], "--ks"),
+        (["modes", "--p", "nan"], "--p"),
+        (["modes", "--elements", "0"], "--elements"),
+        (["modes", "--elements", "ten"], "--elements"),
+        (["modes", "--model", "eleven"], "--model"),
+        (["modes", "--model-file", "/nonexistent/x.toml"], "--model-file"),
+        (["modes", "--cn", "-3"], "--cn"),
+        (["modes", "--kl-ratio", "0"], "--kl-ratio"),
+        (["modes", "--grad", "p,stiffness"], "--grad"),
+    ],
+)
+def test_cli_errors_one_line(args, flag, capsys):
+    code, out, err = run_cli(args, capsys)
+    assert code != 0
+    assert out == ""
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and flag in lines[0], err
+
+
+def test_cli_bad_model_file_link(tmp_path, capsys):
+    f = tmp_path / "m.json"
+    f.write_text(json.dumps({"filaments": [{"position": [0, 0]}, {"position": [1, 0]}], "links": [{"between": [0, 3]}]}))
+    code, out, err = run_cli(["modes", "--model-file", str(f)], capsys)
+    assert code == 2 and "--model-file" in err and "filament 3" in err and len(err.strip().splitlines()) == 1
+
+
+def test_console_script_exit_status():
+    proc = subprocess.run([sys.executable, "-m", "axojax.cli.main", "modes", "--ks", "-5"], capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert proc.stdout == "" and proc.stderr.strip().count("\n") == 0 and "--ks" in proc.stderr
