@@ -13,7 +13,7 @@ from typing import Any
 
 import equinox as eqx
 import jax
-import jax.numpy as jnp
+import numpy as np
 from jaxtyping import ArrayLike
 
 PARAM_NAMES = ("p", "ks", "kl", "cl", "gamma", "ktheta", "out_of_plane", "inactive_factor", "imbalance", "a0")
@@ -78,6 +78,16 @@ class Params(eqx.Module):
             out = out.replace(kl=out.ks / kl_ratio)
         return out
 
+    def broadcast(self, shape: tuple[int, ...] | None = None) -> "Params":
+        """Every field as a float64 array of a common ``shape`` (default: the broadcast
+        of the fields' shapes), ready for ``jax.vmap`` over the leading axis."""
+        import jax.numpy as jnp
+
+        leaves = [jnp.asarray(getattr(self, k), dtype=float) for k in PARAM_NAMES]
+        if shape is None:
+            shape = jnp.broadcast_shapes(*(x.shape for x in leaves))
+        return Params(**{k: jnp.broadcast_to(x, shape) for k, x in zip(PARAM_NAMES, leaves)})
+
     def as_dict(self) -> dict[str, Any]:
         return {k: getattr(self, k) for k in PARAM_NAMES}
 
@@ -90,14 +100,15 @@ class Params(eqx.Module):
             value = getattr(self, name)
             if isinstance(value, jax.core.Tracer):
                 continue
-            arr = jnp.asarray(value)
-            if not jnp.issubdtype(arr.dtype, jnp.number):
-                raise ValueError(f"parameter {name} must be a number, got {value!r}")
-            if not bool(jnp.all(jnp.isfinite(arr))):
-                raise ValueError(f"parameter {name} must be finite, got {value!r}")
+            try:
+                arr = np.asarray(value, dtype=float)
+            except (TypeError, ValueError):
+                raise ValueError(f"parameter {name} must be a number, got {value!r}") from None
+            if not np.all(np.isfinite(arr)):
+                raise ValueError(f"parameter {name} must be finite, got {_show(value)}")
             if name in _BOUNDS:
                 low, inclusive = _BOUNDS[name]
-                ok = jnp.all(arr >= low) if inclusive else jnp.all(arr > low)
+                ok = np.all(arr >= low) if inclusive else np.all(arr > low)
                 if not bool(ok):
                     rel = ">=" if inclusive else ">"
                     raise ValueError(f"parameter {name} must be {rel} {low:g}, got {_show(value)}")

@@ -150,3 +150,31 @@ def to_jsonable(obj: Any) -> Any:
 def emit_json(doc: dict) -> None:
     json.dump(to_jsonable(doc), sys.stdout, indent=2, allow_nan=False)
     sys.stdout.write("\n")
+
+
+def parse_axis(text: str, flag: str) -> np.ndarray:
+    """``a:b:n`` (linear), ``log:a:b:n`` (log-spaced) or ``v1,v2,...`` (explicit) -> values."""
+    try:
+        if "," in text or ":" not in text:
+            values = np.array([float(t) for t in text.split(",") if t.strip()])
+        else:
+            parts = text.split(":")
+            log = parts[0] == "log"
+            if log:
+                parts = parts[1:]
+            if len(parts) != 3:
+                raise ValueError
+            a, b, n = float(parts[0]), float(parts[1]), int(parts[2])
+            if n < 1:
+                raise ValueError
+            if log:
+                if a <= 0 or b <= 0:
+                    raise CLIError(f"{flag}: log axis needs positive ends, got {text!r}")
+                values = np.logspace(np.log10(a), np.log10(b), n)
+            else:
+                values = np.linspace(a, b, n)
+    except ValueError:
+        raise CLIError(f"{flag}: expected a:b:n, log:a:b:n or comma-separated values, got {text!r}") from None
+    if values.size == 0 or not np.all(np.isfinite(values)):
+        raise CLIError(f"{flag}: expected finite values, got {text!r}")
+    return values

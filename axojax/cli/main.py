@@ -10,6 +10,7 @@ from .common import CLIError, emit_json
 
 SUBCOMMANDS = {
     "modes": "spectrum and dominant mode at one parameter point",
+    "critical": "Hopf point in p, optionally along a second parameter",
 }
 
 

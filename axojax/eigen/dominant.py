@@ -15,15 +15,15 @@ one bordered LU factorisation per point, two triangular solves per tangent. The
 eigenvalue derivative is taken from the left eigenvector w,
 ``dlambda = -w^H (dA + lambda dC) v / (w^H C v)``, which equals the bordered solution.
 
-Degenerate eigenvalues. When the next eigenvalue in the upper half plane lies within
-``CLUSTER_RTOL * (1 + |lambda|)`` of the dominant one (double eigenvalues of
-isotropic cross-sections, ``out_of_plane = 1``), the two form a *cluster*:
+Degenerate eigenvalues. Eigenvalues within ``CLUSTER_RTOL * (1 + |lambda|)`` of the
+dominant one (up to ``MAX_CLUSTER`` of them; e.g. the multiple eigenvalues of
+isotropic cross-sections, ``out_of_plane = 1``) form a *cluster*:
 
 - the returned eigenvalue is the cluster mean, and its derivative is the derivative of
-  the mean, ``trace((W^H C V)^{-1} W^H (-(dA + lambda dC)) V) / 2`` — smooth, unlike
+  the mean, ``trace((W^H C V)^{-1} W^H (-(dA + lambda dC)) V) / m`` — smooth, unlike
   the individual branches;
 - the returned eigenvector is one vector of the cluster's eigenspace; its derivative is
-  the component outside the cluster (the border then has both cluster vectors), which
+  the component outside the cluster (the border then holds every cluster vector), which
   is finite. Functions of v that do not depend on which vector of the eigenspace was
   chosen get exact derivatives; others get a well-defined, finite gauge choice.
 
@@ -42,18 +42,21 @@ from jaxtyping import Array, Complex, Float
 from .pencil import eigensystem
 
 CLUSTER_RTOL = 1e-7
+MAX_CLUSTER = 4
 
 
-def _select(lam: Complex[Array, " n"]) -> tuple[Array, Array, Array]:
-    """Indices of the dominant eigenvalue (Im >= 0) and of its nearest upper-half
-    neighbour, and the 0/1 cluster flag."""
+def _select(lam: Complex[Array, " n"]) -> tuple[Array, Array]:
+    """Index of the dominant eigenvalue (largest real part, Im >= 0) followed by the
+    indices of its ``MAX_CLUSTER - 1`` nearest neighbours, and the 0/1 membership mask
+    (first entry 1) of those within ``CLUSTER_RTOL * (1 + |lambda|)``. Neighbours come
+    from both half planes: a real multiple eigenvalue may be returned by LAPACK as a
+    real value plus a pair +-1e-10 i."""
     upper = jnp.imag(lam) >= 0
     j1 = jnp.argmax(jnp.where(upper, jnp.real(lam), -jnp.inf))
-    dist = jnp.abs(lam - lam[j1])
-    dist = jnp.where(upper & (jnp.arange(lam.shape[0]) != j1), dist, jnp.inf)
-    j2 = jnp.argmin(dist)
-    cluster = (dist[j2] <= CLUSTER_RTOL * (1.0 + jnp.abs(lam[j1]))).astype(float)
-    return j1, j2, cluster
+    dist = jnp.where(jnp.arange(lam.shape[0]) == j1, -1.0, jnp.abs(lam - lam[j1]))
+    order = jnp.argsort(dist)[:MAX_CLUSTER]  # j1 first
+    mask = (dist[order] <= CLUSTER_RTOL * (1.0 + jnp.abs(lam[j1]))).astype(float)
+    return order, mask
 
 
 def _normalise(v: Complex[Array, " n"]) -> Complex[Array, " n"]:
@@ -64,48 +67,48 @@ def _normalise(v: Complex[Array, " n"]) -> Complex[Array, " n"]:
 
 def _primal(A, C, left: bool):
     lam, V, W = eigensystem(A, C, left=left)
-    j1, j2, cluster = _select(lam)
-    lam_c = (lam[j1] + cluster * lam[j2]) / (1.0 + cluster)
-    v1, v2 = _normalise(V[:, j1]), _normalise(V[:, j2])
-    w = None if W is None else (W[:, j1], W[:, j2])
-    return lam_c, v1, v2, w, cluster
+    order, mask = _select(lam)
+    lam_c = jnp.sum(mask * lam[order]) / jnp.sum(mask)
+    lam_c = jnp.where(jnp.imag(lam_c) < 0, jnp.conj(lam_c), lam_c)  # real clusters: drop the +-0i noise
+    Vc = jax.vmap(_normalise, in_axes=1, out_axes=1)(V[:, order])
+    Wc = None if W is None else W[:, order]
+    return lam_c, Vc, Wc, mask
 
 
 @jax.custom_jvp
 def dominant_eigenpair(A: Float[Array, "n n"], C: Float[Array, "n n"]) -> tuple[Complex[Array, ""], Complex[Array, " n"]]:
     """Dominant eigenvalue (Im >= 0; cluster mean if degenerate) and unit eigenvector
     of ``(A + lambda C) v = 0``. Differentiable in A and C (see module docstring)."""
-    lam, v1, _, _, _ = _primal(A, C, left=False)
-    return lam, v1
+    lam, Vc, _, _ = _primal(A, C, left=False)
+    return lam, Vc[:, 0]
 
 
 @dominant_eigenpair.defjvp
 def _dominant_jvp(primals, tangents):
     A, C = primals
     dA, dC = tangents
-    lam, v1, v2, (w1, w2), cluster = _primal(A, C, left=True)
-    n = A.shape[0]
-    cdt = v1.dtype
+    lam, Vc, Wc, mask = _primal(A, C, left=True)
+    n, k = A.shape[0], mask.shape[0]
+    cdt = Vc.dtype
+    v1 = Vc[:, 0]
     K = A.astype(cdt) + lam * C.astype(cdt)
-    Cv1, Cv2 = C @ v1, C @ v2
-    # Bordered matrix; the second border is switched off (decoupled unit row/column)
-    # unless the dominant eigenvalue is part of a double cluster.
-    top = jnp.concatenate([K, Cv1[:, None], (cluster * Cv2)[:, None]], axis=1)
-    row1 = jnp.concatenate([jnp.conj(v1), jnp.zeros(2, cdt)])[None, :]
-    row2 = jnp.concatenate([cluster * jnp.conj(v2), jnp.array([0.0, 1.0 - cluster], cdt)])[None, :]
-    lu = lu_factor(jnp.concatenate([top, row1, row2], axis=0))
+    CV = C.astype(cdt) @ Vc
+    # Bordered matrix with one border per cluster member; borders of non-members are
+    # switched off (a decoupled unit row/column), so a simple eigenvalue gets the
+    # classic single border [[K, C v], [v^H, 0]].
+    top = jnp.concatenate([K, CV * mask[None, :]], axis=1)
+    bottom = jnp.concatenate([jnp.conj(Vc).T * mask[:, None], jnp.diag(1.0 - mask).astype(cdt)], axis=1)
+    lu = lu_factor(jnp.concatenate([top, bottom], axis=0))
 
     dK = dA.astype(cdt) + lam * dC.astype(cdt)
-    rhs = jnp.concatenate([-(dK @ v1), jnp.zeros(2, cdt)])
+    rhs = jnp.concatenate([-(dK @ v1), jnp.zeros(k, cdt)])
     dv = lu_solve(lu, rhs)[:n]
 
-    # Eigenvalue derivative: mean of the cluster's eigenvalue derivatives (one term if
-    # the eigenvalue is simple).
-    mm = jnp.array([1.0, cluster])
-    outer = mm[:, None] * mm[None, :]
-    Vc = jnp.stack([v1, v2], axis=1)
-    Wc = jnp.stack([w1, w2], axis=1)
-    M = (jnp.conj(Wc).T @ (C.astype(cdt) @ Vc)) * outer + jnp.diag(1.0 - mm)
+    # Eigenvalue derivative: mean of the cluster's eigenvalue derivatives,
+    # trace((W^H C V)^{-1} W^H (-dK) V) / m (one term if the eigenvalue is simple).
+    outer = mask[:, None] * mask[None, :]
+    M = (jnp.conj(Wc).T @ CV) * outer + jnp.diag(1.0 - mask)
     T = (jnp.conj(Wc).T @ (-(dK @ Vc))) * outer
-    dlam = jnp.trace(jnp.linalg.inv(M) @ T) / (1.0 + cluster)
+    dlam = jnp.trace(jnp.linalg.inv(M) @ T) / jnp.sum(mask)
+    dlam = jnp.where(jnp.imag(lam) == 0, jnp.real(dlam).astype(cdt), dlam)
     return (lam, v1), (dlam, dv)

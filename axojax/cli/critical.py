@@ -1,0 +1,65 @@
+"""``axojax critical``: the Hopf point in p, optionally traced along a second parameter."""
+
+from __future__ import annotations
+
+import argparse
+
+import jax
+import numpy as np
+from tqdm.auto import tqdm
+
+from ..critical import critical_force
+from . import common
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    common.add_model_flags(parser)
+    parser.add_argument("--along", default=None, metavar="NAME", help="second parameter to trace the boundary along, e.g. ks")
+    parser.add_argument("--values", default=None, metavar="AXIS", help="values of --along: a:b:n, log:a:b:n or v1,v2,...")
+    parser.add_argument("--chunk", type=int, default=8, metavar="N", help="points per compiled batch (default 8)")
+
+
+def run(args: argparse.Namespace) -> dict:
+    model = common.model_from_args(args)
+    params = common.params_from_args(args)
+    units = common.units_from_args(args)
+    ratio = common.kl_ratio(args)
+    if (args.along is None) != (args.values is None):
+        raise common.CLIError("--along: give --along NAME and --values AXIS together")
+    if args.chunk < 1:
+        raise common.CLIError(f"--chunk: expected an integer >= 1, got {args.chunk}")
+    if args.along is None:
+        c = critical_force(model, params)
+        return {"critical": [{"p": float(c.p) if bool(c.found) else None, "frequency_hz": float(c.frequency_hz(units)) if bool(c.found) else None}]}
+    (field,) = common.parse_names(args.along, "--along")
+    if field == "p":
+        raise common.CLIError("--along: the boundary is traced in p, choose another parameter")
+    values = common.parse_axis(args.values, "--values")
+    for v in values:
+        common.check_params(params.with_values({field: float(v)}, ratio))
+
+    @jax.jit
+    def batch(vals):
+        def one(v):
+            c = critical_force(model, params.with_values({field: v}, ratio))
+            return c.p, c.frequency_hz(units), c.found
+
+        return jax.vmap(one)(vals)
+
+    out = []
+    for start in tqdm(range(0, len(values), args.chunk), desc="critical", unit="chunk", disable=None):
+        chunk = values[start : start + args.chunk]
+        padded = np.concatenate([chunk, np.repeat(chunk[-1:], args.chunk - len(chunk))])
+        p, f, found = (np.asarray(a)[: len(chunk)] for a in batch(padded))
+        for v, pc, fc, ok in zip(chunk, p, f, found):
+            out.append({common.FIELD_FLAGS[field]: float(v), "p": float(pc) if ok else None, "frequency_hz": float(fc) if ok else None})
+    return {"critical": out}
+
+
+def render(doc: dict) -> str:
+    rows = doc["critical"]
+    keys = list(rows[0])
+    lines = ["  ".join(f"{k:>14s}" for k in keys)]
+    for r in rows:
+        lines.append("  ".join(f"{'-':>14s}" if r[k] is None else f"{r[k]:14.6g}" for k in keys))
+    return "\n".join(lines)
