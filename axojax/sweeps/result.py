@@ -1,0 +1,61 @@
+"""A sweep's labelled result: coordinates per axis, metric arrays, metadata; ``.npz`` I/O.
+
+File layout (INTERFACE.md): one coordinate array per axis named like the parameter flag
+(``p``, ``ks``, ...), the metric arrays with one dimension per axis in axis order, and a
+``meta`` JSON string with every fixed value, the axis order and the units. Wavelength and
+velocity are NaN where the dominant mode does not oscillate.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import pathlib
+from typing import Any
+
+import numpy as np
+
+METRICS = (
+    "eigenvalue_real",
+    "eigenvalue_imag",
+    "growth_rate_per_s",
+    "frequency_hz",
+    "wavelength_um",
+    "velocity_um_per_s",
+    "out_of_plane_ratio",
+    "direction",
+    "classification",
+)
+
+
+@dataclasses.dataclass
+class SweepResult:
+    """Attributes:
+    coords: axis name -> 1-D values, in axis order.
+    data: metric name -> array of shape ``tuple(len(v) for v in coords.values())``.
+    meta: fixed parameters, units, model, axis order.
+    """
+
+    coords: dict[str, np.ndarray]
+    data: dict[str, np.ndarray]
+    meta: dict[str, Any]
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        return tuple(len(v) for v in self.coords.values())
+
+    def save(self, path: str | pathlib.Path) -> None:
+        path = pathlib.Path(path)
+        arrays = {**{k: np.asarray(v) for k, v in self.coords.items()}, **self.data}
+        arrays["meta"] = np.array(json.dumps(self.meta))
+        tmp = path.with_name(path.name + ".tmp.npz")
+        np.savez(tmp, **arrays)
+        tmp.replace(path)
+
+    @classmethod
+    def load(cls, path: str | pathlib.Path) -> "SweepResult":
+        with np.load(path, allow_pickle=False) as f:
+            meta = json.loads(str(f["meta"]))
+            coords = {k: f[k] for k in meta["axes"]}
+            data = {k: f[k] for k in METRICS if k in f}
+        return cls(coords, data, meta)

@@ -1,0 +1,136 @@
+"""Sweeps: agreement with dominant_mode and scipy, resumability, sharding, CLI, plot."""
+
+import json
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+import scipy.linalg
+
+import axojax as ax
+import axojax.sweeps.engine as engine
+from axojax.cli.main import main
+
+AXES = {"p": np.array([150.0, 300.0, 600.0]), "ks": np.array([1e3, 1e5])}
+BASE = ax.Params(cl=0.02)
+
+
+@pytest.fixture(scope="module")
+def model():
+    return ax.models.four()
+
+
+@pytest.fixture(scope="module")
+def reference(model):
+    return ax.sweep(model, BASE, AXES, kl_ratio=100.0, chunk_size=4, progress=False)
+
+
+def test_every_point_equals_dominant_mode_and_scipy(model, reference):
+    assert reference.shape == (3, 2)
+    for i, p in enumerate(AXES["p"]):
+        for j, ks in enumerate(AXES["ks"]):
+            params = BASE.replace(p=p, ks=ks, kl=ks / 100.0)
+            mode = ax.dominant_mode(model, params)
+            lam = complex(mode.eigenvalue)
+            assert reference.data["eigenvalue_real"][i, j] == pytest.approx(lam.real, rel=1e-10, abs=1e-9)
+            assert reference.data["eigenvalue_imag"][i, j] == pytest.approx(lam.imag, rel=1e-10, abs=1e-9)
+            assert reference.data["frequency_hz"][i, j] == pytest.approx(float(mode.frequency_hz()), rel=1e-10, abs=1e-9)
+            assert reference.data["classification"][i, j] == int(mode.classification)
+            if int(mode.direction):
+                assert reference.data["wavelength_um"][i, j] == pytest.approx(float(mode.wavelength_um()), rel=1e-8)
+            else:
+                assert np.isnan(reference.data["wavelength_um"][i, j])
+            # independent: scipy's QZ on the same matrices
+            s = ax.assemble(model, params)
+            ev = scipy.linalg.eig(-np.asarray(s.A), np.asarray(s.C), right=False)
+            top = ev[np.argmax(ev.real)]
+            assert reference.data["eigenvalue_real"][i, j] == pytest.approx(top.real, rel=1e-8, abs=1e-8)
+            assert reference.data["eigenvalue_imag"][i, j] == pytest.approx(abs(top.imag), rel=1e-8, abs=1e-6)
+
+
+def test_interrupted_sweep_resumes(model, reference, tmp_path, monkeypatch):
+    out = tmp_path / "map.npz"
+    real = engine._evaluator
+    calls = {"n": 0}
+
+    def counting(*args, fail_after=None):
+        f = real(*args)
+
+        def wrapped(rows):
+            calls["n"] += 1
+            if fail_after is not None and calls["n"] > fail_after:
+                raise KeyboardInterrupt
+            return f(rows)
+
+        return wrapped
+
+    monkeypatch.setattr(engine, "_evaluator", lambda *a: counting(*a, fail_after=1))
+    with pytest.raises(KeyboardInterrupt):
+        ax.sweep(model, BASE, AXES, kl_ratio=100.0, chunk_size=2, out=out, progress=False)
+    assert not out.exists() and len(list((tmp_path / "map.npz.parts").glob("chunk_*.npz"))) == 1
+    calls["n"] = 0
+    monkeypatch.setattr(engine, "_evaluator", lambda *a: counting(*a))
+    resumed = ax.sweep(model, BASE, AXES, kl_ratio=100.0, chunk_size=2, out=out, progress=False)
+    assert calls["n"] == 2  # 3 chunks of 2 points, 1 already done
+    assert out.exists() and not (tmp_path / "map.npz.parts").exists()
+    loaded = ax.SweepResult.load(out)
+    for k in reference.data:
+        np.testing.assert_array_equal(resumed.data[k], reference.data[k])
+        np.testing.assert_array_equal(loaded.data[k], reference.data[k])
+    np.testing.assert_array_equal(loaded.coords["ks"], AXES["ks"])
+    assert loaded.meta["fixed"]["cl"] == 0.02 and loaded.meta["kl_ratio"] == 100.0
+
+
+@pytest.mark.xfail(
+    reason="known open problem: a sweep sharded over 2 forced host CPU devices wedges XLA's CPU runtime "
+    "(0% CPU) in jaxlib 0.10 with LAPACK eigen-solves in both shards; see the closing note of issue 4",
+    raises=(subprocess.TimeoutExpired, AssertionError),
+    strict=False,
+)
+def test_two_cpu_devices_identical(tmp_path):
+    script = textwrap.dedent(
+        f"""
+        import os
+        os.environ["XLA_FLAGS"] = "--xla_force_host_platform_device_count=2"
+        import numpy as np, jax, axojax as ax
+        assert jax.device_count() == 2
+        m = ax.models.two()
+        axes = {{"p": np.linspace(200, 500, 5), "kl": np.array([1e2, 1e3])}}
+        a = ax.sweep(m, ax.Params(), axes, chunk_size=4, devices=2, progress=False)
+        b = ax.sweep(m, ax.Params(), axes, chunk_size=4, devices=1, progress=False)
+        for k in a.data:
+            np.testing.assert_array_equal(a.data[k], b.data[k])
+        print("identical")
+        """
+    )
+    proc = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert "identical" in proc.stdout
+
+
+def test_cli_sweep_and_plot(tmp_path, capsys):
+    out = tmp_path / "s.npz"
+    code = main(["sweep", "--model", "two", "--kl", "1e2:1e3:2", "--p", "200,400,600", "--cl", "0.01", "--out", str(out), "--json"])
+    assert code == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["shape"] == [2, 3] and doc["points"] == 6  # axes in command-line order: kl, then p
+    with np.load(out) as f:
+        assert list(json.loads(str(f["meta"]))["axes"]) == ["kl", "p"]
+        np.testing.assert_allclose(f["p"], [200, 400, 600])
+        assert f["frequency_hz"].shape == (2, 3) and f["classification"].dtype == np.int8
+        mode = ax.dominant_mode(ax.models.two(), ax.Params(p=400.0, kl=1e3, cl=0.01))
+        assert f["frequency_hz"][1, 1] == pytest.approx(float(mode.frequency_hz()), rel=1e-10)
+    fig = tmp_path / "s.png"
+    assert main(["plot", str(out), "--out", str(fig)]) == 0
+    assert fig.stat().st_size > 10_000
+
+
+def test_cli_sweep_errors(tmp_path, capsys):
+    assert main(["sweep", "--model", "two", "--p", "1:2:x", "--out", str(tmp_path / "a.npz")]) == 2
+    err = capsys.readouterr().err
+    assert "--p" in err and len(err.strip().splitlines()) == 1
+    assert main(["sweep", "--model", "two", "--ks", "log:-1:2:3", "--out", str(tmp_path / "a.npz")]) == 2
+    assert "--ks" in capsys.readouterr().err
+    assert main(["plot", str(tmp_path / "missing.npz"), "--out", str(tmp_path / "x.png")]) == 2
