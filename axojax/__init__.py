@@ -26,10 +26,11 @@ from . import models  # noqa: E402
 from .assembly import System, assemble  # noqa: E402
 from .critical import Critical, critical_force  # noqa: E402
 from .eigen import Mode, dominant_mode, mode_shapes, spectrum  # noqa: E402
+from .dynamics import Simulation, simulate  # noqa: E402
 from .sweeps import SweepResult, sweep  # noqa: E402
 from .params import PARAM_NAMES, Params  # noqa: E402
 from .units import Units  # noqa: E402
 
 __version__ = "0.1.0"
 
-__all__ = ["SweepResult", "sweep", "Critical", "critical_force", "Mode", "PARAM_NAMES", "Params", "System", "Units", "assemble", "dominant_mode", "mode_shapes", "models", "spectrum"]
+__all__ = ["Simulation", "simulate", "SweepResult", "sweep", "Critical", "critical_force", "Mode", "PARAM_NAMES", "Params", "System", "Units", "assemble", "dominant_mode", "mode_shapes", "models", "spectrum"]

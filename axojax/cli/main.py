@@ -12,6 +12,7 @@ SUBCOMMANDS = {
     "modes": "spectrum and dominant mode at one parameter point",
     "critical": "Hopf point in p, optionally along a second parameter",
     "sweep": "dominant mode over a parameter grid, saved to .npz",
+    "simulate": "nonlinear beat in the time domain (diffrax), saved to .npz",
     "plot": "figures of a sweep or simulation file",
 }
 

@@ -1,0 +1,242 @@
+"""``simulate``: the nonlinear beat in the time domain, analysed and in physical units."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import pathlib
+from typing import Any
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ..assembly import assemble
+from ..eigen.mode import CLASSES, _dominant_mode_jit
+from ..models.section import Model
+from ..params import Params
+from ..units import Units
+from ..waveform import fourier_modes
+from ..waveform.shapes import centreline
+from .analysis import classify_trajectory
+from .integrate import integrate
+
+DEFAULT_CUBIC = 10.0
+"""Default cubic stiffening kappa (1/L^2): at p = 1.04 p_c of the seven-filament preset it
+saturates the beat at a tip amplitude of about 3 um (a quarter of L; see tests/test_simulate.py)."""
+
+MIN_SAMPLES_PER_S = 2000.0
+MAX_SAMPLES = 200_000
+
+_integrate_jit = jax.jit(integrate, static_argnums=0, static_argnames=("rtol", "atol", "max_steps", "progress"))
+
+
+@dataclasses.dataclass
+class Simulation:
+    """A simulated beat, in physical units, and what it did.
+
+    Attributes:
+        t_s: (T,) times (s).
+        x_um: (S,) arc length along the axoneme (um).
+        centreline_um: (T, d, S) centreline displacement (mean over filaments) in y (, z).
+        psi_rad: (T, S) tangent angle of the centreline in the beat plane (small slopes).
+        tip_um: (T, d) tip displacement.
+        beat_angle_rad: beat direction, radians from y towards z.
+        state: ``decaying``, ``limit_cycle``, ``growing`` or ``divergent``
+            (rules in :mod:`axojax.dynamics.analysis`).
+        limit_cycle: on a limit cycle: ``frequency_hz``, ``period_s``, ``tip_amplitude_um``
+            (half peak-to-peak along the beat direction), ``static_curvature_rad_per_um``,
+            ``dynamic_amplitude_rad``; otherwise None.
+        linear: dominant eigenvalue at the same parameters: ``frequency_hz``,
+            ``growth_rate_per_s``, ``classification``.
+        meta: parameters, cubic coefficient, units, model, solver statistics.
+    """
+
+    t_s: np.ndarray
+    x_um: np.ndarray
+    centreline_um: np.ndarray
+    psi_rad: np.ndarray
+    tip_um: np.ndarray
+    beat_angle_rad: float
+    state: str
+    limit_cycle: dict[str, float] | None
+    linear: dict[str, Any]
+    meta: dict[str, Any]
+
+    @property
+    def tip_beat_um(self) -> np.ndarray:
+        """(T,) tip displacement along the beat direction (um)."""
+        return _along(self.tip_um, self.beat_angle_rad)
+
+    def report(self) -> dict[str, Any]:
+        """The ``axojax simulate --json`` document."""
+        lc = None if self.limit_cycle is None else {k: self.limit_cycle[k] for k in ("frequency_hz", "tip_amplitude_um", "period_s")}
+        return {"state": self.state, "limit_cycle": lc, "linear": dict(self.linear), "waveform": self.limit_cycle}
+
+    def save(self, path: str | pathlib.Path) -> None:
+        meta = {**self.meta, "kind": "simulation", "state": self.state, "limit_cycle": self.limit_cycle, "linear": self.linear, "beat_angle_rad": self.beat_angle_rad}
+        np.savez_compressed(path, t_s=self.t_s, x_um=self.x_um, centreline_um=self.centreline_um, psi_rad=self.psi_rad, tip_um=self.tip_um, meta=np.array(json.dumps(meta)))
+
+    @classmethod
+    def load(cls, path: str | pathlib.Path) -> "Simulation":
+        with np.load(path, allow_pickle=False) as f:
+            meta = json.loads(str(f["meta"]))
+            arrays = {k: f[k] for k in ("t_s", "x_um", "centreline_um", "psi_rad", "tip_um")}
+        if meta.get("kind") != "simulation":
+            raise ValueError(f"{str(path)!r} is not an axojax simulation file")
+        state, lc, lin, angle = (meta.pop(k) for k in ("state", "limit_cycle", "linear", "beat_angle_rad"))
+        return cls(**arrays, beat_angle_rad=angle, state=state, limit_cycle=lc, linear=lin, meta=meta)
+
+
+def _along(v: np.ndarray, angle: float) -> np.ndarray:
+    """Component of a (..., d) displacement along the beat direction."""
+    if v.shape[-1] == 1:
+        return v[..., 0]
+    return math.cos(angle) * v[..., 0] + math.sin(angle) * v[..., 1]
+
+
+def _check(name: str, value: float, positive: bool = True) -> float:
+    value = float(value)
+    if not math.isfinite(value) or (value <= 0 if positive else value < 0):
+        raise ValueError(f"{name} must be a finite number {'> 0' if positive else '>= 0'}, got {value!r}")
+    return value
+
+
+def simulate(
+    model: Model,
+    params: Params,
+    t_end_s: float,
+    *,
+    cubic: float = DEFAULT_CUBIC,
+    units: Units = Units(),
+    perturbation_um: float = 0.1,
+    samples_per_period: int = 64,
+    n_points: int = 41,
+    rtol: float = 1e-6,
+    atol: float = 1e-9,
+    max_steps: int = 200_000,
+    progress: bool = False,
+) -> Simulation:
+    """Integrate ``C dq/dt = -A q - f_nl(q) + b`` from a small perturbation of the straight
+    state (the static deflection of every filament under a tip force in y, see
+    :func:`tip_deflection`), then analyse the beat.
+
+    Args:
+        model: e.g. ``ax.models.seven()``.
+        params: dimensionless parameters; ``imbalance != 1`` gives a static moment b
+            that bends the axoneme (asymmetric beat).
+        t_end_s: simulated time (s).
+        cubic: link stiffening kappa (1/L^2): link force k (delta + kappa delta^3).
+            0 integrates the linear system.
+        units: physical units (L, EI, c_n).
+        perturbation_um: initial tip displacement in y (um).
+        samples_per_period: save times per period of the linear frequency (at least
+            ``MIN_SAMPLES_PER_S`` per second (enough for beats up to ~100 Hz when the
+            dominant mode does not oscillate), at most ``MAX_SAMPLES`` in all.
+        n_points: points along x for the saved centreline and tangent angle.
+        rtol, atol: solver tolerances (atol in units of L).
+        max_steps: solver step limit; running out is reported as ``divergent``.
+        progress: show a progress bar.
+
+    Returns:
+        :class:`Simulation`.
+    """
+    params = params.validate()
+    t_end_s = _check("t_end_s", t_end_s)
+    cubic = _check("cubic", cubic, positive=False)
+    perturbation_um = _check("perturbation_um", perturbation_um)
+    if model.link_B.shape[0] == 0 and cubic > 0:
+        raise ValueError(f"cubic = {cubic:g} needs a model with links; {model.name!r} has none (use cubic = 0)")
+    tau = units.tau_s
+    mode = _dominant_mode_jit(model, params)
+    linear = {
+        "frequency_hz": float(mode.frequency_hz(units)),
+        "growth_rate_per_s": float(mode.growth_rate_per_s(units)),
+        "classification": CLASSES[int(mode.classification)],
+    }
+    t_end = t_end_s / tau
+    per_second = max(samples_per_period * linear["frequency_hz"], MIN_SAMPLES_PER_S)
+    n_save = int(min(MAX_SAMPLES, max(200, math.ceil(t_end_s * per_second) + 1)))
+    t = np.linspace(0.0, t_end, n_save)
+
+    x = np.linspace(0.0, 1.0, n_points)
+    q0 = (perturbation_um / units.length_um) * tip_deflection(model)
+
+    traj = _integrate_jit(model, params, jnp.asarray(cubic), jnp.asarray(q0), jnp.asarray(t), rtol=rtol, atol=atol, max_steps=max_steps, progress=progress)
+    q = np.asarray(traj.q)
+    ok = bool(traj.ok) and bool(np.all(np.isfinite(q)))
+    u = centreline(model, q, x)  # (T, d, S), L
+    du = centreline(model, q, x, derivative=1)
+    tip_t = u[:, :, -1]
+    angle = _beat_angle(tip_t)
+
+    s = assemble(model, params)
+    q_eq = np.linalg.solve(np.asarray(s.A), np.asarray(s.b)) if np.any(np.asarray(s.b)) else np.zeros(model.n_dof)
+    y_eq = float(_along(centreline(model, q_eq, np.array([1.0]))[:, 0], angle))
+    y = _along(tip_t, angle)
+    psi = _along(np.moveaxis(du, 1, -1), angle)  # (T, S)
+    state, cycles = classify_trajectory(t, y, y_eq, ok)
+
+    limit_cycle = None
+    if state == "limit_cycle":
+        period = float(np.mean(cycles.periods[-2:]))
+        modes = fourier_modes(t, x, psi, period)
+        limit_cycle = {
+            "frequency_hz": 1.0 / (period * tau),
+            "period_s": period * tau,
+            "tip_amplitude_um": float(cycles.amplitudes[-1]) * units.length_um,
+            "static_curvature_rad_per_um": modes.static_curvature / units.length_um,
+            "dynamic_amplitude_rad": modes.dynamic_amplitude,
+            "cycles": cycles.count,
+        }
+    meta = {
+        "model": model.name,
+        "n_elements": model.n_elements,
+        "params": {k: float(v) for k, v in params.as_dict().items()},
+        "cubic": cubic,
+        "t_end_s": t_end_s,
+        "perturbation_um": perturbation_um,
+        "units": {"length_um": units.length_um, "ei_pn_um2": units.ei_pn_um2, "cn_pn_s_um2": units.cn_pn_s_um2, "tau_s": tau},
+        "solver": {"name": "Kvaerno5", "rtol": rtol, "atol": atol, "steps": int(traj.steps), "ok": bool(traj.ok)},
+    }
+    L = units.length_um
+    return Simulation(
+        t_s=t * tau,
+        x_um=x * L,
+        centreline_um=u * L,
+        psi_rad=psi,
+        tip_um=tip_t * L,
+        beat_angle_rad=angle,
+        state=state,
+        limit_cycle=limit_cycle,
+        linear=linear,
+        meta=meta,
+    )
+
+
+def tip_deflection(model: Model) -> np.ndarray:
+    """(n,) state: every filament bent in y as a clamped cantilever under a tip force,
+    scaled to unit tip displacement (L). Excites every planar mode, whatever the
+    dominant one looks like (its centreline may be still, e.g. a torsional mode)."""
+    K0 = model.matrices.K0
+    f = np.zeros(model.mesh.n_dof)
+    f[-2] = 1.0  # transverse force at the tip node
+    shape = np.linalg.solve(K0, f)
+    shape = shape / shape[-2]
+    q = np.zeros((model.n_filaments, model.n_dirs, model.mesh.n_dof))
+    q[:, 0, :] = shape
+    return q.ravel()
+
+
+def _beat_angle(tip: np.ndarray) -> float:
+    """Principal direction of the tip's motion over the second half of the record."""
+    if tip.shape[1] == 1 or not np.all(np.isfinite(tip)):
+        return 0.0
+    late = tip[tip.shape[0] // 2 :]
+    late = late - late.mean(axis=0)
+    w, vec = np.linalg.eigh(late.T @ late)
+    e = vec[:, np.argmax(w)]
+    if e[np.argmax(np.abs(e))] < 0:
+        e = -e
+    return float(np.arctan2(e[1], e[0]))

@@ -1,0 +1,42 @@
+"""Centreline shapes from states or eigenvectors, and frames of a mode's beat cycle."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..fem import interpolation_matrix
+from ..models.section import Model
+
+
+def centreline(model: Model, q: np.ndarray, x: np.ndarray, derivative: int = 0) -> np.ndarray:
+    """Centreline (mean over filaments) displacement, or its x-derivative, at points x.
+
+    Args:
+        q: (..., n) states (real or complex), n = ``model.n_dof``.
+        x: (S,) points in [0, 1].
+
+    Returns:
+        (..., d, S) in units of L (``derivative=0``) or rad (``derivative=1``).
+    """
+    q = np.asarray(q)
+    phi = interpolation_matrix(model.n_elements, np.asarray(x, dtype=float), derivative)
+    per = q.reshape(q.shape[:-1] + (model.n_filaments, model.n_dirs, model.mesh.n_dof)).mean(axis=-3)
+    return np.einsum("sr,...dr->...ds", phi, per)
+
+
+def mode_frames(model: Model, v: np.ndarray, n_frames: int = 16, x: np.ndarray | None = None, amplitude: float = 0.1) -> tuple[np.ndarray, np.ndarray]:
+    """Frames of one beat cycle of an eigenmode: Re(u(x) exp(i theta)), theta in [0, 2 pi).
+
+    The complex scale is fixed so that the largest centreline displacement is
+    ``amplitude`` (units of L) and the tip is real at theta = 0.
+
+    Returns:
+        (x (S,), frames (n_frames, d, S)) in units of L.
+    """
+    x = np.linspace(0.0, 1.0, 101) if x is None else np.asarray(x, dtype=float)
+    u = centreline(model, np.asarray(v), x)  # (d, S) complex
+    tip = u[:, -1]
+    u = u * np.exp(-1j * np.angle(tip[np.argmax(np.abs(tip))]))
+    u = u * amplitude / max(np.abs(u).max(), 1e-300)
+    theta = 2 * np.pi * np.arange(n_frames) / n_frames
+    return x, np.real(u[None] * np.exp(1j * theta)[:, None, None])

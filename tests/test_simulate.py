@@ -1,0 +1,144 @@
+"""Time-domain beating (issue 6): linear growth matches the eigenvalue, a supercritical
+limit cycle just past the Hopf point, decay, divergence, the static bend of an
+imbalance, gradients through the solver, files and the command line."""
+
+import json
+import math
+import subprocess
+import sys
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+import axojax as ax
+from axojax.dynamics import integrate
+from axojax.dynamics.simulate import tip_deflection
+from axojax.waveform import detect_cycles
+from axojax.waveform.shapes import centreline
+
+
+@pytest.fixture(scope="module")
+def seven6():
+    """Seven filaments on 6 elements: the same physics as 10, a quarter of the solver cost."""
+    return ax.models.seven(n_elements=6)
+
+
+@pytest.fixture(scope="module")
+def hopf6(seven6):
+    c = ax.critical_force(seven6, ax.Params())
+    return float(c.p), float(c.frequency_hz())
+
+
+def test_linear_growth_and_frequency_match_dominant_eigenvalue(seven):
+    pc = float(ax.critical_force(seven, ax.Params()).p)
+    params = ax.Params(p=1.04 * pc)
+    sim = ax.simulate(seven, params, 0.3, cubic=0.0)
+    mode = ax.dominant_mode(seven, params)
+    cyc = detect_cycles(sim.t_s, sim.tip_beat_um)
+    assert cyc.count >= 5
+    # Late cycles: the decaying modes excited by the initial bend are gone.
+    growth = np.log(cyc.amplitudes[-1] / cyc.amplitudes[-4]) / (cyc.starts[-1] - cyc.starts[-4])
+    freq = 3 / (cyc.starts[-1] - cyc.starts[-4])
+    assert sim.state == "growing"
+    assert growth == pytest.approx(float(mode.growth_rate_per_s()), rel=0.01)
+    assert freq == pytest.approx(float(mode.frequency_hz()), rel=0.01)
+
+
+def test_limit_cycle_just_past_hopf_is_supercritical(seven6, hopf6, capsys):
+    pc, f_hopf = hopf6
+    out = {}
+    for factor in (1.02, 1.04):
+        params = ax.Params(p=factor * pc)
+        sim = ax.simulate(seven6, params, 0.45, perturbation_um=2.5)
+        assert sim.state == "limit_cycle", factor
+        out[factor] = (sim.limit_cycle, float(ax.dominant_mode(seven6, params).frequency_hz()))
+    with capsys.disabled():
+        for factor, (lc, f_lin) in out.items():
+            print(f"\np = {factor} p_c: limit cycle {lc['frequency_hz']:.3f} Hz, tip amplitude {lc['tip_amplitude_um']:.3f} um; "
+                  f"linear: Im(lambda)/2pi at this p {f_lin:.3f} Hz, at the Hopf point {f_hopf:.3f} Hz")
+    lc4, f_lin4 = out[1.04]
+    # Onset frequency (the linear prediction at the bifurcation) within 5%.
+    assert abs(lc4["frequency_hz"] - f_hopf) / f_hopf < 0.05
+    # Closer to the boundary the beat tracks the eigenvalue at its own p, too.
+    lc2, f_lin2 = out[1.02]
+    assert abs(lc2["frequency_hz"] - f_lin2) / f_lin2 < 0.05
+    # Supercritical Hopf: amplitude^2 grows linearly from zero at p_c. Extrapolating the
+    # two amplitudes^2 to zero must land on the Hopf point (a subcritical branch would
+    # carry a finite amplitude there and extrapolate far below it).
+    a2, a4 = lc2["tip_amplitude_um"] ** 2, lc4["tip_amplitude_um"] ** 2
+    assert a4 > a2 > 0
+    p_zero = 1.02 - a2 * (1.04 - 1.02) / (a4 - a2)
+    with capsys.disabled():
+        print(f"amplitude^2 extrapolates to zero at p = {p_zero:.4f} p_c")
+    assert abs(p_zero - 1.0) < 0.015
+
+
+def test_stable_point_decays_to_straight(seven6, hopf6):
+    sim = ax.simulate(seven6, ax.Params(p=0.9 * hopf6[0]), 0.3)
+    assert sim.state == "decaying"
+    assert sim.limit_cycle is None
+    assert np.abs(sim.tip_um[-1]).max() < 0.01 * sim.meta["perturbation_um"]
+
+
+def test_divergent_point_is_reported_not_beating(seven6):
+    params = ax.Params(p=300.0, gamma=0.5)  # dominant eigenvalue real and positive
+    assert ax.dominant_mode(seven6, params).classification == 2
+    sim = ax.simulate(seven6, params, 0.05, cubic=0.0)
+    assert sim.state == "divergent"
+    assert sim.limit_cycle is None
+
+
+def test_imbalance_bends_to_the_static_solution(seven6):
+    """A stable point with unequal dynein groups settles on A q = b (independent numpy
+    solve), the static moment bending the axoneme."""
+    params = ax.Params(p=150.0, imbalance=5.0)
+    sim = ax.simulate(seven6, params, 0.6, cubic=0.0)  # slowest decay 17/s: e^-10 left
+    s = ax.assemble(seven6, params)
+    q_eq = np.linalg.solve(np.asarray(s.A), np.asarray(s.b))
+    tip_eq = centreline(seven6, q_eq, np.array([1.0]))[:, 0] * 12.0
+    assert np.abs(tip_eq).max() > 0.1  # a visible bend, in um
+    np.testing.assert_allclose(sim.tip_um[-1], tip_eq, rtol=1e-3, atol=1e-6)
+
+
+def test_solver_is_differentiable(seven6):
+    t = jnp.linspace(0.0, 0.005, 2)
+    q0 = jnp.asarray(0.05 * tip_deflection(seven6))
+
+    @jax.jit
+    def tip_end(p):
+        traj = integrate(seven6, ax.Params(p=p), 10.0, q0, t, rtol=1e-9, atol=1e-12)
+        return traj.q[-1] @ q0
+
+    g = jax.jit(jax.grad(tip_end))(280.0)
+    h = 1e-3
+    fd = (tip_end(280.0 + h) - tip_end(280.0 - h)) / (2 * h)
+    assert float(g) == pytest.approx(float(fd), rel=1e-4)
+
+
+def test_bad_simulation_input_is_one_line_error(seven6):
+    with pytest.raises(ValueError, match="t_end_s"):
+        ax.simulate(seven6, ax.Params(), -1.0)
+    with pytest.raises(ValueError, match="cubic"):
+        ax.simulate(ax.models.single(), ax.Params(), 0.1, cubic=1.0)
+
+
+def test_cli_simulate_json_file_and_plot(tmp_path, hopf6):
+    out, fig, gif = tmp_path / "sim.npz", tmp_path / "sim.png", tmp_path / "sim.gif"
+    cmd = [sys.executable, "-m", "axojax.cli.main", "simulate", "--model", "seven", "--elements", "6", "--p", str(1.04 * hopf6[0]),
+           "--t-end", "0.35", "--perturbation-um", "3", "--out", str(out), "--gif", str(gif), "--json"]
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    doc = json.loads(r.stdout)
+    assert set(doc["limit_cycle"]) == {"frequency_hz", "tip_amplitude_um", "period_s"}
+    assert set(doc["linear"]) >= {"frequency_hz", "growth_rate_per_s"}
+    assert math.isclose(doc["limit_cycle"]["period_s"] * doc["limit_cycle"]["frequency_hz"], 1.0, rel_tol=1e-9)
+    sim = ax.Simulation.load(out)
+    assert sim.state == "limit_cycle" and sim.limit_cycle["frequency_hz"] == doc["limit_cycle"]["frequency_hz"]
+    assert gif.stat().st_size > 0
+    r = subprocess.run([sys.executable, "-m", "axojax.cli.main", "plot", str(out), "--out", str(fig)], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    assert fig.stat().st_size > 0
+    bad = subprocess.run([sys.executable, "-m", "axojax.cli.main", "simulate", "--t-end", "-2"], capture_output=True, text=True, timeout=120)
+    assert bad.returncode != 0 and "--t-end" in bad.stderr and len(bad.stderr.strip().splitlines()) == 1
