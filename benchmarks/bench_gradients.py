@@ -8,6 +8,7 @@ mode (the full 3 x 5 Jacobian), and the ratios. Target: value+gradient under 3x 
     python benchmarks/bench_gradients.py [--points 64] [--repeats 5]
 """
 
+import axojax as ax  # first: it sets the XLA flags before jax starts
 import argparse
 import time
 
@@ -15,7 +16,6 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-import axojax as ax
 
 NAMES = ("p", "ks", "kl", "cl", "gamma")
 

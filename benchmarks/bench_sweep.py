@@ -7,6 +7,7 @@ Seven-filament model, 10 elements (280 unknowns).
     python benchmarks/bench_sweep.py [--p 100:900:20] [--ks log:1e2:1e7:10]
 """
 
+import axojax as ax  # first: it sets the XLA flags before jax starts
 import argparse
 import os
 import subprocess
@@ -17,7 +18,6 @@ import time
 import numpy as np
 import scipy.linalg
 
-import axojax as ax
 from axojax.cli.common import parse_axis
 
 

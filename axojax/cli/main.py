@@ -12,6 +12,7 @@ SUBCOMMANDS = {
     "modes": "spectrum and dominant mode at one parameter point",
     "critical": "Hopf point in p, optionally along a second parameter",
     "sweep": "dominant mode over a parameter grid, saved to .npz",
+    "fit": "estimate free parameters from observed beats (optax)",
     "simulate": "nonlinear beat in the time domain (diffrax), saved to .npz",
     "plot": "figures of a sweep or simulation file",
 }
@@ -53,7 +54,7 @@ def main(argv: list[str] | None = None) -> int:
             emit_json(doc)
         else:
             print(args._module.render(doc))
-    return 0
+    return getattr(args, "_exit_code", 0)
 
 
 if __name__ == "__main__":

@@ -1,0 +1,95 @@
+"""What a fit matches: scalar beat observables and an observed mode shape, each with an
+uncertainty, turned into normalised residuals ``(model - observed) / sigma``.
+
+Scalar targets (physical units, from the dominant mode): ``frequency_hz``,
+``wavelength_um``, ``velocity_um_per_s`` and ``growth_rate_per_s`` (a beating cilium sits
+near the Hopf boundary: target 0 with a tolerance). A :class:`ShapeTarget` is an observed
+first Fourier mode of the tangent angle, psi_1(s); the model's psi_1 (the dominant
+eigenvector's centreline slope in its beat plane) is fitted with the best complex scale
+alpha, so the residual ``psi_obs - alpha psi_model`` ignores the mode's arbitrary
+amplitude and phase but not its shape or propagation direction.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Float
+
+from ..eigen.metrics import beat_plane
+from ..eigen.mode import Mode
+from ..fem import interpolation_matrix
+from ..models.section import Model
+from ..units import Units
+
+SCALARS = ("frequency_hz", "wavelength_um", "velocity_um_per_s", "growth_rate_per_s")
+
+
+@dataclasses.dataclass(frozen=True)
+class Target:
+    """A scalar observable ``name`` observed as ``value +- sigma`` (physical units)."""
+
+    name: str
+    value: float
+    sigma: float
+
+    def __post_init__(self) -> None:
+        if self.name not in SCALARS:
+            raise ValueError(f"unknown target {self.name!r}; choose from {', '.join(SCALARS)}")
+        if not math.isfinite(self.value):
+            raise ValueError(f"target {self.name} must be finite, got {self.value!r}")
+        if not (math.isfinite(self.sigma) and self.sigma > 0):
+            raise ValueError(f"uncertainty of target {self.name} must be > 0, got {self.sigma!r}")
+
+
+@dataclasses.dataclass(frozen=True)
+class ShapeTarget:
+    """Observed first Fourier mode psi_1(s) (rad, complex) at arc lengths ``s_um``, with
+    the standard error ``sigma`` (rad) of each of its real and imaginary parts."""
+
+    s_um: np.ndarray
+    psi1: np.ndarray
+    sigma: float
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.sigma) and self.sigma > 0):
+            raise ValueError(f"shape uncertainty must be > 0, got {self.sigma!r}")
+        if np.asarray(self.s_um).shape != np.asarray(self.psi1).shape:
+            raise ValueError("shape target: s_um and psi1 must have the same length")
+
+
+K_FLOOR = 1e-6  # rad/L: a standing (real) mode has k = 0; its wavelength is capped, not infinite
+
+
+def scalar_value(mode: Mode, name: str, units: Units) -> Float[Array, ""]:
+    """Observable ``name`` of the dominant mode in physical units, finite everywhere
+    (wavelength and velocity use ``max(|k|, K_FLOOR)``) so that fits never see inf/NaN."""
+    if name in ("wavelength_um", "velocity_um_per_s"):
+        wavelength = 2 * jnp.pi / jnp.maximum(jnp.abs(mode.wavenumber), K_FLOOR) * units.length_um
+        if name == "wavelength_um":
+            return wavelength
+        return wavelength * mode.frequency_hz(units)
+    return {"frequency_hz": mode.frequency_hz, "growth_rate_per_s": mode.growth_rate_per_s}[name](units)
+
+
+def model_psi1(model: Model, mode: Mode, s: Float[Array, " S"]) -> Array:
+    """The model's complex psi_1 at ``s`` (units of L) in its beat plane (up to scale)."""
+    dphi = jnp.asarray(interpolation_matrix(model.n_elements, np.asarray(s), 1))
+    q = jnp.reshape(mode.eigenvector, (model.n_filaments, model.n_dirs, model.mesh.n_dof)).mean(axis=0)
+    du = q @ dphi.T  # (d, S)
+    if model.n_dirs == 1:
+        return du[0]
+    _, _, angle, _ = beat_plane(model, mode.eigenvector)
+    return jnp.cos(angle) * du[0] + jnp.sin(angle) * du[1]
+
+
+def shape_residuals(model: Model, mode: Mode, target: ShapeTarget, units: Units) -> Float[Array, " 2S"]:
+    """(psi_obs - alpha psi_model) / sigma, real and imaginary parts, alpha the best complex scale."""
+    psi_m = model_psi1(model, mode, np.asarray(target.s_um) / units.length_um)
+    obs = jnp.asarray(target.psi1)
+    alpha = jnp.vdot(psi_m, obs) / jnp.vdot(psi_m, psi_m)
+    r = (obs - alpha * psi_m) / target.sigma
+    return jnp.concatenate([jnp.real(r), jnp.imag(r)])
