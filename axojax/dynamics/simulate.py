@@ -69,6 +69,11 @@ class Simulation:
         """(T,) tip displacement along the beat direction (um)."""
         return _along(self.tip_um, self.beat_angle_rad)
 
+    @property
+    def centreline_beat_um(self) -> np.ndarray:
+        """(T, S) centreline displacement along the beat direction (um)."""
+        return _along(np.moveaxis(self.centreline_um, 1, -1), self.beat_angle_rad)
+
     def report(self) -> dict[str, Any]:
         """The ``axojax simulate --json`` document."""
         lc = None if self.limit_cycle is None else {k: self.limit_cycle[k] for k in ("frequency_hz", "tip_amplitude_um", "period_s")}

@@ -22,14 +22,6 @@ def _last_cycles(sim: Simulation, n: int = 1) -> np.ndarray:
     return np.nonzero(t >= t[-1] - span)[0]
 
 
-def _in_plane(sim: Simulation) -> np.ndarray:
-    """(T, S) centreline displacement along the beat direction (um)."""
-    c = sim.centreline_um
-    if c.shape[1] == 1:
-        return c[:, 0]
-    return np.cos(sim.beat_angle_rad) * c[:, 0] + np.sin(sim.beat_angle_rad) * c[:, 1]
-
-
 def plot_waveform(ax: plt.Axes, x_um: np.ndarray, frames_um: np.ndarray, title: str = "") -> None:
     """Centreline shapes (frames (N, S), um) over one cycle, coloured by phase."""
     colors = plt.cm.viridis(np.linspace(0, 1, len(frames_um)))
@@ -67,7 +59,7 @@ def plot_simulation(sim: Simulation | str | pathlib.Path) -> plt.Figure:
 
     last = _last_cycles(sim, 1)
     pick = last[np.linspace(0, len(last) - 1, min(12, len(last))).astype(int)]
-    plot_waveform(axes[1, 0], sim.x_um, _in_plane(sim)[pick], "waveform, last cycle")
+    plot_waveform(axes[1, 0], sim.x_um, sim.centreline_beat_um[pick], "waveform, last cycle")
 
     a = axes[1, 1]
     if sim.tip_um.shape[1] == 2:
@@ -142,4 +134,4 @@ def animate_simulation(sim: Simulation, path: str | pathlib.Path, cycles: int = 
     idx = _last_cycles(sim, cycles)
     n = cycles * frames_per_cycle if sim.limit_cycle else 48
     pick = idx[np.linspace(0, len(idx) - 1, min(n, len(idx))).astype(int)]
-    return animate_frames(sim.x_um, _in_plane(sim)[pick], path, title=f"{sim.meta['model']}: {sim.state.replace('_', ' ')}")
+    return animate_frames(sim.x_um, sim.centreline_beat_um[pick], path, title=f"{sim.meta['model']}: {sim.state.replace('_', ' ')}")
