@@ -167,10 +167,6 @@ def beat_from_kymograph(t_s: np.ndarray, s_um: np.ndarray, psi_rad: np.ndarray, 
     # Standard error of the mean period; floor: a tenth of a frame over the whole record.
     sigma_T = max(float(cycles.periods.std(ddof=1)) / np.sqrt(cycles.count) if cycles.count > 1 else 0.0, 0.1 * frame / cycles.count)
     modes = fourier_modes(t_s, s_um, psi_rad, period)
-    keep = t_s >= t_s[-1] - round((t_s[-1] - t_s[0]) / period - 0.5) * period - 1e-12
-    tt = t_s[keep]
-    recon = modes.psi0[None] + np.real(modes.psi1[None] * np.exp(1j * modes.omega * tt)[:, None])
-    resid = psi_rad[keep] - recon
-    sigma_psi1 = max(float(resid.std()) * np.sqrt(2.0 / keep.sum()), 1e-6)
+    sigma_psi1 = max(modes.residual_rms * np.sqrt(2.0 / modes.n_samples), 1e-6)
     f = 1.0 / period
     return BeatData(t_s=t_s, s_um=np.asarray(s_um, dtype=float), psi_rad=psi_rad, frequency_hz=f, frequency_sigma_hz=f * sigma_T / period, modes=modes, psi1_sigma=sigma_psi1)

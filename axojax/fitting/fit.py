@@ -27,7 +27,7 @@ from ..eigen.mode import _dominant_mode_impl
 from ..models.section import Model
 from ..params import PARAM_NAMES, Params
 from ..units import Units
-from .targets import ShapeTarget, Target, scalar_value, shape_residuals
+from .targets import SCALARS, ShapeTarget, Target, scalar_value, shape_residuals
 
 DEFAULT_BOUNDS = {
     "p": (10.0, 1e4),
@@ -239,8 +239,6 @@ def _summarise(model, free, log, u, to_params, residuals, targets, shape, units,
     log = np.asarray(log)
     full = to_params(u)
     mode = jax.jit(_dominant_mode_impl, static_argnums=0)(model, full)
-    from .targets import SCALARS  # noqa: PLC0415
-
     achieved = {k: float(scalar_value(mode, k, units)) for k in SCALARS}
     r = np.asarray(jax.jit(residuals)(u))
     n_scalar = len(targets)

@@ -68,12 +68,16 @@ class FourierModes:
         psi0: (S,) static mode (rad).
         psi1: (S,) complex first mode (rad); psi ~ psi0 + Re(psi1 exp(i omega t)).
         omega: angular frequency used (rad per caller's time unit).
+        residual_rms: rms of psi - psi_0 - Re(psi_1 exp(i omega t)) over the window (rad).
+        n_samples: time samples in the window.
     """
 
     s: np.ndarray
     psi0: np.ndarray
     psi1: np.ndarray
     omega: float
+    residual_rms: float = 0.0
+    n_samples: int = 0
 
     @property
     def static_curvature(self) -> float:
@@ -109,4 +113,5 @@ def fourier_modes(t: np.ndarray, s: np.ndarray, psi: np.ndarray, period: float) 
     span = tt[-1] - tt[0]
     psi0 = np.trapezoid(pp, tt, axis=0) / span
     psi1 = 2 * np.trapezoid(pp * np.exp(-1j * omega * tt)[:, None], tt, axis=0) / span
-    return FourierModes(s=np.asarray(s, dtype=float), psi0=psi0, psi1=psi1, omega=omega)
+    resid = pp - psi0[None] - np.real(psi1[None] * np.exp(1j * omega * tt)[:, None])
+    return FourierModes(s=np.asarray(s, dtype=float), psi0=psi0, psi1=psi1, omega=omega, residual_rms=float(np.sqrt(np.mean(resid**2))), n_samples=int(tt.size))
