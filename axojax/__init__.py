@@ -3,24 +3,15 @@
 Float64 is switched on at import (``jax_enable_x64``): the eigen-problems here span
 ten orders of magnitude in stiffness and need it.
 
-XLA's CPU runtime can wedge (hang at 0% CPU, waiting on its execution semaphore) when
-several vmapped executables full of LAPACK eigen-solves are in flight at once. axojax
-therefore, unless ``AXOJAX_KEEP_XLA_FLAGS=1`` is set, adds
-``--xla_cpu_multi_thread_eigen=false`` to ``XLA_FLAGS`` and turns off CPU async
-dispatch (``jax_cpu_enable_async_dispatch``), so one executable runs at a time. The
-cost is small: the work is inside each executable's LAPACK calls.
+Unless ``AXOJAX_KEEP_XLA_FLAGS=1`` is set, importing axojax also makes XLA's CPU
+runtime run one executable at a time and gives scipy's BLAS (which jaxlib's LAPACK
+kernels call) a single thread: see :mod:`axojax._runtime` for why.
 """
 
-import os as _os
+from . import _runtime
 
-if _os.environ.get("AXOJAX_KEEP_XLA_FLAGS") != "1" and "xla_cpu_multi_thread_eigen" not in _os.environ.get("XLA_FLAGS", ""):
-    _os.environ["XLA_FLAGS"] = (_os.environ.get("XLA_FLAGS", "") + " --xla_cpu_multi_thread_eigen=false").strip()
-
-import jax as _jax  # noqa: E402
-
-_jax.config.update("jax_enable_x64", True)
-if _os.environ.get("AXOJAX_KEEP_XLA_FLAGS") != "1":
-    _jax.config.update("jax_cpu_enable_async_dispatch", False)
+_runtime.set_xla_flags()
+_runtime.configure_jax()
 
 from . import models  # noqa: E402
 from .assembly import System, assemble  # noqa: E402
