@@ -83,12 +83,6 @@ def test_interrupted_sweep_resumes(model, reference, tmp_path, monkeypatch):
     assert loaded.meta["fixed"]["cl"] == 0.02 and loaded.meta["kl_ratio"] == 100.0
 
 
-@pytest.mark.xfail(
-    reason="known open problem: a sweep sharded over 2 forced host CPU devices wedges XLA's CPU runtime "
-    "(0% CPU) in jaxlib 0.10 with LAPACK eigen-solves in both shards; see the closing note of issue 4",
-    raises=(subprocess.TimeoutExpired, AssertionError),
-    strict=False,
-)
 def test_two_cpu_devices_identical(tmp_path):
     script = textwrap.dedent(
         f"""
@@ -105,7 +99,10 @@ def test_two_cpu_devices_identical(tmp_path):
         print("identical")
         """
     )
-    proc = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60)
+    try:
+        proc = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=180)
+    except subprocess.TimeoutExpired:
+        pytest.fail("the 2-device sweep did not finish in 180 s: is jaxlib 0.10.x installed (pool deadlock, README)?")
     assert proc.returncode == 0, proc.stderr[-2000:]
     assert "identical" in proc.stdout
 
