@@ -7,7 +7,10 @@ import sys
 import pathlib
 
 from ..dynamics import DEFAULT_CUBIC, simulate
+from ..dynamics.simulate import check_inputs
 from . import common
+
+FLAGS = {"t_end_s": "--t-end", "cubic": "--cubic", "perturbation_um": "--perturbation-um", "rtol": "--rtol"}
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -27,13 +30,10 @@ def run(args: argparse.Namespace) -> dict:
     cubic = DEFAULT_CUBIC if args.cubic is None else args.cubic
     if model.link_B.shape[0] == 0 and args.cubic is None:
         cubic = 0.0  # nothing to stiffen: single filaments are linear
-    for flag, value in (("--t-end", args.t_end), ("--perturbation-um", args.perturbation_um), ("--rtol", args.rtol)):
-        if value <= 0:
-            raise common.CLIError(f"{flag}: must be > 0, got {value:g}")
-    if cubic < 0:
-        raise common.CLIError(f"--cubic: must be >= 0, got {cubic:g}")
-    if cubic > 0 and model.link_B.shape[0] == 0:
-        raise common.CLIError(f"--cubic: model {model.name!r} has no links to stiffen; use --cubic 0")
+    try:
+        check_inputs(model, args.t_end, cubic, args.perturbation_um, args.rtol, names=FLAGS)
+    except ValueError as err:
+        raise common.CLIError(str(err)) from None
     for flag, path in (("--out", args.out), ("--gif", args.gif)):
         if path is not None and not pathlib.Path(path).resolve().parent.is_dir():
             raise common.CLIError(f"{flag}: directory of {path!r} does not exist")
@@ -49,7 +49,9 @@ def run(args: argparse.Namespace) -> dict:
 
 def render(doc: dict) -> str:
     lin = doc["linear"]
-    lines = [f"state: {doc['state']}", f"linear (dominant eigenvalue): {lin['classification']}, {lin['frequency_hz']:.3f} Hz, growth {lin['growth_rate_per_s']:.3f} /s"]
+    solver = doc["solver"]
+    stopped = "" if solver["ok"] else f" (the solver stopped after {solver['steps']} steps of {solver['max_steps']}: divergence or a stiff stall)"
+    lines = [f"state: {doc['state']}{stopped}", f"linear (dominant eigenvalue): {lin['classification']}, {lin['frequency_hz']:.3f} Hz, growth {lin['growth_rate_per_s']:.3f} /s"]
     lc = doc["limit_cycle"]
     if lc is not None:
         w = doc["waveform"]

@@ -28,6 +28,12 @@ saturates the beat at a tip amplitude of about 3 um (a quarter of L; see tests/t
 
 MIN_SAMPLES_PER_S = 2000.0
 MAX_SAMPLES = 200_000
+STEPS_PER_PERIOD = 2000
+"""Default step budget per period (of the linear frequency, at least 20 Hz) on top of
+``MIN_STEPS``: a nonlinear beat takes about 300-500 steps a period; a solve that stalls
+(step size collapsing) stops at the budget and is reported ``divergent`` instead of running
+for most of an hour."""
+MIN_STEPS = 10_000
 
 _integrate_jit = jax.jit(integrate, static_argnums=0, static_argnames=("rtol", "atol", "max_steps", "progress"))
 
@@ -77,7 +83,7 @@ class Simulation:
     def report(self) -> dict[str, Any]:
         """The ``axojax simulate --json`` document."""
         lc = None if self.limit_cycle is None else {k: self.limit_cycle[k] for k in ("frequency_hz", "tip_amplitude_um", "period_s")}
-        return {"state": self.state, "limit_cycle": lc, "linear": dict(self.linear), "waveform": self.limit_cycle}
+        return {"state": self.state, "limit_cycle": lc, "linear": dict(self.linear), "waveform": self.limit_cycle, "solver": dict(self.meta["solver"])}
 
     def save(self, path: str | pathlib.Path) -> None:
         meta = {**self.meta, "kind": "simulation", "state": self.state, "limit_cycle": self.limit_cycle, "linear": self.linear, "beat_angle_rad": self.beat_angle_rad}
@@ -101,11 +107,25 @@ def _along(v: np.ndarray, angle: float) -> np.ndarray:
     return math.cos(angle) * v[..., 0] + math.sin(angle) * v[..., 1]
 
 
-def _check(name: str, value: float, positive: bool = True) -> float:
-    value = float(value)
-    if not math.isfinite(value) or (value <= 0 if positive else value < 0):
-        raise ValueError(f"{name} must be a finite number {'> 0' if positive else '>= 0'}, got {value!r}")
-    return value
+def check_inputs(model: Model, t_end_s: float, cubic: float, perturbation_um: float, rtol: float, names: dict[str, str] | None = None) -> tuple[float, float, float, float]:
+    """Validate :func:`simulate`'s scalar inputs; returns them as floats.
+
+    ``names`` renames the arguments in the error messages (the CLI passes its flags).
+    Raises ``ValueError`` with one line naming the bad value.
+    """
+    names = names or {}
+
+    def check(name: str, value: float, positive: bool = True) -> float:
+        value = float(value)
+        if not math.isfinite(value) or (value <= 0 if positive else value < 0):
+            raise ValueError(f"{names.get(name, name)} must be a finite number {'> 0' if positive else '>= 0'}, got {value!r}")
+        return value
+
+    t_end_s, cubic = check("t_end_s", t_end_s), check("cubic", cubic, positive=False)
+    perturbation_um, rtol = check("perturbation_um", perturbation_um), check("rtol", rtol)
+    if model.link_B.shape[0] == 0 and cubic > 0:
+        raise ValueError(f"{names.get('cubic', 'cubic')} = {cubic:g} needs a model with links; {model.name!r} has none (use 0)")
+    return t_end_s, cubic, perturbation_um, rtol
 
 
 def simulate(
@@ -120,7 +140,7 @@ def simulate(
     n_points: int = 41,
     rtol: float = 1e-6,
     atol: float = 1e-9,
-    max_steps: int = 200_000,
+    max_steps: int | None = None,
     progress: bool = False,
 ) -> Simulation:
     """Integrate ``C dq/dt = -A q - f_nl(q) + b`` from a small perturbation of the straight
@@ -141,18 +161,15 @@ def simulate(
             dominant mode does not oscillate), at most ``MAX_SAMPLES`` in all.
         n_points: points along x for the saved centreline and tangent angle.
         rtol, atol: solver tolerances (atol in units of L).
-        max_steps: solver step limit; running out is reported as ``divergent``.
+        max_steps: solver step limit; running out is reported as ``divergent``. Default:
+            ``MIN_STEPS + STEPS_PER_PERIOD`` per linear period, rounded up to 10 000.
         progress: show a progress bar.
 
     Returns:
         :class:`Simulation`.
     """
     params = params.validate()
-    t_end_s = _check("t_end_s", t_end_s)
-    cubic = _check("cubic", cubic, positive=False)
-    perturbation_um = _check("perturbation_um", perturbation_um)
-    if model.link_B.shape[0] == 0 and cubic > 0:
-        raise ValueError(f"cubic = {cubic:g} needs a model with links; {model.name!r} has none (use cubic = 0)")
+    t_end_s, cubic, perturbation_um, rtol = check_inputs(model, t_end_s, cubic, perturbation_um, rtol)
     tau = units.tau_s
     mode = _dominant_mode_jit(model, params)
     linear = {
@@ -165,6 +182,9 @@ def simulate(
     n_save = int(min(MAX_SAMPLES, max(200, math.ceil(t_end_s * per_second) + 1)))
     t = np.linspace(0.0, t_end, n_save)
 
+    if max_steps is None:
+        periods = t_end_s * max(linear["frequency_hz"], 20.0)
+        max_steps = 10_000 * math.ceil((MIN_STEPS + STEPS_PER_PERIOD * periods) / 10_000)
     x = np.linspace(0.0, 1.0, n_points)
     q0 = (perturbation_um / units.length_um) * tip_deflection(model)
 
@@ -203,7 +223,7 @@ def simulate(
         "t_end_s": t_end_s,
         "perturbation_um": perturbation_um,
         "units": {"length_um": units.length_um, "ei_pn_um2": units.ei_pn_um2, "cn_pn_s_um2": units.cn_pn_s_um2, "tau_s": tau},
-        "solver": {"name": "Kvaerno5", "rtol": rtol, "atol": atol, "steps": int(traj.steps), "ok": bool(traj.ok)},
+        "solver": {"name": "Kvaerno5", "rtol": rtol, "atol": atol, "steps": int(traj.steps), "max_steps": int(max_steps), "ok": bool(traj.ok)},
     }
     L = units.length_um
     return Simulation(
