@@ -5,8 +5,8 @@
 2. One thread for the BLAS that ships with scipy. jaxlib's CPU LAPACK kernels (LU,
    Cholesky, triangular solves, eig) call scipy's bundled OpenBLAS, whose worker threads
    busy-wait after every call. On a 2-core machine they fight XLA's own threads for the
-   cores: a 280-unknown implicit simulation ran 1.8x slower alone and about 7x slower
-   beside a second process, and vmapped eigen-solves could stall. The matrices here are
+   cores: a 280-unknown implicit simulation ran 1.8x slower alone (measured; beside a
+   second process the same solve was ~7x slower, not all of it from BLAS). The matrices here are
    small (n <= a few hundred), so a single BLAS thread costs nothing. Only scipy's copy is
    limited (found with threadpoolctl); numpy's own BLAS keeps its threads.
 """
