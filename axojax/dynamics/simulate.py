@@ -49,7 +49,7 @@ class Simulation:
         psi_rad: (T, S) tangent angle of the centreline in the beat plane (small slopes).
         tip_um: (T, d) tip displacement.
         beat_angle_rad: beat direction, radians from y towards z.
-        state: ``decaying``, ``limit_cycle``, ``growing`` or ``divergent``
+        state: ``decaying``, ``limit_cycle``, ``growing``, ``settling`` or ``divergent``
             (rules in :mod:`axojax.dynamics.analysis`).
         limit_cycle: on a limit cycle: ``frequency_hz``, ``period_s``, ``tip_amplitude_um``
             (half peak-to-peak along the beat direction), ``static_curvature_rad_per_um``,
@@ -201,7 +201,7 @@ def simulate(
     y_eq = float(_along(centreline(model, q_eq, np.array([1.0]))[:, 0], angle))
     y = _along(tip_t, angle)
     psi = _along(np.moveaxis(du, 1, -1), angle)  # (T, S)
-    state, cycles = classify_trajectory(t, y, y_eq, ok)
+    state, cycles = classify_trajectory(t, y, y_eq, ok, equilibrium_stable=linear["growth_rate_per_s"] < 0)
 
     limit_cycle = None
     if state == "limit_cycle":

@@ -1,0 +1,52 @@
+"""The trajectory classifier on synthetic tip signals with known envelopes."""
+
+import numpy as np
+import pytest
+
+from axojax.dynamics.analysis import STATES, classify_trajectory
+
+T = np.linspace(0.0, 1.0, 4001)  # s; a 10 Hz signal: 10 cycles
+
+
+def beat(envelope, f=10.0):
+    return envelope * np.sin(2 * np.pi * f * T)
+
+
+@pytest.mark.parametrize(
+    "y, stable, expected",
+    [
+        (beat(np.ones_like(T)), False, "limit_cycle"),
+        (beat(np.exp(3 * T)), False, "growing"),
+        (beat(np.exp(-3 * T)), True, "decaying"),
+        # Overshoot: amplitude falling towards 1 around an unstable equilibrium.
+        (beat(1 + 2 * np.exp(-3 * T)), False, "settling"),
+        # Growing oscillation with only 2 cycles in the record: growing, not divergent.
+        (beat(np.exp(12 * T), f=2.2), False, "growing"),
+        # ... and with 1.1 cycles, growing 12x (seven filaments, 4 elements, p = 300,
+        # 0.05 s: a flutter mode growing at 49/s, 23 Hz).
+        (beat(np.exp(2.5 * T), f=1.1) + 0.1, False, "growing"),
+        # Monotone departure by e^4 = 55x: divergent, also after an early decaying wobble.
+        (0.01 * np.exp(4 * T), False, "divergent"),
+        (0.01 * np.exp(4 * T) + 0.005 * np.exp(-40 * T) * np.sin(2 * np.pi * 10 * T), False, "divergent"),
+        # Monotone departure by less than 10x: growing; monotone return: decaying.
+        (0.01 * np.exp(T), False, "growing"),
+        (0.01 * np.exp(-5 * T), True, "decaying"),
+    ],
+)
+def test_classify_synthetic(y, stable, expected):
+    state, _ = classify_trajectory(T, y, 0.0, True, equilibrium_stable=stable)
+    assert state in STATES
+    assert state == expected
+
+
+def test_failed_or_non_finite_run_is_divergent():
+    y = beat(np.ones_like(T))
+    assert classify_trajectory(T, y, 0.0, False)[0] == "divergent"
+    y[-1] = np.nan
+    assert classify_trajectory(T, y, 0.0, True)[0] == "divergent"
+
+
+def test_return_to_a_bent_equilibrium_is_decaying():
+    """With imbalance the equilibrium is bent: distances are measured from it."""
+    y = 0.5 + 0.1 * np.exp(-5 * T)
+    assert classify_trajectory(T, y, 0.5, True)[0] == "decaying"
