@@ -131,3 +131,37 @@ def test_cli_sweep_errors(tmp_path, capsys):
     assert main(["sweep", "--model", "two", "--ks", "log:-1:2:3", "--out", str(tmp_path / "a.npz")]) == 2
     assert "--ks" in capsys.readouterr().err
     assert main(["plot", str(tmp_path / "missing.npz"), "--out", str(tmp_path / "x.png")]) == 2
+
+
+def test_netcdf_export_matches_npz(reference, tmp_path, capsys):
+    """The NetCDF file holds the same coordinates, arrays and metadata as the .npz, with
+    units and flag meanings; the CLI writes both."""
+    xr = pytest.importorskip("xarray")
+    path = tmp_path / "s.nc"
+    reference.to_netcdf(path)
+    with xr.open_dataset(path) as ds:
+        assert tuple(ds.sizes) == tuple(AXES) and tuple(ds.sizes.values()) == reference.shape
+        for k, v in AXES.items():
+            np.testing.assert_array_equal(ds[k].values, v)
+        for k, v in reference.data.items():
+            np.testing.assert_array_equal(ds[k].values, v)
+        assert ds["frequency_hz"].attrs["units"] == "Hz"
+        assert ds["classification"].attrs["flag_meanings"] == "stable flutter divergence"
+        assert json.loads(ds.attrs["axojax_meta"]) == reference.meta
+        assert ds.attrs["fixed_cl"] == pytest.approx(0.02)
+    npz, nc = tmp_path / "c.npz", tmp_path / "c.nc"
+    assert main(["sweep", "--model", "two", "--p", "200,400", "--out", str(npz), "--netcdf", str(nc), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["netcdf"] == str(nc)
+    with xr.open_dataset(nc) as ds, np.load(npz) as f:
+        np.testing.assert_array_equal(ds["growth_rate_per_s"].values, f["growth_rate_per_s"])
+    assert main(["sweep", "--model", "two", "--p", "200,400", "--out", str(npz), "--netcdf", str(tmp_path / "c.cdf")]) == 2
+    assert "--netcdf" in capsys.readouterr().err
+
+
+def test_netcdf_without_xarray_is_one_line_error(reference, tmp_path, monkeypatch, capsys):
+    monkeypatch.setitem(sys.modules, "xarray", None)  # import xarray now raises ImportError
+    with pytest.raises(ImportError, match=r"axojax\[netcdf\]"):
+        reference.to_xarray()
+    assert main(["sweep", "--model", "two", "--p", "200,400", "--out", str(tmp_path / "c.npz"), "--netcdf", str(tmp_path / "c.nc")]) == 2
+    err = capsys.readouterr().err
+    assert "--netcdf" in err and "axojax[netcdf]" in err and len(err.strip().splitlines()) == 1

@@ -52,6 +52,19 @@ class SweepResult:
         np.savez(tmp, **arrays)
         tmp.replace(path)
 
+    def to_xarray(self):
+        """The sweep as an ``xarray.Dataset`` (needs ``axojax[netcdf]``; see
+        :mod:`axojax.sweeps.netcdf`)."""
+        from .netcdf import to_xarray
+
+        return to_xarray(self)
+
+    def to_netcdf(self, path: str | pathlib.Path) -> None:
+        """Write the sweep to NetCDF (needs ``axojax[netcdf]``)."""
+        from .netcdf import to_netcdf
+
+        to_netcdf(self, path)
+
     @classmethod
     def load(cls, path: str | pathlib.Path) -> "SweepResult":
         with np.load(path, allow_pickle=False) as f:
