@@ -147,6 +147,7 @@ def test_netcdf_export_matches_npz(reference, tmp_path, capsys):
             np.testing.assert_array_equal(ds[k].values, v)
         assert ds["frequency_hz"].attrs["units"] == "Hz"
         assert ds["classification"].attrs["flag_meanings"] == "stable flutter divergence"
+        assert ds["direction"].attrs["flag_meanings"] == "retrograde none anterograde"
         assert json.loads(ds.attrs["axojax_meta"]) == reference.meta
         assert ds.attrs["fixed_cl"] == pytest.approx(0.02)
     npz, nc = tmp_path / "c.npz", tmp_path / "c.nc"

@@ -2,7 +2,7 @@
 
 Dimensions are the sweep axes in axis order, with their values as coordinates; every
 metric is a data variable with CF-style ``units`` and ``long_name``; ``classification``
-and ``direction`` carry ``flag_values``/``flag_meanings``. The fixed parameters, units
+and ``direction`` carry ``flag_values``/``flag_meanings`` (from the codes in the meta). The fixed parameters, units
 and model go into flat attributes (NetCDF has no nested attributes) and, whole, into
 ``axojax_meta`` as the same JSON string the ``.npz`` file holds.
 """
@@ -31,10 +31,6 @@ VARIABLES: dict[str, tuple[str, str]] = {
     "direction": ("1", "direction of wave propagation"),
     "classification": ("1", "stability of the straight state"),
 }
-FLAGS = {
-    "classification": ([0, 1, 2], "stable flutter divergence"),
-    "direction": ([-1, 0, 1], "retrograde none anterograde"),
-}
 
 
 def require_xarray():
@@ -55,9 +51,11 @@ def to_xarray(result: "SweepResult") -> "xarray.Dataset":
     for name, values in result.data.items():
         units, long_name = VARIABLES.get(name, ("1", name))
         attrs: dict[str, Any] = {"units": units, "long_name": long_name}
-        if name in FLAGS:
-            attrs["flag_values"] = np.asarray(FLAGS[name][0], dtype=np.int8)
-            attrs["flag_meanings"] = FLAGS[name][1]
+        codes = result.meta.get(name)
+        if isinstance(codes, dict):  # e.g. {"0": "stable", "1": "flutter", ...}
+            flags = sorted(int(k) for k in codes)
+            attrs["flag_values"] = np.asarray(flags, dtype=np.int8)
+            attrs["flag_meanings"] = " ".join(codes[str(v)] for v in flags)
         data_vars[name] = (dims, np.asarray(values), attrs)
     meta = result.meta
     attrs = {
