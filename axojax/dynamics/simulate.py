@@ -30,9 +30,9 @@ MIN_SAMPLES_PER_S = 2000.0
 MAX_SAMPLES = 200_000
 STEPS_PER_PERIOD = 2000
 """Default step budget per period (of the linear frequency, at least 20 Hz) on top of
-``MIN_STEPS``: a nonlinear beat takes about 300-500 steps a period; a solve that stalls
-(step size collapsing) stops at the budget and is reported ``divergent`` instead of running
-for most of an hour."""
+``MIN_STEPS``: the nonlinear beat takes about 250 accepted steps a period (10 elements,
+``benchmarks/bench_simulate.py``: 4806 in 20 periods); a solve whose step size collapses
+stops at the budget and is reported ``divergent`` instead of running for most of an hour."""
 MIN_STEPS = 10_000
 
 _integrate_jit = jax.jit(integrate, static_argnums=0, static_argnames=("rtol", "atol", "max_steps", "progress"))
