@@ -25,9 +25,9 @@ from __future__ import annotations
 
 import diffrax
 import equinox as eqx
-import optimistix as optx
 import jax.numpy as jnp
 import jax.scipy.linalg as jsl
+import optimistix as optx
 from jaxtyping import Array, Float
 
 from ..assembly import assemble
