@@ -57,6 +57,10 @@ def add_model_flags(parser: argparse.ArgumentParser, params: tuple[str, ...] = t
     src.add_argument("--model", default=None, help=f"preset: {', '.join(PRESETS)} (default seven)")
     src.add_argument("--model-file", default=None, metavar="PATH", help="TOML/JSON cross-section file")
     g.add_argument("--elements", default=10, metavar="N", help="elements per filament (default 10)")
+    g.add_argument(
+        "--rotation-deg", type=finite_float, default=0.0, metavar="DEG",
+        help="turn a 3D preset's cross-section by DEG degrees from +z towards +y (default 0: the paper's beat plane)",
+    )
     d = Params()
     for flag in params:
         field = PARAM_FLAGS[flag]
@@ -98,10 +102,12 @@ def model_from_args(args: argparse.Namespace) -> Model:
         raise CLIError(f"--elements: expected an integer >= 1, got {n}")
     try:
         if args.model_file is not None:
+            if args.rotation_deg != 0.0:
+                raise CLIError("--rotation-deg: applies to presets; a --model-file gives its positions itself")
             return from_file(args.model_file, n_elements=n)
-        return preset(args.model or "seven", n_elements=n)
+        return preset(args.model or "seven", n_elements=n, rotation_deg=args.rotation_deg)
     except ValueError as err:
-        flag = "--model-file" if args.model_file is not None else "--model"
+        flag = "--model-file" if args.model_file is not None else ("--rotation-deg" if "rotation_deg" in str(err) else "--model")
         raise CLIError(f"{flag}: {err}") from None
 
 

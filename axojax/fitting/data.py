@@ -60,6 +60,15 @@ def _fail(path, problem: str):
     raise ValueError(f"{path}: {problem}")
 
 
+def _interp_extrapolate(x: np.ndarray, xp: np.ndarray, fp: np.ndarray) -> np.ndarray:
+    """``np.interp`` with linear extrapolation from the two end intervals."""
+    out = np.interp(x, xp, fp)
+    lo, hi = x < xp[0], x > xp[-1]
+    out[lo] = fp[0] + (x[lo] - xp[0]) * (fp[1] - fp[0]) / (xp[1] - xp[0])
+    out[hi] = fp[-1] + (x[hi] - xp[-1]) * (fp[-1] - fp[-2]) / (xp[-1] - xp[-2])
+    return out
+
+
 def _tangent_angle(x: np.ndarray, y: np.ndarray, length_um: float, path) -> tuple[np.ndarray, np.ndarray]:
     """Centreline points (T, P) -> psi (T, N_POINTS) on a uniform arc length in [0, L]."""
     if x.shape != y.shape or x.ndim != 2 or x.shape[1] < 4:
@@ -71,7 +80,12 @@ def _tangent_angle(x: np.ndarray, y: np.ndarray, length_um: float, path) -> tupl
     s_mid = np.cumsum(seg, axis=1) - seg / 2
     angle = np.unwrap(np.arctan2(dy, dx), axis=1)
     s = np.linspace(0.0, length_um, N_POINTS)
-    psi = np.stack([np.interp(s / length_um * s_mid[k, -1] / (s_mid[k, -1] + seg[k, -1] / 2), s_mid[k] / (s_mid[k, -1] + seg[k, -1] / 2), angle[k]) for k in range(x.shape[0])])
+    # Segment angles belong to segment midpoints; the ends (s = 0 and L) lie half a
+    # segment beyond the first and last midpoints, so extrapolate linearly there
+    # (holding the end value instead would put the base angle half a segment up).
+    # Each frame's arc length is scaled to [0, 1] (a fraction of its own measured length).
+    total = seg.sum(axis=1)
+    psi = np.stack([_interp_extrapolate(s / length_um, s_mid[k] / total[k], angle[k]) for k in range(x.shape[0])])
     base = psi[:, 0].mean()
     return s, psi - base
 

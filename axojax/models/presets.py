@@ -1,8 +1,17 @@
 """The preset cross-sections of MODEL.md section 4.
 
-Positions are (y, z) = (sin theta, cos theta) on the unit circle, y the beat-plane
-direction. In the 3D presets ring links that are not active pairs are stiffer by
-``Params.inactive_factor`` and z-bending by ``Params.out_of_plane`` (paper, section 2.2).
+Positions are (y, z) = (sin theta, cos theta) on the unit circle, theta measured from
++z towards +y, y the beat-plane direction. In the 3D presets ring links that are not
+active pairs are stiffer by ``Params.inactive_factor`` and z-bending by
+``Params.out_of_plane`` (paper, section 2.2).
+
+Orientation (paper, section 2.2 and fig. 3): the two active groups sit on opposite
+sides of the beat plane and the plane that divides them is the beat plane, so each
+group's net dynein bending direction (the sum of its pairs' unit vectors n_a) lies
+along +-y. ``rotation_deg`` turns a preset away from that placement (it is added to
+every angle theta): ``seven(rotation_deg=30)`` and ``four(rotation_deg=45)`` give the
+placements of axojax 0.1.0, whose active groups bent 30 and 45 degrees out of the beat
+plane (the four up to a mirror image, which has the same eigenvalues).
 """
 
 from __future__ import annotations
@@ -13,48 +22,70 @@ from ..fem import Profiles
 from .section import ActivePair, CrossSection, Link, Model, build_model
 
 
-def _ring(angles_deg: list[float], central: bool) -> np.ndarray:
-    th = np.deg2rad(np.asarray(angles_deg, dtype=float))
+def _ring(angles_deg: list[float], central: bool, rotation_deg: float = 0.0) -> np.ndarray:
+    """Unit-circle positions at ``angles_deg + rotation_deg`` (from +z towards +y),
+    after a central filament at the origin if ``central``."""
+    th = np.deg2rad(np.asarray(angles_deg, dtype=float) + rotation_deg)
     ring = np.stack([np.sin(th), np.cos(th)], axis=1)
     return np.vstack([np.zeros((1, 2)), ring]) if central else ring
 
 
-def single_section() -> CrossSection:
+def _planar(rotation_deg: float, name: str) -> None:
+    if rotation_deg != 0.0:
+        raise ValueError(f"the planar preset {name!r} has no cross-section to rotate (rotation_deg must be 0, got {rotation_deg:g})")
+
+
+def single_section(rotation_deg: float = 0.0) -> CrossSection:
+    _planar(rotation_deg, "single")
     return CrossSection("single", np.zeros((1, 2)), n_dirs=1, load="distributed")
 
 
-def beck_section() -> CrossSection:
+def beck_section(rotation_deg: float = 0.0) -> CrossSection:
+    _planar(rotation_deg, "beck")
     return CrossSection("beck", np.zeros((1, 2)), n_dirs=1, load="tip")
 
 
-def two_section() -> CrossSection:
+def two_section(rotation_deg: float = 0.0) -> CrossSection:
+    _planar(rotation_deg, "two")
     return CrossSection("two", np.array([[0.0, 0.0], [1.0, 0.0]]), links=(Link(0, 1, "link"),), active_pairs=(ActivePair(0, 1, 0),), n_dirs=1)
 
 
-def four_section() -> CrossSection:
+FOUR_ANGLES_DEG = (-45.0, 45.0, 135.0, -135.0)
+"""The square of two two-doublet systems (paper, fig. 3c): pairs (0, 1) and (2, 3) bend
+along +y and -y."""
+SEVEN_ANGLES_DEG = (60.0, 0.0, -60.0, -120.0, 180.0, 120.0)
+"""Doublets 1..6 around the central pair: group 0 (pairs 1-2, 2-3) on the +y side, group 1
+(pairs 4-5, 5-6) on the -y side; each group's net bending direction is along -y or +y."""
+NINE_ANGLES_DEG = tuple(90.0 - 40.0 * k for k in range(9))
+"""Doublets 1..9; the middles of the groups (3 and 8) sit 10 degrees either side of +z and
+-z, the closest a ring of nine comes to the orientation rule."""
+
+
+def four_section(rotation_deg: float = 0.0) -> CrossSection:
     ring = [Link(k, (k + 1) % 4, "link") for k in range(4)]
     spokes = [Link(0, 2, "spoke"), Link(1, 3, "spoke")]
     return CrossSection(
         "four",
-        _ring([90, 0, -90, 180], central=False),
+        _ring(list(FOUR_ANGLES_DEG), central=False, rotation_deg=rotation_deg),
         links=tuple(ring + spokes),
         active_pairs=(ActivePair(0, 1, 0), ActivePair(2, 3, 1)),
     )
 
 
-def _central_ring(name: str, angles: list[float], pairs: list[tuple[int, int, int]]) -> CrossSection:
+def _central_ring(name: str, angles: tuple[float, ...], pairs: list[tuple[int, int, int]], rotation_deg: float) -> CrossSection:
     m = len(angles)
     spokes = [Link(0, k, "spoke") for k in range(1, m + 1)]
     ring = [Link(k, k % m + 1, "link") for k in range(1, m + 1)]
-    return CrossSection(name, _ring(angles, central=True), links=tuple(spokes + ring), active_pairs=tuple(ActivePair(*p) for p in pairs))
+    positions = _ring(list(angles), central=True, rotation_deg=rotation_deg)
+    return CrossSection(name, positions, links=tuple(spokes + ring), active_pairs=tuple(ActivePair(*p) for p in pairs))
 
 
-def seven_section() -> CrossSection:
-    return _central_ring("seven", [90, 30, -30, -90, -150, 150], [(1, 2, 0), (2, 3, 0), (4, 5, 1), (5, 6, 1)])
+def seven_section(rotation_deg: float = 0.0) -> CrossSection:
+    return _central_ring("seven", SEVEN_ANGLES_DEG, [(1, 2, 0), (2, 3, 0), (4, 5, 1), (5, 6, 1)], rotation_deg)
 
 
-def nine_section() -> CrossSection:
-    return _central_ring("nine", [90 - 40 * k for k in range(9)], [(2, 3, 0), (3, 4, 0), (7, 8, 1), (8, 9, 1)])
+def nine_section(rotation_deg: float = 0.0) -> CrossSection:
+    return _central_ring("nine", NINE_ANGLES_DEG, [(2, 3, 0), (3, 4, 0), (7, 8, 1), (8, 9, 1)], rotation_deg)
 
 
 SECTIONS = {
@@ -69,11 +100,14 @@ PRESETS = tuple(SECTIONS)
 
 
 def _preset(name: str):
-    def make(n_elements: int = 10, profiles: Profiles = Profiles()) -> Model:
-        return build_model(SECTIONS[name](), n_elements, profiles)
+    def make(n_elements: int = 10, profiles: Profiles = Profiles(), rotation_deg: float = 0.0) -> Model:
+        return build_model(SECTIONS[name](rotation_deg), n_elements, profiles)
 
     make.__name__ = name
-    make.__doc__ = f"The ``{name}`` preset of MODEL.md section 4 with ``n_elements`` elements per filament."
+    make.__doc__ = (
+        f"The ``{name}`` preset of MODEL.md section 4 with ``n_elements`` elements per filament;\n"
+        "``rotation_deg`` turns its cross-section (degrees from +z towards +y, 3D presets only)."
+    )
     return make
 
 
@@ -85,8 +119,12 @@ seven = _preset("seven")
 nine = _preset("nine")
 
 
-def preset(name: str, n_elements: int = 10, profiles: Profiles = Profiles()) -> Model:
-    """Build a preset by name; unknown names raise a one-line ``ValueError``."""
+def preset(name: str, n_elements: int = 10, profiles: Profiles = Profiles(), rotation_deg: float = 0.0) -> Model:
+    """Build a preset by name; unknown names (or a rotation of a planar preset) raise a
+    one-line ``ValueError``."""
     if name not in SECTIONS:
         raise ValueError(f"unknown model {name!r}; choose one of {', '.join(PRESETS)}")
-    return build_model(SECTIONS[name](), n_elements, profiles)
+    rotation_deg = float(rotation_deg)
+    if not np.isfinite(rotation_deg):
+        raise ValueError(f"rotation_deg must be finite, got {rotation_deg!r}")
+    return build_model(SECTIONS[name](rotation_deg), n_elements, profiles)
