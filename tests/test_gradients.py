@@ -69,14 +69,23 @@ def test_gradients_match_finite_differences(name):
     # Reverse mode through a scalar loss with jax.grad as well.
     grad_freq = jax.jit(jax.vmap(jax.grad(lambda z: metrics(z)[1])))(Z)
 
-    steps = jnp.eye(k) * H  # (k, k)
-    offsets = jnp.array([-2.0, -1.0, 1.0, 2.0])
-    shifted = Z[:, None, None, :] + offsets[None, :, None, None] * steps[None, None, :, :]  # (P, 4, k, k)
-    vals = jax.jit(jax.vmap(metrics))(shifted.reshape(-1, k)).reshape(Z.shape[0], 4, k, 3)
-    fd = (vals[:, 0] - 8 * vals[:, 1] + 8 * vals[:, 2] - vals[:, 3]) / (12 * H)  # (P, k, 3)
-    fd = jnp.swapaxes(fd, 1, 2)  # (P, 3, k)
+    def five_point(h):
+        steps = jnp.eye(k) * h  # (k, k)
+        offsets = jnp.array([-2.0, -1.0, 1.0, 2.0])
+        shifted = Z[:, None, None, :] + offsets[None, :, None, None] * steps[None, None, :, :]  # (P, 4, k, k)
+        vals = jax.jit(jax.vmap(metrics))(shifted.reshape(-1, k)).reshape(Z.shape[0], 4, k, 3)
+        fd = (vals[:, 0] - 8 * vals[:, 1] + 8 * vals[:, 2] - vals[:, 3]) / (12 * h)  # (P, k, 3)
+        return jnp.swapaxes(fd, 1, 2)  # (P, 3, k)
 
+    fd, fd_wide = five_point(H), five_point(2 * H)
     scale = jnp.linalg.norm(fd, axis=2, keepdims=True)
+    # The reference itself must be trustworthy: drop points where the stencil straddles
+    # a near-singularity of a metric (e.g. the wavelength as k -> 0 close by in gamma),
+    # seen as the H and 2H differences disagreeing (O(h^4) truncation predicts 16x apart
+    # and tiny). Which points are kept depends on finite differences only.
+    smooth = np.asarray(jnp.max(jnp.abs(fd - fd_wide) / scale, axis=(1, 2))) < 1e-6
+    assert smooth.sum() >= max(2, Z.shape[0] - 1), smooth
+    fwd, rev, grad_freq, fd, scale = (x[smooth] for x in (fwd, rev, grad_freq, fd, scale))
     assert float(jnp.max(jnp.abs(fwd - fd) / scale)) < 1e-6
     assert float(jnp.max(jnp.abs(rev - fd) / scale)) < 1e-6
     assert float(jnp.max(jnp.abs(grad_freq - fd[:, 1, :]) / scale[:, 1, :])) < 1e-6
