@@ -7,16 +7,23 @@ MODEL.md section 3::
 
 Each term is a small truss matrix over (filament, direction) pairs, built from the
 model's static arrays and the traced parameters, Kronecker-multiplied by a
-filament-level matrix. No Python loop runs over elements or grid points: the function
-is jit-able and vmap-able in ``params``.
+filament-level matrix (:func:`terms`). They are summed either as dense matrices in
+filament-major order (:func:`assemble`) or as node blocks in node-major order
+(:func:`assemble_blocks`, block-tridiagonal: what the structured eigen-solver uses). No
+Python loop runs over elements or grid points: both are jit-able and vmap-able in
+``params``.
 """
 
 from __future__ import annotations
 
+import functools
+
 import equinox as eqx
 import jax.numpy as jnp
+import numpy as np
 from jaxtyping import Array, Float
 
+from .linalg import BlockTridiagonal
 from .models.section import Model
 from .params import Params
 
@@ -59,6 +66,58 @@ def _truss(rows: Float[Array, "E n_fd"], weights: Float[Array, " E"]) -> Float[A
     return jnp.einsum("e,ei,ej->ij", weights, rows, rows)
 
 
+Term = tuple[Float[Array, "n_fd n_fd"], str]
+"""One term of a system matrix: a truss matrix over (filament, direction) pairs and the
+name of the filament-level matrix it multiplies (a field of
+:class:`axojax.fem.FilamentMatrices`): the term is ``kron(truss, matrix)``."""
+
+
+def terms(model: Model, params: Params) -> tuple[list[Term], list[Term], Float[Array, " n"]]:
+    """The terms of A and C and the load b (filament-major) at ``params``.
+
+    The single source of the equations (MODEL.md section 3): :func:`assemble` sums the
+    terms as dense Kronecker products, :func:`assemble_blocks` as node blocks.
+    """
+    m = model.matrices
+    nfd = model.n_fd
+    drag = jnp.repeat(jnp.asarray(model.section.drag, dtype=float), model.n_dirs)
+    ei = bending_rigidity(model, params)
+    p = jnp.asarray(params.p, dtype=float)
+    eye = jnp.eye(nfd)
+
+    C_terms: list[Term] = [(jnp.diag(drag), "M0")]
+    A_terms: list[Term] = [(jnp.diag(ei), "K0")]
+    b = jnp.zeros(model.n_dof)
+
+    if model.link_B.shape[0]:
+        B = jnp.asarray(model.link_B)
+        C_terms.append((_truss(B, jnp.full(B.shape[0], 1.0) * params.cl), "M0"))
+        A_terms.append((_truss(B, link_stiffness(model, params)), "Mk"))
+        A_terms.append((params.ktheta * jnp.asarray(model.theta_laplacian), "D0"))
+
+    load = model.section.load
+    if load == "distributed":
+        # Unbalanced distributed follower load on every filament: K0 - p G0 + p F0.
+        A_terms += [(p * eye, "F0"), (-p * eye, "G0")]
+    elif load == "tip":
+        # Beck's column: constant compression P and tip transverse force -P u'(1).
+        A_terms += [(p * eye, "tip"), (-p * eye, "D0")]
+    elif model.pair_B.shape[0]:
+        pa = pair_forces(model, params)
+        nu = jnp.einsum("a,ai->i", pa, jnp.asarray(model.pair_sign))
+        follow = jnp.einsum("a,aij->ij", pa, jnp.asarray(model.pair_follow))
+        gain = params.gamma * jnp.einsum("a,ai,aj->ij", pa, jnp.asarray(model.pair_w), jnp.asarray(model.pair_B))
+        A_terms += [(jnp.diag(nu), "G0"), (-follow, "F0"), (-gain, "F0T")]
+        moment = params.a0 * jnp.einsum("a,ai->i", pa, jnp.asarray(model.pair_w))
+        b = jnp.kron(moment, jnp.asarray(m.f1))
+    return A_terms, C_terms, b
+
+
+def _filament_matrix(model: Model, name: str) -> np.ndarray:
+    m = model.matrices
+    return np.asarray(m.F0).T if name == "F0T" else np.asarray(getattr(m, name))
+
+
 def assemble(model: Model, params: Params) -> System:
     """Assemble C, A, b for ``model`` at ``params`` (MODEL.md section 3).
 
@@ -67,39 +126,67 @@ def assemble(model: Model, params: Params) -> System:
         params: dimensionless parameters; may be traced.
 
     Returns:
-        :class:`System` with (n, n) matrices, n = ``model.n_dof``.
+        :class:`System` with dense (n, n) matrices, n = ``model.n_dof``, filament-major.
     """
-    m = model.matrices
-    M0, K0, D0, G0, F0, Mk = (jnp.asarray(a) for a in (m.M0, m.K0, m.D0, m.G0, m.F0, m.Mk))
-    nfd = model.n_fd
-    drag = jnp.repeat(jnp.asarray(model.section.drag, dtype=float), model.n_dirs)
-    ei = bending_rigidity(model, params)
-    p = jnp.asarray(params.p, dtype=float)
+    A_terms, C_terms, b = terms(model, params)
 
-    C = jnp.kron(jnp.diag(drag), M0)
-    A = jnp.kron(jnp.diag(ei), K0)
-    b = jnp.zeros(model.n_dof)
-    eye = jnp.eye(nfd)
+    def total(ts: list[Term]) -> Array:
+        return sum(jnp.kron(t, jnp.asarray(_filament_matrix(model, name))) for t, name in ts)
 
-    if model.link_B.shape[0]:
-        B = jnp.asarray(model.link_B)
-        C = C + jnp.kron(_truss(B, jnp.full(B.shape[0], 1.0) * params.cl), M0)
-        A = A + jnp.kron(_truss(B, link_stiffness(model, params)), Mk)
-        A = A + params.ktheta * jnp.kron(jnp.asarray(model.theta_laplacian), D0)
+    return System(C=total(C_terms), A=total(A_terms), b=b)
 
-    load = model.section.load
-    if load == "distributed":
-        # Unbalanced distributed follower load on every filament: K0 - p G0 + p F0.
-        A = A + p * (jnp.kron(eye, F0) - jnp.kron(eye, G0))
-    elif load == "tip":
-        # Beck's column: constant compression P and tip transverse force -P u'(1).
-        A = A + p * (jnp.kron(eye, jnp.asarray(m.tip)) - jnp.kron(eye, D0))
-    elif model.pair_B.shape[0]:
-        pa = pair_forces(model, params)
-        nu = jnp.einsum("a,ai->i", pa, jnp.asarray(model.pair_sign))
-        follow = jnp.einsum("a,aij->ij", pa, jnp.asarray(model.pair_follow))
-        gain = params.gamma * jnp.einsum("a,ai,aj->ij", pa, jnp.asarray(model.pair_w), jnp.asarray(model.pair_B))
-        A = A + jnp.kron(jnp.diag(nu), G0) - jnp.kron(follow, F0) - jnp.kron(gain, F0.T)
-        moment = params.a0 * jnp.einsum("a,ai->i", pa, jnp.asarray(model.pair_w))
-        b = jnp.kron(moment, jnp.asarray(m.f1))
-    return System(C=C, A=A, b=b)
+
+class BlockSystem(eqx.Module):
+    """The system ``C dq/dt + A q = b`` in node-major order (see :func:`node_major`):
+    A and C block-tridiagonal with N_e node blocks of size b = 2 F d."""
+
+    C: BlockTridiagonal
+    A: BlockTridiagonal
+    b: Float[Array, " n"]
+
+
+@functools.lru_cache(maxsize=64)
+def _node_blocks(model: Model, name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(lower, diag, upper) 2 x 2 node blocks of a filament-level matrix (Hermite
+    elements couple neighbouring nodes only: the matrix is block-tridiagonal)."""
+    M = _filament_matrix(model, name)
+    N = model.n_elements
+    blocks = M.reshape(N, 2, N, 2).transpose(0, 2, 1, 3)  # (N, N, 2, 2)
+    k = np.arange(N)
+    outside = blocks.copy()
+    outside[k, k] = 0
+    outside[k[1:], k[:-1]] = 0
+    outside[k[:-1], k[1:]] = 0
+    if np.any(outside != 0):
+        raise AssertionError(f"filament matrix {name} is not block-tridiagonal")
+    return blocks[k[1:], k[:-1]], blocks[k, k], blocks[k[:-1], k[1:]]
+
+
+@functools.lru_cache(maxsize=64)
+def node_major(model: Model) -> np.ndarray:
+    """Permutation ``perm`` with ``q_node_major = q[perm]``: node k, then filament and
+    direction (f, a), then (u, u') — the order of :class:`BlockSystem`."""
+    N, nfd = model.n_elements, model.n_fd
+    fd, node, r = np.meshgrid(np.arange(nfd), np.arange(N), np.arange(2), indexing="ij")  # filament-major shape
+    index = (fd * 2 * N + node * 2 + r)  # (nfd, N, 2): filament-major flat index
+    return np.ascontiguousarray(index.transpose(1, 0, 2).reshape(-1))
+
+
+def assemble_blocks(model: Model, params: Params) -> BlockSystem:
+    """Assemble A, C (block-tridiagonal, node-major) and b (node-major) at ``params``;
+    the same terms as :func:`assemble`, at O(N_e (F d)^2) memory instead of O((N_e F d)^2)."""
+    A_terms, C_terms, b = terms(model, params)
+    N, nfd = model.n_elements, model.n_fd
+
+    def total(ts: list[Term]) -> BlockTridiagonal:
+        parts = []
+        for t, name in ts:
+            lo, di, up = (jnp.asarray(x) for x in _node_blocks(model, name))
+            kron = lambda blk: jnp.einsum("ij,kab->kiajb", t, blk).reshape(blk.shape[0], 2 * nfd, 2 * nfd)
+            parts.append(BlockTridiagonal(kron(lo), kron(di), kron(up)))
+        out = parts[0]
+        for part in parts[1:]:
+            out = out + part
+        return out
+
+    return BlockSystem(C=total(C_terms), A=total(A_terms), b=b[node_major(model)])

@@ -1,0 +1,250 @@
+"""Block-tridiagonal matrices and their factorisations, in pure JAX.
+
+Ordered node-major (all filaments and directions of node k together), the finite-element
+matrices of every model are block-tridiagonal: element matrices couple neighbouring nodes
+only, and inter-filament coupling stays inside a node block. With N node blocks of size b
+a factorisation then costs O(N b^3) and a solve O(N b^2): linear in the number of
+elements, where a dense LU costs O((N b)^3).
+
+- :class:`BlockTridiagonal`: the matrix (``lower``, ``diag``, ``upper`` blocks), a pytree.
+- :func:`lu_factor` -> :class:`BlockLU`: LU with partial pivoting across each pair of
+  block rows (the blocked form of LAPACK's banded ``gbtrf``; as stable as partial
+  pivoting on the band). ``solve`` and ``solve_transpose`` (for left eigenvectors).
+- :func:`cholesky` -> :class:`BlockCholesky`: for symmetric positive definite matrices;
+  its ``ok`` flag doubles as a positive-definiteness test.
+
+Everything is ``lax.scan`` over the blocks: jit-, vmap- and (for the matrices' entries)
+grad-able, real or complex.
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+from jax.scipy.linalg import solve_triangular
+from jaxtyping import Array, Bool, Float, Inexact, Int
+
+
+class BlockTridiagonal(eqx.Module):
+    """An (N b) x (N b) block-tridiagonal matrix.
+
+    Attributes:
+        lower: (N-1, b, b); ``lower[k]`` is block (k+1, k).
+        diag: (N, b, b); ``diag[k]`` is block (k, k).
+        upper: (N-1, b, b); ``upper[k]`` is block (k, k+1).
+    """
+
+    lower: Inexact[Array, "N1 b b"]
+    diag: Inexact[Array, "N b b"]
+    upper: Inexact[Array, "N1 b b"]
+
+    @property
+    def n_blocks(self) -> int:
+        return self.diag.shape[-3]
+
+    @property
+    def block_size(self) -> int:
+        return self.diag.shape[-1]
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        n = self.n_blocks * self.block_size
+        return (n, n)
+
+    def __add__(self, other: "BlockTridiagonal") -> "BlockTridiagonal":
+        return BlockTridiagonal(self.lower + other.lower, self.diag + other.diag, self.upper + other.upper)
+
+    def __sub__(self, other: "BlockTridiagonal") -> "BlockTridiagonal":
+        return BlockTridiagonal(self.lower - other.lower, self.diag - other.diag, self.upper - other.upper)
+
+    def scale(self, factor) -> "BlockTridiagonal":
+        return BlockTridiagonal(factor * self.lower, factor * self.diag, factor * self.upper)
+
+    @property
+    def T(self) -> "BlockTridiagonal":
+        """The transpose (not conjugated)."""
+        tr = lambda x: jnp.swapaxes(x, -1, -2)
+        return BlockTridiagonal(tr(self.upper), tr(self.diag), tr(self.lower))
+
+    def astype(self, dtype) -> "BlockTridiagonal":
+        return BlockTridiagonal(self.lower.astype(dtype), self.diag.astype(dtype), self.upper.astype(dtype))
+
+    def matvec(self, x: Inexact[Array, " n"]) -> Inexact[Array, " n"]:
+        """``M @ x`` for a flat (N b,) vector."""
+        N, b = self.n_blocks, self.block_size
+        X = x.reshape(N, b)
+        y = jnp.einsum("kij,kj->ki", self.diag, X)
+        y = y.at[1:].add(jnp.einsum("kij,kj->ki", self.lower, X[:-1]))
+        y = y.at[:-1].add(jnp.einsum("kij,kj->ki", self.upper, X[1:]))
+        return y.reshape(-1)
+
+    def to_dense(self) -> Inexact[Array, "n n"]:
+        """The full matrix (for tests and small problems)."""
+        N, b = self.n_blocks, self.block_size
+        M = jnp.zeros((N, b, N, b), dtype=self.diag.dtype)
+        k = jnp.arange(N)
+        M = M.at[k, :, k, :].set(self.diag)
+        M = M.at[k[1:], :, k[:-1], :].set(self.lower)
+        M = M.at[k[:-1], :, k[1:], :].set(self.upper)
+        return M.reshape(N * b, N * b)
+
+
+def _padded(M: BlockTridiagonal) -> BlockTridiagonal:
+    """M with one extra identity block appended (decoupled from the rest), so that every
+    elimination step below has the same shapes."""
+    b, dt = M.block_size, M.diag.dtype
+    zero = jnp.zeros((1, b, b), dt)
+    # upper gets two padding blocks: step k reads block (k+1, k+2), up to (N, N+1).
+    return BlockTridiagonal(
+        jnp.concatenate([M.lower, zero]),
+        jnp.concatenate([M.diag, jnp.eye(b, dtype=dt)[None]]),
+        jnp.concatenate([M.upper, zero, zero]),
+    )
+
+
+class BlockLU(eqx.Module):
+    """Factors of :func:`lu_factor`: for each block column k, the row permutation of the
+    two block rows (k, k+1), the panel's unit-lower factors ``l11``, ``l21`` and the
+    upper blocks ``u11`` (k, k), ``u12`` (k, k+1), ``u13`` (k, k+2; fill-in from
+    pivoting). Shapes (N, b, b) and (N, 2b); one padding block is kept internally."""
+
+    perm: Int[Array, "N b2"]
+    l11: Inexact[Array, "N b b"]
+    l21: Inexact[Array, "N b b"]
+    u11: Inexact[Array, "N b b"]
+    u12: Inexact[Array, "N b b"]
+    u13: Inexact[Array, "N b b"]
+
+    @property
+    def n_blocks(self) -> int:
+        return self.u11.shape[-3]
+
+    def solve(self, rhs: Inexact[Array, " n"]) -> Inexact[Array, " n"]:
+        """``M^{-1} rhs`` for a flat (N b,) vector."""
+        N, b = self.n_blocks, self.u11.shape[-1]
+        R = jnp.concatenate([rhs.reshape(N, b), jnp.zeros((1, b), rhs.dtype)]).astype(self.u11.dtype)
+
+        def forward(carry, k):
+            vec = jnp.concatenate([carry, R[k + 1]])[self.perm[k]]
+            z = solve_triangular(self.l11[k], vec[:b], lower=True, unit_diagonal=True)
+            return vec[b:] - self.l21[k] @ z, z
+
+        _, Z = jax.lax.scan(forward, R[0], jnp.arange(N))
+
+        def backward(carry, k):
+            x1, x2 = carry
+            x = solve_triangular(self.u11[k], Z[k] - self.u12[k] @ x1 - self.u13[k] @ x2, lower=False)
+            return (x, x1), x
+
+        zeros = jnp.zeros((b,), Z.dtype)
+        _, X = jax.lax.scan(backward, (zeros, zeros), jnp.arange(N), reverse=True)
+        return X.reshape(-1)
+
+    def solve_transpose(self, rhs: Inexact[Array, " n"]) -> Inexact[Array, " n"]:
+        """``M^{-T} rhs`` (transpose, not conjugated; conjugate around it for ``M^{-H}``).
+
+        With E_k = L_k^{-1} P_k the elimination of block column k, ``U = E ... E_0 M``,
+        so ``M^T x = r`` is ``U^T y = r`` followed by ``x = E_0^T ... E_{N-1}^T y``."""
+        N, b = self.n_blocks, self.u11.shape[-1]
+        R = rhs.reshape(N, b).astype(self.u11.dtype)
+        tr = lambda a: jnp.swapaxes(a, -1, -2)
+
+        def forward(carry, k):
+            y1, y2 = carry  # y_{k-1}, y_{k-2}
+            u12_prev = jnp.where(k >= 1, tr(self.u12[k - 1]), 0.0)
+            u13_prev = jnp.where(k >= 2, tr(self.u13[k - 2]), 0.0)
+            y = solve_triangular(tr(self.u11[k]), R[k] - u12_prev @ y1 - u13_prev @ y2, lower=True)
+            return (y, y1), y
+
+        zeros = jnp.zeros((b,), R.dtype)
+        _, Y = jax.lax.scan(forward, (zeros, zeros), jnp.arange(N))
+        Y = jnp.concatenate([Y, jnp.zeros((1, b), Y.dtype)])
+
+        def backward(carry, k):
+            c = carry  # current value of block row k+1
+            a = solve_triangular(tr(self.l11[k]), Y[k] - tr(self.l21[k]) @ c, lower=False, unit_diagonal=True)
+            w = jnp.zeros((2 * b,), Y.dtype).at[self.perm[k]].set(jnp.concatenate([a, c]))
+            return w[:b], w[b:]
+
+        x0, X = jax.lax.scan(backward, Y[N], jnp.arange(N), reverse=True)
+        # Block row k of the answer is the second half produced at step k-1 (k >= 1), and
+        # the final carry for k = 0.
+        return jnp.concatenate([x0[None], X[:-1]]).reshape(-1)
+
+
+def lu_factor(M: BlockTridiagonal) -> BlockLU:
+    """LU factorisation with partial pivoting inside each pair of block rows.
+
+    Step k factors the (2b, b) panel [row k; block (k+1, k)] with partial pivoting
+    (``jax.lax.linalg.lu``), applies the same row exchanges to the next two block
+    columns and updates block row k+1. Row exchanges bring block row k+1's entries into
+    row k, hence the fill-in block ``u13``. Cost O(N b^3).
+    """
+    N, b = M.n_blocks, M.block_size
+    P = _padded(M)
+
+    def step(carry, k):
+        row_k, row_k1 = carry  # current block row k in columns (k, k+1)
+        panel = jnp.concatenate([row_k, P.lower[k]])
+        lu, _, perm = jax.lax.linalg.lu(panel)
+        l11 = jnp.tril(lu[:b], -1) + jnp.eye(b, dtype=lu.dtype)
+        u11 = jnp.triu(lu[:b])
+        l21 = lu[b:]
+        right = jnp.block([[row_k1, jnp.zeros((b, b), lu.dtype)], [P.diag[k + 1], P.upper[k + 1]]])[perm]
+        u1 = solve_triangular(l11, right[:b], lower=True, unit_diagonal=True)
+        schur = right[b:] - l21 @ u1
+        out = (perm, l11, l21, u11, u1[:, :b], u1[:, b:])
+        return (schur[:, :b], schur[:, b:]), out
+
+    (_, _), (perm, l11, l21, u11, u12, u13) = jax.lax.scan(step, (P.diag[0], P.upper[0]), jnp.arange(N))
+    return BlockLU(perm, l11, l21, u11, u12, u13)
+
+
+class BlockCholesky(eqx.Module):
+    """Lower block-bidiagonal Cholesky factor: ``diag[k]`` (k, k), ``lower[k]`` (k+1, k).
+
+    Attributes:
+        ok: whether the matrix was (numerically) positive definite; when False the
+            factors hold NaNs.
+    """
+
+    diag: Float[Array, "N b b"]
+    lower: Float[Array, "N1 b b"]
+    ok: Bool[Array, ""]
+
+    def solve(self, rhs: Float[Array, " n"]) -> Float[Array, " n"]:
+        N, b = self.diag.shape[-3], self.diag.shape[-1]
+        R = rhs.reshape(N, b)
+        low = jnp.concatenate([jnp.zeros((1, b, b), self.diag.dtype), self.lower])  # low[k] = (k, k-1)
+
+        def forward(carry, k):
+            y = solve_triangular(self.diag[k], R[k] - low[k] @ carry, lower=True)
+            return y, y
+
+        _, Y = jax.lax.scan(forward, jnp.zeros((b,), R.dtype), jnp.arange(N))
+        up = jnp.concatenate([self.lower, jnp.zeros((1, b, b), self.diag.dtype)])  # up[k]^T = (k, k+1) of L^T
+
+        def backward(carry, k):
+            x = solve_triangular(self.diag[k], Y[k] - up[k].T @ carry, lower=True, trans=1)
+            return x, x
+
+        _, X = jax.lax.scan(backward, jnp.zeros((b,), R.dtype), jnp.arange(N), reverse=True)
+        return X.reshape(-1)
+
+
+def cholesky(M: BlockTridiagonal) -> BlockCholesky:
+    """Block Cholesky of a symmetric block-tridiagonal M (only ``diag`` and ``lower`` are
+    read). ``ok`` is False, without an error, when M is not positive definite."""
+    N, b = M.n_blocks, M.block_size
+    low = jnp.concatenate([M.lower, jnp.zeros((1, b, b), M.diag.dtype)])
+
+    def step(prev_lower, k):
+        d = M.diag[k] - prev_lower @ prev_lower.T
+        c = jnp.linalg.cholesky(d)
+        nxt = solve_triangular(c, low[k].T, lower=True).T  # block (k+1, k) = A_{k+1,k} C^{-T}
+        return nxt, (c, nxt)
+
+    _, (diag, lower) = jax.lax.scan(step, jnp.zeros((b, b), M.diag.dtype), jnp.arange(N))
+    ok = jnp.all(jnp.isfinite(diag))
+    return BlockCholesky(diag, lower[:-1], ok)
