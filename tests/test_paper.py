@@ -38,6 +38,7 @@ def test_two_row_cannot_discriminate(rows):
         assert text in note, note
     assert rows["7b"].elasticity["follower"] > 5 * rows["7d"].elasticity["follower"]
     assert rows["7c"].elasticity == pytest.approx(rows["7b"].elasticity, rel=1e-6)
+    assert "four = two (eigenvalues equal to 1e-9)" in rows["7c"].note  # MODEL.md section 6
 
 
 def test_rows_that_differ_say_why(rows):

@@ -168,9 +168,11 @@ def _note(row: Row, lam: complex, get, scan, units: Units) -> str:
         )
     elif c.key == "7c":
         two = get("7b")[2]
+        gap = abs(lam - two) / abs(two)
+        same = "equal to 1e-9" if gap < 1e-9 else f"{gap:.0e} apart"
         parts.append(
             "the paper's four differs from its two; here the two pairs moving in step is an exact mode of the "
-            f"square, so four = two (|lambda_4 - lambda_2| / |lambda_2| = {abs(lam - two) / abs(two):.0e})"
+            f"square, so four = two (eigenvalues {same})"
         )
     if c.unstated:
         parts.append(f"{c.unstated}; shown at the stated defaults k_s = {sci(c.params['ks'])}, k_l = {sci(c.params['kl'])}")
