@@ -30,9 +30,9 @@ def test_two_p300():
     assert agrees(lam.real, "3566.50") and agrees(lam.imag, "294.07")
 
 
-def test_seven_p300():
+def test_seven_p300(seven):
     """MODEL.md section 6 (paper fig. 7d: 51 Hz; sec. 3.6: out of plane < 5 %)."""
-    mode = dominant_mode(ax.models.seven(), ax.Params(p=300.0, ks=1e6, kl=1e3, cl=1 / 200))
+    mode = dominant_mode(seven, ax.Params(p=300.0, ks=1e6, kl=1e3, cl=1 / 200))
     lam = complex(mode.eigenvalue)
     assert agrees(lam.real, "137.696") and agrees(lam.imag, "270.311"), lam
     assert agrees(float(mode.frequency_hz()), "50.30")
@@ -51,10 +51,10 @@ def test_nine_p300():
 def test_four_equals_two():
     """The two pairs of the square moving in step is an exact mode (MODEL.md section 6)."""
     params = ax.Params(p=300.0, ks=1e6, kl=1e3, cl=1 / 200)
-    four = complex(dominant_mode(ax.models.four(), params).eigenvalue)
+    four = dominant_mode(ax.models.four(), params)
     two = complex(dominant_mode(ax.models.two(), params).eigenvalue)
-    assert abs(four - two) < 1e-9 * abs(two), (four, two)
-    assert agrees(float(dominant_mode(ax.models.four(), params).frequency_hz()), "54.72")
+    assert abs(complex(four.eigenvalue) - two) < 1e-9 * abs(two), (four.eigenvalue, two)
+    assert agrees(float(four.frequency_hz()), "54.72")
 
 
 @pytest.mark.parametrize("ks,pc_ref", [(1e3, "66.9"), (1e4, "88.8"), (1e5, "136.6"), (1e6, "249.8")])
@@ -65,7 +65,7 @@ def test_seven_critical_force_scipy(seven, ks, pc_ref):
     growth = lambda p: scipy_max_real(seven, params.replace(p=p)).real
     ref = float(pc_ref)
     assert all(growth(f * ref) < 0 for f in (0.1, 0.5, 0.9))
-    pc = scipy.optimize.brentq(growth, 0.95 * ref, 1.05 * ref, xtol=1e-6)
+    pc = scipy.optimize.brentq(growth, 0.995 * ref, 1.005 * ref, xtol=1e-4)
     assert agrees(pc, pc_ref), pc
 
 
