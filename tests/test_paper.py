@@ -102,7 +102,13 @@ def test_beat_measures_travelling_wave():
     assert paper.beat_measures(ax.Simulation(t, s, u[:, None, :], u, u[:, -1:], 0.0, "growing", None, {}, {})) is None
 
 
-def test_cli_refuses_partial_write(capsys):
+def test_cli_errors(capsys, tmp_path):
+    """One line on stderr naming the flag, before any computing."""
     assert main(["--write", "--fast"]) == 2
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and "--write" in err
+    plain = tmp_path / "README.md"
+    plain.write_text("no markers here\n")
+    assert main(["--write", "--readme", str(plain)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "--readme" in err and "markers" in err

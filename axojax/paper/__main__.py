@@ -15,7 +15,10 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m axojax.paper", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(
+        prog="python -m axojax.paper",
+        description="The paper-vs-axojax table: prints its markdown, or with --write rewrites README.md's block and docs/paper_table.md.",
+    )
     parser.add_argument("--write", action="store_true", help="rewrite README.md's block and docs/paper_table.md")
     speed = parser.add_mutually_exclusive_group()
     speed.add_argument("--fast", action="store_true", help="simulate the beat coarsely (4 elements, 0.3 s); not with --write")
@@ -29,14 +32,21 @@ def main(argv: list[str] | None = None) -> int:
         return 2
 
     from . import FAST, FULL, compute_rows, markdown, write
+    from .table import block_of
 
+    if args.write:  # fail before minutes of computing, not after
+        try:
+            block_of(pathlib.Path(args.readme).read_text())
+        except (OSError, ValueError) as err:
+            print(f"python -m axojax.paper: error: --readme: {err}", file=sys.stderr)
+            return 2
     start = time.perf_counter()
     rows = compute_rows(beat=not args.no_beat, settings=FAST if args.fast else FULL, progress=sys.stderr.isatty(), saved_beat=args.beat_npz)
     if args.write:
         try:
             write(rows, args.readme, args.docs)
         except (OSError, ValueError) as err:
-            print(f"python -m axojax.paper: error: {err}", file=sys.stderr)
+            print(f"python -m axojax.paper: error: --docs: {err}", file=sys.stderr)
             return 2
         print(f"wrote {args.readme} and {args.docs} ({time.perf_counter() - start:.0f} s)", file=sys.stderr)
     else:
