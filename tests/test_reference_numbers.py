@@ -30,6 +30,45 @@ def test_two_p300():
     assert agrees(lam.real, "3566.50") and agrees(lam.imag, "294.07")
 
 
+def test_seven_p300(seven):
+    """MODEL.md section 6 (paper fig. 7d: 51 Hz; sec. 3.6: out of plane < 5 %)."""
+    mode = dominant_mode(seven, ax.Params(p=300.0, ks=1e6, kl=1e3, cl=1 / 200))
+    lam = complex(mode.eigenvalue)
+    assert agrees(lam.real, "137.696") and agrees(lam.imag, "270.311"), lam
+    assert agrees(float(mode.frequency_hz()), "50.30")
+    assert agrees(float(mode.wavelength_um()), "20.72")
+    assert int(mode.direction) == 1  # anterograde
+    assert agrees(float(mode.out_of_plane_ratio), "0.022")
+
+
+def test_nine_p300():
+    mode = dominant_mode(ax.models.nine(), ax.Params(p=300.0, ks=1e6, kl=1e3, cl=1 / 200))
+    lam = complex(mode.eigenvalue)
+    assert agrees(lam.real, "368.453") and agrees(lam.imag, "402.720"), lam
+    assert agrees(float(mode.frequency_hz()), "74.93")
+
+
+def test_four_equals_two():
+    """The two pairs of the square moving in step is an exact mode (MODEL.md section 6)."""
+    params = ax.Params(p=300.0, ks=1e6, kl=1e3, cl=1 / 200)
+    four = dominant_mode(ax.models.four(), params)
+    two = complex(dominant_mode(ax.models.two(), params).eigenvalue)
+    assert abs(complex(four.eigenvalue) - two) < 1e-9 * abs(two), (four.eigenvalue, two)
+    assert agrees(float(four.frequency_hz()), "54.72")
+
+
+@pytest.mark.parametrize("ks,pc_ref", [(1e3, "66.9"), (1e4, "88.8"), (1e5, "136.6"), (1e6, "249.8")])
+def test_seven_critical_force_scipy(seven, ks, pc_ref):
+    """p_c of the seven preset at k_l = k_s / 1e3 (MODEL.md section 6), by scipy's brentq on
+    scipy.linalg.eig; the stable checks below it make sure the root is the first crossing."""
+    params = ax.Params(ks=ks, kl=ks / 1e3)
+    growth = lambda p: scipy_max_real(seven, params.replace(p=p)).real
+    ref = float(pc_ref)
+    assert all(growth(f * ref) < 0 for f in (0.1, 0.5, 0.9))
+    pc = scipy.optimize.brentq(growth, 0.995 * ref, 1.005 * ref, xtol=1e-4)
+    assert agrees(pc, pc_ref), pc
+
+
 def hopf(model, lo, hi):
     f = lambda p: scipy_max_real(model, ax.Params(p=p)).real
     pc = scipy.optimize.brentq(f, lo, hi, xtol=1e-10)

@@ -49,18 +49,24 @@ def finite_float(text: str) -> float:
     return value
 
 
+def add_model_source(group, elements: bool = True, default: str = "seven") -> None:
+    """``--model`` | ``--model-file``, ``--rotation-deg`` (and ``--elements``) on ``group``."""
+    src = group.add_mutually_exclusive_group()
+    src.add_argument("--model", default=None, help=f"preset: {', '.join(PRESETS)}" + (f" (default {default})" if default else ""))
+    src.add_argument("--model-file", default=None, metavar="PATH", help="TOML/JSON cross-section file")
+    if elements:
+        group.add_argument("--elements", default=10, metavar="N", help="elements per filament (default 10)")
+    group.add_argument(
+        "--rotation-deg", type=finite_float, default=0.0, metavar="DEG",
+        help="turn a 3D preset's cross-section by DEG degrees from +z towards +y (default 0: the paper's beat plane)",
+    )
+
+
 def add_model_flags(parser: argparse.ArgumentParser, params: tuple[str, ...] = tuple(PARAM_FLAGS), axes: bool = False) -> None:
     """Model, parameter and unit flags; with ``axes`` the parameter flags also take an
     axis (a:b:n, log:a:b:n or v1,v2,...) and are parsed by :func:`split_axes`."""
     g = parser.add_argument_group("model")
-    src = g.add_mutually_exclusive_group()
-    src.add_argument("--model", default=None, help=f"preset: {', '.join(PRESETS)} (default seven)")
-    src.add_argument("--model-file", default=None, metavar="PATH", help="TOML/JSON cross-section file")
-    g.add_argument("--elements", default=10, metavar="N", help="elements per filament (default 10)")
-    g.add_argument(
-        "--rotation-deg", type=finite_float, default=0.0, metavar="DEG",
-        help="turn a 3D preset's cross-section by DEG degrees from +z towards +y (default 0: the paper's beat plane)",
-    )
+    add_model_source(g)
     d = Params()
     for flag in params:
         field = PARAM_FLAGS[flag]

@@ -14,7 +14,7 @@ SUBCOMMANDS = {
     "sweep": "dominant mode over a parameter grid, saved to .npz",
     "fit": "estimate free parameters from observed beats (optax)",
     "simulate": "nonlinear beat in the time domain (diffrax), saved to .npz",
-    "plot": "figures of a sweep or simulation file",
+    "plot": "figures of a sweep or simulation file, or of a cross-section",
 }
 
 
