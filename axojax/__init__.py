@@ -13,7 +13,7 @@ from . import _runtime
 _runtime.set_xla_flags()
 _runtime.configure_jax()
 
-from . import models  # noqa: E402
+from . import eigen, linalg, models  # noqa: E402
 from .assembly import System, assemble  # noqa: E402
 from .critical import Critical, critical_force  # noqa: E402
 from .eigen import Mode, dominant_mode, mode_shapes, spectrum  # noqa: E402
@@ -25,4 +25,4 @@ from .units import Units  # noqa: E402
 
 __version__ = "0.1.0"
 
-__all__ = ["FitResult", "ShapeTarget", "Target", "fit", "read_beat", "Simulation", "simulate", "SweepResult", "sweep", "Critical", "critical_force", "Mode", "PARAM_NAMES", "Params", "System", "Units", "assemble", "dominant_mode", "mode_shapes", "models", "spectrum"]
+__all__ = ["FitResult", "ShapeTarget", "Target", "fit", "read_beat", "Simulation", "simulate", "SweepResult", "sweep", "Critical", "critical_force", "eigen", "linalg", "Mode", "PARAM_NAMES", "Params", "System", "Units", "assemble", "dominant_mode", "mode_shapes", "models", "spectrum"]

@@ -172,21 +172,32 @@ def node_major(model: Model) -> np.ndarray:
     return np.ascontiguousarray(index.transpose(1, 0, 2).reshape(-1))
 
 
+def _grouped(ts: list[Term]) -> tuple[tuple[str, ...], Float[Array, "g n_fd n_fd"]]:
+    """Terms summed per filament-level matrix: (names, stacked truss matrices)."""
+    names = tuple(dict.fromkeys(name for _, name in ts))
+    trusses = jnp.stack([sum(t for t, nm in ts if nm == name) for name in names])
+    return names, trusses
+
+
+@functools.lru_cache(maxsize=64)
+def _stacked_node_blocks(model: Model, names: tuple[str, ...]) -> np.ndarray:
+    """(g, 3 N_e - 2, 2, 2): the lower, diagonal and upper node blocks of each named
+    filament-level matrix, concatenated along the block axis."""
+    return np.stack([np.concatenate(_node_blocks(model, name)) for name in names])
+
+
 def assemble_blocks(model: Model, params: Params) -> BlockSystem:
     """Assemble A, C (block-tridiagonal, node-major) and b (node-major) at ``params``;
     the same terms as :func:`assemble`, at O(N_e (F d)^2) memory instead of O((N_e F d)^2)."""
     A_terms, C_terms, b = terms(model, params)
-    N, nfd = model.n_elements, model.n_fd
+    N, bs = model.n_elements, 2 * model.n_fd
 
     def total(ts: list[Term]) -> BlockTridiagonal:
-        parts = []
-        for t, name in ts:
-            lo, di, up = (jnp.asarray(x) for x in _node_blocks(model, name))
-            kron = lambda blk: jnp.einsum("ij,kab->kiajb", t, blk).reshape(blk.shape[0], 2 * nfd, 2 * nfd)
-            parts.append(BlockTridiagonal(kron(lo), kron(di), kron(up)))
-        out = parts[0]
-        for part in parts[1:]:
-            out = out + part
-        return out
+        names, trusses = _grouped(ts)
+        blocks = jnp.asarray(_stacked_node_blocks(model, names))
+        # One contraction over the filament-level matrices: block (i a, j b) of node pair
+        # k is sum_g truss_g[i, j] * node_block_g[k][a, b].
+        out = jnp.einsum("gij,gkab->kiajb", trusses, blocks).reshape(-1, bs, bs)
+        return BlockTridiagonal(out[: N - 1], out[N - 1 : 2 * N - 1], out[2 * N - 1 :])
 
     return BlockSystem(C=total(C_terms), A=total(A_terms), b=b[node_major(model)])

@@ -17,8 +17,8 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from .assembly import assemble
-from .eigen.dominant import dominant_eigenpair
+from .eigen.mode import DEFAULT_SOLVER
+from .eigen.solvers import EigenSolver
 from .models.section import Model
 from .params import Params
 from .units import Units
@@ -42,13 +42,8 @@ class Critical(eqx.Module):
         return jnp.abs(jnp.imag(self.eigenvalue)) / (2 * jnp.pi * units.tau_s)
 
 
-def _eig_at(model: Model, params: Params, p):
-    s = assemble(model, params.replace(p=p))
-    return dominant_eigenpair(s.A, s.C)[0]
-
-
-def _growth(model: Model, params: Params, p):
-    return jnp.real(_eig_at(model, params, p))
+def _eig_at(model: Model, params: Params, p, solver: EigenSolver):
+    return solver.eigenpair(model, params.replace(p=p))[0]
 
 
 def _bracket(g, p_start, growth_factor, max_steps):
@@ -100,6 +95,7 @@ def _critical_force_impl(
     p_max: float = 1e7,
     rtol: float = 1e-12,
     max_iter: int = 100,
+    solver: EigenSolver = DEFAULT_SOLVER,
 ) -> Critical:
     """The first p (from 0) at which the dominant eigenvalue's real part turns positive.
 
@@ -111,6 +107,7 @@ def _critical_force_impl(
             of re-entrant boundaries more reliably).
         p_max: give up (``found = False``, ``p = inf``) above this force.
         rtol: relative tolerance on p_c.
+        solver: dominant-eigenpair solver (:mod:`axojax.eigen.solvers`).
 
     Returns:
         :class:`Critical`; ``p`` is differentiable in every other field of ``params``.
@@ -118,7 +115,7 @@ def _critical_force_impl(
     max_steps = int(math.ceil(math.log(p_max / p_start) / math.log(growth_factor))) + 1
 
     def g(p, prm):
-        return _growth(model, prm, p)
+        return jnp.real(_eig_at(model, prm, p, solver))
 
     lo, hi, found = _bracket(lambda p: g(p, params), jnp.asarray(p_start, float), growth_factor, max_steps)
 
@@ -129,12 +126,12 @@ def _critical_force_impl(
         return y / linear_g(jnp.ones_like(y))
 
     p_c = jax.lax.custom_root(lambda p: g(p, params), 0.5 * (lo + hi), solve, tangent_solve)
-    lam = _eig_at(model, params, p_c)
+    lam = _eig_at(model, params, p_c, solver)
     p_c = jnp.where(found, p_c, jnp.inf)
     return Critical(p=p_c, eigenvalue=lam, found=found)
 
 
-_critical_force_jit = jax.jit(_critical_force_impl, static_argnums=0, static_argnames=("p_start", "growth_factor", "p_max", "rtol", "max_iter"))
+_critical_force_jit = jax.jit(_critical_force_impl, static_argnums=0, static_argnames=("p_start", "growth_factor", "p_max", "rtol", "max_iter", "solver"))
 
 
 def critical_force(model: Model, params: Params, **options) -> Critical:

@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from ..eigen.solvers import SOLVERS, Auto, EigenSolver, solver_from_name
 from ..models import PRESETS, Model, from_file, preset
 from ..params import PARAM_NAMES, Params
 from ..units import Units
@@ -79,6 +80,22 @@ def add_model_flags(parser: argparse.ArgumentParser, params: tuple[str, ...] = t
     u.add_argument("--ei", type=finite_float, default=du.ei_pn_um2, metavar="PN_UM2", help="EI of one filament, pN um^2 (default 800/11)")
     u.add_argument("--cn", type=finite_float, default=du.cn_pn_s_um2, metavar="PN_S_UM2", help="resistive coefficient, pN s um^-2 (default 0.003)")
     parser.add_argument("--json", action="store_true", help="print one JSON document on stdout and nothing else")
+
+
+def add_solver_flag(parser: argparse.ArgumentParser) -> None:
+    """``--solver {auto,dense,arnoldi}``: the dominant-eigenpair solver."""
+    parser.add_argument(
+        "--solver", default="auto", metavar="NAME",
+        help=f"dominant-eigenpair solver: {', '.join(SOLVERS)} (default auto: dense below "
+        f"{Auto().min_arnoldi_dof} unknowns, certified Arnoldi on the block-tridiagonal pencil above)",
+    )
+
+
+def solver_from_args(args: argparse.Namespace) -> EigenSolver:
+    try:
+        return solver_from_name(args.solver)
+    except ValueError as err:
+        raise CLIError(f"--solver: {err}") from None
 
 
 def split_axes(args: argparse.Namespace, argv: list[str]) -> tuple[dict[str, float], dict[str, np.ndarray]]:

@@ -17,6 +17,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--along", default=None, metavar="NAME", help="second parameter to trace the boundary along, e.g. ks")
     parser.add_argument("--values", default=None, metavar="AXIS", help="values of --along: a:b:n, log:a:b:n or v1,v2,...")
     parser.add_argument("--chunk", type=int, default=8, metavar="N", help="points per compiled batch (default 8)")
+    common.add_solver_flag(parser)
 
 
 def run(args: argparse.Namespace) -> dict:
@@ -24,12 +25,13 @@ def run(args: argparse.Namespace) -> dict:
     params = common.params_from_args(args)
     units = common.units_from_args(args)
     ratio = common.kl_ratio(args)
+    solver = common.solver_from_args(args)
     if (args.along is None) != (args.values is None):
         raise common.CLIError("--along: give --along NAME and --values AXIS together")
     if args.chunk < 1:
         raise common.CLIError(f"--chunk: expected an integer >= 1, got {args.chunk}")
     if args.along is None:
-        c = critical_force(model, params)
+        c = critical_force(model, params, solver=solver)
         return {"critical": [{"p": float(c.p) if bool(c.found) else None, "frequency_hz": float(c.frequency_hz(units)) if bool(c.found) else None}]}
     (field,) = common.parse_names(args.along, "--along")
     if field == "p":
@@ -41,7 +43,7 @@ def run(args: argparse.Namespace) -> dict:
     @jax.jit
     def batch(vals):
         def one(v):
-            c = critical_force(model, params.with_values({field: v}, ratio))
+            c = critical_force(model, params.with_values({field: v}, ratio), solver=solver)
             return c.p, c.frequency_hz(units), c.found
 
         return jax.vmap(one)(vals)

@@ -12,6 +12,7 @@ from . import common
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     common.add_model_flags(parser)
     parser.add_argument("--free", required=True, metavar="NAMES", help="comma-separated parameters to fit, e.g. p,ks")
+    common.add_solver_flag(parser)
     parser.add_argument("--target-frequency", type=common.finite_float, default=None, metavar="HZ", help="observed beat frequency (Hz)")
     parser.add_argument("--frequency-sigma", type=common.finite_float, default=None, metavar="HZ", help="its uncertainty (default 5%% of it)")
     parser.add_argument("--target-wavelength", type=common.finite_float, default=None, metavar="UM", help="observed wavelength (um)")
@@ -59,6 +60,7 @@ def run(args: argparse.Namespace) -> dict:
     params = common.params_from_args(args)
     units = common.units_from_args(args)
     free = common.parse_names(args.free, "--free")
+    solver = common.solver_from_args(args)
     if args.starts < 1:
         raise common.CLIError(f"--starts: expected an integer >= 1, got {args.starts}")
     targets = _targets(args)
@@ -77,7 +79,7 @@ def run(args: argparse.Namespace) -> dict:
 
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            result = fit(model, params, targets, free, shape=shape, kl_ratio=common.kl_ratio(args), units=units, starts=args.starts, method=args.method, progress=not args.json and sys.stderr.isatty())
+            result = fit(model, params, targets, free, shape=shape, kl_ratio=common.kl_ratio(args), units=units, starts=args.starts, method=args.method, progress=not args.json and sys.stderr.isatty(), solver=solver)
     except ValueError as err:
         raise common.CLIError(f"--free: {err}") from None
     doc = result.report()

@@ -7,7 +7,7 @@ import argparse
 import jax
 import numpy as np
 
-from ..eigen.mode import dominant_mode, spectrum
+from ..eigen.mode import DEFAULT_SOLVER, dominant_mode, spectrum
 from ..units import Units
 from . import common
 
@@ -18,13 +18,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     common.add_model_flags(parser)
     parser.add_argument("--top", type=int, default=10, metavar="K", help="how many eigenvalues to list (default 10)")
     parser.add_argument("--grad", default=None, metavar="NAMES", help="comma-separated parameters to differentiate by, e.g. p,ks")
+    common.add_solver_flag(parser)
 
 
-def metric_gradients(model, params, names: list[str], kl_ratio, units: Units) -> dict:
+def metric_gradients(model, params, names: list[str], kl_ratio, units: Units, solver=DEFAULT_SOLVER) -> dict:
     """d(metric)/d(name) for the INTERFACE metrics (forward mode, one jvp per name)."""
 
     def metrics(values):
-        mode = dominant_mode(model, params.with_values(values, kl_ratio))
+        mode = dominant_mode(model, params.with_values(values, kl_ratio), solver)
         return {
             "growth_rate_per_s": mode.growth_rate_per_s(units),
             "frequency_hz": mode.frequency_hz(units),
@@ -44,7 +45,8 @@ def run(args: argparse.Namespace) -> dict:
         raise common.CLIError(f"--top: expected an integer >= 1, got {args.top}")
     names = common.parse_names(args.grad, "--grad") if args.grad else []
     lam = np.asarray(spectrum(model, params, min(args.top, model.n_dof)))
-    mode = dominant_mode(model, params)
+    solver = common.solver_from_args(args)
+    mode = dominant_mode(model, params, solver)
     doc = {
         "model": model.name,
         "n_dof": model.n_dof,
@@ -53,7 +55,7 @@ def run(args: argparse.Namespace) -> dict:
         "dominant": mode.report(units),
     }
     if names:
-        doc["gradients"] = metric_gradients(model, params, names, common.kl_ratio(args), units)
+        doc["gradients"] = metric_gradients(model, params, names, common.kl_ratio(args), units, solver)
     return doc
 
 

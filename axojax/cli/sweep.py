@@ -17,6 +17,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", required=True, metavar="FILE.npz", help="output file (resumable: rerun to continue)")
     parser.add_argument("--netcdf", metavar="FILE.nc", help="also write the result as NetCDF (needs axojax[netcdf])")
     parser.add_argument("--chunk", type=int, default=256, metavar="N", help="points per compiled batch (default 256)")
+    common.add_solver_flag(parser)
 
 
 def run(args: argparse.Namespace) -> dict:
@@ -42,7 +43,8 @@ def run(args: argparse.Namespace) -> dict:
     for name, values in axes.items():
         common.check_params(Params().replace(**{name: values}))
     t0 = time.perf_counter()
-    result = sweep(model, params, axes, kl_ratio=ratio, units=units, chunk_size=args.chunk, out=args.out)
+    solver = common.solver_from_args(args)
+    result = sweep(model, params, axes, kl_ratio=ratio, units=units, chunk_size=args.chunk, out=args.out, solver=solver)
     if args.netcdf is not None:
         result.to_netcdf(args.netcdf)
     seconds = time.perf_counter() - t0

@@ -1,13 +1,14 @@
-"""The eigen-solver: pencil decomposition, the differentiable dominant eigenpair,
-mode shapes and mode metrics."""
+"""The eigen-solver: pencil decomposition, pluggable dominant-eigenpair solvers
+(:class:`Dense`, :class:`Arnoldi`, :class:`Auto`), mode shapes and mode metrics."""
 
 from .dominant import CLUSTER_RTOL, dominant_eigenpair
 from .metrics import beat_plane, mode_shapes, wavenumber
-from .mode import CLASSES, DIVERGENCE, FLUTTER, STABLE, Mode, classify, dominant_mode, mode_from_eigenpair, spectrum
+from .mode import CLASSES, DEFAULT_SOLVER, DIVERGENCE, FLUTTER, STABLE, Mode, classify, dominant_mode, mode_from_eigenpair, spectrum
 from .pencil import eigensystem, eigenvalues
+from .solvers import SOLVERS, Arnoldi, Auto, Dense, EigenSolver, solver_from_name
 
 __all__ = [
-    "CLASSES", "CLUSTER_RTOL", "DIVERGENCE", "FLUTTER", "STABLE", "Mode", "beat_plane", "classify",
-    "dominant_eigenpair", "dominant_mode", "eigensystem", "eigenvalues", "mode_from_eigenpair",
-    "mode_shapes", "spectrum", "wavenumber",
+    "Arnoldi", "Auto", "CLASSES", "CLUSTER_RTOL", "DEFAULT_SOLVER", "DIVERGENCE", "Dense", "EigenSolver", "FLUTTER",
+    "SOLVERS", "STABLE", "Mode", "beat_plane", "classify", "dominant_eigenpair", "dominant_mode", "eigensystem",
+    "eigenvalues", "mode_from_eigenpair", "mode_shapes", "solver_from_name", "spectrum", "wavenumber",
 ]

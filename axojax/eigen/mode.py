@@ -15,8 +15,8 @@ from ..models.section import Model
 from ..params import Params
 from ..units import Units
 from . import pencil
-from .dominant import dominant_eigenpair
 from .metrics import beat_plane, wavenumber
+from .solvers import Auto, EigenSolver
 
 STABLE, FLUTTER, DIVERGENCE = 0, 1, 2
 CLASSES = ("stable", "flutter", "divergence")
@@ -50,6 +50,9 @@ class Mode(eqx.Module):
         out_of_plane_ratio: sqrt(minor/major) of the centreline motion (0 in 2D).
         beat_angle: beat direction, radians from y towards z.
         classification: 0 stable, 1 flutter, 2 divergence.
+        certified: True when the solver certified the eigenvalue as the rightmost
+            (always for :class:`~axojax.eigen.Dense`); False where a structured solver
+            could not, and the dense fallback supplied it.
     """
 
     eigenvalue: Complex[Array, ""]
@@ -63,6 +66,7 @@ class Mode(eqx.Module):
     out_of_plane_ratio: Float[Array, ""]
     beat_angle: Float[Array, ""]
     classification: Int[Array, ""]
+    certified: Array = True
 
     # -- physical units ------------------------------------------------------------
     def frequency_hz(self, units: Units = Units()) -> Float[Array, "..."]:
@@ -100,7 +104,7 @@ class Mode(eqx.Module):
         }
 
 
-def mode_from_eigenpair(model: Model, lam: Complex[Array, ""], v: Complex[Array, " n"]) -> Mode:
+def mode_from_eigenpair(model: Model, lam: Complex[Array, ""], v: Complex[Array, " n"], certified=True) -> Mode:
     """All metrics of an eigenpair (differentiable through lam and v)."""
     k = wavenumber(model, v)
     _, _, angle, ratio = beat_plane(model, v)
@@ -121,13 +125,16 @@ def mode_from_eigenpair(model: Model, lam: Complex[Array, ""], v: Complex[Array,
         out_of_plane_ratio=ratio,
         beat_angle=angle,
         classification=cls,
+        certified=jnp.asarray(certified) > 0.5,
     )
 
 
-def _dominant_mode_impl(model: Model, params: Params) -> Mode:
-    system = assemble(model, params)
-    lam, v = dominant_eigenpair(system.A, system.C)
-    return mode_from_eigenpair(model, lam, v)
+DEFAULT_SOLVER = Auto()
+
+
+def _dominant_mode_impl(model: Model, params: Params, solver: EigenSolver = DEFAULT_SOLVER) -> Mode:
+    lam, v, certified = solver.eigenpair(model, params)
+    return mode_from_eigenpair(model, lam, v, certified)
 
 
 def _spectrum_impl(model: Model, params: Params, top: int | None = None) -> Complex[Array, " k"]:
@@ -137,18 +144,22 @@ def _spectrum_impl(model: Model, params: Params, top: int | None = None) -> Comp
 
 
 # The model is a static, identity-hashed argument: one compilation per model.
-_dominant_mode_jit = jax.jit(_dominant_mode_impl, static_argnums=0)
+_dominant_mode_jit = jax.jit(_dominant_mode_impl, static_argnums=(0, 2))
 _spectrum_jit = jax.jit(_spectrum_impl, static_argnums=(0, 2))
 
 
-def dominant_mode(model: Model, params: Params) -> Mode:
+def dominant_mode(model: Model, params: Params, solver: EigenSolver = DEFAULT_SOLVER) -> Mode:
     """The dominant (largest real part) mode of ``model`` at ``params``.
 
-    Jit-compiled per model, and composable: call it under ``jax.jit``, ``jax.vmap``
-    over a batch of ``params``, ``jax.grad``/``jax.jacfwd``/``jax.jacrev``. Concrete
-    parameters are validated first (one-line ``ValueError`` naming the bad value).
+    Jit-compiled per (model, solver), and composable: call it under ``jax.jit``,
+    ``jax.vmap`` over a batch of ``params``, ``jax.grad``/``jax.jacfwd``/``jax.jacrev``.
+    Concrete parameters are validated first (one-line ``ValueError`` naming the bad
+    value). ``solver`` is an :mod:`axojax.eigen.solvers` object (default
+    :class:`~axojax.eigen.Auto`: dense for small models, certified Arnoldi for large).
     """
-    return _dominant_mode_jit(model, params.validate())
+    if not isinstance(solver, EigenSolver):
+        raise TypeError(f"solver must be an axojax eigen-solver (ax.eigen.Dense(), ax.eigen.Arnoldi(), ...), got {solver!r}")
+    return _dominant_mode_jit(model, params.validate(), solver)
 
 
 def spectrum(model: Model, params: Params, top: int | None = None) -> Complex[Array, " k"]:

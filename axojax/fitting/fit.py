@@ -23,7 +23,8 @@ import numpy as np
 import optax
 from tqdm.auto import tqdm
 
-from ..eigen.mode import _dominant_mode_impl
+from ..eigen.mode import DEFAULT_SOLVER, _dominant_mode_impl
+from ..eigen.solvers import EigenSolver
 from ..models.section import Model
 from ..params import PARAM_NAMES, Params
 from ..units import Units
@@ -112,6 +113,7 @@ def fit(
     max_steps: int = 80,
     seed: int = 0,
     progress: bool = False,
+    solver: EigenSolver = DEFAULT_SOLVER,
 ) -> FitResult:
     """Fit the ``free`` parameters of ``model`` so that its dominant mode matches ``targets``
     (and ``shape``).
@@ -131,6 +133,7 @@ def fit(
         max_steps: optimiser iterations per start.
         seed: seed of the start design.
         progress: progress bar over starts.
+        solver: dominant-eigenpair solver (:mod:`axojax.eigen.solvers`).
     """
     free = list(free)
     targets = list(targets)
@@ -165,7 +168,7 @@ def fit(
         return params.with_values(dict(zip(free, values)), kl_ratio)
 
     def residuals(u):
-        mode = _dominant_mode_impl(model, to_params(u))
+        mode = _dominant_mode_impl(model, to_params(u), solver)
         parts = [jnp.stack([(scalar_value(mode, t.name, units) - t.value) / t.sigma for t in targets])] if targets else []
         if shape is not None:
             parts.append(shape_residuals(model, mode, shape, units))
@@ -191,7 +194,7 @@ def fit(
     best = min(range(len(results)), key=lambda i: results[i][1])
     z_best, loss_best, gnorm = results[best]
     u_best = u_of_z(jnp.asarray(z_best))
-    return _summarise(model, free, log, u_best, to_params, residuals, targets, shape, units, loss_best, gnorm,
+    return _summarise(model, free, log, u_best, to_params, residuals, targets, shape, units, loss_best, gnorm, solver,
                       [({n: float(np.exp(v) if lg else v) for n, v, lg in zip(free, u, np.asarray(log))}, r[1]) for u, r in zip(initial, results)])
 
 
@@ -235,10 +238,10 @@ def _optimiser(loss, method: str, max_steps: int, gtol: float = 1e-6):
     return run
 
 
-def _summarise(model, free, log, u, to_params, residuals, targets, shape, units, loss, gnorm, starts) -> FitResult:
+def _summarise(model, free, log, u, to_params, residuals, targets, shape, units, loss, gnorm, solver, starts) -> FitResult:
     log = np.asarray(log)
     full = to_params(u)
-    mode = jax.jit(_dominant_mode_impl, static_argnums=0)(model, full)
+    mode = jax.jit(_dominant_mode_impl, static_argnums=(0, 2))(model, full, solver)
     achieved = {k: float(scalar_value(mode, k, units)) for k in SCALARS}
     r = np.asarray(jax.jit(residuals)(u))
     n_scalar = len(targets)

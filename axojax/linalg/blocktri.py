@@ -104,37 +104,40 @@ def _padded(M: BlockTridiagonal) -> BlockTridiagonal:
 
 
 class BlockLU(eqx.Module):
-    """Factors of :func:`lu_factor`: for each block column k, the row permutation of the
-    two block rows (k, k+1), the panel's unit-lower factors ``l11``, ``l21`` and the
-    upper blocks ``u11`` (k, k), ``u12`` (k, k+1), ``u13`` (k, k+2; fill-in from
-    pivoting). Shapes (N, b, b) and (N, 2b); one padding block is kept internally."""
+    """Factors of :func:`lu_factor`, stored so that solves are matrix-vector products.
 
-    perm: Int[Array, "N b2"]
-    l11: Inexact[Array, "N b b"]
-    l21: Inexact[Array, "N b b"]
-    u11: Inexact[Array, "N b b"]
+    For block column k: ``fwd[k]`` (2b, 2b) is the elimination ``L_k^{-1} P_k`` of block
+    rows (k, k+1) (row exchange, then the panel's unit-lower factor), ``uinv[k]`` the
+    inverse of the diagonal block of U, ``u12[k]``, ``u13[k]`` U's blocks (k, k+1) and
+    (k, k+2) (the latter is fill-in from row exchanges), and ``w12 = uinv u12``,
+    ``w13 = uinv u13``. One padding block is kept internally.
+    """
+
+    fwd: Inexact[Array, "N b2 b2"]
+    uinv: Inexact[Array, "N b b"]
     u12: Inexact[Array, "N b b"]
     u13: Inexact[Array, "N b b"]
+    w12: Inexact[Array, "N b b"]
+    w13: Inexact[Array, "N b b"]
 
     @property
     def n_blocks(self) -> int:
-        return self.u11.shape[-3]
+        return self.uinv.shape[-3]
 
     def solve(self, rhs: Inexact[Array, " n"]) -> Inexact[Array, " n"]:
         """``M^{-1} rhs`` for a flat (N b,) vector."""
-        N, b = self.n_blocks, self.u11.shape[-1]
-        R = jnp.concatenate([rhs.reshape(N, b), jnp.zeros((1, b), rhs.dtype)]).astype(self.u11.dtype)
+        N, b = self.n_blocks, self.uinv.shape[-1]
+        R = jnp.concatenate([rhs.reshape(N, b), jnp.zeros((1, b), rhs.dtype)]).astype(self.uinv.dtype)
 
         def forward(carry, k):
-            vec = jnp.concatenate([carry, R[k + 1]])[self.perm[k]]
-            z = solve_triangular(self.l11[k], vec[:b], lower=True, unit_diagonal=True)
-            return vec[b:] - self.l21[k] @ z, z
+            out = self.fwd[k] @ jnp.concatenate([carry, R[k + 1]])
+            return out[b:], out[:b]
 
         _, Z = jax.lax.scan(forward, R[0], jnp.arange(N))
 
         def backward(carry, k):
             x1, x2 = carry
-            x = solve_triangular(self.u11[k], Z[k] - self.u12[k] @ x1 - self.u13[k] @ x2, lower=False)
+            x = self.uinv[k] @ Z[k] - self.w12[k] @ x1 - self.w13[k] @ x2
             return (x, x1), x
 
         zeros = jnp.zeros((b,), Z.dtype)
@@ -146,28 +149,25 @@ class BlockLU(eqx.Module):
 
         With E_k = L_k^{-1} P_k the elimination of block column k, ``U = E ... E_0 M``,
         so ``M^T x = r`` is ``U^T y = r`` followed by ``x = E_0^T ... E_{N-1}^T y``."""
-        N, b = self.n_blocks, self.u11.shape[-1]
-        R = rhs.reshape(N, b).astype(self.u11.dtype)
+        N, b = self.n_blocks, self.uinv.shape[-1]
+        R = rhs.reshape(N, b).astype(self.uinv.dtype)
         tr = lambda a: jnp.swapaxes(a, -1, -2)
 
         def forward(carry, k):
             y1, y2 = carry  # y_{k-1}, y_{k-2}
             u12_prev = jnp.where(k >= 1, tr(self.u12[k - 1]), 0.0)
             u13_prev = jnp.where(k >= 2, tr(self.u13[k - 2]), 0.0)
-            y = solve_triangular(tr(self.u11[k]), R[k] - u12_prev @ y1 - u13_prev @ y2, lower=True)
+            y = tr(self.uinv[k]) @ (R[k] - u12_prev @ y1 - u13_prev @ y2)
             return (y, y1), y
 
         zeros = jnp.zeros((b,), R.dtype)
         _, Y = jax.lax.scan(forward, (zeros, zeros), jnp.arange(N))
-        Y = jnp.concatenate([Y, jnp.zeros((1, b), Y.dtype)])
 
         def backward(carry, k):
-            c = carry  # current value of block row k+1
-            a = solve_triangular(tr(self.l11[k]), Y[k] - tr(self.l21[k]) @ c, lower=False, unit_diagonal=True)
-            w = jnp.zeros((2 * b,), Y.dtype).at[self.perm[k]].set(jnp.concatenate([a, c]))
+            w = tr(self.fwd[k]) @ jnp.concatenate([Y[k], carry])  # carry: current block row k+1
             return w[:b], w[b:]
 
-        x0, X = jax.lax.scan(backward, Y[N], jnp.arange(N), reverse=True)
+        x0, X = jax.lax.scan(backward, zeros, jnp.arange(N), reverse=True)
         # Block row k of the answer is the second half produced at step k-1 (k >= 1), and
         # the final carry for k = 0.
         return jnp.concatenate([x0[None], X[:-1]]).reshape(-1)
@@ -179,54 +179,62 @@ def lu_factor(M: BlockTridiagonal) -> BlockLU:
     Step k factors the (2b, b) panel [row k; block (k+1, k)] with partial pivoting
     (``jax.lax.linalg.lu``), applies the same row exchanges to the next two block
     columns and updates block row k+1. Row exchanges bring block row k+1's entries into
-    row k, hence the fill-in block ``u13``. Cost O(N b^3).
+    row k, hence the fill-in block ``u13``. Cost O(N b^3); the inverses kept for the
+    solves cost about as much as the factorisation itself.
     """
     N, b = M.n_blocks, M.block_size
     P = _padded(M)
+    eye = jnp.eye(b, dtype=M.diag.dtype)
 
     def step(carry, k):
         row_k, row_k1 = carry  # current block row k in columns (k, k+1)
         panel = jnp.concatenate([row_k, P.lower[k]])
         lu, _, perm = jax.lax.linalg.lu(panel)
-        l11 = jnp.tril(lu[:b], -1) + jnp.eye(b, dtype=lu.dtype)
+        l11 = jnp.tril(lu[:b], -1) + eye
         u11 = jnp.triu(lu[:b])
         l21 = lu[b:]
         right = jnp.block([[row_k1, jnp.zeros((b, b), lu.dtype)], [P.diag[k + 1], P.upper[k + 1]]])[perm]
         u1 = solve_triangular(l11, right[:b], lower=True, unit_diagonal=True)
         schur = right[b:] - l21 @ u1
-        out = (perm, l11, l21, u11, u1[:, :b], u1[:, b:])
-        return (schur[:, :b], schur[:, b:]), out
+        l11inv = solve_triangular(l11, eye, lower=True, unit_diagonal=True)
+        elim = jnp.block([[l11inv, jnp.zeros((b, b), lu.dtype)], [-l21 @ l11inv, eye]])
+        fwd = elim[:, jnp.argsort(perm)]  # fwd @ v == elim @ v[perm]
+        uinv = solve_triangular(u11, eye, lower=False)
+        u12, u13 = u1[:, :b], u1[:, b:]
+        return (schur[:, :b], schur[:, b:]), (fwd, uinv, u12, u13, uinv @ u12, uinv @ u13)
 
-    (_, _), (perm, l11, l21, u11, u12, u13) = jax.lax.scan(step, (P.diag[0], P.upper[0]), jnp.arange(N))
-    return BlockLU(perm, l11, l21, u11, u12, u13)
+    _, factors = jax.lax.scan(step, (P.diag[0], P.upper[0]), jnp.arange(N))
+    return BlockLU(*factors)
 
 
 class BlockCholesky(eqx.Module):
-    """Lower block-bidiagonal Cholesky factor: ``diag[k]`` (k, k), ``lower[k]`` (k+1, k).
+    """Lower block-bidiagonal Cholesky factor: ``lower[k]`` is block (k+1, k) and
+    ``dinv[k]`` the inverse of diagonal block (k, k) (kept for matrix-vector solves).
 
     Attributes:
         ok: whether the matrix was (numerically) positive definite; when False the
             factors hold NaNs.
     """
 
-    diag: Float[Array, "N b b"]
+    dinv: Float[Array, "N b b"]
     lower: Float[Array, "N1 b b"]
     ok: Bool[Array, ""]
 
     def solve(self, rhs: Float[Array, " n"]) -> Float[Array, " n"]:
-        N, b = self.diag.shape[-3], self.diag.shape[-1]
+        N, b = self.dinv.shape[-3], self.dinv.shape[-1]
         R = rhs.reshape(N, b)
-        low = jnp.concatenate([jnp.zeros((1, b, b), self.diag.dtype), self.lower])  # low[k] = (k, k-1)
+        zero = jnp.zeros((1, b, b), self.dinv.dtype)
+        low = jnp.concatenate([zero, self.lower])  # low[k] = block (k, k-1)
 
         def forward(carry, k):
-            y = solve_triangular(self.diag[k], R[k] - low[k] @ carry, lower=True)
+            y = self.dinv[k] @ (R[k] - low[k] @ carry)
             return y, y
 
         _, Y = jax.lax.scan(forward, jnp.zeros((b,), R.dtype), jnp.arange(N))
-        up = jnp.concatenate([self.lower, jnp.zeros((1, b, b), self.diag.dtype)])  # up[k]^T = (k, k+1) of L^T
+        up = jnp.concatenate([self.lower, zero])  # up[k]^T = block (k, k+1) of L^T
 
         def backward(carry, k):
-            x = solve_triangular(self.diag[k], Y[k] - up[k].T @ carry, lower=True, trans=1)
+            x = self.dinv[k].T @ (Y[k] - up[k].T @ carry)
             return x, x
 
         _, X = jax.lax.scan(backward, jnp.zeros((b,), R.dtype), jnp.arange(N), reverse=True)
@@ -238,13 +246,14 @@ def cholesky(M: BlockTridiagonal) -> BlockCholesky:
     read). ``ok`` is False, without an error, when M is not positive definite."""
     N, b = M.n_blocks, M.block_size
     low = jnp.concatenate([M.lower, jnp.zeros((1, b, b), M.diag.dtype)])
+    eye = jnp.eye(b, dtype=M.diag.dtype)
 
     def step(prev_lower, k):
-        d = M.diag[k] - prev_lower @ prev_lower.T
-        c = jnp.linalg.cholesky(d)
-        nxt = solve_triangular(c, low[k].T, lower=True).T  # block (k+1, k) = A_{k+1,k} C^{-T}
-        return nxt, (c, nxt)
+        c = jnp.linalg.cholesky(M.diag[k] - prev_lower @ prev_lower.T)
+        cinv = solve_triangular(c, eye, lower=True)
+        nxt = low[k] @ cinv.T  # block (k+1, k) = A_{k+1,k} C^{-T}
+        return nxt, (cinv, nxt)
 
-    _, (diag, lower) = jax.lax.scan(step, jnp.zeros((b, b), M.diag.dtype), jnp.arange(N))
-    ok = jnp.all(jnp.isfinite(diag))
-    return BlockCholesky(diag, lower[:-1], ok)
+    _, (dinv, lower) = jax.lax.scan(step, jnp.zeros((b, b), M.diag.dtype), jnp.arange(N))
+    ok = jnp.all(jnp.isfinite(dinv))
+    return BlockCholesky(dinv, lower[:-1], ok)

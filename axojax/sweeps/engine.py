@@ -27,15 +27,16 @@ import numpy as np
 from jax.sharding import Mesh, NamedSharding, PartitionSpec
 from tqdm.auto import tqdm
 
-from ..eigen.mode import _dominant_mode_impl
+from ..eigen.mode import DEFAULT_SOLVER, _dominant_mode_impl
+from ..eigen.solvers import EigenSolver
 from ..models.section import Model
 from ..params import PARAM_NAMES, Params
 from ..units import Units
 from .result import METRICS, SweepResult
 
 
-def _metrics(model: Model, params: Params, units: Units) -> dict[str, jax.Array]:
-    mode = _dominant_mode_impl(model, params)
+def _metrics(model: Model, params: Params, units: Units, solver: EigenSolver) -> dict[str, jax.Array]:
+    mode = _dominant_mode_impl(model, params, solver)
     osc = mode.direction != 0
     nan = jnp.nan
     return {
@@ -48,17 +49,18 @@ def _metrics(model: Model, params: Params, units: Units) -> dict[str, jax.Array]
         "out_of_plane_ratio": mode.out_of_plane_ratio,
         "direction": mode.direction.astype(jnp.int8),
         "classification": mode.classification.astype(jnp.int8),
+        "certified": mode.certified.astype(jnp.int8),
     }
 
 
 @functools.lru_cache(maxsize=32)
-def _compiled(model: Model, names: tuple[str, ...], tie: bool, units: Units, n_dev: int):
-    """One jitted, vmapped evaluator per (model, axes, tie, units, devices); the fixed
-    parameters and the kl ratio are traced arguments, so new values do not recompile."""
+def _compiled(model: Model, names: tuple[str, ...], tie: bool, units: Units, n_dev: int, solver: EigenSolver):
+    """One jitted, vmapped evaluator per (model, axes, tie, units, devices, solver); the
+    fixed parameters and the kl ratio are traced arguments, so new values do not recompile."""
 
     def batched(params, ratio, rows):
         def one(row):
-            return _metrics(model, params.with_values(dict(zip(names, row)), ratio if tie else None), units)
+            return _metrics(model, params.with_values(dict(zip(names, row)), ratio if tie else None), units, solver)
 
         return jax.vmap(one)(rows)
 
@@ -70,14 +72,14 @@ def _compiled(model: Model, names: tuple[str, ...], tie: bool, units: Units, n_d
     return jax.jit(batched)
 
 
-def _evaluator(model: Model, params: Params, names: tuple[str, ...], kl_ratio, units: Units, n_dev: int):
-    f = _compiled(model, names, kl_ratio is not None, units, n_dev)
+def _evaluator(model: Model, params: Params, names: tuple[str, ...], kl_ratio, units: Units, n_dev: int, solver: EigenSolver):
+    f = _compiled(model, names, kl_ratio is not None, units, n_dev, solver)
     fixed = params.broadcast(())
     ratio = jnp.asarray(1.0 if kl_ratio is None else kl_ratio, dtype=float)
     return lambda rows: f(fixed, ratio, rows)
 
 
-def _fingerprint(model: Model, params: Params, axes: Mapping[str, np.ndarray], kl_ratio, units: Units, chunk: int) -> str:
+def _fingerprint(model: Model, params: Params, axes: Mapping[str, np.ndarray], kl_ratio, units: Units, chunk: int, solver: EigenSolver) -> str:
     doc = {
         "model": repr(model),
         "positions": np.asarray(model.section.positions).round(12).tolist(),
@@ -86,6 +88,7 @@ def _fingerprint(model: Model, params: Params, axes: Mapping[str, np.ndarray], k
         "kl_ratio": kl_ratio,
         "units": [units.length_um, units.ei_pn_um2, units.cn_pn_s_um2],
         "chunk": chunk,
+        "solver": repr(solver.resolve(model)),
     }
     return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()[:16]
 
@@ -101,6 +104,7 @@ def sweep(
     out: str | pathlib.Path | None = None,
     progress: bool | None = None,
     devices: int | None = None,
+    solver: EigenSolver = DEFAULT_SOLVER,
 ) -> SweepResult:
     """Evaluate the dominant mode on the outer-product grid of ``axes``.
 
@@ -115,6 +119,9 @@ def sweep(
         out: ``.npz`` path; makes the sweep resumable (see module docstring).
         progress: tqdm progress bar (default: only on a terminal).
         devices: how many devices to shard over (default all).
+        solver: dominant-eigenpair solver (:mod:`axojax.eigen.solvers`); the result's
+            ``certified`` array marks the points a structured solver certified (the
+            others were recomputed densely) and ``meta["solver"]`` counts them.
 
     Returns:
         :class:`SweepResult` with arrays of shape ``[len(v) for v in axes.values()]``.
@@ -146,7 +153,7 @@ def sweep(
     if out is not None:
         out = pathlib.Path(out)
         parts = out.with_name(out.name + ".parts")
-        key = _fingerprint(model, params, coords, kl_ratio, units, chunk)
+        key = _fingerprint(model, params, coords, kl_ratio, units, chunk, solver)
         manifest = parts / "manifest.json"
         if parts.exists() and (not manifest.exists() or json.loads(manifest.read_text()).get("key") != key):
             shutil.rmtree(parts)  # left by a different sweep: start again
@@ -166,7 +173,7 @@ def sweep(
         if n < chunk:
             rows = np.concatenate([rows, np.repeat(rows[-1:], chunk - n, axis=0)])
         if evaluate is None:
-            evaluate = _evaluator(model, params, names, kl_ratio, units, n_dev)
+            evaluate = _evaluator(model, params, names, kl_ratio, units, n_dev, solver)
         vals = {k: np.asarray(v)[:n] for k, v in evaluate(jnp.asarray(rows)).items()}
         if part is not None:
             tmp = part.with_name(part.name + ".tmp.npz")
@@ -189,6 +196,7 @@ def sweep(
         "units": {"length_um": units.length_um, "ei_pn_um2": units.ei_pn_um2, "cn_pn_s_um2": units.cn_pn_s_um2, "tau_s": units.tau_s},
         "classification": {"0": "stable", "1": "flutter", "2": "divergence"},
         "direction": {"1": "anterograde", "-1": "retrograde", "0": "none"},
+        "solver": {"name": type(solver.resolve(model)).__name__.lower(), "dense_fallbacks": int(np.sum(data["certified"] == 0))},
     }
     result = SweepResult(coords, data, meta)
     if out is not None:

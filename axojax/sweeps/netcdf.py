@@ -30,6 +30,7 @@ VARIABLES: dict[str, tuple[str, str]] = {
     "out_of_plane_ratio": ("1", "out-of-plane share of the dominant mode's bending"),
     "direction": ("1", "direction of wave propagation"),
     "classification": ("1", "stability of the straight state"),
+    "certified": ("1", "1 where the eigen-solver certified the dominant eigenvalue; 0 where the dense fallback supplied it"),
 }
 
 

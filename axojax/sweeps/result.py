@@ -25,6 +25,7 @@ METRICS = (
     "out_of_plane_ratio",
     "direction",
     "classification",
+    "certified",
 )
 
 

@@ -1,0 +1,117 @@
+"""Dominant-eigenpair solvers as objects, in the style of lineax's and diffrax's solvers.
+
+Every function that finds a dominant mode (``ax.dominant_mode``, ``ax.sweep``,
+``ax.critical_force``, ``ax.fit``) takes ``solver=``; the CLI takes ``--solver``:
+
+- :class:`Dense` (``dense``): all n eigenvalues of the Cholesky-reduced pencil (LAPACK),
+  O(n^3). The reference; handles degenerate (clustered) dominant eigenvalues in its
+  derivative.
+- :class:`Arnoldi` (``arnoldi``): certified shift-invert Arnoldi on the node-major
+  block-tridiagonal pencil (:mod:`axojax.eigen.arnoldi`), O(N_e (F d)^3): linear in the
+  number of elements. Returns the same eigenvalue as :class:`Dense`; points it cannot
+  certify are recomputed densely and flagged (``Mode.certified`` is False there).
+- :class:`Auto` (``auto``, the default): :class:`Dense` for small models, :class:`Arnoldi`
+  from ``min_arnoldi_dof`` unknowns on (chosen statically from the model's size).
+
+Solvers are hashable equinox modules holding only static options, so they are static
+arguments of ``jax.jit``.
+"""
+
+from __future__ import annotations
+
+import abc
+
+import equinox as eqx
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Complex, Float
+
+from ..assembly import assemble, assemble_blocks, node_major
+from ..models.section import Model
+from ..params import Params
+from .arnoldi import ArnoldiOptions, structured_dominant
+from .dominant import dominant_eigenpair
+
+
+class EigenSolver(eqx.Module):
+    """Finds the dominant eigenpair of ``(A + lambda C) v = 0`` for a model."""
+
+    @abc.abstractmethod
+    def eigenpair(self, model: Model, params: Params) -> tuple[Complex[Array, ""], Complex[Array, " n"], Float[Array, ""]]:
+        """(eigenvalue with Im >= 0, unit eigenvector in filament-major order, certified
+        as 1.0/0.0). Differentiable in ``params``."""
+
+    def resolve(self, model: Model) -> "EigenSolver":
+        """The concrete solver used for ``model`` (itself, except for :class:`Auto`)."""
+        return self
+
+
+class Dense(EigenSolver):
+    """Dense eigen-decomposition of the whole pencil (see :mod:`axojax.eigen.dominant`)."""
+
+    def eigenpair(self, model, params):
+        system = assemble(model, params)
+        lam, v = dominant_eigenpair(system.A, system.C)
+        return lam, v, jnp.ones((), float)
+
+
+class Arnoldi(EigenSolver):
+    """Certified shift-invert Arnoldi on the block-tridiagonal pencil.
+
+    Attributes:
+        krylov_dims: Krylov-space sizes at which the certificate is checked; the
+            Arnoldi process stops at the first that certifies (each point on its own).
+        lanczos_dim: Lanczos steps that place the pole above the numerical abscissa.
+        certify_factor: certify when every eigenvalue within this multiple of the
+            returned eigenvalue's distance from the pole has been resolved.
+        tol: relative residual tolerance of a converged Ritz value.
+        fallback: solve the points that no stage certifies with the dense solver (only
+            those points). Off, the uncertified answer is returned as it is (flagged).
+    """
+
+    krylov_dims: tuple[int, ...] = eqx.field(default=(16, 32, 48), static=True)
+    lanczos_dim: int = eqx.field(default=12, static=True)
+    certify_factor: float = eqx.field(default=2.0, static=True)
+    tol: float = eqx.field(default=1e-10, static=True)
+    fallback: bool = eqx.field(default=True, static=True)
+
+    def __check_init__(self):
+        if not self.krylov_dims or min(self.krylov_dims) < 2 or self.lanczos_dim < 2:
+            raise ValueError(f"krylov_dims and lanczos_dim must be >= 2, got {self.krylov_dims}, {self.lanczos_dim}")
+        if not self.certify_factor >= 1.0:
+            raise ValueError(f"certify_factor must be >= 1, got {self.certify_factor}")
+        if not 0 < self.tol < 1e-3:
+            raise ValueError(f"tol must be in (0, 1e-3), got {self.tol}")
+
+    @property
+    def options(self) -> ArnoldiOptions:
+        return ArnoldiOptions(tuple(self.krylov_dims), self.lanczos_dim, self.certify_factor, self.tol, self.fallback)
+
+    def eigenpair(self, model, params):
+        system = assemble_blocks(model, params)
+        lam, x, certified = structured_dominant(system.A, system.C, self.options)
+        inverse = np.argsort(node_major(model))
+        return lam, x[inverse], certified
+
+
+class Auto(EigenSolver):
+    """:class:`Dense` below ``min_arnoldi_dof`` unknowns, :class:`Arnoldi` from there on."""
+
+    min_arnoldi_dof: int = eqx.field(default=200, static=True)
+
+    def resolve(self, model: Model) -> EigenSolver:
+        return Arnoldi() if model.n_dof >= self.min_arnoldi_dof else Dense()
+
+    def eigenpair(self, model, params):
+        return self.resolve(model).eigenpair(model, params)
+
+
+SOLVERS = {"auto": Auto, "dense": Dense, "arnoldi": Arnoldi}
+
+
+def solver_from_name(name: str) -> EigenSolver:
+    """``auto``, ``dense`` or ``arnoldi`` -> a solver with default options."""
+    try:
+        return SOLVERS[name]()
+    except KeyError:
+        raise ValueError(f"unknown eigen-solver {name!r}; choose one of {', '.join(SOLVERS)}") from None

@@ -1,0 +1,199 @@
+"""The structure-exploiting eigen-solver (issue 14): block-tridiagonal algebra against
+numpy, node-major assembly against the dense one, and ``ax.eigen.Arnoldi`` against
+``ax.eigen.Dense`` (same eigenvalue to 1e-9, same classification) on seven, nine, a
+40-element mesh and a user's cross-section; derivatives against finite differences; the
+dense fallback; the command line."""
+
+import json
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+import scipy.linalg
+
+import axojax as ax
+from axojax.assembly import assemble_blocks, node_major
+from axojax.cli.main import main
+from axojax.eigen import Arnoldi, Dense
+from axojax.linalg import BlockTridiagonal, cholesky, lu_factor
+
+RTOL = 1e-9
+
+
+def random_blocks(rng, N, b, complex_=False, diag_scale=0.1):
+    def mk(*shape):
+        x = rng.normal(size=shape)
+        return x + 1j * rng.normal(size=shape) if complex_ else x
+
+    # A weak diagonal forces row exchanges between block rows.
+    return BlockTridiagonal(jnp.asarray(mk(N - 1, b, b)), jnp.asarray(diag_scale * mk(N, b, b)), jnp.asarray(mk(N - 1, b, b)))
+
+
+@pytest.mark.parametrize("N,b,complex_", [(1, 3, False), (2, 4, False), (7, 5, False), (6, 4, True)])
+def test_block_lu_solves_against_numpy(N, b, complex_):
+    rng = np.random.default_rng(N * 10 + b)
+    M = random_blocks(rng, N, b, complex_)
+    D = np.asarray(M.to_dense())
+    r = rng.normal(size=N * b) + (1j * rng.normal(size=N * b) if complex_ else 0)
+    lu = lu_factor(M)
+    np.testing.assert_allclose(np.asarray(lu.solve(jnp.asarray(r))), np.linalg.solve(D, r), rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(np.asarray(lu.solve_transpose(jnp.asarray(r))), np.linalg.solve(D.T, r), rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(np.asarray(M.matvec(jnp.asarray(r))), D @ r, rtol=1e-12, atol=1e-12)
+
+
+def test_block_cholesky_solves_and_tests_definiteness():
+    rng = np.random.default_rng(3)
+    N, b = 6, 5
+    lower = rng.normal(size=(N - 1, b, b))
+    diag = np.stack([x @ x.T + 3 * b * np.eye(b) for x in rng.normal(size=(N, b, b))])
+    M = BlockTridiagonal(jnp.asarray(lower), jnp.asarray(diag), jnp.asarray(np.swapaxes(lower, 1, 2)))
+    D = np.asarray(M.to_dense())
+    assert np.linalg.eigvalsh(D).min() > 0
+    r = rng.normal(size=N * b)
+    chol = cholesky(M)
+    assert bool(chol.ok)
+    np.testing.assert_allclose(np.asarray(chol.solve(jnp.asarray(r))), np.linalg.solve(D, r), rtol=1e-10)
+    shifted = M - BlockTridiagonal(0 * M.lower, jnp.asarray(np.eye(b)[None] * (np.linalg.eigvalsh(D).min() + 1.0)), 0 * M.upper)
+    assert not bool(cholesky(shifted).ok)
+
+
+@pytest.mark.parametrize("name", ["single", "beck", "two", "four", "seven", "nine"])
+def test_block_assembly_is_the_dense_assembly_reordered(name):
+    model = ax.models.preset(name, n_elements=5)
+    params = ax.Params(p=123.0, gamma=0.3, ktheta=2.0, imbalance=2.0)
+    dense, blocks, perm = ax.assemble(model, params), assemble_blocks(model, params), node_major(model)
+    for D, B in ((dense.A, blocks.A), (dense.C, blocks.C)):
+        D = np.asarray(D)[np.ix_(perm, perm)]
+        np.testing.assert_allclose(np.asarray(B.to_dense()), D, rtol=1e-12, atol=1e-12 * np.abs(D).max())
+    np.testing.assert_allclose(np.asarray(blocks.b), np.asarray(dense.b)[perm])
+
+
+def batch_modes(model, params, solver):
+    return jax.jit(jax.vmap(lambda prm: ax.eigen.mode._dominant_mode_impl(model, prm, solver)))(params)
+
+
+def grid_params(ps, kss, ratio=1e3, **fixed):
+    P, K = np.meshgrid(ps, kss, indexing="ij")
+    return ax.Params(**fixed).replace(p=P.ravel(), ks=K.ravel(), kl=K.ravel() / ratio).broadcast()
+
+
+def assert_same_modes(dense, fast):
+    lam_d, lam_f = np.asarray(dense.eigenvalue), np.asarray(fast.eigenvalue)
+    err = np.abs(lam_f - lam_d) / np.maximum(np.abs(lam_d), 1.0)
+    assert err.max() < RTOL, (err.max(), lam_d[err.argmax()], lam_f[err.argmax()])
+    np.testing.assert_array_equal(np.asarray(fast.classification), np.asarray(dense.classification))
+    # Same eigenvector up to phase (where the eigenvalue is simple).
+    overlap = np.abs(np.sum(np.conj(np.asarray(dense.eigenvector)) * np.asarray(fast.eigenvector), axis=-1))
+    assert np.all(overlap > 1 - 1e-6), overlap.min()
+
+
+def test_seven_grid_arnoldi_equals_dense(capsys):
+    model = ax.models.seven()
+    params = grid_params(np.linspace(100, 900, 5), np.logspace(2, 7, 6))
+    dense, fast = batch_modes(model, params, Dense()), batch_modes(model, params, Arnoldi())
+    assert_same_modes(dense, fast)
+    certified = np.asarray(fast.certified)
+    with capsys.disabled():
+        print(f"\nseven, 30 points: {certified.sum()} certified by Arnoldi, {len(certified) - certified.sum()} by the dense fallback")
+    assert certified.mean() >= 0.8
+
+
+def test_nine_and_other_parameters_arnoldi_equals_dense():
+    model = ax.models.nine()
+    params = ax.Params(
+        p=jnp.array([150.0, 300.0, 500.0, 250.0]),
+        ks=jnp.array([1e3, 1e6, 1e4, 1e5]),
+        kl=jnp.array([1.0, 1e3, 1e4, 1e-1]),
+        cl=jnp.array([1e-4, 0.005, 1.0, 0.05]),
+        gamma=jnp.array([-1.0, 0.0, 0.5, 0.2]),
+        ktheta=jnp.array([0.0, 5.0, 0.0, 1.0]),
+        imbalance=jnp.array([1.0, 1.0, 2.0, 5.0]),
+    ).broadcast()
+    assert_same_modes(batch_modes(model, params, Dense()), batch_modes(model, params, Arnoldi()))
+
+
+def test_forty_elements_arnoldi_equals_dense():
+    # Away from Re lambda = 0: at 40 elements the dense solver's own error is ~1e-7 in
+    # absolute terms (eps times the norm of the reduced matrix), which is above 1e-9 of
+    # |lambda| only for eigenvalues of modulus below ~100, e.g. right at a Hopf point.
+    model = ax.models.seven(n_elements=40)
+    params = grid_params(np.array([300.0, 600.0]), np.array([1e4, 1e6]))
+    assert_same_modes(batch_modes(model, params, Dense()), batch_modes(model, params, Arnoldi()))
+
+
+def test_model_file_cross_section_arnoldi_equals_dense(tmp_path):
+    """A five-filament cross-section of a user's own, with unequal rigidity and drag."""
+    path = tmp_path / "five.toml"
+    path.write_text(
+        'name = "five"\n'
+        + "".join(f"[[filaments]]\nposition = [{np.sin(a):.6f}, {np.cos(a):.6f}]\nei = {1 + 0.2 * k}\ndrag = {1 + 0.1 * k}\n" for k, a in enumerate(np.deg2rad([40, -40, -140, 140])))
+        + "[[filaments]]\nposition = [0.0, 0.0]\n"
+        + "".join(f"[[links]]\nbetween = [{k}, {(k + 1) % 4}]\n" for k in range(4))
+        + "".join(f'[[links]]\nbetween = [4, {k}]\nkind = "spoke"\n' for k in range(4))
+        + "[[active_pairs]]\nbetween = [0, 1]\n[[active_pairs]]\nbetween = [2, 3]\ngroup = 1\n"
+    )
+    model = ax.models.from_file(path, n_elements=12)
+    params = grid_params(np.array([200.0, 500.0]), np.array([1e3, 1e6]))
+    assert_same_modes(batch_modes(model, params, Dense()), batch_modes(model, params, Arnoldi()))
+
+
+def test_fallback_when_not_certified_gives_the_dense_answer():
+    """A certificate radius no Krylov space of this size can reach: every point goes to
+    the dense solver, and says so."""
+    model = ax.models.seven(n_elements=6)
+    params = grid_params(np.array([300.0, 700.0]), np.array([1e5]))
+    strict = Arnoldi(krylov_dims=(8,), certify_factor=1e12)
+    fast = batch_modes(model, params, strict)
+    assert not np.any(np.asarray(fast.certified))
+    assert_same_modes(batch_modes(model, params, Dense()), fast)
+    loose = batch_modes(model, params, Arnoldi(krylov_dims=(8,), certify_factor=1e12, fallback=False))
+    assert not np.any(np.asarray(loose.certified))
+
+
+def metrics(model, solver):
+    def f(z):  # log p, log ks, log cl, gamma
+        mode = ax.eigen.mode._dominant_mode_impl(model, ax.Params(p=jnp.exp(z[0]), ks=jnp.exp(z[1]), kl=jnp.exp(z[1]) / 1e3, cl=jnp.exp(z[2]), gamma=z[3]), solver)
+        return jnp.stack([mode.growth_rate_per_s(), mode.frequency_hz(), mode.wavelength_um()])
+
+    return f
+
+
+def test_arnoldi_gradients_match_finite_differences_and_dense():
+    model = ax.models.seven()
+    z = jnp.array([np.log(420.0), np.log(2e5), np.log(0.01), -0.3])
+    f = metrics(model, Arnoldi())
+    fwd = np.asarray(jax.jit(jax.jacfwd(f))(z))
+    rev = np.asarray(jax.jit(jax.jacrev(f))(z))
+    h = 1e-4
+    steps = np.eye(4) * h
+    fz = jax.jit(jax.vmap(metrics(model, Dense())))
+    vals = np.asarray(fz(jnp.asarray(np.concatenate([z + 2 * steps, z + steps, z - steps, z - 2 * steps]))))
+    a, b, c, d = vals[:4], vals[4:8], vals[8:12], vals[12:]
+    fd = ((-a + 8 * b - 8 * c + d) / (12 * h)).T  # (3 metrics, 4 params)
+    scale = np.linalg.norm(fd, axis=1, keepdims=True)
+    assert np.max(np.abs(fwd - fd) / scale) < 1e-6
+    assert np.max(np.abs(rev - fd) / scale) < 1e-6
+    dense = np.asarray(jax.jit(jax.jacfwd(metrics(model, Dense())))(z))
+    assert np.max(np.abs(fwd - dense) / scale) < 1e-8
+
+
+def test_critical_force_with_arnoldi_equals_dense():
+    model = ax.models.seven(n_elements=8)
+    a = ax.critical_force(model, ax.Params(ks=1e5, kl=100.0), solver=Arnoldi())
+    d = ax.critical_force(model, ax.Params(ks=1e5, kl=100.0), solver=Dense())
+    assert float(a.p) == pytest.approx(float(d.p), rel=1e-9)
+    assert float(a.frequency_hz()) == pytest.approx(float(d.frequency_hz()), rel=1e-8)
+
+
+def test_cli_solver_flag(capsys):
+    docs = {}
+    for name in ("dense", "arnoldi"):
+        assert main(["modes", "--model", "seven", "--p", "300", "--solver", name, "--json", "--top", "2"]) == 0
+        docs[name] = json.loads(capsys.readouterr().out)
+    lam_d, lam_a = (complex(*docs[k]["dominant"]["eigenvalue"]) for k in ("dense", "arnoldi"))
+    assert abs(lam_a - lam_d) < RTOL * abs(lam_d)
+    assert docs["dense"]["dominant"]["classification"] == docs["arnoldi"]["dominant"]["classification"]
+    assert main(["modes", "--model", "seven", "--solver", "qr"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("axojax: error: --solver:") and "\n" not in err and "qr" in err
