@@ -88,15 +88,29 @@ def assert_same_modes(dense, fast):
     assert np.all(overlap > 1 - 1e-6), overlap.min()
 
 
-def test_seven_grid_arnoldi_equals_dense(capsys):
+def test_seven_sweep_arnoldi_equals_dense(capsys):
     model = ax.models.seven()
-    params = grid_params(np.linspace(100, 900, 5), np.logspace(2, 7, 6))
-    dense, fast = batch_modes(model, params, Dense()), batch_modes(model, params, Arnoldi())
-    assert_same_modes(dense, fast)
-    certified = np.asarray(fast.certified)
+    axes = {"p": np.linspace(100, 900, 5), "ks": np.logspace(2, 7, 6)}
+    dense = ax.sweep(model, ax.Params(), axes, kl_ratio=1e3, solver=Dense(), progress=False)
+    fast = ax.sweep(model, ax.Params(), axes, kl_ratio=1e3, solver=Arnoldi(), progress=False)
+    lam_d = dense.data["eigenvalue_real"] + 1j * dense.data["eigenvalue_imag"]
+    lam_f = fast.data["eigenvalue_real"] + 1j * fast.data["eigenvalue_imag"]
+    assert np.max(np.abs(lam_f - lam_d) / np.maximum(np.abs(lam_d), 1.0)) < RTOL
+    np.testing.assert_array_equal(fast.data["classification"], dense.data["classification"])
+    certified = fast.data["certified"]
+    assert np.all(dense.data["certified"] == 1) and dense.meta["solver"] == {"name": "dense", "dense_fallbacks": 0}
+    assert fast.meta["solver"] == {"name": "arnoldi", "dense_fallbacks": int((certified == 0).sum())}
     with capsys.disabled():
-        print(f"\nseven, 30 points: {certified.sum()} certified by Arnoldi, {len(certified) - certified.sum()} by the dense fallback")
+        print(f"\nseven, 30 points: {certified.sum()} certified by Arnoldi, {(certified == 0).sum()} by the dense fallback")
     assert certified.mean() >= 0.8
+
+
+def test_auto_picks_arnoldi_for_large_models_and_sweeps():
+    auto = ax.eigen.Auto()
+    seven, seven40, four = ax.models.seven(), ax.models.seven(n_elements=40), ax.models.four()
+    assert isinstance(auto.resolve(seven), Dense) and isinstance(auto.resolve(seven, n_points=400), Arnoldi)
+    assert isinstance(auto.resolve(seven40), Arnoldi)
+    assert isinstance(auto.resolve(four, n_points=400), Dense)
 
 
 def test_nine_and_other_parameters_arnoldi_equals_dense():
@@ -147,8 +161,6 @@ def test_fallback_when_not_certified_gives_the_dense_answer():
     fast = batch_modes(model, params, strict)
     assert not np.any(np.asarray(fast.certified))
     assert_same_modes(batch_modes(model, params, Dense()), fast)
-    loose = batch_modes(model, params, Arnoldi(krylov_dims=(8,), certify_factor=1e12, fallback=False))
-    assert not np.any(np.asarray(loose.certified))
 
 
 def metrics(model, solver):
@@ -174,8 +186,6 @@ def test_arnoldi_gradients_match_finite_differences_and_dense():
     scale = np.linalg.norm(fd, axis=1, keepdims=True)
     assert np.max(np.abs(fwd - fd) / scale) < 1e-6
     assert np.max(np.abs(rev - fd) / scale) < 1e-6
-    dense = np.asarray(jax.jit(jax.jacfwd(metrics(model, Dense())))(z))
-    assert np.max(np.abs(fwd - dense) / scale) < 1e-8
 
 
 def test_critical_force_with_arnoldi_equals_dense():
@@ -187,13 +197,11 @@ def test_critical_force_with_arnoldi_equals_dense():
 
 
 def test_cli_solver_flag(capsys):
-    docs = {}
-    for name in ("dense", "arnoldi"):
-        assert main(["modes", "--model", "seven", "--p", "300", "--solver", name, "--json", "--top", "2"]) == 0
-        docs[name] = json.loads(capsys.readouterr().out)
-    lam_d, lam_a = (complex(*docs[k]["dominant"]["eigenvalue"]) for k in ("dense", "arnoldi"))
-    assert abs(lam_a - lam_d) < RTOL * abs(lam_d)
-    assert docs["dense"]["dominant"]["classification"] == docs["arnoldi"]["dominant"]["classification"]
+    """MODEL.md section 6: seven at p = 300 is 137.696 +- 270.311i (50.30 Hz)."""
+    assert main(["modes", "--model", "seven", "--p", "300", "--solver", "arnoldi", "--json", "--top", "2"]) == 0
+    d = json.loads(capsys.readouterr().out)["dominant"]
+    assert abs(complex(*d["eigenvalue"]) - complex(137.696, 270.311)) < 5e-4
+    assert d["classification"] == "flutter" and round(d["frequency_hz"], 2) == 50.30
     assert main(["modes", "--model", "seven", "--solver", "qr"]) == 2
     err = capsys.readouterr().err.strip()
     assert err.startswith("axojax: error: --solver:") and "\n" not in err and "qr" in err

@@ -86,8 +86,8 @@ def add_solver_flag(parser: argparse.ArgumentParser) -> None:
     """``--solver {auto,dense,arnoldi}``: the dominant-eigenpair solver."""
     parser.add_argument(
         "--solver", default="auto", metavar="NAME",
-        help=f"dominant-eigenpair solver: {', '.join(SOLVERS)} (default auto: dense below "
-        f"{Auto().min_arnoldi_dof} unknowns, certified Arnoldi on the block-tridiagonal pencil above)",
+        help=f"dominant-eigenpair solver: {', '.join(SOLVERS)} (default auto: certified Arnoldi on the "
+        f"block-tridiagonal pencil for models of {Auto().min_arnoldi_dof}+ unknowns and for sweeps, dense otherwise)",
     )
 
 

@@ -12,6 +12,11 @@ from ..critical import critical_force
 from . import common
 
 
+EVALUATIONS_PER_POINT = 20
+"""About how many dominant eigenpairs one Hopf point costs (bracketing and Newton): a
+traced boundary is a batch for ``--solver auto``."""
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     common.add_model_flags(parser)
     parser.add_argument("--along", default=None, metavar="NAME", help="second parameter to trace the boundary along, e.g. ks")
@@ -37,6 +42,7 @@ def run(args: argparse.Namespace) -> dict:
     if field == "p":
         raise common.CLIError("--along: the boundary is traced in p, choose another parameter")
     values = common.parse_axis(args.values, "--values")
+    solver = solver.resolve(model, len(values) * EVALUATIONS_PER_POINT)
     for v in values:
         common.check_params(params.with_values({field: float(v)}, ratio))
 

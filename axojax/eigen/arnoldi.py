@@ -19,7 +19,10 @@ Algorithm (per parameter point, fixed shapes: jit/vmap-able):
    rightmost eigenvalue's real part, which makes it a good pole.
 2. **Shift-invert Arnoldi.** Arnoldi (classical Gram-Schmidt with reorthogonalisation)
    on ``S = (A + sigma C)^{-1} C`` using the pivoted block LU of :mod:`axojax.linalg`;
-   Ritz values ``theta`` give ``lambda = sigma - 1/theta``. The stiff bulk of the
+   Ritz values ``theta`` give ``lambda = sigma - 1/theta``. Every solve takes one step
+   of iterative refinement: the links make ``|A|`` ~1e8 times the eigenvalues of
+   interest, and without it the eigenvalue's backward error (and at 40 elements its
+   error, ~2e-9 relative) exceeds the dense solver's; with it, ~1e-11. The stiff bulk of the
    spectrum (|lambda| up to ~1e8 from the links) maps to theta ~ 0, so the eigenvalues
    near sigma converge in a few dozen steps. A Ritz pair has converged when its residual
    bound ``|h_{m+1,m} y_m| / |theta|^2 <= tol (1 + |lambda|)``. The Krylov space grows
@@ -176,14 +179,17 @@ def _arnoldi_point(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOption
     dims = tuple(sorted({min(m, n - 1) for m in opts.krylov_dims}))
     m_max = dims[-1]
     sigma, verified = pole(A, C, opts.lanczos_dim)
-    lu = lu_factor(A + C.scale(sigma))
+    M = A + C.scale(sigma)
+    lu = lu_factor(M)
     v0 = _start_vector(n)
     V = jnp.zeros((m_max + 1, n)).at[0].set(v0 / jnp.linalg.norm(v0))
     H = jnp.zeros((m_max + 1, m_max))
 
     def step(j, carry):
         V, H = carry
-        w = lu.solve(C.matvec(V[j]))
+        b = C.matvec(V[j])
+        w = lu.solve(b)
+        w = w + lu.solve(b - M.matvec(w))  # one step of iterative refinement
         for _ in range(2):  # classical Gram-Schmidt, twice
             h = V @ w
             w = w - V.T @ h

@@ -10,8 +10,9 @@ Every function that finds a dominant mode (``ax.dominant_mode``, ``ax.sweep``,
   block-tridiagonal pencil (:mod:`axojax.eigen.arnoldi`), O(N_e (F d)^3): linear in the
   number of elements. Returns the same eigenvalue as :class:`Dense`; points it cannot
   certify are recomputed densely and flagged (``Mode.certified`` is False there).
-- :class:`Auto` (``auto``, the default): :class:`Dense` for small models, :class:`Arnoldi`
-  from ``min_arnoldi_dof`` unknowns on (chosen statically from the model's size).
+- :class:`Auto` (``auto``, the default): :class:`Arnoldi` for large models and for
+  sweeps, :class:`Dense` for a few points of a small model (chosen statically from the
+  model's size and the number of points).
 
 Solvers are hashable equinox modules holding only static options, so they are static
 arguments of ``jax.jit``.
@@ -41,8 +42,9 @@ class EigenSolver(eqx.Module):
         """(eigenvalue with Im >= 0, unit eigenvector in filament-major order, certified
         as 1.0/0.0). Differentiable in ``params``."""
 
-    def resolve(self, model: Model) -> "EigenSolver":
-        """The concrete solver used for ``model`` (itself, except for :class:`Auto`)."""
+    def resolve(self, model: Model, n_points: int = 1) -> "EigenSolver":
+        """The concrete solver for ``n_points`` points of ``model`` (itself, except for
+        :class:`Auto`)."""
         return self
 
 
@@ -95,12 +97,24 @@ class Arnoldi(EigenSolver):
 
 
 class Auto(EigenSolver):
-    """:class:`Dense` below ``min_arnoldi_dof`` unknowns, :class:`Arnoldi` from there on."""
+    """:class:`Arnoldi` where it pays, :class:`Dense` elsewhere, chosen statically.
 
-    min_arnoldi_dof: int = eqx.field(default=200, static=True)
+    The structured solver's cost per point grows linearly with the mesh and the dense
+    solver's as its cube, but the structured solver takes several times longer to compile
+    (seconds). So Arnoldi is used for models of ``min_arnoldi_dof`` unknowns or more, and
+    for batches of at least ``min_batch_points`` points (a sweep, a traced boundary) on
+    models of ``min_batch_dof`` unknowns or more; a handful of points on a small model
+    (``axojax modes`` on the ten-element presets) keeps the quicker-to-compile dense path.
+    """
 
-    def resolve(self, model: Model) -> EigenSolver:
-        return Arnoldi() if model.n_dof >= self.min_arnoldi_dof else Dense()
+    min_arnoldi_dof: int = eqx.field(default=600, static=True)
+    min_batch_dof: int = eqx.field(default=200, static=True)
+    min_batch_points: int = eqx.field(default=64, static=True)
+
+    def resolve(self, model: Model, n_points: int = 1) -> EigenSolver:
+        n = model.n_dof
+        large = n >= self.min_arnoldi_dof or (n >= self.min_batch_dof and n_points >= self.min_batch_points)
+        return Arnoldi() if large else Dense()
 
     def eigenpair(self, model, params):
         return self.resolve(model).eigenpair(model, params)

@@ -88,7 +88,7 @@ def _fingerprint(model: Model, params: Params, axes: Mapping[str, np.ndarray], k
         "kl_ratio": kl_ratio,
         "units": [units.length_um, units.ei_pn_um2, units.cn_pn_s_um2],
         "chunk": chunk,
-        "solver": repr(solver.resolve(model)),
+        "solver": repr(solver),
     }
     return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()[:16]
 
@@ -143,6 +143,7 @@ def sweep(
         raise ValueError(f"chunk_size must be >= 1, got {chunk_size}")
     params = params.validate()
     shape = tuple(len(v) for v in coords.values())
+    solver = solver.resolve(model, int(np.prod(shape)))
     grid = np.stack([g.ravel() for g in np.meshgrid(*coords.values(), indexing="ij")], axis=1)  # (N, n_axes)
     n_points = grid.shape[0]
     n_dev = devices or jax.device_count()
@@ -196,7 +197,7 @@ def sweep(
         "units": {"length_um": units.length_um, "ei_pn_um2": units.ei_pn_um2, "cn_pn_s_um2": units.cn_pn_s_um2, "tau_s": units.tau_s},
         "classification": {"0": "stable", "1": "flutter", "2": "divergence"},
         "direction": {"1": "anterograde", "-1": "retrograde", "0": "none"},
-        "solver": {"name": type(solver.resolve(model)).__name__.lower(), "dense_fallbacks": int(np.sum(data["certified"] == 0))},
+        "solver": {"name": type(solver).__name__.lower(), "dense_fallbacks": int(np.sum(data["certified"] == 0))},
     }
     result = SweepResult(coords, data, meta)
     if out is not None:
