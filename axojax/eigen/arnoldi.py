@@ -69,6 +69,11 @@ TRIAL_POLES = 9
 """Trial poles 8^k - 1, k < 9: numerical abscissae up to ~1.7e7 are bracketed."""
 
 
+POLE_FRACTIONS = (0.0, 8.0**-4, 8.0**-3, 8.0**-2, 8.0**-1)
+"""Where between the Lanczos estimate of the abscissa (0) and the bracketing trial pole
+(1) the pole is verified, in turn (the first candidate adds 1e-6 relative)."""
+
+
 class ArnoldiOptions(NamedTuple):
     """Static options of :func:`structured_dominant` (see :class:`axojax.eigen.Arnoldi`)."""
 
@@ -136,9 +141,27 @@ def pole(A: BlockTridiagonal, C: BlockTridiagonal, lanczos_dim: int) -> tuple[Fl
     theta, Y = jnp.linalg.eigh(Tm)
     top = theta[-1] + jnp.abs(T[m, m - 1] * Y[-1, -1])  # >= the largest eigenvalue of T once it has converged
     omega = s - 1.0 / jnp.maximum(top, 1e-300)
-    sigma = omega + 1e-6 * (jnp.abs(omega) + 1.0)
-    ok = factor(sigma).ok
-    sigma = jnp.where(ok & (sigma < s), sigma, s)
+    # Ritz values of Lanczos underestimate the largest eigenvalue of T, so omega can lie
+    # below the abscissa when the Lanczos has not converged (poles far above it separate
+    # the eigenvalues of T poorly). Verify candidates omega + 1e-6 |omega|, then closing
+    # in on s by factors of 8, and keep the first that passes (else s itself).
+    fractions = jnp.asarray(POLE_FRACTIONS)
+    gap = jnp.maximum(s - omega, 0.0)
+
+    def candidate(i):
+        return jnp.where(i == 0, omega + 1e-6 * (jnp.abs(omega) + 1.0), omega + fractions[i] * gap)
+
+    def untested(state):
+        i, ok = state
+        return (~ok) & (i < len(POLE_FRACTIONS))
+
+    def test(state):
+        i, _ = state
+        c = candidate(i)
+        return i + 1, factor(c).ok & (c < s)
+
+    i, ok = jax.lax.while_loop(untested, test, (0, jnp.zeros((), bool)))
+    sigma = jnp.where(ok, candidate(i - 1), s)
     return sigma, found
 
 
