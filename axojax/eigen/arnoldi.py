@@ -61,7 +61,7 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Complex, Float
 
-from ..linalg import BlockTridiagonal, cholesky, lu_factor
+from ..linalg import BlockCholesky, BlockTridiagonal, cholesky, lu_factor
 from .dominant import CLUSTER_RTOL, _normalise, dominant_eigenpair
 
 
@@ -112,7 +112,11 @@ def pole(A: BlockTridiagonal, C: BlockTridiagonal, lanczos_dim: int) -> tuple[Fl
         k, _ = state
         return k + 1, factor(8.0**k - 1.0)
 
-    k, chol = jax.lax.while_loop(cond, body, (1, factor(jnp.zeros(()))))
+    # s_k = 8^k - 1 from k = 0 (s = 0); the loop starts from a failed stand-in so that
+    # one compiled factorisation serves every trial.
+    N, b = C.diag.shape[0], C.diag.shape[-1]
+    failed = BlockCholesky(jnp.zeros((N, b, b)), jnp.zeros((N - 1, b, b)), jnp.zeros((), bool))
+    k, chol = jax.lax.while_loop(cond, body, (0, failed))
     s = 8.0 ** (k - 1) - 1.0
     found = chol.ok
     # Shift-invert Lanczos on T = (s C - G)^{-1} C, self-adjoint in the C inner product.
@@ -171,13 +175,21 @@ class _Primal(NamedTuple):
     certified: Float[Array, ""]
 
 
-def _ritz(V, H, sigma, m: int, opts: ArnoldiOptions) -> _Primal:
-    """Rightmost converged Ritz pair of the first m Arnoldi steps and its certificate."""
-    theta, Y = jnp.linalg.eig(H[:m, :m])
+def _ritz(V, H, sigma, m, opts: ArnoldiOptions) -> _Primal:
+    """Rightmost converged Ritz pair of the first m Arnoldi steps and its certificate.
+
+    ``m`` may be traced: the leading m x m block of H is embedded in a zero matrix of
+    the full size (one compiled eigen-solve serves every stage); the padding gives
+    theta = 0 with zero residual, i.e. lambda at minus infinity, which never competes."""
+    m_max = H.shape[1]
+    k = jnp.arange(m_max)
+    Hm = jnp.where((k[:, None] < m) & (k[None, :] < m), H[:m_max, :m_max], 0.0)
+    theta, Y = jnp.linalg.eig(Hm)
     Y = Y / jnp.linalg.norm(Y, axis=0)
-    residual = jnp.abs(H[m, m - 1] * Y[-1])
-    safe_theta = jnp.where(theta == 0, 1e-300, theta)
-    lam = sigma - 1.0 / safe_theta
+    residual = jnp.abs(H[m, m - 1] * Y[m - 1])
+    padding = theta == 0
+    safe_theta = jnp.where(padding, 1.0, theta)
+    lam = jnp.where(padding, -jnp.inf, sigma - 1.0 / safe_theta)
     converged = (residual / jnp.abs(safe_theta) ** 2 <= opts.tol * (1.0 + jnp.abs(lam))) & jnp.isfinite(lam)
     i = jnp.argmax(jnp.where(converged, jnp.real(lam), -jnp.inf))
     lam_r = lam[i]
@@ -186,9 +198,9 @@ def _ritz(V, H, sigma, m: int, opts: ArnoldiOptions) -> _Primal:
     lam_c = jnp.sum(jnp.where(near, lam, 0.0)) / jnp.maximum(jnp.sum(near), 1)
     flip = jnp.imag(lam_c) < 0
     lam_c = jnp.where(flip, jnp.conj(lam_c), lam_c)
-    x = V[:m].T.astype(Y.dtype) @ Y[:, i]
+    x = V[:m_max].T.astype(Y.dtype) @ Y[:, i]
     x = jnp.where(flip, jnp.conj(x), x)
-    unresolved = jnp.where(converged, 0.0, jnp.abs(theta))
+    unresolved = jnp.where(converged | padding, 0.0, jnp.abs(theta))
     radius = 1.0 / jnp.maximum(jnp.max(unresolved), 1e-300)
     certified = jnp.any(converged) & (radius >= opts.certify_factor * jnp.abs(sigma - lam_r))
     return _Primal(lam_c, _normalise(x), certified.astype(float))
@@ -211,8 +223,9 @@ def _arnoldi_point(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOption
     def step(j, carry):
         V, H = carry
         b = C.matvec(V[j])
-        w = lu.solve(b)
-        w = w + lu.solve(b - M.matvec(w))  # one step of iterative refinement
+        # The solve, then one step of iterative refinement: two passes through one
+        # compiled solve (from w = 0 the first pass is the plain solve).
+        w = jax.lax.fori_loop(0, 2, lambda _, w: w + lu.solve(b - M.matvec(w)), jnp.zeros_like(b))
         for _ in range(2):  # classical Gram-Schmidt, twice
             h = V @ w
             w = w - V.T @ h
@@ -222,7 +235,6 @@ def _arnoldi_point(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOption
         V = V.at[j + 1].set(w / jnp.where(beta > 0, beta, 1.0))
         return V, H
 
-    branches = [functools.partial(_ritz, m=m, opts=opts) for m in dims]
     starts = jnp.asarray((0,) + dims[:-1])
     ends = jnp.asarray(dims)
 
@@ -233,7 +245,7 @@ def _arnoldi_point(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOption
     def body(state):
         stage, V, H, _ = state
         V, H = jax.lax.fori_loop(starts[stage], ends[stage], step, (V, H))
-        return stage + 1, V, H, jax.lax.switch(stage, branches, V, H, sigma)
+        return stage + 1, V, H, _ritz(V, H, sigma, ends[stage], opts)
 
     empty = _Primal(jnp.zeros((), complex), jnp.zeros((n,), complex), jnp.zeros(()))
     _, _, _, result = jax.lax.while_loop(cond, body, (0, V, H, empty))
