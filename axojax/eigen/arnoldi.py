@@ -11,11 +11,13 @@ Algorithm (per parameter point, fixed shapes: jit/vmap-able):
    ``Re lambda <= omega``, the numerical abscissa: the largest eigenvalue of the
    symmetric pencil ``(-(A + A^T)/2, C)`` (field of values). A block Cholesky of
    ``s C + (A + A^T)/2`` succeeds exactly when ``s > omega``: trial values s = 0, 7,
-   63, 511, ... (until one passes) find one within a factor ~8 above omega, shift-invert Lanczos (``lanczos_dim`` steps, C inner product) at that s
-   estimates it, and the pole ``sigma`` just above the estimate is *verified* by one more
-   Cholesky (else the bracketing s is used). So, rigorously, no eigenvalue lies to the
-   right of ``sigma``, and ``A + sigma C`` (positive definite symmetric part) is
-   nonsingular. On the parameter ranges of the paper omega lies within a factor ~2 of the
+   63, 511, ... (until one passes) find one within a factor ~8 above omega;
+   shift-invert Lanczos (``lanczos_dim`` steps, C inner product) at that s estimates it
+   from below (Ritz values never exceed the extreme eigenvalue), and the pole ``sigma``
+   is the first of ``omega_est + 1e-6 |omega_est|`` and ``omega_est + (s - omega_est)
+   / 8^k``, k = 4, 3, 2, 1 (:data:`POLE_FRACTIONS`), that a Cholesky *verifies* (else s
+   itself). So, rigorously, no eigenvalue lies to the right of ``sigma``, and
+   ``A + sigma C`` (positive definite symmetric part) is nonsingular. On the parameter ranges of the paper omega lies within a factor ~2 of the
    rightmost eigenvalue's real part, which makes it a good pole.
 2. **Shift-invert Arnoldi.** Arnoldi (classical Gram-Schmidt with reorthogonalisation)
    on ``S = (A + sigma C)^{-1} C`` using the pivoted block LU of :mod:`axojax.linalg`;
