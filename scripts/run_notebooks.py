@@ -34,7 +34,13 @@ def run(path: pathlib.Path, timeout: int) -> float:
     start = time.perf_counter()
     with tempfile.TemporaryDirectory() as cwd:
         client = NotebookClient(nb, timeout=timeout, kernel_name="python3", record_timing=False, resources={"metadata": {"path": cwd}})
-        client.execute()
+        try:
+            client.execute()
+        except CellExecutionError:
+            failed = pathlib.Path(tempfile.gettempdir()) / f"{path.stem}.failed.ipynb"
+            nbformat.write(nb, failed)  # to read what the cells printed before the failure
+            print(f"{path.name}: the executed cells are in {failed}", file=sys.stderr)
+            raise
     nbformat.write(nb, path)
     return time.perf_counter() - start
 
