@@ -26,6 +26,7 @@ from nbclient.exceptions import CellExecutionError
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 NOTEBOOKS = ROOT / "notebooks"
+NOISE = ("IProgress not found", "from .autonotebook import tqdm as notebook_tqdm")
 
 
 def run(path: pathlib.Path, timeout: int) -> float:
@@ -41,8 +42,26 @@ def run(path: pathlib.Path, timeout: int) -> float:
             nbformat.write(nb, failed)  # to read what the cells printed before the failure
             print(f"{path.name}: the executed cells are in {failed}", file=sys.stderr)
             raise
+    strip_noise(nb)
     nbformat.write(nb, path)
     return time.perf_counter() - start
+
+
+def strip_noise(nb) -> None:
+    """Drop stderr lines that say nothing about the computation (tqdm's notice that the
+    kernel has no widget library)."""
+    for cell in nb.cells:
+        if cell.cell_type != "code":
+            continue
+        kept = []
+        for out in cell.get("outputs", []):
+            if out.get("output_type") == "stream" and out.get("name") == "stderr":
+                lines = [l for l in out["text"].splitlines(keepends=True) if not any(n in l for n in NOISE)]
+                if not "".join(lines).strip():
+                    continue
+                out["text"] = "".join(lines)
+            kept.append(out)
+        cell["outputs"] = kept
 
 
 def main(argv: list[str] | None = None) -> int:
