@@ -42,7 +42,7 @@ def main(out: str | None = None) -> pathlib.Path:
     angle = float(mode.beat_angle)
     inplane = (np.cos(angle) * frames[:, 0] + np.sin(angle) * frames[:, 1]) * units.length_um
 
-    fig, (a, b) = plt.subplots(1, 2, figsize=(10.5, 4.2), gridspec_kw={"width_ratios": [2.2, 1]}, constrained_layout=True)
+    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.2), gridspec_kw={"width_ratios": [2.3, 1]}, constrained_layout=True)
     f = np.where(res.data["classification"] == 1, res.data["frequency_hz"], np.nan)
     im = a.pcolormesh(p_axis, ks_axis, f.T, shading="auto", cmap="viridis", norm=matplotlib.colors.LogNorm())
     fig.colorbar(im, ax=a, label="beat frequency (Hz)")
@@ -54,8 +54,8 @@ def main(out: str | None = None) -> pathlib.Path:
     a.legend(loc="lower right", fontsize=9)
     for k, u in enumerate(inplane):
         b.plot(u, x * units.length_um, color=plt.cm.viridis(k / len(inplane)), lw=1.2)
-    b.set(xlabel="displacement in the beat plane (um)", ylabel="distance from the base (um)", aspect="equal",
-          title=f"dominant mode at p = 300, k_s = 1e6\n{float(mode.frequency_hz(units)):.1f} Hz, wavelength {float(mode.wavelength_um(units)):.1f} um (paper: 51 Hz)")
+    b.set(xlabel="displacement in the beat plane (um)", ylabel="distance from the base (um)",
+          title=f"its beating mode at the star:\n{float(mode.frequency_hz(units)):.1f} Hz (paper: 51 Hz),\nwavelength {float(mode.wavelength_um(units)):.1f} um")
     b.title.set_fontsize(10)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)
