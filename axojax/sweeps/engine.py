@@ -185,6 +185,8 @@ def sweep(
             parts.mkdir(parents=True, exist_ok=True)
             manifest.write_text(json.dumps({"key": key, "n_chunks": n_chunks, "processes": share.count}))
         barrier(share, "prepared")
+        if not share.leader and json.loads(manifest.read_text()).get("key") != key:
+            raise ValueError(f"process {share.index}: this sweep's arguments differ from process 0's (fingerprint of {manifest})")
 
     def part_path(c: int) -> pathlib.Path | None:
         return None if parts is None else parts / f"chunk_{c:06d}.npz"
