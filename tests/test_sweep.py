@@ -102,7 +102,7 @@ def test_two_cpu_devices_identical(tmp_path):
     try:
         proc = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=180)
     except subprocess.TimeoutExpired:
-        pytest.fail("the 2-device sweep did not finish in 180 s: is jaxlib 0.10.x installed (pool deadlock, README)?")
+        pytest.fail("the 2-device sweep did not finish in 180 s: see axojax/_runtime.py (jaxlib 0.10 pool deadlock)")
     assert proc.returncode == 0, proc.stderr[-2000:]
     assert "identical" in proc.stdout
 
