@@ -96,6 +96,13 @@ def test_two_cpu_devices_identical(tmp_path):
         b = ax.sweep(m, ax.Params(), axes, chunk_size=4, devices=1, progress=False)
         for k in a.data:
             np.testing.assert_array_equal(a.data[k], b.data[k])
+        # the structured solver's loops inside shard_map (no collectives: check_vma off)
+        small, few = ax.models.two(n_elements=4), {{"p": np.array([200.0, 400.0, 800.0])}}
+        c = ax.sweep(small, ax.Params(), few, chunk_size=4, devices=2, progress=False, solver=ax.eigen.Arnoldi())
+        d = ax.sweep(small, ax.Params(), few, chunk_size=4, devices=1, progress=False, solver=ax.eigen.Dense())
+        assert (c.data["certified"] == 1).all()
+        for k in ("eigenvalue_real", "eigenvalue_imag"):
+            np.testing.assert_allclose(c.data[k], d.data[k], rtol=1e-8, atol=1e-8)
         print("identical")
         """
     )
