@@ -2,11 +2,12 @@
 
 The grid is the outer product of the axes, cut into chunks of ``chunk_size`` points.
 Each chunk is evaluated by one jitted function: the points are split over the local
-devices with ``jax.shard_map`` and each device runs :func:`axojax.dominant_mode` over its
-points one after another (``lax.map``), so every LAPACK call inside works on a single
-matrix (see :mod:`axojax._runtime` on jaxlib 0.10's batched CPU kernels; the dense
-solver's batched kernels would gain nothing over the loop). Memory is bounded by the
-chunk; a chunk is padded to a multiple of the device count.
+devices with ``jax.shard_map`` and each CPU device runs :func:`axojax.dominant_mode` over
+its points one after another (``lax.map``), so every LAPACK call inside works on a
+single matrix (see :mod:`axojax._runtime` on jaxlib 0.10's batched CPU kernels; the
+batched CPU kernels would gain nothing over the loop). GPUs and TPUs ``vmap`` over their
+points. Memory is bounded by the chunk; a chunk is padded to a multiple of the device
+count.
 
 With ``out=FILE.npz`` each finished chunk is written to ``FILE.npz.parts/``; an
 interrupted sweep rerun with the same arguments recomputes only the missing chunks,
@@ -66,14 +67,20 @@ def _metrics(model: Model, params: Params, units: Units, solver: EigenSolver) ->
 def _compiled(model: Model, names: tuple[str, ...], tie: bool, units: Units, n_dev: int, solver: EigenSolver):
     """One jitted evaluator per (model, axes, tie, units, devices, solver); the fixed
     parameters and the kl ratio are traced arguments, so new values do not recompile.
-    Points run one after another on each device (``lax.map``), the devices in parallel
-    (``shard_map`` over this process's first ``n_dev`` local devices)."""
+    Points run one after another on each CPU device (``lax.map``; ``vmap`` on GPUs and
+    TPUs), the devices in parallel (``shard_map`` over this process's first ``n_dev``
+    local devices)."""
+
+    loop = jax.local_devices()[0].platform == "cpu"
 
     def batched(params, ratio, rows):
         def one(row):
             return _metrics(model, params.with_values(dict(zip(names, row)), ratio if tie else None), units, solver)
 
-        return jax.lax.map(one, rows)
+        # CPU: one point at a time (jaxlib's batched CPU LAPACK kernels loop over the
+        # matrices anyway, and 0.10's block on the intra-op pool). Accelerators: vmap,
+        # whose batched kernels are what they are fast at.
+        return jax.lax.map(one, rows) if loop else jax.vmap(one)(rows)
 
     if n_dev > 1:
         mesh = Mesh(np.array(jax.local_devices()[:n_dev]), ("points",))
