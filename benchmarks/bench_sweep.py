@@ -1,61 +1,142 @@
-"""Sweep throughput: the whole ``axojax sweep`` command (start-up and compilation
-included) against a plain loop of ``scipy.linalg.eig`` over the same matrices.
+"""Sweep throughput and how the dominant-mode solver scales with the mesh (issue 14).
 
-Prints, measured in one run: points/s of each and their ratio (axojax / scipy).
-Seven-filament model, 10 elements (280 unknowns).
+Prints, measured in one run:
 
-    python benchmarks/bench_sweep.py [--p 100:900:20] [--ks log:1e2:1e7:10]
+1. points/s of the whole ``axojax sweep`` command (start-up and compilation included,
+   default solver) on a 400-point seven-filament 10-element map, against a plain loop of
+   ``scipy.linalg.eig`` over the same (prebuilt) matrices with every core, and against
+   scipy's shift-invert ARPACK (``scipy.sparse.linalg.eigs``, k = 6, sparse LU) given a
+   real shift 1 % (of |lambda|) right of the true answer (its best case: shifts continued from a
+   neighbouring grid point miss the rightmost eigenvalue at most points of a 20 x 20
+   map, and ARPACK certifies nothing); ratios axojax / scipy. Then the same command on
+   an 80 x 80 map (6400 points), whose rate is compared with the scipy loops' rates
+   measured on the 400 points.
+2. the time per point of the dominant eigenpair at N_e = 10, 20, 40, 80 elements for the
+   certified Arnoldi solver (and the dense one up to 40), compilation excluded, and the
+   growth exponent fitted to log(time) against log(N_e).
+
+    python benchmarks/bench_sweep.py [--p 100:900:20] [--ks log:1e2:1e7:20] [--large 80] [--skip-scaling]
 """
 
 import axojax as ax  # first: it sets the XLA flags before jax starts
 import argparse
+import json
 import os
 import subprocess
 import sys
 import tempfile
 import time
 
+import jax
 import numpy as np
 import scipy.linalg
+import scipy.sparse
+import scipy.sparse.linalg
 from threadpoolctl import threadpool_limits
 
+from axojax.assembly import node_major
 from axojax.cli.common import parse_axis
+from axojax.eigen import Arnoldi, Dense
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--p", default="100:900:20")
-    ap.add_argument("--ks", default="log:1e2:1e7:10")
-    ap.add_argument("--model", default="seven")
-    args = ap.parse_args()
-    p, ks = parse_axis(args.p, "--p"), parse_axis(args.ks, "--ks")
-    n = p.size * ks.size
-
+def whole_command(args, p_axis: str, ks_axis: str) -> tuple[float, dict]:
     with tempfile.TemporaryDirectory() as tmp:
-        cmd = [sys.executable, "-m", "axojax.cli.main", "sweep", "--model", args.model, "--p", args.p, "--ks", args.ks, "--kl-ratio", "1000", "--out", os.path.join(tmp, "s.npz"), "--json"]
+        cmd = [sys.executable, "-m", "axojax.cli.main", "sweep", "--model", args.model, "--p", p_axis, "--ks", ks_axis,
+               "--kl-ratio", "1000", "--out", os.path.join(tmp, "s.npz"), "--json"]
         t = time.perf_counter()
-        subprocess.run(cmd, check=True, capture_output=True)
-        t_ax = time.perf_counter() - t
+        out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
+        return time.perf_counter() - t, json.loads(out)
 
-    model = ax.models.preset(args.model)
+
+def scipy_loops(model, p, ks):
     mats = []
     for pv in p:
         for kv in ks:
             s = ax.assemble(model, ax.Params(p=pv, ks=kv, kl=kv / 1000))
             mats.append((-np.asarray(s.A), np.asarray(s.C)))
     # importing axojax gave scipy's BLAS one thread (axojax/_runtime.py); the reference
-    # loop gets every core back, as a plain scipy script would have them
+    # loops get every core back, as a plain scipy script would have them
     with threadpool_limits(limits=os.cpu_count(), user_api="blas"):
         t = time.perf_counter()
+        dense = []
         for A, C in mats:
-            lam, vec = scipy.linalg.eig(A, C)
-            vec[:, np.argmax(lam.real)]
-        t_sp = time.perf_counter() - t
+            lam = scipy.linalg.eig(A, C, right=True)[0]
+            dense.append(lam[np.argmax(lam.real)])
+        t_eig = time.perf_counter() - t
 
-    print(f"model {args.model} ({model.n_dof} dof), {n} points, {os.cpu_count()} cores")
-    print(f"axojax sweep command (incl. start-up, compile):       {t_ax:8.2f} s  {n / t_ax:8.2f} points/s")
-    print(f"scipy.linalg.eig loop (matrices prebuilt, all cores): {t_sp:8.2f} s  {n / t_sp:8.2f} points/s")
-    print(f"ratio (axojax throughput / scipy throughput):         {t_sp / t_ax:8.2f}x")
+        perm = node_major(model)  # banded order, as a sparse LU would want it
+        t = time.perf_counter()
+        errors = []
+        for (A, C), ref in zip(mats, dense):
+            As = scipy.sparse.csc_matrix(A[np.ix_(perm, perm)])
+            Cs = scipy.sparse.csc_matrix(C[np.ix_(perm, perm)])
+            shift = ref.real + 0.01 * abs(ref)  # an oracle, real (scipy's real-matrix path ignores complex shifts)
+            lam = scipy.sparse.linalg.eigs(As, k=6, M=Cs, sigma=shift, which="LM", return_eigenvectors=False)
+            best = lam[np.argmax(lam.real)]
+            errors.append(abs(best - ref) / max(abs(ref), 1.0))
+        t_arpack = time.perf_counter() - t
+    return t_eig, t_arpack, np.asarray(errors)
+
+
+def per_point(model, solver, n_points: int, repeats: int = 3) -> float:
+    rng = np.random.default_rng(0)
+    ks = 10 ** rng.uniform(3, 6, n_points)
+    params = ax.Params().replace(p=rng.uniform(250, 700, n_points), ks=ks, kl=ks / 1000).broadcast()
+    f = jax.jit(jax.vmap(lambda q: ax.eigen.mode._dominant_mode_impl(model, q, solver).eigenvalue))
+    jax.block_until_ready(f(params))
+    best = np.inf
+    for _ in range(repeats):
+        t = time.perf_counter()
+        jax.block_until_ready(f(params))
+        best = min(best, time.perf_counter() - t)
+    return best / n_points
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--p", default="100:900:20")
+    ap.add_argument("--ks", default="log:1e2:1e7:20")
+    ap.add_argument("--model", default="seven")
+    ap.add_argument("--skip-scaling", action="store_true")
+    ap.add_argument("--large", type=int, default=80, help="also time a LARGE x LARGE map (0: skip)")
+    args = ap.parse_args()
+    p, ks = parse_axis(args.p, "--p"), parse_axis(args.ks, "--ks")
+    n = p.size * ks.size
+    model = ax.models.preset(args.model)
+
+    t_ax, doc = whole_command(args, args.p, args.ks)
+    t_eig, t_arpack, err = scipy_loops(model, p, ks)
+    print(f"1. model {args.model} ({model.n_dof} dof), {n} points, {os.cpu_count()} cores, device {jax.devices()[0].device_kind}")
+    solver = doc.get("solver", {})
+    print(f"axojax sweep command (incl. start-up, compile; solver {solver.get('name')}, {solver.get('dense_fallbacks')} dense fallbacks):"
+          f" {t_ax:8.2f} s {n / t_ax:8.2f} points/s")
+    print(f"scipy.linalg.eig loop (matrices prebuilt, all cores):      {t_eig:8.2f} s {n / t_eig:8.2f} points/s")
+    print(f"scipy ARPACK shift-invert loop (shift 1 % from the answer; equals eig to 1e-6 at {np.sum(err < 1e-6)} of {n} points): {t_arpack:8.2f} s {n / t_arpack:8.2f} points/s")
+    print(f"ratio axojax / scipy eig:    {t_eig / t_ax:8.2f}x")
+    print(f"ratio axojax / scipy ARPACK: {t_arpack / t_ax:8.2f}x")
+    if args.large:
+        k = args.large
+        t_big, doc = whole_command(args, f"100:900:{k}", f"log:1e2:1e7:{k}")
+        print(f"a larger map, where compilation and start-up matter less: {k} x {k} = {k * k} points, whole command {t_big:.2f} s"
+              f" ({k * k / t_big:.2f} points/s, {doc['solver']['dense_fallbacks']} dense fallbacks):"
+              f" {k * k / t_big / (n / t_eig):.2f}x the scipy eig loop's rate, {k * k / t_big / (n / t_arpack):.2f}x ARPACK's")
+    if args.skip_scaling:
+        return
+
+    print("\n2. time per point of the dominant eigenpair (16 points, vmapped, compile excluded)")
+    sizes = (10, 20, 40, 80)
+    rows = {"arnoldi": [], "dense": []}
+    for ne in sizes:
+        m = ax.models.preset(args.model, n_elements=ne)
+        rows["arnoldi"].append(per_point(m, Arnoldi(), 16))
+        rows["dense"].append(per_point(m, Dense(), 4, repeats=1) if ne <= 40 else np.nan)
+        d = rows["dense"][-1]
+        print(f"N_e = {ne:3d} ({m.n_dof:5d} dof): arnoldi {rows['arnoldi'][-1] * 1e3:9.2f} ms   dense "
+              + ("        -" if np.isnan(d) else f"{d * 1e3:9.2f} ms"), flush=True)
+    for name, t in rows.items():
+        ok = ~np.isnan(t)
+        slope = np.polyfit(np.log(np.asarray(sizes)[ok]), np.log(np.asarray(t)[ok]), 1)[0]
+        print(f"fitted growth exponent, {name} (N_e = {', '.join(str(s) for s, k in zip(sizes, ok) if k)}): {slope:5.2f}")
 
 
 if __name__ == "__main__":

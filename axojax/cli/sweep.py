@@ -99,6 +99,7 @@ def run(args: argparse.Namespace) -> dict:
         "counts": {name: int(np.sum(cls == code)) for code, name in enumerate(("stable", "flutter", "divergence"))},
         "seconds": seconds,
         "points_per_s": n / seconds,
+        "solver": result.meta["solver"],
         "process": [jax.process_index(), jax.process_count()],
     }
 
@@ -109,6 +110,7 @@ def render(doc: dict) -> str:
     return (
         f"swept {doc['model']} over {axes}: {doc['points']} points in {doc['seconds']:.1f} s ({doc['points_per_s']:.1f} points/s)\n"
         f"stable {c['stable']}, flutter {c['flutter']}, divergence {c['divergence']}\n"
+        f"solver {doc['solver']['name']} ({doc['solver']['dense_fallbacks']} points recomputed densely)\n"
         f"saved {doc['out']}" + (f" and {doc['netcdf']}" if doc["netcdf"] else "")
         + (f" (process {doc['process'][0]} of {doc['process'][1]})" if doc["process"][1] > 1 else "")
     )

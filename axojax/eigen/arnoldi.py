@@ -11,11 +11,13 @@ Algorithm (per parameter point, fixed shapes: jit/vmap-able):
    ``Re lambda <= omega``, the numerical abscissa: the largest eigenvalue of the
    symmetric pencil ``(-(A + A^T)/2, C)`` (field of values). A block Cholesky of
    ``s C + (A + A^T)/2`` succeeds exactly when ``s > omega``: trial values s = 0, 7,
-   63, 511, ... (until one passes) find one within a factor ~8 above omega, shift-invert Lanczos (``lanczos_dim`` steps, C inner product) at that s
-   estimates it, and the pole ``sigma`` just above the estimate is *verified* by one more
-   Cholesky (else the bracketing s is used). So, rigorously, no eigenvalue lies to the
-   right of ``sigma``, and ``A + sigma C`` (positive definite symmetric part) is
-   nonsingular. On the parameter ranges of the paper omega lies within a factor ~2 of the
+   63, 511, ... (until one passes) find one within a factor ~8 above omega;
+   shift-invert Lanczos (``lanczos_dim`` steps, C inner product) at that s estimates it
+   from below (Ritz values never exceed the extreme eigenvalue), and the pole ``sigma``
+   is the first of ``omega_est + 1e-6 |omega_est|`` and ``omega_est + (s - omega_est)
+   / 8^k``, k = 4, 3, 2, 1 (:data:`POLE_FRACTIONS`), that a Cholesky *verifies* (else s
+   itself). So, rigorously, no eigenvalue lies to the right of ``sigma``, and
+   ``A + sigma C`` (positive definite symmetric part) is nonsingular. On the parameter ranges of the paper omega lies within a factor ~2 of the
    rightmost eigenvalue's real part, which makes it a good pole.
 2. **Shift-invert Arnoldi.** Arnoldi (classical Gram-Schmidt with reorthogonalisation)
    on ``S = (A + sigma C)^{-1} C`` using the pivoted block LU of :mod:`axojax.linalg`;
@@ -61,12 +63,17 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Complex, Float
 
-from ..linalg import BlockTridiagonal, cholesky, lu_factor
+from ..linalg import BlockCholesky, BlockTridiagonal, cholesky, lu_factor
 from .dominant import CLUSTER_RTOL, _normalise, dominant_eigenpair
 
 
 TRIAL_POLES = 9
 """Trial poles 8^k - 1, k < 9: numerical abscissae up to ~1.7e7 are bracketed."""
+
+
+POLE_FRACTIONS = (0.0, 8.0**-4, 8.0**-3, 8.0**-2, 8.0**-1)
+"""Where between the Lanczos estimate of the abscissa (0) and the bracketing trial pole
+(1) the pole is verified, in turn (the first candidate adds 1e-6 relative)."""
 
 
 class ArnoldiOptions(NamedTuple):
@@ -107,7 +114,11 @@ def pole(A: BlockTridiagonal, C: BlockTridiagonal, lanczos_dim: int) -> tuple[Fl
         k, _ = state
         return k + 1, factor(8.0**k - 1.0)
 
-    k, chol = jax.lax.while_loop(cond, body, (1, factor(jnp.zeros(()))))
+    # s_k = 8^k - 1 from k = 0 (s = 0); the loop starts from a failed stand-in so that
+    # one compiled factorisation serves every trial.
+    N, b = C.diag.shape[0], C.diag.shape[-1]
+    failed = BlockCholesky(jnp.zeros((N, b, b)), jnp.zeros((N - 1, b, b)), jnp.zeros((), bool))
+    k, chol = jax.lax.while_loop(cond, body, (0, failed))
     s = 8.0 ** (k - 1) - 1.0
     found = chol.ok
     # Shift-invert Lanczos on T = (s C - G)^{-1} C, self-adjoint in the C inner product.
@@ -136,9 +147,27 @@ def pole(A: BlockTridiagonal, C: BlockTridiagonal, lanczos_dim: int) -> tuple[Fl
     theta, Y = jnp.linalg.eigh(Tm)
     top = theta[-1] + jnp.abs(T[m, m - 1] * Y[-1, -1])  # >= the largest eigenvalue of T once it has converged
     omega = s - 1.0 / jnp.maximum(top, 1e-300)
-    sigma = omega + 1e-6 * (jnp.abs(omega) + 1.0)
-    ok = factor(sigma).ok
-    sigma = jnp.where(ok & (sigma < s), sigma, s)
+    # Ritz values of Lanczos underestimate the largest eigenvalue of T, so omega can lie
+    # below the abscissa when the Lanczos has not converged (poles far above it separate
+    # the eigenvalues of T poorly). Verify candidates omega + 1e-6 |omega|, then closing
+    # in on s by factors of 8, and keep the first that passes (else s itself).
+    fractions = jnp.asarray(POLE_FRACTIONS)
+    gap = jnp.maximum(s - omega, 0.0)
+
+    def candidate(i):
+        return jnp.where(i == 0, omega + 1e-6 * (jnp.abs(omega) + 1.0), omega + fractions[i] * gap)
+
+    def untested(state):
+        i, ok = state
+        return (~ok) & (i < len(POLE_FRACTIONS))
+
+    def test(state):
+        i, _ = state
+        c = candidate(i)
+        return i + 1, factor(c).ok & (c < s)
+
+    i, ok = jax.lax.while_loop(untested, test, (0, jnp.zeros((), bool)))
+    sigma = jnp.where(ok, candidate(i - 1), s)
     return sigma, found
 
 
@@ -148,13 +177,21 @@ class _Primal(NamedTuple):
     certified: Float[Array, ""]
 
 
-def _ritz(V, H, sigma, m: int, opts: ArnoldiOptions) -> _Primal:
-    """Rightmost converged Ritz pair of the first m Arnoldi steps and its certificate."""
-    theta, Y = jnp.linalg.eig(H[:m, :m])
+def _ritz(V, H, sigma, m, opts: ArnoldiOptions) -> _Primal:
+    """Rightmost converged Ritz pair of the first m Arnoldi steps and its certificate.
+
+    ``m`` may be traced: the leading m x m block of H is embedded in a zero matrix of
+    the full size (one compiled eigen-solve serves every stage); the padding gives
+    theta = 0 with zero residual, i.e. lambda at minus infinity, which never competes."""
+    m_max = H.shape[1]
+    k = jnp.arange(m_max)
+    Hm = jnp.where((k[:, None] < m) & (k[None, :] < m), H[:m_max, :m_max], 0.0)
+    theta, Y = jnp.linalg.eig(Hm)
     Y = Y / jnp.linalg.norm(Y, axis=0)
-    residual = jnp.abs(H[m, m - 1] * Y[-1])
-    safe_theta = jnp.where(theta == 0, 1e-300, theta)
-    lam = sigma - 1.0 / safe_theta
+    residual = jnp.abs(H[m, m - 1] * Y[m - 1])
+    padding = theta == 0
+    safe_theta = jnp.where(padding, 1.0, theta)
+    lam = jnp.where(padding, -jnp.inf, sigma - 1.0 / safe_theta)
     converged = (residual / jnp.abs(safe_theta) ** 2 <= opts.tol * (1.0 + jnp.abs(lam))) & jnp.isfinite(lam)
     i = jnp.argmax(jnp.where(converged, jnp.real(lam), -jnp.inf))
     lam_r = lam[i]
@@ -163,9 +200,9 @@ def _ritz(V, H, sigma, m: int, opts: ArnoldiOptions) -> _Primal:
     lam_c = jnp.sum(jnp.where(near, lam, 0.0)) / jnp.maximum(jnp.sum(near), 1)
     flip = jnp.imag(lam_c) < 0
     lam_c = jnp.where(flip, jnp.conj(lam_c), lam_c)
-    x = V[:m].T.astype(Y.dtype) @ Y[:, i]
+    x = V[:m_max].T.astype(Y.dtype) @ Y[:, i]
     x = jnp.where(flip, jnp.conj(x), x)
-    unresolved = jnp.where(converged, 0.0, jnp.abs(theta))
+    unresolved = jnp.where(converged | padding, 0.0, jnp.abs(theta))
     radius = 1.0 / jnp.maximum(jnp.max(unresolved), 1e-300)
     certified = jnp.any(converged) & (radius >= opts.certify_factor * jnp.abs(sigma - lam_r))
     return _Primal(lam_c, _normalise(x), certified.astype(float))
@@ -188,8 +225,9 @@ def _arnoldi_point(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOption
     def step(j, carry):
         V, H = carry
         b = C.matvec(V[j])
-        w = lu.solve(b)
-        w = w + lu.solve(b - M.matvec(w))  # one step of iterative refinement
+        # The solve, then one step of iterative refinement: two passes through one
+        # compiled solve (from w = 0 the first pass is the plain solve).
+        w = jax.lax.fori_loop(0, 2, lambda _, w: w + lu.solve(b - M.matvec(w)), jnp.zeros_like(b))
         for _ in range(2):  # classical Gram-Schmidt, twice
             h = V @ w
             w = w - V.T @ h
@@ -199,7 +237,6 @@ def _arnoldi_point(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOption
         V = V.at[j + 1].set(w / jnp.where(beta > 0, beta, 1.0))
         return V, H
 
-    branches = [functools.partial(_ritz, m=m, opts=opts) for m in dims]
     starts = jnp.asarray((0,) + dims[:-1])
     ends = jnp.asarray(dims)
 
@@ -210,7 +247,7 @@ def _arnoldi_point(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOption
     def body(state):
         stage, V, H, _ = state
         V, H = jax.lax.fori_loop(starts[stage], ends[stage], step, (V, H))
-        return stage + 1, V, H, jax.lax.switch(stage, branches, V, H, sigma)
+        return stage + 1, V, H, _ritz(V, H, sigma, ends[stage], opts)
 
     empty = _Primal(jnp.zeros((), complex), jnp.zeros((n,), complex), jnp.zeros(()))
     _, _, _, result = jax.lax.while_loop(cond, body, (0, V, H, empty))
