@@ -52,26 +52,10 @@ def single():
     return ax.sweep(ax.models.two(n_elements=4), ax.Params(cl=0.02), AXES, chunk_size=3, progress=False, solver=ax.eigen.Dense())
 
 
-def test_two_processes_equal_one(single, tmp_path):
-    out = tmp_path / "map.npz"
-    reports = run_job(out)
-    assert [r["process"] for r in reports] == [[0, 2], [1, 2]]
-    assert out.exists() and not (tmp_path / "map.npz.parts").exists()
-    merged = ax.SweepResult.load(out)
-    assert merged.shape == (5, 2)
-    for k, v in single.data.items():
-        np.testing.assert_array_equal(merged.data[k], v, err_msg=k)
-    np.testing.assert_array_equal(merged.coords["p"], AXES["p"])
-    assert merged.meta == json.loads(json.dumps(single.meta))
-    # independent of the engine: the dominant eigenvalue of one point by numpy's eig
-    s = ax.assemble(ax.models.two(n_elements=4), ax.Params(cl=0.02, p=400.0, ks=1e5))
-    ev = np.linalg.eigvals(np.linalg.solve(np.asarray(s.C), -np.asarray(s.A)))
-    assert merged.data["eigenvalue_real"][2, 1] == pytest.approx(ev.real.max(), rel=1e-8, abs=1e-8)
-
-
-def test_two_processes_resume_a_single_process_job(single, tmp_path, monkeypatch):
-    """Chunks left by an interrupted one-process run are kept: the 2-process job computes
-    only the rest (the chunk layout does not depend on the process count)."""
+def test_two_processes_resume_and_equal_one(single, tmp_path, monkeypatch):
+    """An interrupted one-process run leaves 2 of 4 chunks; a 2-process job resumes it
+    (the chunk layout does not depend on the process count) and its merged file equals
+    the one-process sweep bit for bit. (One job: each costs two jax start-ups.)"""
     import axojax.sweeps.engine as engine
 
     out = tmp_path / "map.npz"
@@ -94,10 +78,20 @@ def test_two_processes_resume_a_single_process_job(single, tmp_path, monkeypatch
         ax.sweep(ax.models.two(n_elements=4), ax.Params(cl=0.02), AXES, chunk_size=3, out=out, progress=False, solver=ax.eigen.Dense())
     parts = tmp_path / "map.npz.parts"
     assert len(list(parts.glob("chunk_*.npz"))) == 2  # of 4 chunks
-    run_job(out)
+
+    reports = run_job(out)
+    assert [r["process"] for r in reports] == [[0, 2], [1, 2]]
+    assert out.exists() and not parts.exists()
     merged = ax.SweepResult.load(out)
+    assert merged.shape == (5, 2)
     for k, v in single.data.items():
         np.testing.assert_array_equal(merged.data[k], v, err_msg=k)
+    np.testing.assert_array_equal(merged.coords["p"], AXES["p"])
+    assert merged.meta == json.loads(json.dumps(single.meta))
+    # independent of the engine: the dominant eigenvalue of one point by numpy's eig
+    s = ax.assemble(ax.models.two(n_elements=4), ax.Params(cl=0.02, p=400.0, ks=1e5))
+    ev = np.linalg.eigvals(np.linalg.solve(np.asarray(s.C), -np.asarray(s.A)))
+    assert merged.data["eigenvalue_real"][2, 1] == pytest.approx(ev.real.max(), rel=1e-8, abs=1e-8)
 
 
 @pytest.mark.parametrize(
