@@ -9,6 +9,18 @@
    second process the same solve was ~7x slower, not all of it from BLAS). The matrices here are
    small (n <= a few hundred), so a single BLAS thread costs nothing. Only scipy's copy is
    limited (found with threadpoolctl); numpy's own BLAS keeps its threads.
+3. jaxlib 0.10.x and 0.11.0 only: at least ``MIN_INTRA_OP_THREADS`` threads in XLA's CPU
+   intra-op pool (the ``NPROC`` variable that XLA's CPU client reads; left alone when
+   set). Those versions run a *batched* LAPACK call (eig, LU, Cholesky over a vmapped
+   batch) by scheduling its matrices onto that pool and blocking the calling pool thread
+   until they finish. The pool has one thread per core, so on a 2-core machine two such
+   calls in flight (two devices' shards, or two independent calls in one executable)
+   block both threads and nothing runs the scheduled work: a deadlock at 0 % CPU (gdb:
+   both ``tf_XLAEigen`` threads in ``ParallelBatchMap`` / ``BlockingCounter::Wait``). A
+   deadlock needs every pool thread blocked at once, so a wider pool removes it; the idle
+   threads cost nothing. The sweep engine also never batches a LAPACK call
+   (:mod:`axojax.sweeps.engine`). jaxlib 0.9.x has no such path and 0.11.1+ runs the
+   batch inline.
 """
 
 from __future__ import annotations
@@ -16,6 +28,7 @@ from __future__ import annotations
 import os
 
 OPT_OUT = "AXOJAX_KEEP_XLA_FLAGS"
+MIN_INTRA_OP_THREADS = 16
 
 
 def enabled() -> bool:
@@ -23,10 +36,35 @@ def enabled() -> bool:
 
 
 def set_xla_flags() -> None:
-    """Before ``import jax``: single-threaded Eigen inside XLA's CPU executables."""
+    """Before ``import jax``: single-threaded Eigen inside XLA's CPU executables (and, on
+    jaxlib 0.10.x/0.11.0, a wider intra-op pool: :func:`widen_intra_op_pool`)."""
     flags = os.environ.get("XLA_FLAGS", "")
     if enabled() and "xla_cpu_multi_thread_eigen" not in flags:
         os.environ["XLA_FLAGS"] = (flags + " --xla_cpu_multi_thread_eigen=false").strip()
+    widen_intra_op_pool()
+
+
+def blocking_batched_lapack(jaxlib_version: str) -> bool:
+    """Whether this jaxlib runs batched CPU LAPACK calls on the intra-op pool and blocks
+    on it (0.10.x and 0.11.0; see the module docstring)."""
+    parts = [int(x) if x.isdigit() else -1 for x in jaxlib_version.split("+")[0].split(".")[:3]]
+    parts += [0] * (3 - len(parts))
+    return parts[:2] == [0, 10] or parts == [0, 11, 0]
+
+
+def widen_intra_op_pool() -> None:
+    """Before jax starts its CPU backend: ``NPROC >= MIN_INTRA_OP_THREADS`` on the jaxlib
+    versions of :func:`blocking_batched_lapack` (only where NPROC is not set)."""
+    if not enabled() or "NPROC" in os.environ:
+        return
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        jaxlib_version = version("jaxlib")
+    except PackageNotFoundError:
+        return
+    if blocking_batched_lapack(jaxlib_version) and (os.cpu_count() or 1) < MIN_INTRA_OP_THREADS:
+        os.environ["NPROC"] = str(MIN_INTRA_OP_THREADS)
 
 
 def configure_jax() -> None:

@@ -1,4 +1,12 @@
-"""``axojax sweep``: the dominant mode over a parameter grid, saved to ``.npz`` (and NetCDF)."""
+"""``axojax sweep``: the dominant mode over a parameter grid, saved to ``.npz`` (and NetCDF).
+
+Several processes (hosts, or one process per GPU): start the same command in each with
+``--distributed`` (``jax.distributed`` finds the coordinator, process count and index
+itself under SLURM, Open MPI and the other clusters it knows) or with explicit
+``--coordinator HOST:PORT --num-processes N --process-id I``. Each process computes its
+share of the chunks into ``FILE.npz.parts/`` (a file system all of them see); process 0
+writes ``FILE.npz`` (docs/scaling_out.md).
+"""
 
 from __future__ import annotations
 
@@ -18,9 +26,37 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--netcdf", metavar="FILE.nc", help="also write the result as NetCDF (needs axojax[netcdf])")
     parser.add_argument("--chunk", type=int, default=256, metavar="N", help="points per compiled batch (default 256)")
     common.add_solver_flag(parser)
+    group = parser.add_argument_group("several processes (jax.distributed; see docs/scaling_out.md)")
+    group.add_argument("--distributed", action="store_true", help="join a jax.distributed job; coordinator, process count and index found from the cluster (SLURM, Open MPI, ...) unless given below")
+    group.add_argument("--coordinator", metavar="HOST:PORT", help="address of process 0's coordination service (implies --distributed)")
+    group.add_argument("--num-processes", type=int, metavar="N", help="processes in the job (implies --distributed)")
+    group.add_argument("--process-id", type=int, metavar="I", help="this process's index, 0..N-1 (implies --distributed)")
+
+
+def init_distributed(args: argparse.Namespace) -> None:
+    """``jax.distributed.initialize`` from the flags, before anything touches a device."""
+    explicit = {"coordinator_address": args.coordinator, "num_processes": args.num_processes, "process_id": args.process_id}
+    if not args.distributed and all(v is None for v in explicit.values()):
+        return
+    if args.coordinator is not None:
+        host, _, port = args.coordinator.rpartition(":")
+        if not host or not port.isdigit():
+            raise common.CLIError(f"--coordinator: expected HOST:PORT, got {args.coordinator!r}")
+    if args.num_processes is not None and args.num_processes < 1:
+        raise common.CLIError(f"--num-processes: expected an integer >= 1, got {args.num_processes}")
+    if args.process_id is not None and not (0 <= args.process_id < (args.num_processes or float("inf"))):
+        raise common.CLIError(f"--process-id: expected 0..{(args.num_processes or 1) - 1}, got {args.process_id}")
+    import jax
+
+    try:
+        jax.distributed.initialize(**{k: v for k, v in explicit.items() if v is not None})
+    except (RuntimeError, ValueError) as e:
+        flag = "--coordinator" if args.coordinator else "--distributed"
+        raise common.CLIError(f"{flag}: jax.distributed.initialize failed: {str(e).splitlines()[0]}") from None
 
 
 def run(args: argparse.Namespace) -> dict:
+    init_distributed(args)
     model = common.model_from_args(args)
     units = common.units_from_args(args)
     fixed, axes = common.split_axes(args, args._argv)
@@ -45,9 +81,12 @@ def run(args: argparse.Namespace) -> dict:
     t0 = time.perf_counter()
     solver = common.solver_from_args(args)
     result = sweep(model, params, axes, kl_ratio=ratio, units=units, chunk_size=args.chunk, out=args.out, solver=solver)
-    if args.netcdf is not None:
+    import jax
+
+    if args.netcdf is not None and jax.process_index() == 0:
         result.to_netcdf(args.netcdf)
     seconds = time.perf_counter() - t0
+
     cls = result.data["classification"]
     n = int(np.prod(result.shape))
     return {
@@ -61,6 +100,7 @@ def run(args: argparse.Namespace) -> dict:
         "seconds": seconds,
         "points_per_s": n / seconds,
         "solver": result.meta["solver"],
+        "process": [jax.process_index(), jax.process_count()],
     }
 
 
@@ -72,4 +112,5 @@ def render(doc: dict) -> str:
         f"stable {c['stable']}, flutter {c['flutter']}, divergence {c['divergence']}\n"
         f"solver {doc['solver']['name']} ({doc['solver']['dense_fallbacks']} points recomputed densely)\n"
         f"saved {doc['out']}" + (f" and {doc['netcdf']}" if doc["netcdf"] else "")
+        + (f" (process {doc['process'][0]} of {doc['process'][1]})" if doc["process"][1] > 1 else "")
     )

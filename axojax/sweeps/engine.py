@@ -1,15 +1,24 @@
-"""Batched parameter sweeps: one compiled, vmapped function over chunks of a grid.
+"""Batched parameter sweeps: one compiled function over chunks of a grid.
 
-The grid is the outer product of the axes. Points are evaluated ``chunk_size`` at a
-time by a single jitted ``vmap`` of :func:`axojax.dominant_mode` (memory is bounded by
-the chunk), sharded over every visible device with ``jax.sharding`` (the chunk is
-padded to a multiple of the device count). With ``out=FILE.npz`` each finished chunk is
-written to ``FILE.npz.parts/``; an interrupted sweep rerun with the same arguments
-recomputes only the missing chunks, then writes ``FILE.npz`` and removes the parts.
+The grid is the outer product of the axes, cut into chunks of ``chunk_size`` points.
+Each chunk is evaluated by one jitted function: the points are split over the local
+devices with ``jax.shard_map`` and each CPU device runs :func:`axojax.dominant_mode` over
+its points one after another (``lax.map``), so every LAPACK call inside works on a
+single matrix (see :mod:`axojax._runtime` on jaxlib 0.10's batched CPU kernels; the
+batched CPU kernels would gain nothing over the loop). GPUs and TPUs ``vmap`` over their
+points. Memory is bounded by the chunk; a chunk is padded to a multiple of the device
+count.
 
-Multi-host: start every process with ``jax.distributed.initialize()``; ``jax.devices()``
-then lists every host's devices and the same sharded function spreads each chunk over
-all of them (each host must run the same ``sweep`` call).
+With ``out=FILE.npz`` each finished chunk is written to ``FILE.npz.parts/``; an
+interrupted sweep rerun with the same arguments recomputes only the missing chunks,
+then writes ``FILE.npz`` and removes the parts. The chunk layout depends only on the
+grid and ``chunk_size`` (not on the devices), so a sweep may be resumed on another
+machine or with another number of processes.
+
+Several processes (``jax.distributed``, one per host or per GPU): every process runs
+the same ``sweep`` call; process i of n computes chunks i, i + n, ... into the shared
+``FILE.npz.parts/`` and every process returns the same merged result (see
+:mod:`axojax.sweeps.processes`; docs/scaling_out.md).
 """
 
 from __future__ import annotations
@@ -32,6 +41,7 @@ from ..eigen.solvers import EigenSolver
 from ..models.section import Model
 from ..params import PARAM_NAMES, Params
 from ..units import Units
+from .processes import Share, barrier, wait_for_files
 from .result import METRICS, SweepResult
 
 
@@ -55,20 +65,31 @@ def _metrics(model: Model, params: Params, units: Units, solver: EigenSolver) ->
 
 @functools.lru_cache(maxsize=32)
 def _compiled(model: Model, names: tuple[str, ...], tie: bool, units: Units, n_dev: int, solver: EigenSolver):
-    """One jitted, vmapped evaluator per (model, axes, tie, units, devices, solver); the
-    fixed parameters and the kl ratio are traced arguments, so new values do not recompile."""
+    """One jitted evaluator per (model, axes, tie, units, devices, solver); the fixed
+    parameters and the kl ratio are traced arguments, so new values do not recompile.
+    Points run one after another on each CPU device (``lax.map``; ``vmap`` on GPUs and
+    TPUs), the devices in parallel (``shard_map`` over this process's first ``n_dev``
+    local devices)."""
+
+    loop = jax.local_devices()[0].platform == "cpu"
 
     def batched(params, ratio, rows):
         def one(row):
             return _metrics(model, params.with_values(dict(zip(names, row)), ratio if tie else None), units, solver)
 
-        return jax.vmap(one)(rows)
+        # CPU: one point at a time (jaxlib's batched CPU LAPACK kernels loop over the
+        # matrices anyway, and 0.10's block on the intra-op pool). Accelerators: vmap,
+        # whose batched kernels are what they are fast at.
+        return jax.lax.map(one, rows) if loop else jax.vmap(one)(rows)
 
     if n_dev > 1:
-        mesh = Mesh(np.array(jax.devices()[:n_dev]), ("points",))
-        sharding = NamedSharding(mesh, PartitionSpec("points"))
-        f = jax.jit(batched, in_shardings=(None, None, sharding), out_shardings=sharding)
-        return lambda params, ratio, rows: f(params, ratio, jax.device_put(rows, sharding))
+        mesh = Mesh(np.array(jax.local_devices()[:n_dev]), ("points",))
+        # check_vma off: no collectives here, and the solvers' scans/while loops start
+        # from unsharded constants (Arnoldi's block factorisations would need pcasts).
+        sharded = jax.shard_map(batched, mesh=mesh, in_specs=(PartitionSpec(), PartitionSpec(), PartitionSpec("points")), out_specs=PartitionSpec("points"), check_vma=False)
+        f = jax.jit(sharded)
+        rows_sharding = NamedSharding(mesh, PartitionSpec("points"))
+        return lambda params, ratio, rows: f(params, ratio, jax.device_put(rows, rows_sharding))
     return jax.jit(batched)
 
 
@@ -116,15 +137,19 @@ def sweep(
         kl_ratio: if set, kl = ks / kl_ratio at every point (ks swept or fixed).
         units: physical units of the outputs.
         chunk_size: points per compiled batch (bounds memory).
-        out: ``.npz`` path; makes the sweep resumable (see module docstring).
+        out: ``.npz`` path; makes the sweep resumable (see module docstring). Needed,
+            on a file system every process sees, when ``jax.distributed`` runs several
+            processes: each computes its share of the chunks (module docstring).
         progress: tqdm progress bar (default: only on a terminal).
-        devices: how many devices to shard over (default all).
+        devices: how many of this process's local devices to split each chunk over
+            (default all).
         solver: dominant-eigenpair solver (:mod:`axojax.eigen.solvers`); the result's
             ``certified`` array marks the points a structured solver certified (the
             others were recomputed densely) and ``meta["solver"]`` counts them.
 
     Returns:
-        :class:`SweepResult` with arrays of shape ``[len(v) for v in axes.values()]``.
+        :class:`SweepResult` with arrays of shape ``[len(v) for v in axes.values()]``
+        (the same merged result in every process).
     """
     names = tuple(axes)
     bad = [n for n in names if n not in PARAM_NAMES]
@@ -141,14 +166,21 @@ def sweep(
         raise ValueError(f"kl_ratio must be > 0, got {kl_ratio}")
     if chunk_size < 1:
         raise ValueError(f"chunk_size must be >= 1, got {chunk_size}")
+    n_local = jax.local_device_count()
+    if devices is not None and not 1 <= devices <= n_local:
+        raise ValueError(f"devices must be in 1..{n_local} (this process's devices), got {devices}")
+    share = Share.current()
+    if share.count > 1 and out is None:
+        raise ValueError(f"a sweep over {share.count} processes (jax.distributed) needs out=FILE.npz on a shared file system")
     params = params.validate()
     shape = tuple(len(v) for v in coords.values())
     solver = solver.resolve(model, int(np.prod(shape)))
     grid = np.stack([g.ravel() for g in np.meshgrid(*coords.values(), indexing="ij")], axis=1)  # (N, n_axes)
     n_points = grid.shape[0]
-    n_dev = devices or jax.device_count()
-    chunk = int(np.ceil(min(chunk_size, n_points) / n_dev) * n_dev)
+    n_dev = devices or n_local
+    chunk = min(chunk_size, n_points)  # the layout of the parts: independent of devices and processes
     n_chunks = int(np.ceil(n_points / chunk))
+    padded = int(np.ceil(chunk / n_dev) * n_dev)
 
     parts = None
     if out is not None:
@@ -156,33 +188,46 @@ def sweep(
         parts = out.with_name(out.name + ".parts")
         key = _fingerprint(model, params, coords, kl_ratio, units, chunk, solver)
         manifest = parts / "manifest.json"
-        if parts.exists() and (not manifest.exists() or json.loads(manifest.read_text()).get("key") != key):
-            shutil.rmtree(parts)  # left by a different sweep: start again
-        parts.mkdir(parents=True, exist_ok=True)
-        manifest.write_text(json.dumps({"key": key, "n_chunks": n_chunks}))
+        if share.leader:
+            if parts.exists() and (not manifest.exists() or json.loads(manifest.read_text()).get("key") != key):
+                shutil.rmtree(parts)  # left by a different sweep: start again
+            parts.mkdir(parents=True, exist_ok=True)
+            manifest.write_text(json.dumps({"key": key, "n_chunks": n_chunks, "processes": share.count}))
+        barrier(share, "prepared")
+        if not share.leader and json.loads(manifest.read_text()).get("key") != key:
+            raise ValueError(f"process {share.index}: this sweep's arguments differ from process 0's (fingerprint of {manifest})")
+
+    def part_path(c: int) -> pathlib.Path | None:
+        return None if parts is None else parts / f"chunk_{c:06d}.npz"
 
     evaluate = None
-    results: list[dict[str, np.ndarray]] = []
-    for c in tqdm(range(n_chunks), desc=f"sweep {model.name}", unit="chunk", disable=(None if progress is None else not progress)):
-        part = None if parts is None else parts / f"chunk_{c:06d}.npz"
+    results: dict[int, dict[str, np.ndarray]] = {}
+    mine = [c for c in range(n_chunks) if share.owns(c)]
+    for c in tqdm(mine, desc=f"sweep {model.name}", unit="chunk", disable=(None if progress is None else not progress)):
+        part = part_path(c)
         if part is not None and part.exists():
-            with np.load(part) as f:
-                results.append({k: f[k] for k in METRICS})
-            continue
+            continue  # resumed: loaded below
         rows = grid[c * chunk : (c + 1) * chunk]
         n = rows.shape[0]
-        if n < chunk:
-            rows = np.concatenate([rows, np.repeat(rows[-1:], chunk - n, axis=0)])
+        if n < padded:
+            rows = np.concatenate([rows, np.repeat(rows[-1:], padded - n, axis=0)])
         if evaluate is None:
             evaluate = _evaluator(model, params, names, kl_ratio, units, n_dev, solver)
         vals = {k: np.asarray(v)[:n] for k, v in evaluate(jnp.asarray(rows)).items()}
         if part is not None:
-            tmp = part.with_name(part.name + ".tmp.npz")
+            tmp = part.with_name(part.name + f".tmp{share.index}.npz")
             np.savez(tmp, **vals)
             tmp.replace(part)
-        results.append(vals)
+        results[c] = vals
 
-    data = {k: np.concatenate([r[k] for r in results]).reshape(shape) for k in METRICS}
+    if parts is not None:
+        wait_for_files([part_path(c) for c in range(n_chunks)])  # the other processes' chunks
+        for c in range(n_chunks):
+            if c not in results:
+                with np.load(part_path(c)) as f:
+                    results[c] = {k: f[k] for k in METRICS}
+
+    data = {k: np.concatenate([results[c][k] for c in range(n_chunks)]).reshape(shape) for k in METRICS}
     fixed = {k: np.asarray(getattr(params, k)).tolist() for k in PARAM_NAMES if k not in names}
     if kl_ratio is not None:
         fixed.pop("kl", None)
@@ -201,6 +246,8 @@ def sweep(
     }
     result = SweepResult(coords, data, meta)
     if out is not None:
-        result.save(out)
-        shutil.rmtree(parts, ignore_errors=True)
+        barrier(share, "merged")  # every process has read the parts
+        if share.leader:
+            result.save(out)
+            shutil.rmtree(parts, ignore_errors=True)
     return result
