@@ -9,7 +9,7 @@ low harmonics), and the multiplier is ``rho = exp(mu T)``, ``T = 2 pi / omega``.
 
 Only the exponents near 0 decide stability (the stiff link modes have ``rho ~ 0``), so
 they are found by shift-invert Arnoldi on ``(J + s M)^{-1} M`` (s = ``shift`` omega,
-one LU, ``krylov`` steps with full re-orthogonalisation) rather than by the dense
+one block-tridiagonal LU in the node layout, ``krylov`` steps with full re-orthogonalisation) rather than by the dense
 eigen-decomposition of the whole Hill matrix. The phase exponent 0 is exact up to
 round-off (the discretisation keeps the phase-shift symmetry, see
 :mod:`axojax.orbits.fourier`).
@@ -19,7 +19,8 @@ from __future__ import annotations
 
 import jax
 import jax.numpy as jnp
-from jax.scipy.linalg import lu_factor, lu_solve
+
+from ..linalg import lu_factor
 
 from .fourier import Problem
 
@@ -58,14 +59,14 @@ def floquet_multipliers(prob: Problem, X, omega, *, count: int = 8, krylov: int 
             make the factorisation singular; any value away from the exponents works).
         tol: relative Ritz residual below which a multiplier is accepted.
     """
-    J = prob.harmonic_jacobian(X, omega)
-    M = jnp.kron(jnp.eye(prob.m), prob.s.C)
+    J = prob.jacobian_blocks(X, omega)
+    M = prob.mass_blocks()
     N = J.shape[0]
     k = min(krylov, N - 1)
     s = -shift * omega  # pencil value nu = -mu
-    lu = lu_factor(J - s * M)
+    lu = lu_factor(J - M.scale(s))
     v0 = jnp.cos(0.61 * jnp.arange(N)) + 0.5
-    V, Hm = _arnoldi(lambda v: lu_solve(lu, M @ v), v0, k)
+    V, Hm = _arnoldi(lambda v: lu.solve(M.matvec(v)), v0, k)
     theta, Y = jnp.linalg.eig(Hm[:k, :k])
     resid = jnp.abs(Hm[k, k - 1]) * jnp.abs(Y[k - 1, :])
     nu = s + 1.0 / theta

@@ -18,6 +18,12 @@ the continuous problem's phase-shift symmetry exactly (the Floquet exponent 0).
 
 Stiffness costs nothing here: the fast link-relaxation modes enter only through the
 well-conditioned blocks ``A + i k omega C``.
+
+Structure: ordered node-major (:func:`axojax.assembly.node_major`) with the harmonics
+inside each node, the Jacobian is block-tridiagonal (A, C and the cubic force's
+Jacobian couple neighbouring nodes only) with N_e blocks of size (2H+1) 2 F d, and is
+factored by :func:`axojax.linalg.lu_factor` in O(N_e ((2H+1) 2 F d)^3) instead of
+O((N_e (2H+1) 2 F d)^3) (:mod:`axojax.orbits.linear`).
 """
 
 from __future__ import annotations
@@ -29,8 +35,9 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from ..assembly import System
+from ..assembly import System, assemble_blocks, node_major
 from ..dynamics.nonlinear import cubic_link_force
+from ..linalg import BlockTridiagonal
 from ..models.section import Model
 from ..params import Params
 
@@ -76,6 +83,9 @@ class Problem:
         self.E, self.P, self.D = jnp.asarray(E), jnp.asarray(P), jnp.asarray(D)
         self.n = model.n_dof
         self.m = 2 * harmonics + 1
+        self.n_blocks, self.block = model.n_elements, 2 * model.n_fd
+        self.perm = node_major(model)
+        self.inverse_perm = np.argsort(self.perm)
 
     def f_nl(self, q):
         return cubic_link_force(self.model, self.params, self.kappa, q)
@@ -111,3 +121,47 @@ class Problem:
         top = jnp.concatenate([J, d_omega[:, None]], axis=1)
         bottom = jnp.concatenate([phase, jnp.zeros(1)])[None]
         return jnp.concatenate([top, bottom], axis=0)
+
+    # -- node-major layout: (node, harmonic, local dof) ---------------------------------
+    def to_nodes(self, v):
+        """Flat (m n,) harmonic-major, filament-major vector -> node layout (N_e m b,)."""
+        V = jnp.reshape(v, (self.m, self.n))[:, self.perm]
+        return jnp.reshape(jnp.swapaxes(jnp.reshape(V, (self.m, self.n_blocks, self.block)), 0, 1), (-1,))
+
+    def from_nodes(self, w):
+        """Inverse of :meth:`to_nodes`."""
+        V = jnp.reshape(jnp.swapaxes(jnp.reshape(w, (self.n_blocks, self.m, self.block)), 0, 1), (self.m, self.n))
+        return jnp.ravel(V[:, self.inverse_perm])
+
+    def _node_blocks(self, M):
+        """(lower, diag, upper) node blocks of a dense filament-major (..., n, n) matrix."""
+        N, b = self.n_blocks, self.block
+        Mn = M[..., self.perm, :][..., :, self.perm]
+        B = jnp.reshape(Mn, M.shape[:-2] + (N, b, N, b))
+        k = np.arange(N)
+        return B[..., k[1:], :, k[:-1], :], B[..., k, :, k, :], B[..., k[:-1], :, k[1:], :]
+
+    def jacobian_blocks(self, X, omega) -> BlockTridiagonal:
+        """d R / d X in the node layout: block-tridiagonal, blocks (m b, m b)."""
+        m, b = self.m, self.block
+        sb = assemble_blocks(self.model, self.params)
+        Df = jax.vmap(jax.jacfwd(self.f_nl))(self.E @ X)  # (N_t, n, n)
+        W = jnp.einsum("mj,jl->jml", self.P, self.E)  # (N_t, m, m)
+        Dm, I = jnp.asarray(self.D), jnp.eye(m)
+
+        def combine(c, a, d):
+            # block (node k, node k'): [(harm, dof), (harm, dof)]
+            out = omega * jnp.einsum("ml,kab->kmalb", Dm, c) + jnp.einsum("ml,kab->kmalb", I, a) + jnp.einsum("jml,kjab->kmalb", W, d)
+            return jnp.reshape(out, (-1, m * b, m * b))
+
+        dl, dd, du = self._node_blocks(Df)  # each (K, N_t, b, b)
+        return BlockTridiagonal(
+            combine(sb.C.lower, sb.A.lower, dl), combine(sb.C.diag, sb.A.diag, dd), combine(sb.C.upper, sb.A.upper, du)
+        )
+
+    def mass_blocks(self) -> BlockTridiagonal:
+        """I_m (x) C in the node layout."""
+        m, b = self.m, self.block
+        C = assemble_blocks(self.model, self.params).C
+        widen = lambda c: jnp.reshape(jnp.einsum("ml,kab->kmalb", jnp.eye(m), c), (-1, m * b, m * b))
+        return BlockTridiagonal(widen(C.lower), widen(C.diag), widen(C.upper))

@@ -9,8 +9,8 @@ otherwise ``lambda`` halves). Converged when the scaled correction
 
 Derivative: at the solution ``R(x*, theta) = 0``, so
 ``dx* = -J^{-1} (dR/dtheta) dtheta`` (implicit function theorem). The rule is a
-``jax.custom_jvp`` whose linear solve is ``jax.lax.custom_linear_solve`` with the LU of
-J and its transpose: forward mode costs one solve per tangent, reverse mode (by JAX's
+``jax.custom_jvp`` whose linear solve is ``jax.lax.custom_linear_solve`` with the
+factorisation of J and its transpose: forward mode costs one solve per tangent, reverse mode (by JAX's
 transposition of the rule) one transposed solve per cotangent; the Newton iterations are
 never differentiated.
 """
@@ -21,7 +21,6 @@ from typing import Callable
 
 import jax
 import jax.numpy as jnp
-from jax.scipy.linalg import lu_factor, lu_solve
 
 
 def _scaled(dx, x):
@@ -30,8 +29,10 @@ def _scaled(dx, x):
     return jnp.maximum(jnp.linalg.norm(dX) / jnp.maximum(jnp.linalg.norm(X), 1e-300), jnp.abs(dw) / jnp.maximum(jnp.abs(w), 1e-300))
 
 
-def newton(residual: Callable, jacobian: Callable, x0, *, rtol: float, max_steps: int, min_damping: float = 1.0 / 64):
-    """Solve residual(x) = 0 from x0. Returns (x, converged (bool), steps (int), last scaled correction)."""
+def newton(residual: Callable, factor: Callable, x0, *, rtol: float, max_steps: int, min_damping: float = 1.0 / 64):
+    """Solve residual(x) = 0 from x0; ``factor(x)`` returns an object whose ``solve(r)``
+    applies the inverse Jacobian at x. Returns (x, converged (bool), steps (int), last
+    scaled correction)."""
 
     def cond(state):
         x, k, done, err = state
@@ -39,8 +40,8 @@ def newton(residual: Callable, jacobian: Callable, x0, *, rtol: float, max_steps
 
     def body(state):
         x, k, _, _ = state
-        lu = lu_factor(jacobian(x))
-        dx = lu_solve(lu, residual(x))
+        lu = factor(x)
+        dx = lu.solve(residual(x))
         err = _scaled(dx, x)
         e0 = jnp.linalg.norm(dx / jnp.maximum(jnp.abs(x), 1e-12 * jnp.linalg.norm(x)))
 
@@ -54,7 +55,7 @@ def newton(residual: Callable, jacobian: Callable, x0, *, rtol: float, max_steps
             return lam, _monotone(lam)
 
         def _monotone(lam):
-            d1 = lu_solve(lu, residual(x - lam * dx))
+            d1 = lu.solve(residual(x - lam * dx))
             e1 = jnp.linalg.norm(d1 / jnp.maximum(jnp.abs(x), 1e-12 * jnp.linalg.norm(x)))
             return jnp.isfinite(e1) & (e1 <= (1 - lam / 4) * e0)
 
@@ -68,12 +69,14 @@ def newton(residual: Callable, jacobian: Callable, x0, *, rtol: float, max_steps
     return x, ok, k, err
 
 
-def implicit_solve(make: Callable, theta, x0, aux, *, rtol: float, max_steps: int):
+def implicit_solve(make: Callable, factor: Callable, theta, x0, aux, *, rtol: float, max_steps: int):
     """x* with ``make(theta).residual(x*, aux) = 0`` found by :func:`newton` from ``x0``,
     differentiable in ``theta`` (a pytree) by the implicit function theorem.
 
     Args:
-        make: theta -> problem with ``residual(x, aux)`` and ``jacobian(x, aux)``.
+        make: theta -> problem with ``residual(x, aux)``.
+        factor: (problem, x, aux) -> the Jacobian's factorisation (``solve`` and
+            ``solve_transpose``), e.g. :class:`axojax.orbits.linear.BorderedSolver`.
         theta: differentiable parameters.
         x0, aux: start and fixed data (not differentiated).
 
@@ -84,7 +87,7 @@ def implicit_solve(make: Callable, theta, x0, aux, *, rtol: float, max_steps: in
     @jax.custom_jvp
     def solve(theta, x0, aux):
         prob = make(theta)
-        x, ok, k, err = newton(lambda x: prob.residual(x, aux), lambda x: prob.jacobian(x, aux), x0, rtol=rtol, max_steps=max_steps)
+        x, ok, k, err = newton(lambda x: prob.residual(x, aux), lambda x: factor(prob, x, aux), x0, rtol=rtol, max_steps=max_steps)
         return x, jnp.stack([ok.astype(float), k.astype(float), err])
 
     @solve.defjvp
@@ -92,12 +95,11 @@ def implicit_solve(make: Callable, theta, x0, aux, *, rtol: float, max_steps: in
         theta, x0, aux = primals
         dtheta = tangents[0]  # the start and the fixed data are not differentiated
         x, info = solve(theta, x0, aux)
-        J = make(theta).jacobian(x, aux)
-        lu = lu_factor(J)
+        prob = make(theta)
+        lu = factor(prob, x, aux)
         _, dR = jax.jvp(lambda th: make(th).residual(x, aux), (theta,), (dtheta,))
-        dx = -jax.lax.custom_linear_solve(
-            lambda v: J @ v, dR, solve=lambda _, r: lu_solve(lu, r), transpose_solve=lambda _, r: lu_solve(lu, r, trans=1)
-        )
+        matvec = lambda v: jax.jvp(lambda y: prob.residual(y, aux), (x,), (v,))[1]
+        dx = -jax.lax.custom_linear_solve(matvec, dR, solve=lambda _, r: lu.solve(r), transpose_solve=lambda _, r: lu.solve_transpose(r))
         return (x, info), (dx, jnp.zeros_like(info))
 
     return solve(theta, jax.lax.stop_gradient(x0), jax.lax.stop_gradient(aux))

@@ -26,6 +26,7 @@ from .cycle import LimitCycle, measures
 from .floquet import floquet_multipliers
 from .fourier import Problem, pad
 from .guess import hopf_guess
+from .linear import BorderedSolver
 from .newton import implicit_solve
 
 
@@ -82,17 +83,17 @@ class HarmonicBalance(OrbitSolver):
         prob = make(theta)
         x_hopf, ref, lam = hopf_guess(self._problem(model, 1)(theta))
         if start is None:
-            x1, _ = implicit_solve(self._problem(model, 1), theta, x_hopf, ref, rtol=self.rtol, max_steps=self.max_steps)
+            x1, _ = implicit_solve(self._problem(model, 1), BorderedSolver, theta, x_hopf, ref, rtol=self.rtol, max_steps=self.max_steps)
             X1 = jnp.reshape(x1[:-1], (3, model.n_dof))
             x0 = jnp.concatenate([jnp.ravel(pad(X1, H)), x1[-1:]])
         else:
             X0 = resize(start.coefficients, H)
             x0 = jnp.concatenate([jnp.ravel(X0), jnp.reshape(start.omega, (1,))])
             ref = start.phase_ref
-        x, info = implicit_solve(make, theta, x0, ref, rtol=self.rtol, max_steps=self.max_steps)
+        x, info = implicit_solve(make, BorderedSolver, theta, x0, ref, rtol=self.rtol, max_steps=self.max_steps)
         X, omega = prob.split(x)
         amplitude, angle, k = measures(model, X)
-        rho = floquet_multipliers(make(theta), jnp.asarray(X), omega, count=self.floquet, krylov=self.krylov)
+        rho = floquet_multipliers(prob, X, omega, count=self.floquet, krylov=self.krylov)
         return LimitCycle(
             model=model, coefficients=X, omega=omega, amplitude=amplitude, beat_angle=angle, wavenumber=k,
             floquet=rho, converged=info[0] > 0.5, steps=info[1].astype(int), correction=info[2],
