@@ -35,7 +35,9 @@ class LimitCycle(eqx.Module):
             anterograde, MODEL.md section 5).
         floquet: (k,) multipliers of largest modulus, largest first (NaN-padded); one is
             1 (the phase).
-        converged: whether Newton converged.
+        converged: whether Newton converged (otherwise the coefficients are a finite
+            stand-in: the linear mode at small amplitude).
+        started: whether there was a start (False: the Hopf normal form has no orbit here).
         steps: Newton iterations (last stage).
         correction: last scaled Newton correction.
         linear_eigenvalue: dominant eigenvalue of the straight state at these parameters.
@@ -50,6 +52,7 @@ class LimitCycle(eqx.Module):
     wavenumber: Float[Array, ""]
     floquet: Complex[Array, " k"]
     converged: Array
+    started: Array
     steps: Array
     correction: Array
     linear_eigenvalue: Complex[Array, ""]

@@ -35,9 +35,11 @@ def _left_vector(A, C, lam):
 
 
 def hopf_guess(prob: Problem):
-    """(x0, ref): the start ``[X.ravel(), omega]`` on ``prob``'s harmonics and the phase
-    reference (unit vector at the largest entry of the mode: its first-harmonic sine
-    coefficient is held at 0, so that entry peaks at theta = 0)."""
+    """(x0, ref, lambda, fallback): the start ``[X.ravel(), omega]`` on ``prob``'s
+    harmonics (NaN where the normal form has no orbit), the phase reference (unit vector
+    at the largest entry of the mode: its first-harmonic sine coefficient is held at 0,
+    so that entry peaks at theta = 0), the dominant eigenvalue, and a finite stand-in
+    for failed solves (the mode at amplitude 1e-3, frequency |Im lambda|)."""
     s = prob.s
     lam, v = dominant_eigenpair(s.A, s.C)
     i = jnp.argmax(jnp.abs(v))
@@ -56,5 +58,6 @@ def hopf_guess(prob: Problem):
     c0 = jnp.linalg.solve(s.A, s.b)
     X = (amp * X1).at[0].set(c0)
     ref = jnp.zeros(n).at[i].set(1.0)
-    return jnp.concatenate([jnp.ravel(X), omega[None]]), ref, lam
+    fallback = jnp.concatenate([jnp.ravel((1e-3 * X1).at[0].set(c0)), jnp.abs(jnp.imag(lam))[None]])
+    return jnp.concatenate([jnp.ravel(X), omega[None]]), ref, lam, fallback
 

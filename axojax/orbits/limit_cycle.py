@@ -70,6 +70,6 @@ def failure_reason(cycle: LimitCycle, params: Params) -> str:
         return f"no limit cycle at p = {p:g}: the straight state is linearly stable there (growth rate {lam.real:.4g} per tau); raise p past the Hopf point"
     if abs(lam.imag) <= 1e-9 * abs(lam):
         return f"no limit cycle at p = {p:g}: the dominant mode does not oscillate (divergence, eigenvalue {lam.real:.4g})"
-    if cycle.steps == 0 or not bool(jax.numpy.isfinite(cycle.omega)):
+    if not bool(cycle.started):
         return f"no limit cycle at p = {p:g}: the Hopf bifurcation is not supercritical here (the normal form has no small orbit); start from a nearby orbit"
     return f"no limit cycle found at p = {p:g}: Newton did not converge in {int(cycle.steps)} steps (last correction {float(cycle.correction):.2g}); start from a nearby orbit (continuation)"

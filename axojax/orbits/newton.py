@@ -69,7 +69,7 @@ def newton(residual: Callable, factor: Callable, x0, *, rtol: float, max_steps: 
     return x, ok, k, err
 
 
-def implicit_solve(make: Callable, factor: Callable, theta, x0, aux, *, rtol: float, max_steps: int):
+def implicit_solve(make: Callable, factor: Callable, theta, x0, aux, *, rtol: float, max_steps: int, fallback=None):
     """x* with ``make(theta).residual(x*, aux) = 0`` found by :func:`newton` from ``x0``,
     differentiable in ``theta`` (a pytree) by the implicit function theorem.
 
@@ -79,27 +79,38 @@ def implicit_solve(make: Callable, factor: Callable, theta, x0, aux, *, rtol: fl
             ``solve_transpose``), e.g. :class:`axojax.orbits.linear.BorderedSolver`.
         theta: differentiable parameters.
         x0, aux: start and fixed data (not differentiated).
+        fallback: finite value returned where Newton fails (default x0), so that
+            failed points give finite values and zero derivatives (a fit can step
+            back from them) instead of NaN.
 
     Returns:
         (x*, info) with info = (converged 0/1, Newton steps, last scaled correction) as floats.
     """
+    fallback = x0 if fallback is None else fallback
 
     @jax.custom_jvp
-    def solve(theta, x0, aux):
+    def solve(theta, x0, aux, fallback):
         prob = make(theta)
         x, ok, k, err = newton(lambda x: prob.residual(x, aux), lambda x: factor(prob, x, aux), x0, rtol=rtol, max_steps=max_steps)
-        return x, jnp.stack([ok.astype(float), k.astype(float), err])
+        return jnp.where(ok, x, fallback), jnp.stack([ok.astype(float), k.astype(float), err])
 
     @solve.defjvp
     def solve_jvp(primals, tangents):
-        theta, x0, aux = primals
+        theta, x0, aux, fallback = primals
         dtheta = tangents[0]  # the start and the fixed data are not differentiated
-        x, info = solve(theta, x0, aux)
+        x, info = solve(theta, x0, aux, fallback)
+        ok = info[0] > 0.5
         prob = make(theta)
         lu = factor(prob, x, aux)
         _, dR = jax.jvp(lambda th: make(th).residual(x, aux), (theta,), (dtheta,))
         matvec = lambda v: jax.jvp(lambda y: prob.residual(y, aux), (x,), (v,))[1]
-        dx = -jax.lax.custom_linear_solve(matvec, dR, solve=lambda _, r: lu.solve(r), transpose_solve=lambda _, r: lu.solve_transpose(r))
+        # Masked solves: a failed point has zero derivative, never NaN (also in reverse mode).
+        dx = -jax.lax.custom_linear_solve(
+            matvec, dR,
+            solve=lambda _, r: jnp.where(ok, lu.solve(r), 0.0),
+            transpose_solve=lambda _, r: jnp.where(ok, lu.solve_transpose(r), 0.0),
+        )
         return (x, info), (dx, jnp.zeros_like(info))
 
-    return solve(theta, jax.lax.stop_gradient(x0), jax.lax.stop_gradient(aux))
+    sg = jax.lax.stop_gradient
+    return solve(theta, sg(x0), sg(aux), sg(fallback))

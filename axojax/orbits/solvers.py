@@ -17,6 +17,7 @@ from __future__ import annotations
 import abc
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 
 from ..assembly import assemble
@@ -81,22 +82,29 @@ class HarmonicBalance(OrbitSolver):
         theta = (params, jnp.asarray(kappa, dtype=float))
         make = self._problem(model, H)
         prob = make(theta)
-        x_hopf, ref, lam = hopf_guess(self._problem(model, 1)(theta))
+        fixed = jax.lax.stop_gradient(theta)  # the start and the multipliers are not differentiated
+        x_hopf, ref, lam, fallback1 = hopf_guess(self._problem(model, 1)(fixed))
+        widen = lambda x: jnp.concatenate([jnp.ravel(pad(jnp.reshape(x[:-1], (3, model.n_dof)), H)), x[-1:]])
+        fallback = widen(fallback1)
         if start is None:
-            x1, _ = implicit_solve(self._problem(model, 1), BorderedSolver, theta, x_hopf, ref, rtol=self.rtol, max_steps=self.max_steps)
-            X1 = jnp.reshape(x1[:-1], (3, model.n_dof))
-            x0 = jnp.concatenate([jnp.ravel(pad(X1, H)), x1[-1:]])
+            x1, info1 = implicit_solve(self._problem(model, 1), BorderedSolver, fixed, x_hopf, ref, rtol=self.rtol, max_steps=self.max_steps)
+            # A failed first stage starts the second from NaN: it stops at once.
+            x0 = jnp.where(info1[0] > 0.5, widen(x1), jnp.nan)
         else:
             X0 = resize(start.coefficients, H)
             x0 = jnp.concatenate([jnp.ravel(X0), jnp.reshape(start.omega, (1,))])
             ref = start.phase_ref
-        x, info = implicit_solve(make, BorderedSolver, theta, x0, ref, rtol=self.rtol, max_steps=self.max_steps)
+            fallback = jnp.where(start.converged, x0, fallback)
+        x, info = implicit_solve(make, BorderedSolver, theta, x0, ref, rtol=self.rtol, max_steps=self.max_steps, fallback=fallback)
         X, omega = prob.split(x)
+        # Newton may also land on the equilibrium (zero amplitude, any omega): not an orbit.
+        nontrivial = jnp.linalg.norm(X[1:]) > 1e-9 * jnp.maximum(1.0, jnp.linalg.norm(X[0]))
+        info = info.at[0].set(jnp.where(nontrivial, info[0], 0.0))
         amplitude, angle, k = measures(model, X)
-        rho = floquet_multipliers(prob, X, omega, count=self.floquet, krylov=self.krylov)
+        rho = floquet_multipliers(make(fixed), jax.lax.stop_gradient(X), jax.lax.stop_gradient(omega), count=self.floquet, krylov=self.krylov)
         return LimitCycle(
             model=model, coefficients=X, omega=omega, amplitude=amplitude, beat_angle=angle, wavenumber=k,
-            floquet=rho, converged=info[0] > 0.5, steps=info[1].astype(int), correction=info[2],
+            floquet=rho, converged=info[0] > 0.5, started=jnp.all(jnp.isfinite(x0)), steps=info[1].astype(int), correction=info[2],
             linear_eigenvalue=lam, phase_ref=ref,
         )
 
