@@ -45,8 +45,12 @@ def limit_cycle(
 
     Returns:
         :class:`LimitCycle`: period, frequency, tip amplitude, waveform, wavelength,
-        Floquet multipliers. Differentiable in ``params`` and ``kappa`` (implicit function
-        theorem; use the jit-able ``solver.solve`` inside your own transformations).
+        Floquet multipliers. Where the normal form is no start (far past the Hopf
+        point, e.g. where the dominant mode no longer oscillates) the orbit is continued
+        in p from the Hopf point (:func:`axojax.orbits.branch.continue_to`).
+ Differentiable in ``params`` and
+        ``kappa`` (implicit function theorem; use the jit-able ``solver.solve`` inside
+        your own transformations).
     """
     params = params.validate()
     kappa = float(kappa)
@@ -57,6 +61,16 @@ def limit_cycle(
     if not isinstance(solver, OrbitSolver):
         raise ValueError(f"solver must be an axojax.orbits solver (e.g. HarmonicBalance()), got {solver!r}")
     cycle = _impl_jit(model, params, kappa, solver, start)
+    if not bool(cycle.converged) and start is None and complex(cycle.linear_eigenvalue).real > 0:
+        # Far from the Hopf point the normal form is no start: continue from it instead.
+        from .branch import continue_to
+
+        try:
+            found = continue_to(model, params, kappa, solver, [float(params.p)])[0]
+        except ValueError:
+            found = None
+        if found is not None:
+            cycle = found
     if throw and not bool(cycle.converged):
         raise ValueError(failure_reason(cycle, params))
     return cycle
@@ -67,7 +81,7 @@ def failure_reason(cycle: LimitCycle, params: Params) -> str:
     lam = complex(cycle.linear_eigenvalue)
     p = float(params.p)
     if lam.real <= 0:
-        return f"no limit cycle at p = {p:g}: the straight state is linearly stable there (growth rate {lam.real:.4g} per tau); raise p past the Hopf point"
+        return f"no limit cycle at p = {p:g}: the equilibrium is linearly stable there (growth rate {lam.real:.4g} per tau); raise p past the Hopf point"
     if abs(lam.imag) <= 1e-9 * abs(lam):
         return f"no limit cycle at p = {p:g}: the dominant mode does not oscillate (divergence, eigenvalue {lam.real:.4g})"
     if not bool(cycle.started):

@@ -50,8 +50,8 @@ class HarmonicBalance(OrbitSolver):
         samples: phases of the alternating frequency-time projection (default 4H + 2:
             exact for the cubic force).
         rtol: Newton's tolerance on the scaled correction.
-        max_steps: Newton iterations per stage (a Hopf start solves H = 1 first).
-        floquet: multipliers returned (largest modulus first).
+        max_steps: Newton iterations.
+        floquet: multipliers returned (largest modulus first); 0 skips them (fits).
         krylov: Arnoldi steps of the Floquet computation.
     """
 
@@ -83,14 +83,9 @@ class HarmonicBalance(OrbitSolver):
         make = self._problem(model, H)
         prob = make(theta)
         fixed = jax.lax.stop_gradient(theta)  # the start and the multipliers are not differentiated
-        x_hopf, ref, lam, fallback1 = hopf_guess(self._problem(model, 1)(fixed))
-        widen = lambda x: jnp.concatenate([jnp.ravel(pad(jnp.reshape(x[:-1], (3, model.n_dof)), H)), x[-1:]])
-        fallback = widen(fallback1)
-        if start is None:
-            x1, info1 = implicit_solve(self._problem(model, 1), BorderedSolver, fixed, x_hopf, ref, rtol=self.rtol, max_steps=self.max_steps)
-            # A failed first stage starts the second from NaN: it stops at once.
-            x0 = jnp.where(info1[0] > 0.5, widen(x1), jnp.nan)
-        else:
+        x_hopf, ref, lam, fallback = hopf_guess(make(fixed))
+        x0 = x_hopf
+        if start is not None:
             X0 = resize(start.coefficients, H)
             x0 = jnp.concatenate([jnp.ravel(X0), jnp.reshape(start.omega, (1,))])
             ref = start.phase_ref
@@ -101,7 +96,10 @@ class HarmonicBalance(OrbitSolver):
         nontrivial = jnp.linalg.norm(X[1:]) > 1e-9 * jnp.maximum(1.0, jnp.linalg.norm(X[0]))
         info = info.at[0].set(jnp.where(nontrivial, info[0], 0.0))
         amplitude, angle, k = measures(model, X)
-        rho = floquet_multipliers(make(fixed), jax.lax.stop_gradient(X), jax.lax.stop_gradient(omega), count=self.floquet, krylov=self.krylov)
+        if self.floquet > 0:
+            rho = floquet_multipliers(make(fixed), jax.lax.stop_gradient(X), jax.lax.stop_gradient(omega), count=self.floquet, krylov=self.krylov)
+        else:
+            rho = jnp.full((0,), jnp.nan + 0j)
         return LimitCycle(
             model=model, coefficients=X, omega=omega, amplitude=amplitude, beat_angle=angle, wavenumber=k,
             floquet=rho, converged=info[0] > 0.5, started=jnp.all(jnp.isfinite(x0)), steps=info[1].astype(int), correction=info[2],
