@@ -20,9 +20,9 @@ from __future__ import annotations
 import jax
 import jax.numpy as jnp
 
-from ..linalg import lu_factor
 
 from .fourier import Problem
+from .linear import factor
 
 
 def _arnoldi(op, v0, k: int):
@@ -64,7 +64,7 @@ def floquet_multipliers(prob: Problem, X, omega, *, count: int = 8, krylov: int 
     N = J.shape[0]
     k = min(krylov, N - 1)
     s = -shift * omega  # pencil value nu = -mu
-    lu = lu_factor(J - M.scale(s))
+    lu = factor(J - M.scale(s))
     v0 = jnp.cos(0.61 * jnp.arange(N)) + 0.5
     V, Hm = _arnoldi(lambda v: lu.solve(M.matvec(v)), v0, k)
     theta, Y = jnp.linalg.eig(Hm[:k, :k])

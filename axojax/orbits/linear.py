@@ -19,9 +19,32 @@ derivative in reverse mode). Exact: no approximation beyond the LU's round-off.
 from __future__ import annotations
 
 import jax.numpy as jnp
+import jax.scipy.linalg as jsl
 
-from ..linalg import lu_factor
+from ..linalg import BlockTridiagonal, lu_factor
 from .fourier import Problem
+
+DENSE_MAX = 2000
+"""Up to this many unknowns a dense LU (LAPACK) is used: for small systems it is as fast
+and compiles in a fraction of the time of the blocked factorisation."""
+
+
+class DenseLU:
+    """Dense LU with the interface of :class:`axojax.linalg.BlockLU`."""
+
+    def __init__(self, M: BlockTridiagonal):
+        self.lu = jsl.lu_factor(M.to_dense())
+
+    def solve(self, r):
+        return jsl.lu_solve(self.lu, r)
+
+    def solve_transpose(self, r):
+        return jsl.lu_solve(self.lu, r, trans=1)
+
+
+def factor(M: BlockTridiagonal):
+    """Blocked LU (:func:`axojax.linalg.lu_factor`) of M, or a dense one for small M."""
+    return DenseLU(M) if M.shape[0] <= DENSE_MAX else lu_factor(M)
 
 
 class BorderedSolver:
@@ -40,7 +63,7 @@ class BorderedSolver:
         diag = jnp.abs(J.diag[k, j, j])
         self.a = jnp.where(diag > 0, diag, 1.0)
         Ja = type(J)(J.lower, J.diag.at[k, j, j].add(self.a), J.upper)
-        self.lu = lu_factor(Ja)
+        self.lu = factor(Ja)
         self.u = prob.to_nodes(jnp.ravel((prob.D @ X) @ prob.s.C.T))
         self.z = self.lu.solve(self.u)
         self.y = self.lu.solve_transpose(self.e)

@@ -4,6 +4,7 @@ Floquet multipliers) and the waveform of one orbit."""
 from __future__ import annotations
 
 import pathlib
+import warnings
 
 import matplotlib
 
@@ -41,7 +42,8 @@ def plot_branch(path_or_arrays, meta: dict | None = None) -> plt.Figure:
         axes[0].plot([ph], [0.0], "k*", ms=9, label=f"Hopf point p = {ph:.4g}")
         axes[1].plot([ph], [meta.get("hopf_frequency_hz", np.nan)], "k*", ms=9)
     axes[0].legend(frameon=False, fontsize=8)
-    with np.errstate(invalid="ignore"):
+    with warnings.catch_warnings(), np.errstate(invalid="ignore"):
+        warnings.simplefilter("ignore", RuntimeWarning)  # rows of points without an orbit are all NaN
         trivial = np.nanargmin(np.where(np.isfinite(rho), np.abs(rho - 1), np.inf), axis=1) if rho.shape[1] else np.zeros(len(p), int)
         mod = np.abs(rho)
         mod[np.arange(len(p)), trivial] = np.nan
