@@ -175,7 +175,8 @@ class Branch:
             "period_s": col("period_s"),
             "tip_amplitude_um": col("tip_amplitude_um"),
             "wavelength_um": col("wavelength_um"),
-            "stable": np.array([-1 if c is None else int(c["stable"]) for c in self.cycles]),
+            # 1 stable, 0 unstable, 2 unknown (no multipliers), -1 no orbit
+            "stable": np.array([-1 if c is None else (2 if c["stable"] is None else int(c["stable"])) for c in self.cycles]),
             "floquet_real": fl.real,
             "floquet_imag": fl.imag,
         }

@@ -83,8 +83,11 @@ class LimitCycle(eqx.Module):
 
     @property
     def stable(self) -> Array:
-        """All multipliers but the phase one (the closest to 1) inside the unit circle."""
+        """All multipliers but the phase one (the closest to 1) inside the unit circle
+        (False when none were computed: ``HarmonicBalance(floquet=0)``)."""
         rho = self.floquet
+        if rho.shape[-1] == 0:
+            return jnp.zeros(rho.shape[:-1], bool)
         finite = jnp.isfinite(rho)
         trivial = jnp.argmin(jnp.where(finite, jnp.abs(rho - 1), jnp.inf))
         others = jnp.where(finite & (jnp.arange(rho.shape[-1]) != trivial), jnp.abs(rho), 0.0)
@@ -127,7 +130,7 @@ class LimitCycle(eqx.Module):
             "static_curvature_rad_per_um": modes.static_curvature,
             "dynamic_amplitude_rad": modes.dynamic_amplitude,
             "floquet": [[float(r.real), float(r.imag)] for r in rho],
-            "stable": bool(self.stable),
+            "stable": bool(self.stable) if rho.size else None,
             "converged": bool(self.converged),
             "harmonics": self.harmonics,
         }

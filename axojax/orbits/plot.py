@@ -36,6 +36,8 @@ def plot_branch(path_or_arrays, meta: dict | None = None) -> plt.Figure:
         ax.plot(p[ok], y[ok], "-", color="0.6", lw=1, zorder=1)
         ax.plot(p[stable == 1], y[stable == 1], "o", color="tab:blue", ms=4, label="stable")
         ax.plot(p[stable == 0], y[stable == 0], "o", mfc="none", color="tab:red", ms=4, label="unstable")
+        if np.any(stable == 2):
+            ax.plot(p[stable == 2], y[stable == 2], "o", color="0.5", ms=4, label="stability not computed")
         ax.set_xlabel("dynein force p (dimensionless)")
         ax.set_ylabel(label)
     if ph is not None and np.isfinite(ph):
