@@ -14,6 +14,7 @@ SUBCOMMANDS = {
     "sweep": "dominant mode over a parameter grid, saved to .npz",
     "fit": "estimate free parameters from observed beats (optax)",
     "simulate": "nonlinear beat in the time domain (diffrax), saved to .npz",
+    "orbit": "limit cycle computed directly, or its branch in p from the Hopf point",
     "plot": "figures of a sweep or simulation file, or of a cross-section",
 }
 

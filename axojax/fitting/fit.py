@@ -23,12 +23,14 @@ import numpy as np
 import optax
 from tqdm.auto import tqdm
 
+from ..dynamics.simulate import DEFAULT_CUBIC
 from ..eigen.mode import DEFAULT_SOLVER, _dominant_mode_impl
 from ..eigen.solvers import EigenSolver
 from ..models.section import Model
 from ..params import PARAM_NAMES, Params
 from ..units import Units
-from .targets import SCALARS, ShapeTarget, Target, scalar_value, shape_residuals
+from ..orbits.solvers import HarmonicBalance, OrbitSolver
+from .targets import SCALARS, ShapeTarget, Target, cycle_value, scalar_value, shape_residuals
 
 DEFAULT_BOUNDS = {
     "p": (10.0, 1e4),
@@ -42,6 +44,7 @@ DEFAULT_BOUNDS = {
     "imbalance": (0.1, 10.0),
 }
 LINEAR = {"gamma"}
+CYCLE_FAILED = 1e3  # normalised residual of a limit-cycle target where no orbit is found
 IDENTIFIABLE_MAX_LOG_SE = 1.0  # a log-space standard error above 1 (a factor e) is not an estimate
 SHAPE_RMS_OK = 2.0
 
@@ -114,6 +117,8 @@ def fit(
     seed: int = 0,
     progress: bool = False,
     solver: EigenSolver = DEFAULT_SOLVER,
+    cubic: float = DEFAULT_CUBIC,
+    orbit_solver: OrbitSolver = HarmonicBalance(),
 ) -> FitResult:
     """Fit the ``free`` parameters of ``model`` so that its dominant mode matches ``targets``
     (and ``shape``).
@@ -134,6 +139,12 @@ def fit(
         seed: seed of the start design.
         progress: progress bar over starts.
         solver: dominant-eigenpair solver (:mod:`axojax.eigen.solvers`).
+        cubic: link stiffening kappa (1/L^2) of the limit cycle, for targets with
+            ``source="limit_cycle"`` (frequency, tip amplitude and wavelength of the
+            nonlinear beat, :func:`axojax.orbits.limit_cycle`; differentiable by the
+            implicit function theorem). Where no orbit is found (e.g. below the Hopf
+            point) such a target's residual is ``CYCLE_FAILED``.
+        orbit_solver: the periodic-orbit solver (:mod:`axojax.orbits.solvers`).
     """
     free = list(free)
     targets = list(targets)
@@ -150,6 +161,14 @@ def fit(
         raise ValueError(f"method must be 'lbfgs' or 'adam', got {method!r}")
     if starts < 1:
         raise ValueError(f"starts must be >= 1, got {starts}")
+    cycle_targets = [t for t in targets if t.source == "limit_cycle"]
+    if cycle_targets:
+        if not (math.isfinite(cubic) and cubic > 0):
+            raise ValueError(f"cubic must be a finite number > 0 for limit-cycle targets, got {cubic!r}")
+        if model.link_B.shape[0] == 0:
+            raise ValueError(f"limit-cycle targets need a model with links; {model.name!r} has none")
+        if getattr(orbit_solver, "floquet", 0):
+            orbit_solver = dataclasses.replace(orbit_solver, floquet=0)  # stability is not fitted: skip it
     params.validate()
     bounds = {**DEFAULT_BOUNDS, **(bounds or {})}
     lo, hi, log = [], [], []
@@ -168,11 +187,10 @@ def fit(
         return params.with_values(dict(zip(free, values)), kl_ratio)
 
     def residuals(u):
-        mode = _dominant_mode_impl(model, to_params(u), solver)
-        parts = [jnp.stack([(scalar_value(mode, t.name, units) - t.value) / t.sigma for t in targets])] if targets else []
-        if shape is not None:
-            parts.append(shape_residuals(model, mode, shape, units))
-        return jnp.concatenate(parts)
+        prm = to_params(u)
+        mode = _dominant_mode_impl(model, prm, solver) if (shape is not None or len(cycle_targets) < len(targets)) else None
+        cycle = orbit_solver.solve(model, prm, cubic) if cycle_targets else None
+        return _residuals(model, mode, cycle, targets, shape, units)
 
     def u_of_z(z):
         return lo + (hi - lo) * jax.nn.sigmoid(z)
@@ -194,8 +212,23 @@ def fit(
     best = min(range(len(results)), key=lambda i: results[i][1])
     z_best, loss_best, gnorm = results[best]
     u_best = u_of_z(jnp.asarray(z_best))
-    return _summarise(model, free, log, u_best, to_params, residuals, targets, shape, units, loss_best, gnorm, solver,
+    return _summarise(model, free, log, u_best, to_params, residuals, targets, shape, units, loss_best, gnorm, solver, (cubic, orbit_solver) if cycle_targets else None,
                       [({n: float(np.exp(v) if lg else v) for n, v, lg in zip(free, u, np.asarray(log))}, r[1]) for u, r in zip(initial, results)])
+
+
+def _residuals(model, mode, cycle, targets, shape, units):
+    """Normalised residuals of the scalar targets (linear mode or limit cycle) and the shape."""
+    parts = []
+    for t in targets:
+        if t.source == "limit_cycle":
+            r = (cycle_value(cycle, t.name, units) - t.value) / t.sigma
+            parts.append(jnp.where(cycle.converged, r, CYCLE_FAILED))
+        else:
+            parts.append((scalar_value(mode, t.name, units) - t.value) / t.sigma)
+    parts = [jnp.stack(parts)] if parts else []
+    if shape is not None:
+        parts.append(shape_residuals(model, mode, shape, units))
+    return jnp.concatenate(parts)
 
 
 def _optimiser(loss, method: str, max_steps: int, gtol: float = 1e-6):
@@ -238,17 +271,31 @@ def _optimiser(loss, method: str, max_steps: int, gtol: float = 1e-6):
     return run
 
 
-def _summarise(model, free, log, u, to_params, residuals, targets, shape, units, loss, gnorm, solver, starts) -> FitResult:
+def _summarise(model, free, log, u, to_params, residuals, targets, shape, units, loss, gnorm, solver, cycle_setup, starts) -> FitResult:
     log = np.asarray(log)
     full = to_params(u)
     mode = jax.jit(_dominant_mode_impl, static_argnums=(0, 2))(model, full, solver)
     achieved = {k: float(scalar_value(mode, k, units)) for k in SCALARS}
-    r = np.asarray(jax.jit(residuals)(u))
     n_scalar = len(targets)
-    res = {t.name: float(v) for t, v in zip(targets, r[:n_scalar])}
+
+    def final(u):
+        # One compiled program for the residuals, their Jacobian and the cycle's measures.
+        out = {"r": residuals(u), "J": jax.jacfwd(residuals)(u)}  # d r / d u (u: log or linear)
+        if cycle_setup is not None:
+            cubic, orbit_solver = cycle_setup
+            cycle = orbit_solver.solve(model, to_params(u), cubic)
+            out["cycle"] = {k: cycle_value(cycle, k, units) for k in ("frequency_hz", "amplitude_um", "wavelength_um")}
+            out["converged"] = cycle.converged
+        return out
+
+    out = jax.jit(final)(u)
+    if cycle_setup is not None:
+        for k, v in out["cycle"].items():
+            achieved[f"limit_cycle_{k}"] = float(v) if bool(out["converged"]) else math.nan
+    r, J = np.asarray(out["r"]), np.asarray(out["J"])
+    res = {t.key: float(v) for t, v in zip(targets, r[:n_scalar])}
     shape_rms = float(np.sqrt(np.mean(r[n_scalar:] ** 2))) if shape is not None else None
 
-    J = np.asarray(jax.jit(jax.jacfwd(residuals))(u))  # d r / d u (u: log or linear)
     fisher = J.T @ J
     if np.all(np.isfinite(fisher)):
         # Tiny ridge: a singular direction gets a huge (finite) variance, flagged below.
@@ -267,7 +314,7 @@ def _summarise(model, free, log, u, to_params, residuals, targets, shape, units,
     reproduced = all(abs(v) <= 1.0 for v in res.values()) and (shape_rms is None or shape_rms <= SHAPE_RMS_OK)
     converged = bool(reproduced and math.isfinite(loss))
     if not reproduced:
-        off = [f"{t.name} {achieved[t.name]:.4g} vs {t.value:.4g} +- {t.sigma:.3g} ({res[t.name]:+.1f} sigma)" for t in targets if abs(res[t.name]) > 1.0]
+        off = [f"{t.key} {achieved[t.key]:.4g} vs {t.value:.4g} +- {t.sigma:.3g} ({res[t.key]:+.1f} sigma)" for t in targets if abs(res[t.key]) > 1.0]
         if shape_rms is not None and shape_rms > SHAPE_RMS_OK:
             off.append(f"mode shape rms residual {shape_rms:.2f} sigma")
         message = "targets not reproduced within their uncertainty (infeasible for this model and bounds?): " + "; ".join(off)

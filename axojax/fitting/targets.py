@@ -3,7 +3,10 @@ uncertainty, turned into normalised residuals ``(model - observed) / sigma``.
 
 Scalar targets (physical units, from the dominant mode): ``frequency_hz``,
 ``wavelength_um``, ``velocity_um_per_s`` and ``growth_rate_per_s`` (a beating cilium sits
-near the Hopf boundary: target 0 with a tolerance). A :class:`ShapeTarget` is an observed
+near the Hopf boundary: target 0 with a tolerance). With ``source="limit_cycle"`` a target
+is a measure of the nonlinear beat's periodic orbit (:func:`axojax.orbits.limit_cycle`,
+differentiable by the implicit function theorem) instead: ``frequency_hz``,
+``amplitude_um`` (tip, half peak-to-peak along the beat direction) or ``wavelength_um``. A :class:`ShapeTarget` is an observed
 first Fourier mode of the tangent angle, psi_1(s); the model's psi_1 (the dominant
 eigenvector's centreline slope in its beat plane) is fitted with the best complex scale
 alpha, so the residual ``psi_obs - alpha psi_model`` ignores the mode's arbitrary
@@ -26,19 +29,32 @@ from ..models.section import Model
 from ..units import Units
 
 SCALARS = ("frequency_hz", "wavelength_um", "velocity_um_per_s", "growth_rate_per_s")
+CYCLE_SCALARS = ("frequency_hz", "amplitude_um", "wavelength_um")
+SOURCES = ("linear", "limit_cycle")
 
 
 @dataclasses.dataclass(frozen=True)
 class Target:
-    """A scalar observable ``name`` observed as ``value +- sigma`` (physical units)."""
+    """A scalar observable ``name`` observed as ``value +- sigma`` (physical units), of the
+    dominant linear mode (``source="linear"``) or of the limit cycle
+    (``source="limit_cycle"``: ``frequency_hz``, ``amplitude_um``, ``wavelength_um``)."""
 
     name: str
     value: float
     sigma: float
+    source: str = "linear"
+
+    @property
+    def key(self) -> str:
+        """Name in results: ``name`` (linear) or ``limit_cycle_<name>``."""
+        return self.name if self.source == "linear" else f"{self.source}_{self.name}"
 
     def __post_init__(self) -> None:
-        if self.name not in SCALARS:
-            raise ValueError(f"unknown target {self.name!r}; choose from {', '.join(SCALARS)}")
+        if self.source not in SOURCES:
+            raise ValueError(f"unknown target source {self.source!r}; choose from {', '.join(SOURCES)}")
+        names = SCALARS if self.source == "linear" else CYCLE_SCALARS
+        if self.name not in names:
+            raise ValueError(f"unknown {self.source} target {self.name!r}; choose from {', '.join(names)}")
         if not math.isfinite(self.value):
             raise ValueError(f"target {self.name} must be finite, got {self.value!r}")
         if not (math.isfinite(self.sigma) and self.sigma > 0):
@@ -93,3 +109,8 @@ def shape_residuals(model: Model, mode: Mode, target: ShapeTarget, units: Units)
     alpha = jnp.vdot(psi_m, obs) / jnp.vdot(psi_m, psi_m)
     r = (obs - alpha * psi_m) / target.sigma
     return jnp.concatenate([jnp.real(r), jnp.imag(r)])
+
+
+def cycle_value(cycle, name: str, units: Units) -> Float[Array, ""]:
+    """Limit-cycle observable ``name`` (``CYCLE_SCALARS``) in physical units."""
+    return {"frequency_hz": cycle.frequency_hz, "amplitude_um": cycle.amplitude_um, "wavelength_um": cycle.wavelength_um}[name](units)

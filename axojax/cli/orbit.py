@@ -1,0 +1,118 @@
+"""``axojax orbit``: the limit cycle computed directly, or its branch in p from the Hopf
+point (harmonic balance, Newton, Floquet multipliers; :mod:`axojax.orbits`)."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import pathlib
+import sys
+
+import numpy as np
+
+from ..dynamics.simulate import DEFAULT_CUBIC
+from ..params import Params
+from . import common
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    common.add_model_flags(parser, axes=True)
+    parser.add_argument("--cubic", type=common.finite_float, default=DEFAULT_CUBIC, metavar="KAPPA", help=f"cubic link stiffening kappa, 1/L^2 (default {DEFAULT_CUBIC:g})")
+    parser.add_argument("--harmonics", default=10, metavar="H", help="harmonics of the orbit (default 10)")
+    parser.add_argument("--out", default=None, metavar="FILE.npz", help="write the orbits (the branch) here")
+    parser.add_argument("--plot", default=None, metavar="FIGURE.png", help="figure: the branch (amplitude, frequency, stability against p) or the single orbit's waveform")
+
+
+def _check_path(flag: str, path: str | None, suffix: str | None = None) -> None:
+    if path is None:
+        return
+    if suffix and not str(path).endswith(suffix):
+        raise common.CLIError(f"{flag}: expected a {suffix} path, got {path!r}")
+    if not pathlib.Path(path).resolve().parent.is_dir():
+        raise common.CLIError(f"{flag}: directory of {path!r} does not exist")
+
+
+def run(args: argparse.Namespace) -> dict:
+    from ..orbits import HarmonicBalance, limit_cycle
+    from ..orbits.branch import Branch, branch
+
+    model = common.model_from_args(args)
+    units = common.units_from_args(args)
+    fixed, axes = common.split_axes(args, args._argv)
+    other = [f for f in axes if f != "p"]
+    if other:
+        raise common.CLIError(f"--{common.FIELD_FLAGS[other[0]]}: only --p takes an axis in 'orbit' (the branch in p)")
+    params = Params().with_values(fixed, common.kl_ratio(args))
+    common.check_params(params)
+    if not (args.cubic > 0):
+        raise common.CLIError(f"--cubic: must be > 0 (the stiffening that bounds the beat), got {args.cubic:g}")
+    if model.link_B.shape[0] == 0:
+        raise common.CLIError(f"--model: {model.name!r} has no links, so the cubic link force cannot bound a beat; use a model with links")
+    try:
+        H = int(str(args.harmonics))
+        if H < 1:
+            raise ValueError
+    except ValueError:
+        raise common.CLIError(f"--harmonics: expected an integer >= 1, got {args.harmonics!r}") from None
+    _check_path("--out", args.out, ".npz")
+    _check_path("--plot", args.plot)
+    solver = HarmonicBalance(harmonics=H)
+
+    if "p" not in axes:
+        try:
+            cycle = limit_cycle(model, params, args.cubic, solver=solver)
+        except ValueError as err:
+            raise common.CLIError(f"--p: {err}") from None
+        report = {"p": float(params.p), **cycle.report(units)}
+        if args.out is not None:
+            Branch(np.array([float(params.p)]), [report], math.nan, math.nan, {"model": model.name, "n_elements": model.n_elements, "cubic": args.cubic}).save(args.out)
+        if args.plot is not None:
+            from ..orbits.plot import plot_orbit, save
+
+            save(plot_orbit(cycle, units), args.plot)
+        return {"orbits": [report]}
+
+    p_values = axes["p"]
+    if np.any(p_values <= 0):
+        raise common.CLIError(f"--p: forces must be > 0, got {p_values.min():g}")
+    show = not args.json and sys.stderr.isatty()
+    bar = None
+    if show:
+        from tqdm.auto import tqdm
+
+        bar = tqdm(total=len(p_values), desc="orbits", unit="p")
+
+    def progress(p, cyc):
+        if bar is not None:
+            bar.update(1)
+            bar.set_postfix_str(f"p={p:.4g} " + ("no orbit" if cyc is None else f"{float(cyc.frequency_hz(units)):.3f} Hz"))
+
+    try:
+        result = branch(model, params, args.cubic, p_values, solver=solver, units=units, callback=progress)
+    except ValueError as err:
+        raise common.CLIError(f"--p: {err}") from None
+    finally:
+        if bar is not None:
+            bar.close()
+    if args.out is not None:
+        result.save(args.out)
+    if args.plot is not None:
+        from ..orbits.plot import plot_branch, save
+
+        save(plot_branch(result.arrays(), {**result.meta, "p_hopf": result.p_hopf, "hopf_frequency_hz": result.hopf_frequency_hz}), args.plot)
+    return result.report()
+
+
+def render(doc: dict) -> str:
+    lines = []
+    if "hopf" in doc:
+        h = doc["hopf"]
+        lines.append(f"Hopf point of the equilibrium: p = {h['p']:.6g}, {h['frequency_hz']:.3f} Hz")
+    lines.append(f"{'p':>10s}  {'freq (Hz)':>10s}  {'period (ms)':>11s}  {'tip amp (um)':>12s}  {'wavelength (um)':>15s}  {'|rho_2|':>8s}  stable")
+    for o in doc["orbits"]:
+        rho = sorted((abs(complex(*r)) for r in o["floquet"]), reverse=True)
+        second = rho[1] if len(rho) > 1 else float("nan")
+        lines.append(f"{o['p']:10.5g}  {o['frequency_hz']:10.4f}  {o['period_s'] * 1e3:11.3f}  {o['tip_amplitude_um']:12.4f}  {o['wavelength_um']:15.3f}  {second:8.4f}  {o['stable']}")
+    if doc.get("missing"):
+        lines.append("no orbit at p = " + ", ".join(f"{p:g}" for p in doc["missing"]))
+    return "\n".join(lines)

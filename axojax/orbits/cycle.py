@@ -1,0 +1,187 @@
+"""``LimitCycle``: a periodic orbit and its measures (dimensionless fields; physical
+units through :class:`axojax.Units`)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Complex, Float
+
+from ..eigen.metrics import wavenumber
+from ..fem import interpolation_matrix
+from ..models.section import Model
+from ..units import Units
+from ..waveform import FourierModes
+from .fourier import evaluate
+
+REFINE_GRID = 512
+
+
+class LimitCycle(eqx.Module):
+    """A periodic orbit ``q(theta) = c_0 + sum_k a_k cos(k theta) + b_k sin(k theta)``,
+    ``theta = omega t`` (t in tau, q in L).
+
+    Attributes:
+        model: the model (static).
+        coefficients: (2H+1, n) ``[c_0, a_1..a_H, b_1..b_H]``.
+        omega: angular frequency (rad per tau).
+        amplitude: half peak-to-peak tip displacement along the beat direction (L).
+        beat_angle: beat direction (radians from y towards z; 0 in planar models).
+        wavenumber: mean phase gradient of the first harmonic (rad per L; negative:
+            anterograde, MODEL.md section 5).
+        floquet: (k,) multipliers of largest modulus, largest first (NaN-padded); one is
+            1 (the phase).
+        converged: whether Newton converged (otherwise the coefficients are a finite
+            stand-in: the linear mode at small amplitude).
+        started: whether there was a start (False: the Hopf normal form has no orbit here).
+        steps: Newton iterations (last stage).
+        correction: last scaled Newton correction.
+        linear_eigenvalue: dominant eigenvalue of the straight state at these parameters.
+        phase_ref: (n,) the phase condition ``phase_ref . b_1 = 0``.
+    """
+
+    model: Model = eqx.field(static=True)
+    coefficients: Float[Array, "m n"]
+    omega: Float[Array, ""]
+    amplitude: Float[Array, ""]
+    beat_angle: Float[Array, ""]
+    wavenumber: Float[Array, ""]
+    floquet: Complex[Array, " k"]
+    converged: Array
+    started: Array
+    steps: Array
+    correction: Array
+    linear_eigenvalue: Complex[Array, ""]
+    phase_ref: Float[Array, " n"]
+
+    # -- physical units -------------------------------------------------------------
+    @property
+    def period(self) -> Float[Array, ""]:
+        """Period (tau)."""
+        return 2 * jnp.pi / self.omega
+
+    @property
+    def harmonics(self) -> int:
+        return (self.coefficients.shape[-2] - 1) // 2
+
+    def frequency_hz(self, units: Units = Units()) -> Float[Array, ""]:
+        return self.omega / (2 * jnp.pi * units.tau_s)
+
+    def period_s(self, units: Units = Units()) -> Float[Array, ""]:
+        return self.period * units.tau_s
+
+    def amplitude_um(self, units: Units = Units()) -> Float[Array, ""]:
+        """Tip amplitude along the beat direction (um; half peak-to-peak)."""
+        return self.amplitude * units.length_um
+
+    def wavelength_um(self, units: Units = Units()) -> Float[Array, ""]:
+        return 2 * jnp.pi / jnp.maximum(jnp.abs(self.wavenumber), 1e-6) * units.length_um
+
+    @property
+    def stable(self) -> Array:
+        """All multipliers but the phase one (the closest to 1) inside the unit circle
+        (False when none were computed: ``HarmonicBalance(floquet=0)``)."""
+        rho = self.floquet
+        if rho.shape[-1] == 0:
+            return jnp.zeros(rho.shape[:-1], bool)
+        finite = jnp.isfinite(rho)
+        trivial = jnp.argmin(jnp.where(finite, jnp.abs(rho - 1), jnp.inf))
+        others = jnp.where(finite & (jnp.arange(rho.shape[-1]) != trivial), jnp.abs(rho), 0.0)
+        return jnp.max(others) < 1.0
+
+    # -- the waveform -----------------------------------------------------------------
+    def states(self, n_frames: int = 64) -> tuple[np.ndarray, np.ndarray]:
+        """(t (T,) in tau over one period, q (T, n)) at ``n_frames`` equal phase steps."""
+        theta = 2 * np.pi * np.arange(n_frames) / n_frames
+        q = evaluate(self.coefficients, jnp.asarray(theta))
+        return theta / float(self.omega), np.asarray(q)
+
+    def centreline_beat(self, x: np.ndarray, n_frames: int = 64, derivative: int = 0) -> tuple[np.ndarray, np.ndarray]:
+        """(t (T,) tau, centreline (or slope) along the beat direction (T, S), L or rad)."""
+        t, q = self.states(n_frames)
+        u = centreline_coefficients(self.model, q, np.asarray(x, dtype=float), derivative)  # (T, d, S)
+        return t, _along(u, float(self.beat_angle))
+
+    def fourier_modes(self, n_points: int = 41, units: Units = Units()) -> FourierModes:
+        """Static and first Fourier modes of the tangent angle psi(s, t) along the beat
+        direction (s in um): exactly the orbit's harmonics 0 and 1."""
+        x = np.linspace(0.0, 1.0, n_points)
+        X = np.asarray(self.coefficients)
+        H = self.harmonics
+        slope = centreline_coefficients(self.model, np.stack([X[0], X[1], X[H + 1]]), x, 1)
+        psi = _along(slope, float(self.beat_angle))  # (3, S)
+        return FourierModes(s=x * units.length_um, psi0=psi[0], psi1=psi[1] - 1j * psi[2], omega=float(self.frequency_hz(units)) * 2 * np.pi)
+
+    def report(self, units: Units = Units()) -> dict[str, Any]:
+        """Plain-Python summary in physical units (``axojax orbit --json``)."""
+        modes = self.fourier_modes(units=units)
+        rho = np.asarray(self.floquet)
+        rho = rho[np.isfinite(rho)]
+        return {
+            "frequency_hz": float(self.frequency_hz(units)),
+            "period_s": float(self.period_s(units)),
+            "tip_amplitude_um": float(self.amplitude_um(units)),
+            "wavelength_um": float(self.wavelength_um(units)),
+            "direction": "anterograde" if float(self.wavenumber) < 0 else "retrograde",
+            "static_curvature_rad_per_um": modes.static_curvature,
+            "dynamic_amplitude_rad": modes.dynamic_amplitude,
+            "floquet": [[float(r.real), float(r.imag)] for r in rho],
+            "stable": bool(self.stable) if rho.size else None,
+            "converged": bool(self.converged),
+            "harmonics": self.harmonics,
+        }
+
+
+def centreline_coefficients(model: Model, q, x: np.ndarray, derivative: int = 0):
+    """Centreline (mean over filaments) of states q (..., n) at x: (..., d, S)."""
+    phi = jnp.asarray(interpolation_matrix(model.n_elements, np.asarray(x, dtype=float), derivative))
+    per = jnp.reshape(q, q.shape[:-1] + (model.n_filaments, model.n_dirs, model.mesh.n_dof)).mean(axis=-3)
+    return jnp.einsum("sr,...dr->...ds", phi, per)
+
+
+def _along(v, angle):
+    """Component along the beat direction of (..., d, S) -> (..., S)."""
+    if v.shape[-2] == 1:
+        return v[..., 0, :]
+    return jnp.cos(angle) * v[..., 0, :] + jnp.sin(angle) * v[..., 1, :]
+
+
+def measures(model: Model, X: Float[Array, "m n"]) -> tuple[Array, Array, Array]:
+    """(amplitude (L), beat angle, wavenumber (rad/L)) of the orbit X; differentiable."""
+    H = (X.shape[0] - 1) // 2
+    tip = centreline_coefficients(model, X, np.array([1.0]))[..., 0]  # (2H+1, d)
+    if model.n_dirs == 1:
+        angle = jnp.zeros(())
+        y = tip[:, 0]
+    else:
+        osc = tip[1:]
+        R = osc.T @ osc / 2  # covariance of the tip motion (2 x 2)
+        angle = 0.5 * jnp.arctan2(2 * R[0, 1], R[0, 0] - R[1, 1])
+        e = jnp.stack([jnp.cos(angle), jnp.sin(angle)])
+        # sign convention of ax.simulate: the larger component of the direction is positive
+        flip = jnp.where(jnp.abs(e[0]) >= jnp.abs(e[1]), e[0] < 0, e[1] < 0)
+        angle = jnp.where(flip, angle + jnp.pi, angle)
+        angle = jnp.where(angle > jnp.pi, angle - 2 * jnp.pi, angle)
+        y = tip @ jnp.stack([jnp.cos(angle), jnp.sin(angle)])
+    amplitude = 0.5 * (_extreme(y, H, 1.0) - _extreme(y, H, -1.0))
+    Q1 = X[1] - 1j * X[H + 1]
+    return amplitude, angle, wavenumber(model, Q1)
+
+
+def _extreme(y, H: int, sign: float):
+    """max (sign=1) or min (sign=-1) of the trigonometric polynomial with coefficients y:
+    the best of a fine grid, refined by Newton steps on y'(theta) = 0."""
+    k = jnp.arange(1, H + 1)
+    a, b = y[1 : H + 1], y[H + 1 :]
+    grid = 2 * jnp.pi * jnp.arange(REFINE_GRID) / REFINE_GRID
+    vals = evaluate(y[:, None], grid)[:, 0]
+    th = jax.lax.stop_gradient(grid[jnp.argmax(sign * vals)])
+    for _ in range(3):
+        d1 = jnp.sum(k * (-a * jnp.sin(k * th) + b * jnp.cos(k * th)))
+        d2 = jnp.sum(k**2 * (-a * jnp.cos(k * th) - b * jnp.sin(k * th)))
+        th = jax.lax.stop_gradient(th - d1 / jnp.where(d2 != 0, d2, 1.0))
+    return evaluate(y[:, None], th[None])[0, 0]

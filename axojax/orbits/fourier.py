@@ -1,0 +1,167 @@
+"""Harmonic balance (Fourier-Galerkin) discretisation of a periodic orbit of
+``C dq/dt = -A q - f_nl(q) + b``.
+
+With theta = omega t the phase, the orbit is a trigonometric polynomial of degree H::
+
+    q(theta) = c_0 + sum_k a_k cos(k theta) + b_k sin(k theta),   X = [c_0, a_1..a_H, b_1..b_H]  (2H+1, n)
+
+and the residual is the Galerkin projection of the equation onto the same harmonics::
+
+    R(X, omega) = omega (D X) C^T + X A^T + P f_nl(E X) - e_0 b^T          (2H+1, n)
+
+``D`` is d/dtheta on the coefficients, ``E`` (N_t, 2H+1) evaluates the series at
+``N_t`` equally spaced phases and ``P`` (2H+1, N_t) projects samples back onto the
+harmonics (alternating frequency-time, AFT). f_nl is cubic in q, so f_nl(q(theta)) is a
+trigonometric polynomial of degree 3H and ``N_t >= 4H + 1`` samples project it exactly
+(no aliasing): the discrete problem is then the exact Galerkin problem, and it keeps
+the continuous problem's phase-shift symmetry exactly (the Floquet exponent 0).
+
+Stiffness costs nothing here: the fast link-relaxation modes enter only through the
+well-conditioned blocks ``A + i k omega C``.
+
+Structure: ordered node-major (:func:`axojax.assembly.node_major`) with the harmonics
+inside each node, the Jacobian is block-tridiagonal (A, C and the cubic force's
+Jacobian couple neighbouring nodes only) with N_e blocks of size (2H+1) 2 F d, and is
+factored by :func:`axojax.linalg.lu_factor` in O(N_e ((2H+1) 2 F d)^3) instead of
+O((N_e (2H+1) 2 F d)^3) (:mod:`axojax.orbits.linear`).
+"""
+
+from __future__ import annotations
+
+import functools
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Float
+
+from ..assembly import System, assemble_blocks, node_major
+from ..dynamics.nonlinear import cubic_link_force
+from ..linalg import BlockTridiagonal
+from ..models.section import Model
+from ..params import Params
+
+
+@functools.lru_cache(maxsize=32)
+def basis(harmonics: int, samples: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(E (N_t, 2H+1), P (2H+1, N_t), D (2H+1, 2H+1)) for ``harmonics`` H and ``samples`` N_t."""
+    H, N = harmonics, samples
+    theta = 2 * np.pi * np.arange(N) / N
+    k = np.arange(1, H + 1)
+    E = np.concatenate([np.ones((N, 1)), np.cos(np.outer(theta, k)), np.sin(np.outer(theta, k))], axis=1)
+    P = (np.concatenate([[1.0], 2.0 * np.ones(2 * H)]) / N)[:, None] * E.T
+    D = np.zeros((2 * H + 1, 2 * H + 1))
+    D[1 : H + 1, H + 1 :] = np.diag(k)  # (D X)[cos k] = k b_k
+    D[H + 1 :, 1 : H + 1] = -np.diag(k)  # (D X)[sin k] = -k a_k
+    return E, P, D
+
+
+def evaluate(X: Float[Array, "m n"], theta: Float[Array, " T"]) -> Float[Array, "T n"]:
+    """q(theta) of the coefficients X (2H+1, n) at phases theta (any shape (T,))."""
+    H = (X.shape[0] - 1) // 2
+    k = jnp.arange(1, H + 1)
+    Et = jnp.concatenate([jnp.ones(theta.shape + (1,)), jnp.cos(theta[:, None] * k), jnp.sin(theta[:, None] * k)], axis=1)
+    return Et @ X
+
+
+def pad(X: Float[Array, "m n"], harmonics: int) -> Float[Array, "m2 n"]:
+    """Coefficients of degree H as those of degree ``harmonics`` (>= H; zeros above H)."""
+    H = (X.shape[0] - 1) // 2
+    z = jnp.zeros((harmonics - H, X.shape[1]), X.dtype)
+    return jnp.concatenate([X[:1], X[1 : H + 1], z, X[H + 1 :], z], axis=0)
+
+
+class Problem:
+    """The harmonic-balance equations at fixed (model, system, kappa): residual and
+    exact Jacobian in the flat unknown ``x = [X.ravel(), omega]``, with the phase
+    condition ``ref . b_1 = 0`` as the last equation."""
+
+    def __init__(self, model: Model, params: Params, system: System, kappa, harmonics: int, samples: int):
+        self.model, self.params, self.s, self.kappa = model, params, system, kappa
+        self.H, self.N = harmonics, samples
+        E, P, D = basis(harmonics, samples)
+        self.E, self.P, self.D = jnp.asarray(E), jnp.asarray(P), jnp.asarray(D)
+        self.n = model.n_dof
+        self.m = 2 * harmonics + 1
+        self.n_blocks, self.block = model.n_elements, 2 * model.n_fd
+        self.perm = node_major(model)
+        self.inverse_perm = np.argsort(self.perm)
+
+    def f_nl(self, q):
+        return cubic_link_force(self.model, self.params, self.kappa, q)
+
+    def split(self, x):
+        return jnp.reshape(x[:-1], (self.m, self.n)), x[-1]
+
+    def harmonic_residual(self, X, omega):
+        """R(X, omega), shape (2H+1, n)."""
+        s = self.s
+        Fq = jax.vmap(self.f_nl)(self.E @ X)
+        R = omega * (self.D @ X) @ s.C.T + X @ s.A.T + self.P @ Fq
+        return R.at[0].add(-s.b)
+
+    def residual(self, x, ref):
+        X, omega = self.split(x)
+        return jnp.concatenate([jnp.ravel(self.harmonic_residual(X, omega)), (ref @ X[self.H + 1])[None]])
+
+    def harmonic_jacobian(self, X, omega):
+        """d R / d X, shape (m n, m n): omega D (x) C + I (x) A + Galerkin of d f_nl."""
+        s, m, n = self.s, self.m, self.n
+        Df = jax.vmap(jax.jacfwd(self.f_nl))(self.E @ X)  # (N_t, n, n)
+        nl = jnp.einsum("mj,jl,jrs->mrls", self.P, self.E, Df).reshape(m * n, m * n)
+        return omega * jnp.kron(self.D, s.C) + jnp.kron(jnp.eye(m), s.A) + nl
+
+    def jacobian(self, x, ref):
+        """d residual / d x, shape (m n + 1, m n + 1)."""
+        X, omega = self.split(x)
+        m, n, H = self.m, self.n, self.H
+        J = self.harmonic_jacobian(X, omega)
+        d_omega = jnp.ravel((self.D @ X) @ self.s.C.T)
+        phase = jnp.zeros((m, n)).at[H + 1].set(ref).ravel()
+        top = jnp.concatenate([J, d_omega[:, None]], axis=1)
+        bottom = jnp.concatenate([phase, jnp.zeros(1)])[None]
+        return jnp.concatenate([top, bottom], axis=0)
+
+    # -- node-major layout: (node, harmonic, local dof) ---------------------------------
+    def to_nodes(self, v):
+        """Flat (m n,) harmonic-major, filament-major vector -> node layout (N_e m b,)."""
+        V = jnp.reshape(v, (self.m, self.n))[:, self.perm]
+        return jnp.reshape(jnp.swapaxes(jnp.reshape(V, (self.m, self.n_blocks, self.block)), 0, 1), (-1,))
+
+    def from_nodes(self, w):
+        """Inverse of :meth:`to_nodes`."""
+        V = jnp.reshape(jnp.swapaxes(jnp.reshape(w, (self.n_blocks, self.m, self.block)), 0, 1), (self.m, self.n))
+        return jnp.ravel(V[:, self.inverse_perm])
+
+    def _node_blocks(self, M):
+        """(lower, diag, upper) node blocks of a dense filament-major (..., n, n) matrix."""
+        N, b = self.n_blocks, self.block
+        Mn = M[..., self.perm, :][..., :, self.perm]
+        B = jnp.reshape(Mn, M.shape[:-2] + (N, b, N, b))
+        k = np.arange(N)
+        return B[..., k[1:], :, k[:-1], :], B[..., k, :, k, :], B[..., k[:-1], :, k[1:], :]
+
+    def jacobian_blocks(self, X, omega) -> BlockTridiagonal:
+        """d R / d X in the node layout: block-tridiagonal, blocks (m b, m b)."""
+        m, b = self.m, self.block
+        sb = assemble_blocks(self.model, self.params)
+        Df = jax.vmap(jax.jacfwd(self.f_nl))(self.E @ X)  # (N_t, n, n)
+        W = jnp.einsum("mj,jl->jml", self.P, self.E)  # (N_t, m, m)
+        Dm, I = jnp.asarray(self.D), jnp.eye(m)
+
+        def combine(c, a, d):
+            # block (node k, node k'): [(harm, dof), (harm, dof)]
+            out = omega * jnp.einsum("ml,kab->kmalb", Dm, c) + jnp.einsum("ml,kab->kmalb", I, a) + jnp.einsum("jml,kjab->kmalb", W, d)
+            return jnp.reshape(out, (-1, m * b, m * b))
+
+        dl, dd, du = self._node_blocks(Df)  # each (K, N_t, b, b)
+        return BlockTridiagonal(
+            combine(sb.C.lower, sb.A.lower, dl), combine(sb.C.diag, sb.A.diag, dd), combine(sb.C.upper, sb.A.upper, du)
+        )
+
+    def mass_blocks(self) -> BlockTridiagonal:
+        """I_m (x) C in the node layout."""
+        m, b = self.m, self.block
+        C = assemble_blocks(self.model, self.params).C
+        widen = lambda c: jnp.reshape(jnp.einsum("ml,kab->kmalb", jnp.eye(m), c), (-1, m * b, m * b))
+        return BlockTridiagonal(widen(C.lower), widen(C.diag), widen(C.upper))
