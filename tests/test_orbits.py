@@ -142,6 +142,9 @@ def test_branch_cli(two4, p_hopf, tmp_path, capsys):
     assert meta["kind"] == "orbit_branch" and np.isnan(arrays["frequency_hz"][0])
     assert np.allclose(arrays["tip_amplitude_um"][1:], amp)
     assert fig.stat().st_size > 10_000
+    replot = tmp_path / "replot.png"
+    assert main(["plot", str(out), "--out", str(replot), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["kind"] == "orbit_branch" and replot.stat().st_size > 10_000
 
 
 def test_bad_input_one_line(two4, p_hopf, capsys):

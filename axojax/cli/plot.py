@@ -39,7 +39,7 @@ def _figure(args: argparse.Namespace):
         model = common.model_from_args(args)
         return plot_section(model), "section", model.name
     if args.file is None:
-        raise common.CLIError("FILE: give FILE.npz (a sweep or simulation), or --model/--model-file for a cross-section")
+        raise common.CLIError("FILE: give FILE.npz (a sweep, simulation or orbit branch), or --model/--model-file for a cross-section")
     if args.rotation_deg != 0.0:
         raise common.CLIError("--rotation-deg: turns a cross-section (--model); FILE.npz has its own")
     path = pathlib.Path(args.file)
@@ -51,6 +51,10 @@ def _figure(args: argparse.Namespace):
         from ..sweeps import SweepResult
 
         return plot_sweep(SweepResult.load(path)), kind, None
+    if kind == "orbit_branch":
+        from ..orbits.plot import plot_branch
+
+        return plot_branch(path), kind, None
     from ..plotting import plot_simulation
 
     return plot_simulation(path), kind, None
