@@ -39,9 +39,13 @@ def test_classify_synthetic(y, stable, expected):
     assert state == expected
 
 
-def test_failed_or_non_finite_run_is_divergent():
+def test_solver_failure_is_its_own_state_and_non_finite_is_divergent():
+    """A failed solve is ``solver_failed`` whatever the record looks like (here a clean
+    limit cycle); a non-finite record from a solver that reported success is
+    ``divergent``."""
     y = beat(np.ones_like(T))
-    assert classify_trajectory(T, y, 0.0, False)[0] == "divergent"
+    assert classify_trajectory(T, y, 0.0, False)[0] == "solver_failed"
+    assert classify_trajectory(T, 0.01 * np.exp(4 * T), 0.0, False)[0] == "solver_failed"
     y[-1] = np.nan
     assert classify_trajectory(T, y, 0.0, True)[0] == "divergent"
 

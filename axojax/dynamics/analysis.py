@@ -1,10 +1,13 @@
-"""What a simulated trajectory did: decayed, grew, diverged, settled on a limit cycle, or is
-still settling onto one from above.
+"""What a simulated trajectory did: decayed, grew, diverged, settled on a limit cycle, is
+still settling onto one from above, or could not be computed.
 
 Decision rules (tip displacement y(t) along the beat direction, cycles from
 :func:`axojax.waveform.detect_cycles`):
 
-- ``divergent``: the solver failed or the state stopped being finite, or the tip moved
+- ``solver_failed``: the solver stopped before the end (diffrax's result is not
+  ``successful``: step budget spent, step size collapsed, a stage solve failed). Says
+  nothing about the physics: the run carries diffrax's reason and the time reached;
+- ``divergent`` (the solver was fine): the state stopped being finite, or the tip moved
   away monotonically (no turning point in the second half of the record) to more than
   ``DIVERGE_FACTOR`` times its initial distance from the linear equilibrium ``y_eq``
   (of ``A^{-1} b``);
@@ -29,7 +32,7 @@ from ..waveform import Cycles, detect_cycles
 
 CYCLE_RTOL = 0.01
 DIVERGE_FACTOR = 10.0
-STATES = ("decaying", "limit_cycle", "growing", "settling", "divergent")
+STATES = ("decaying", "limit_cycle", "growing", "settling", "divergent", "solver_failed")
 
 
 def classify_trajectory(
@@ -41,11 +44,13 @@ def classify_trajectory(
         t: (T,) times, any unit.
         y: (T,) tip displacement along the beat direction, any unit.
         y_equilibrium: the equilibrium's tip displacement (same unit as y).
-        ok: whether the solver reached the end.
+        ok: whether the solver reached the end; False gives ``solver_failed``.
         equilibrium_stable: whether the linearised equilibrium is stable (dominant
             growth rate < 0); decides ``decaying`` against ``settling``.
     """
-    if not ok or not np.all(np.isfinite(y)):
+    if not ok:
+        return "solver_failed", None
+    if not np.all(np.isfinite(y)):
         return "divergent", None
     cycles = detect_cycles(t, y)
     if cycles.count >= 2:
