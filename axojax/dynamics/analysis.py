@@ -21,7 +21,12 @@ Decision rules (tip displacement y(t) along the beat direction, cycles from
   longer);
 - ``decaying``: amplitudes falling around a stable equilibrium, or no oscillation and
   no departure: the system returns to its equilibrium (straight, or statically bent
-  with imbalance).
+  with imbalance); also, whatever the linear analysis says, when the tip came to rest:
+  over the second half of the record it stays within ``REST_FACTOR`` of the record's
+  largest excursion from ``y_eq`` (what is left is round-off, whose wiggles must not be
+  read as cycles). The straight state can be linearly unstable and still end at rest: a
+  static dynein moment (``b``) bends the filaments to an equilibrium of their own, which
+  the cubic links can make stable.
 """
 
 from __future__ import annotations
@@ -32,6 +37,7 @@ from ..waveform import Cycles, detect_cycles
 
 CYCLE_RTOL = 0.01
 DIVERGE_FACTOR = 10.0
+REST_FACTOR = 1e-6
 STATES = ("decaying", "limit_cycle", "growing", "settling", "divergent", "solver_failed")
 
 
@@ -53,6 +59,9 @@ def classify_trajectory(
     if not np.all(np.isfinite(y)):
         return "divergent", None
     cycles = detect_cycles(t, y)
+    dev = np.asarray(y, dtype=float) - y_equilibrium
+    if np.abs(dev[dev.size // 2 :]).max() <= REST_FACTOR * np.abs(dev).max():
+        return "decaying", cycles
     if cycles.count >= 2:
         a1, a2 = cycles.amplitudes[-2], cycles.amplitudes[-1]
         if cycles.count >= 3 and abs(a2 - a1) <= CYCLE_RTOL * a2:
@@ -60,7 +69,6 @@ def classify_trajectory(
         if a2 > a1:
             return "growing", cycles
         return ("decaying" if equilibrium_stable else "settling"), cycles
-    dev = np.asarray(y, dtype=float) - y_equilibrium
     late = dev[dev.size // 2 :]
     slope = np.diff(late)
     if np.count_nonzero(np.diff(np.sign(slope[slope != 0])) != 0) >= 1:

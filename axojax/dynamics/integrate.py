@@ -33,11 +33,10 @@ import jax.scipy.linalg as jsl
 import optimistix as optx
 from jaxtyping import Array, Float
 
-from ..assembly import assemble, node_major
-from ..linalg import lu_factor
+from ..assembly import assemble, assemble_blocks, node_major
 from ..models.section import Model
 from ..params import Params
-from .chord import MassChord, MassSystem, mass_vector_field
+from .chord import MassChord, MassSystem, block_lu, mass_vector_field
 from .nonlinear import cubic_links
 
 
@@ -77,8 +76,9 @@ def mass_system(model: Model, params: Params, kappa: Float[Array, ""]) -> MassSy
     """The ODE ``C dq/dt = b - A q - f_nl(q)`` at ``params`` as a :class:`MassSystem`
     (``C^{-1} A``, ``C^{-1} b`` and the block LU of ``C`` formed once)."""
     s = assemble(model, params)
+    blocks = assemble_blocks(model, params)
     C_inv = jsl.cho_solve(jsl.cho_factor(s.C, lower=True), jnp.eye(s.C.shape[0]))
-    system = MassSystem(
+    return MassSystem(
         C=s.C,
         A=s.A,
         b=s.b,
@@ -86,11 +86,11 @@ def mass_system(model: Model, params: Params, kappa: Float[Array, ""]) -> MassSy
         C_inv_A=C_inv @ s.A,
         C_inv_b=C_inv @ s.b,
         perm=jnp.asarray(node_major(model)),
-        C_lu=None,
+        C_blocks=blocks.C,
+        A_blocks=blocks.A,
+        C_lu=block_lu(blocks.C),
         links=cubic_links(model, params, kappa),
-        n_blocks=model.n_elements,
     )
-    return eqx.tree_at(lambda m: m.C_lu, system, lu_factor(system.blocks(s.C)), is_leaf=lambda x: x is None)
 
 
 def vector_field(model: Model, params: Params, kappa: Float[Array, ""]):

@@ -23,6 +23,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from ..assembly import link_stiffness
+from ..linalg import BlockTridiagonal
 from ..fem import make_mesh
 from ..fem.filament import _evaluate
 from ..models.section import Model
@@ -73,6 +74,22 @@ class CubicLinks(eqx.Module):
         n = q.shape[0]
         Me = jnp.einsum("qr,eq,qs->ers", self.phi, 3.0 * self.weight * self._stretch(q) ** 2, self.phi)
         return jnp.einsum("ei,ej,ers->irjs", self.B, self.B, Me).reshape(n, n)
+
+    def tangent_blocks(self, q: Float[Array, " n"]) -> BlockTridiagonal:
+        """:meth:`tangent` as node blocks (node-major, the layout of
+        :func:`axojax.assembly.assemble_blocks`): each link's filament-level matrix
+        ``M_e`` is cut into its 2 x 2 node blocks and Kronecker-multiplied by
+        ``B_e B_e^T`` block by block, never forming the n x n matrix."""
+        Me = jnp.einsum("qr,eq,qs->ers", self.phi, 3.0 * self.weight * self._stretch(q) ** 2, self.phi)
+        E, m = Me.shape[0], Me.shape[1]
+        N = m // 2
+        nodes = Me.reshape(E, N, 2, N, 2)
+        k = np.arange(N)
+        rows, cols = np.concatenate([k[1:], k, k[:-1]]), np.concatenate([k[:-1], k, k[1:]])  # lower, diag, upper
+        blocks = nodes[:, rows, :, cols, :]  # (3N-2, E, 2, 2)
+        bs = 2 * self.n_fd
+        out = jnp.einsum("ei,ej,keab->kiajb", self.B, self.B, blocks).reshape(-1, bs, bs)
+        return BlockTridiagonal(out[: N - 1], out[N - 1 : 2 * N - 1], out[2 * N - 1 :])
 
 
 def cubic_links(model: Model, params: Params, kappa: Float[Array, ""]) -> CubicLinks:
