@@ -10,18 +10,21 @@ diffrax's implicit Runge-Kutta methods solve each stage for the vector-field val
 and linearise ``r`` once per step (``VeryChord``: at the step's first implicit stage,
 reused by every later stage of the step). ``VeryChord`` forms that Jacobian by ``jacfwd``
 (n Jacobian-vector products of the dense vector field) and LU-factorises the dense n x n
-result; for the 280-unknown seven-filament model that was most of the 18 ms a step
-took. Here the Jacobian is exact and cheap: with the tangent stiffness
-``K(q) = A + d f_nl / dq`` (:func:`axojax.dynamics.nonlinear.cubic_link_tangent`, a sum
-of rank-one terms at the quadrature points), ``dr/df = C^{-1} (C + c K)``, so each chord
+result; for the 280-unknown seven-filament model the 18 ms a step went (profiled) to that
+``jacfwd``, the dense LU, and in every iteration's ``lu_solve`` jax's 280-step loop that
+turns LAPACK pivots into a permutation. Here the Jacobian is exact and cheap: with the tangent stiffness
+``K(q) = A + d f_nl / dq`` (:meth:`axojax.dynamics.nonlinear.CubicLinks.tangent`, a
+sum of rank-one terms at the quadrature points), ``dr/df = C^{-1} (C + c K)``, so each chord
 update solves::
 
     (C + c K(q_lin)) delta = C r(f) = C f - b + A q + f_nl(q),    q = y_partial + c f,
 
 without ever forming ``C^{-1} K``. ``C + c K`` is block-tridiagonal in node-major order
-(element matrices couple neighbouring nodes; links couple filaments inside a node), so
-it is factorised by :func:`axojax.linalg.lu_factor` (partial pivoting inside each pair
-of block rows, O(N_e (F d)^3)) once per step, and each update is one block solve.
+(element matrices couple neighbouring nodes; links couple filaments inside a node): it
+is assembled from node blocks (``C`` and ``A`` from :func:`axojax.assembly.assemble_blocks`,
+``K`` from :meth:`CubicLinks.tangent_blocks`) and factorised once a step by
+:func:`block_lu` (the algorithm of :func:`axojax.linalg.lu_factor`: partial pivoting
+inside each pair of block rows, O(N_e (F d)^3)); each update is one block solve.
 Before a step's first implicit stage diffrax asks for the Jacobian at ``a_ii = 0`` (the
 identity, used when an explicit first stage is re-evaluated after a rejected step): that
 is ``C^{-1} C``, served from a factorisation of the constant ``C`` made once per solve.
