@@ -86,8 +86,15 @@ class Simulation:
 
     @property
     def reason(self) -> str | None:
-        """One line saying why the run ended in ``solver_failed`` (None otherwise): where
-        the solver stopped and diffrax's reason."""
+        """One line explaining the state where it needs explaining, else None:
+        ``solver_failed`` (where the solver stopped, diffrax's reason), and ``decaying``
+        although the straight state is linearly unstable (the tip came to rest; where the
+        filaments are)."""
+        rest = self.meta.get("at_rest")
+        if self.state == "decaying" and rest is not None:
+            return (f"the straight state is linearly unstable ({self.linear['classification']}) but the tip came to rest: the run ended "
+                    f"at a static state with filament tips up to {rest['max_filament_tip_um']:.3g} um from the axis "
+                    f"(centreline tip {rest['centreline_tip_um']:.2g} um)")
         if self.state != "solver_failed":
             return None
         solver = self.meta["solver"]
@@ -237,7 +244,12 @@ def simulate(
             "dynamic_amplitude_rad": modes.dynamic_amplitude,
             "cycles": cycles.count,
         }
+    at_rest = None
+    if state == "decaying" and linear["growth_rate_per_s"] > 0:
+        tips = q[-1].reshape(model.n_filaments, model.n_dirs, -1)[:, :, -2] * units.length_um  # u at the tip node
+        at_rest = {"max_filament_tip_um": float(np.abs(tips).max()), "centreline_tip_um": float(np.abs(tip_t[-1]).max() * units.length_um)}
     meta = {
+        "at_rest": at_rest,
         "model": model.name,
         "n_elements": model.n_elements,
         "params": {k: float(v) for k, v in params.as_dict().items()},
