@@ -23,8 +23,11 @@ without ever forming ``C^{-1} K``. ``C + c K`` is block-tridiagonal in node-majo
 (element matrices couple neighbouring nodes; links couple filaments inside a node): it
 is assembled from node blocks (``C`` and ``A`` from :func:`axojax.assembly.assemble_blocks`,
 ``K`` from :meth:`CubicLinks.tangent_blocks`) and factorised once a step by
-:func:`block_lu` (the algorithm of :func:`axojax.linalg.lu_factor`: partial pivoting
-inside each pair of block rows, O(N_e (F d)^3)); each update is one block solve.
+:func:`axojax.linalg.lu_factor` (partial pivoting inside each pair of block rows,
+O(N_e (F d)^3)); each update is one block solve. (Measured and dropped: unrolling the
+loops over blocks ran slower and doubled the compile time of a gradient through the
+solver; composing each panel's pivots by a tree of gathers instead of jax's loop saved
+3 %.)
 Before a step's first implicit stage diffrax asks for the Jacobian at ``a_ii = 0`` (the
 identity, used when an explicit first stage is re-evaluated after a rejected step): that
 is ``C^{-1} C``, served from a factorisation of the constant ``C`` made once per solve.
@@ -49,10 +52,7 @@ import jax.numpy as jnp
 import optimistix as optx
 from jaxtyping import Array, Float, Int, PyTree, Scalar
 
-from jax.scipy.linalg import solve_triangular
-
-from ..linalg import BlockLU, BlockTridiagonal
-from ..linalg.blocktri import _padded
+from ..linalg import BlockLU, BlockTridiagonal, lu_factor
 from .nonlinear import CubicLinks
 
 
@@ -86,72 +86,7 @@ class MassSystem(eqx.Module):
 
     def solve(self, lu: BlockLU, rhs: Float[Array, " n"]) -> Float[Array, " n"]:
         """``M^{-1} rhs`` for filament-major vectors, ``lu`` a node-major factor of M."""
-        return jnp.zeros_like(rhs).at[self.perm].set(block_solve(lu, rhs[self.perm]))
-
-
-def perm_from_pivots(pivots: Int[Array, " k"], m: int) -> Int[Array, " m"]:
-    """The row permutation ``perm`` (``(P M) = M[perm]``) of LAPACK pivots (row i swapped
-    with row ``pivots[i]``, i = 0, 1, ...), as ``jax.lax.linalg.lu`` returns it, but
-    composed by a tree of ceil(log2 k) gathers instead of jax's k-step loop (on the CPU
-    that loop was a third of the operations of a solver step)."""
-    k = pivots.shape[0]
-    i = jnp.arange(k)
-    T = jnp.broadcast_to(jnp.arange(m, dtype=pivots.dtype), (k, m))
-    T = T.at[i, i].set(pivots).at[i, pivots].set(i.astype(pivots.dtype))  # one transposition per row
-    while T.shape[0] > 1:
-        if T.shape[0] % 2:
-            T = jnp.concatenate([T, jnp.arange(m, dtype=T.dtype)[None]])
-        T = jnp.take_along_axis(T[0::2], T[1::2], axis=1)  # compose neighbours, in order
-    return T[0]
-
-
-def block_lu(M: BlockTridiagonal) -> BlockLU:
-    """:func:`axojax.linalg.lu_factor` (same algorithm, same factors, usable by
-    :meth:`BlockLU.solve`) with the loop over blocks unrolled and each panel's row
-    permutation from :func:`perm_from_pivots`: a few hundred operations instead of a few
-    thousand, which is what a factorisation of this size costs on the CPU."""
-    N, b = M.n_blocks, M.block_size
-    P = _padded(M)
-    eye = jnp.eye(b, dtype=M.diag.dtype)
-
-    def step(carry, k):
-        row_k, row_k1 = carry
-        panel = jnp.concatenate([row_k, P.lower[k]])
-        lu, pivots = jax.lax.linalg.lu(panel)[:2]
-        perm = perm_from_pivots(pivots, 2 * b)
-        l11 = jnp.tril(lu[:b], -1) + eye
-        u11 = jnp.triu(lu[:b])
-        l21 = lu[b:]
-        right = jnp.block([[row_k1, jnp.zeros((b, b), lu.dtype)], [P.diag[k + 1], P.upper[k + 1]]])[perm]
-        u1 = solve_triangular(l11, right[:b], lower=True, unit_diagonal=True)
-        schur = right[b:] - l21 @ u1
-        l11inv = solve_triangular(l11, eye, lower=True, unit_diagonal=True)
-        elim = jnp.block([[l11inv, jnp.zeros((b, b), lu.dtype)], [-l21 @ l11inv, eye]])
-        inverse = jnp.zeros_like(perm).at[perm].set(jnp.arange(2 * b, dtype=perm.dtype))
-        fwd = elim[:, inverse]  # fwd @ v == elim @ v[perm]
-        uinv = solve_triangular(u11, eye, lower=False)
-        u12, u13 = u1[:, :b], u1[:, b:]
-        return (schur[:, :b], schur[:, b:]), (fwd, uinv, u12, u13, uinv @ u12, uinv @ u13)
-
-    _, factors = jax.lax.scan(step, (P.diag[0], P.upper[0]), jnp.arange(N), unroll=True)
-    return BlockLU(*factors)
-
-
-def block_solve(lu: BlockLU, rhs: Float[Array, " n"]) -> Float[Array, " n"]:
-    """:meth:`BlockLU.solve` with its two sweeps over the blocks unrolled."""
-    N, b = lu.n_blocks, lu.uinv.shape[-1]
-    R = jnp.concatenate([rhs.reshape(N, b), jnp.zeros((1, b), rhs.dtype)])
-    carry, Z = R[0], []
-    for k in range(N):
-        out = lu.fwd[k] @ jnp.concatenate([carry, R[k + 1]])
-        carry = out[b:]
-        Z.append(out[:b])
-    x1 = x2 = jnp.zeros((b,), rhs.dtype)
-    X = [None] * N
-    for k in reversed(range(N)):
-        X[k] = lu.uinv[k] @ Z[k] - lu.w12[k] @ x1 - lu.w13[k] @ x2
-        x1, x2 = X[k], x1
-    return jnp.concatenate(X)
+        return jnp.zeros_like(rhs).at[self.perm].set(lu.solve(rhs[self.perm]))
 
 
 def mass_vector_field(t, q, system: MassSystem):
@@ -190,7 +125,7 @@ class MassChord(optx.AbstractRootFinder):
         c, q_lin, system = _stage(y, args)
 
         def factor():
-            return block_lu(system.C_blocks + (system.A_blocks + system.links.tangent_blocks(q_lin)).scale(c))
+            return lu_factor(system.C_blocks + (system.A_blocks + system.links.tangent_blocks(q_lin)).scale(c))
 
         lu = lax.cond(c == 0, lambda: system.C_lu, factor)
         return _State(

@@ -34,9 +34,10 @@ import optimistix as optx
 from jaxtyping import Array, Float
 
 from ..assembly import assemble, assemble_blocks, node_major
+from ..linalg import lu_factor
 from ..models.section import Model
 from ..params import Params
-from .chord import MassChord, MassSystem, block_lu, mass_vector_field
+from .chord import MassChord, MassSystem, mass_vector_field
 from .nonlinear import cubic_links
 
 
@@ -88,7 +89,7 @@ def mass_system(model: Model, params: Params, kappa: Float[Array, ""]) -> MassSy
         perm=jnp.asarray(node_major(model)),
         C_blocks=blocks.C,
         A_blocks=blocks.A,
-        C_lu=block_lu(blocks.C),
+        C_lu=lu_factor(blocks.C),
         links=cubic_links(model, params, kappa),
     )
 
