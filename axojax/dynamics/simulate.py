@@ -30,8 +30,8 @@ MIN_SAMPLES_PER_S = 2000.0
 MAX_SAMPLES = 200_000
 STEPS_PER_PERIOD = 2000
 """Default step budget per period (of the linear frequency, at least 20 Hz) on top of
-``MIN_STEPS``: the nonlinear beat takes about 250 accepted steps a period (10 elements,
-``benchmarks/bench_simulate.py``: 4850 in 20 periods); a solve whose step size collapses
+``MIN_STEPS``: the nonlinear beat takes about 250 steps a period (10 elements,
+``benchmarks/bench_simulate.py``: 4257 accepted and 698 rejected in 20 periods); a solve whose step size collapses
 stops at the budget and ends in the state ``solver_failed`` (with diffrax's reason and the
 time reached) instead of running for most of an hour."""
 MIN_STEPS = 10_000
