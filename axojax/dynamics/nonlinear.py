@@ -8,18 +8,22 @@ already in A (``K_link``). The cubic part, by virtual work::
     f_nl(q) = kappa sum_e k_e int k(x) delta_a_e(x)^3 (B_e (x) phi(x)) dx
 
 integrated with 7 Gauss points per element (exact: the integrand is a polynomial of
-degree 12 on each element). One dense contraction, no loop over links or elements.
+degree 12 on each element). One dense contraction, no loop over links or elements. Its
+exact Jacobian (the tangent stiffness, for the implicit solver) is a sum of rank-one
+terms at the quadrature points: :meth:`CubicLinks.tangent`.
 """
 
 from __future__ import annotations
 
 import functools
 
+import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
 from ..assembly import link_stiffness
+from ..linalg import BlockTridiagonal
 from ..fem import make_mesh
 from ..fem.filament import _evaluate
 from ..models.section import Model
@@ -35,13 +39,74 @@ def _rule(model: Model) -> tuple[np.ndarray, np.ndarray]:
     return mesh.phi, mesh.weights * _evaluate(model.profiles.k, mesh.x, "k")
 
 
+class CubicLinks(eqx.Module):
+    """The cubic link force of one model at one parameter point, as data (a pytree: it
+    can travel through diffrax as ``args``).
+
+    Attributes:
+        B: (E, F d) link rows ``B_e``.
+        phi: (Q, 2 N_e) shape functions at the quadrature points.
+        weight: (E, Q) ``kappa k_e w_q k(x_q)``.
+        n_fd: number of (filament, direction) pairs.
+    """
+
+    B: Float[Array, "E fd"]
+    phi: Float[Array, "Q m"]
+    weight: Float[Array, "E Q"]
+    n_fd: int = eqx.field(static=True)
+
+    def _stretch(self, q: Float[Array, " n"]) -> Float[Array, "E Q"]:
+        return self.B @ (jnp.reshape(q, (self.n_fd, self.phi.shape[1])) @ self.phi.T)  # delta_a_e(x_q)
+
+    def force(self, q: Float[Array, " n"]) -> Float[Array, " n"]:
+        """f_nl(q), shape (n,)."""
+        return jnp.ravel(self.B.T @ (self.weight * self._stretch(q) ** 3) @ self.phi)
+
+    def tangent(self, q: Float[Array, " n"]) -> Float[Array, "n n"]:
+        """d f_nl / dq at ``q``, shape (n, n): the exact tangent stiffness::
+
+            sum_e sum_quad 3 kappa k_e w k(x) delta_a_e(x)^2 (B_e (x) phi)(B_e (x) phi)^T
+
+        (symmetric positive semi-definite for kappa >= 0), built as one filament-level
+        matrix per link, ``M_e = Phi^T diag(3 weight_e delta_a_e^2) Phi``, Kronecker-
+        multiplied by ``B_e B_e^T``: O(E Q m^2 + E n^2) with m = 2 N_e, no
+        Jacobian-vector products."""
+        n = q.shape[0]
+        Me = jnp.einsum("qr,eq,qs->ers", self.phi, 3.0 * self.weight * self._stretch(q) ** 2, self.phi)
+        return jnp.einsum("ei,ej,ers->irjs", self.B, self.B, Me).reshape(n, n)
+
+    def tangent_blocks(self, q: Float[Array, " n"]) -> BlockTridiagonal:
+        """:meth:`tangent` as node blocks (node-major, the layout of
+        :func:`axojax.assembly.assemble_blocks`): each link's filament-level matrix
+        ``M_e`` is cut into its 2 x 2 node blocks and Kronecker-multiplied by
+        ``B_e B_e^T`` block by block, never forming the n x n matrix."""
+        Me = jnp.einsum("qr,eq,qs->ers", self.phi, 3.0 * self.weight * self._stretch(q) ** 2, self.phi)
+        E, m = Me.shape[0], Me.shape[1]
+        N = m // 2
+        nodes = Me.reshape(E, N, 2, N, 2)
+        k = np.arange(N)
+        rows, cols = np.concatenate([k[1:], k, k[:-1]]), np.concatenate([k[:-1], k, k[1:]])  # lower, diag, upper
+        blocks = nodes[:, rows, :, cols, :]  # (3N-2, E, 2, 2)
+        bs = 2 * self.n_fd
+        out = jnp.einsum("ei,ej,keab->kiajb", self.B, self.B, blocks).reshape(-1, bs, bs)
+        return BlockTridiagonal(out[: N - 1], out[N - 1 : 2 * N - 1], out[2 * N - 1 :])
+
+
+def cubic_links(model: Model, params: Params, kappa: Float[Array, ""]) -> CubicLinks:
+    """:class:`CubicLinks` of ``model`` at ``params`` (a model without links gets one
+    zero-stiffness placeholder link, so that force and tangent are zero)."""
+    phi, wk = (jnp.asarray(a) for a in _rule(model))
+    if model.link_B.shape[0] == 0:
+        return CubicLinks(B=jnp.zeros((1, model.n_fd)), phi=phi, weight=jnp.zeros((1, wk.shape[0])), n_fd=model.n_fd)
+    k = jnp.asarray(kappa, dtype=float) * link_stiffness(model, params)
+    return CubicLinks(B=jnp.asarray(model.link_B, dtype=float), phi=phi, weight=k[:, None] * wk[None, :], n_fd=model.n_fd)
+
+
 def cubic_link_force(model: Model, params: Params, kappa: Float[Array, ""], q: Float[Array, " n"]) -> Float[Array, " n"]:
     """f_nl(q), shape (n,), dimensionless force (EI/L^2 per unit L); zero without links."""
-    if model.link_B.shape[0] == 0:
-        return jnp.zeros_like(q)
-    phi, wk = (jnp.asarray(a) for a in _rule(model))
-    B = jnp.asarray(model.link_B)  # (E, F d)
-    U = jnp.reshape(q, (model.n_fd, model.mesh.n_dof)) @ phi.T  # (F d, Q)
-    da = B @ U  # (E, Q) change of spacing
-    g = (kappa * link_stiffness(model, params))[:, None] * wk[None, :] * da**3
-    return jnp.ravel(B.T @ g @ phi)
+    return cubic_links(model, params, kappa).force(q)
+
+
+def cubic_link_tangent(model: Model, params: Params, kappa: Float[Array, ""], q: Float[Array, " n"]) -> Float[Array, "n n"]:
+    """d f_nl / dq at ``q``, shape (n, n) (:meth:`CubicLinks.tangent`)."""
+    return cubic_links(model, params, kappa).tangent(q)

@@ -20,7 +20,7 @@ from ..units import Units
 from ..waveform import fourier_modes
 from ..waveform.shapes import centreline
 from .analysis import classify_trajectory
-from .integrate import integrate
+from .integrate import integrate, result_message
 
 DEFAULT_CUBIC = 10.0
 """Default cubic stiffening kappa (1/L^2): at p = 1.04 p_c of the seven-filament preset it
@@ -30,9 +30,10 @@ MIN_SAMPLES_PER_S = 2000.0
 MAX_SAMPLES = 200_000
 STEPS_PER_PERIOD = 2000
 """Default step budget per period (of the linear frequency, at least 20 Hz) on top of
-``MIN_STEPS``: the nonlinear beat takes about 250 accepted steps a period (10 elements,
-``benchmarks/bench_simulate.py``: 4806 in 20 periods); a solve whose step size collapses
-stops at the budget and is reported ``divergent`` instead of running for most of an hour."""
+``MIN_STEPS``: the nonlinear beat takes about 250 steps a period (10 elements,
+``benchmarks/bench_simulate.py``: 4257 accepted and 698 rejected in 20 periods); a solve whose step size collapses
+stops at the budget and ends in the state ``solver_failed`` (with diffrax's reason and the
+time reached) instead of running for most of an hour."""
 MIN_STEPS = 10_000
 
 _integrate_jit = jax.jit(integrate, static_argnums=0, static_argnames=("rtol", "atol", "max_steps", "progress"))
@@ -49,14 +50,17 @@ class Simulation:
         psi_rad: (T, S) tangent angle of the centreline in the beat plane (small slopes).
         tip_um: (T, d) tip displacement.
         beat_angle_rad: beat direction, radians from y towards z.
-        state: ``decaying``, ``limit_cycle``, ``growing``, ``settling`` or ``divergent``
-            (rules in :mod:`axojax.dynamics.analysis`).
+        state: ``decaying``, ``limit_cycle``, ``growing``, ``settling``, ``divergent`` or
+            ``solver_failed`` (rules in :mod:`axojax.dynamics.analysis`). After a solver
+            failure the time series end where the solver stopped.
         limit_cycle: on a limit cycle: ``frequency_hz``, ``period_s``, ``tip_amplitude_um``
             (half peak-to-peak along the beat direction), ``static_curvature_rad_per_um``,
             ``dynamic_amplitude_rad``; otherwise None.
         linear: dominant eigenvalue at the same parameters: ``frequency_hz``,
             ``growth_rate_per_s``, ``classification``.
-        meta: parameters, cubic coefficient, units, model, solver statistics.
+        meta: parameters, cubic coefficient, units, model, solver statistics
+            (``meta["solver"]``: steps, rejected steps, ``ok``, diffrax's ``result``
+            message, ``t_reached_s``).
     """
 
     t_s: np.ndarray
@@ -80,10 +84,29 @@ class Simulation:
         """(T, S) centreline displacement along the beat direction (um)."""
         return _along(np.moveaxis(self.centreline_um, 1, -1), self.beat_angle_rad)
 
+    @property
+    def reason(self) -> str | None:
+        """One line explaining the state where it needs explaining, else None:
+        ``solver_failed`` (where the solver stopped, diffrax's reason), and ``decaying``
+        although the straight state is linearly unstable (the tip came to rest; where the
+        filaments are)."""
+        rest = self.meta.get("at_rest")
+        if self.state == "decaying" and rest is not None:
+            return (f"the straight state is linearly unstable ({self.linear['classification']}) but the tip came to rest: the run ended "
+                    f"at a static state with filament tips up to {rest['max_filament_tip_um']:.3g} um from the axis "
+                    f"(centreline tip {rest['centreline_tip_um']:.2g} um)")
+        if self.state != "solver_failed":
+            return None
+        solver = self.meta["solver"]
+        accepted = solver["steps"]
+        mean = f"mean accepted step {solver['t_reached_s'] / accepted:.2g} s" if accepted else "none accepted"
+        return (f"the solver stopped at t = {solver['t_reached_s']:.4g} s of {self.meta['t_end_s']:.4g} s after "
+                f"{accepted + solver['rejected']} steps ({accepted} accepted, {mean}): {solver['result']}")
+
     def report(self) -> dict[str, Any]:
         """The ``axojax simulate --json`` document."""
         lc = None if self.limit_cycle is None else {k: self.limit_cycle[k] for k in ("frequency_hz", "tip_amplitude_um", "period_s")}
-        return {"state": self.state, "limit_cycle": lc, "linear": dict(self.linear), "waveform": self.limit_cycle, "solver": dict(self.meta["solver"])}
+        return {"state": self.state, "reason": self.reason, "limit_cycle": lc, "linear": dict(self.linear), "waveform": self.limit_cycle, "solver": dict(self.meta["solver"])}
 
     def save(self, path: str | pathlib.Path) -> None:
         meta = {**self.meta, "kind": "simulation", "state": self.state, "limit_cycle": self.limit_cycle, "linear": self.linear, "beat_angle_rad": self.beat_angle_rad}
@@ -161,7 +184,7 @@ def simulate(
             dominant mode does not oscillate), at most ``MAX_SAMPLES`` in all.
         n_points: points along x for the saved centreline and tangent angle.
         rtol, atol: solver tolerances (atol in units of L).
-        max_steps: solver step limit; running out is reported as ``divergent``. Default:
+        max_steps: solver step limit; running out ends in ``solver_failed``. Default:
             ``MIN_STEPS + STEPS_PER_PERIOD`` per linear period, rounded up to 10 000.
         progress: show a progress bar.
 
@@ -190,7 +213,13 @@ def simulate(
 
     traj = _integrate_jit(model, params, jnp.asarray(cubic), jnp.asarray(q0), jnp.asarray(t), rtol=rtol, atol=atol, max_steps=max_steps, progress=progress)
     q = np.asarray(traj.q)
-    ok = bool(traj.ok) and bool(np.all(np.isfinite(q)))
+    ok = bool(traj.ok)
+    t_reached = float(traj.t_reached)
+    if not ok:
+        # The record ends where the solver stopped (diffrax leaves later rows at inf).
+        keep = (t <= t_reached) & np.all(np.isfinite(q), axis=1)
+        keep[0] = True
+        t, q = t[keep], q[keep]
     u = centreline(model, q, x)  # (T, d, S), L
     du = centreline(model, q, x, derivative=1)
     tip_t = u[:, :, -1]
@@ -215,7 +244,12 @@ def simulate(
             "dynamic_amplitude_rad": modes.dynamic_amplitude,
             "cycles": cycles.count,
         }
+    at_rest = None
+    if state == "decaying" and linear["growth_rate_per_s"] > 0:
+        tips = q[-1].reshape(model.n_filaments, model.n_dirs, -1)[:, :, -2] * units.length_um  # u at the tip node
+        at_rest = {"max_filament_tip_um": float(np.abs(tips).max()), "centreline_tip_um": float(np.abs(tip_t[-1]).max() * units.length_um)}
     meta = {
+        "at_rest": at_rest,
         "model": model.name,
         "n_elements": model.n_elements,
         "params": {k: float(v) for k, v in params.as_dict().items()},
@@ -223,7 +257,17 @@ def simulate(
         "t_end_s": t_end_s,
         "perturbation_um": perturbation_um,
         "units": {"length_um": units.length_um, "ei_pn_um2": units.ei_pn_um2, "cn_pn_s_um2": units.cn_pn_s_um2, "tau_s": tau},
-        "solver": {"name": "Kvaerno5", "rtol": rtol, "atol": atol, "steps": int(traj.steps), "max_steps": int(max_steps), "ok": bool(traj.ok)},
+        "solver": {
+            "name": "Kvaerno5",
+            "rtol": rtol,
+            "atol": atol,
+            "steps": int(traj.steps),
+            "rejected": int(traj.rejected),
+            "max_steps": int(max_steps),
+            "ok": ok,
+            "result": result_message(int(traj.result)),
+            "t_reached_s": t_reached * tau,
+        },
     }
     L = units.length_um
     return Simulation(
