@@ -14,13 +14,16 @@ run alone.
    the two times. The end states are compared as a check that both solved the same
    problem.
 
-    python benchmarks/bench_simulate.py [--periods 20] [--nl-elements 10] [--no-scipy]
+3. the same limit cycle computed directly by ``ax.limit_cycle`` (``bench_orbit.py``).
+
+    python benchmarks/bench_simulate.py [--periods 20] [--nl-elements 10] [--no-scipy] [--no-orbit]
 
 The machine is shared in development: the load average is printed with the times.
 """
 
 import argparse
 import os
+import sys
 import time
 
 import axojax as ax  # first: it sets the XLA flags before jax starts
@@ -98,6 +101,7 @@ def main() -> None:
     ap.add_argument("--periods", type=float, default=20)
     ap.add_argument("--nl-elements", type=int, default=10)
     ap.add_argument("--no-scipy", action="store_true", help="skip the scipy Radau comparison")
+    ap.add_argument("--no-orbit", action="store_true", help="skip the direct limit-cycle computation")
     args = ap.parse_args()
     print(f"device: {jax.devices()[0].device_kind}, {os.cpu_count()} cores, jax {jax.__version__}")
     run(10, 0.0, args.periods)
@@ -110,7 +114,16 @@ def main() -> None:
               f"{sol.nlu} LU factorisations); load average {os.getloadavg()[0]:.1f}")
         print(f"  ratio scipy / axojax: {seconds / times[1]:.2f} (run), {seconds / times[0]:.2f} (with compilation); "
               f"tip at the end: axojax {np.round(sim.tip_um[-1], 5)} um, scipy {np.round(tip_scipy, 5)} um")
-    # orbit timing (issue 15b) goes here
+    if not args.no_orbit:
+        # The same limit cycle computed directly (benchmarks/bench_orbit.py), beside the
+        # simulation that reaches it.
+        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+        from bench_orbit import orbit_times
+
+        r = orbit_times(args.nl_elements, cubic=cubic)
+        print(f"one orbit directly (ax.limit_cycle, harmonic balance, Floquet multipliers included): {r['after_compilation_s']:.2f} s "
+              f"({r['with_compilation_s']:.1f} s with compilation), {r['newton_steps']} Newton steps, {r['frequency_hz']:.3f} Hz "
+              f"(simulation: {(sim.limit_cycle or {}).get('frequency_hz', float('nan')):.3f} Hz), tip amplitude {r['tip_amplitude_um']:.3f} um; load average {os.getloadavg()[0]:.1f}")
 
 
 if __name__ == "__main__":
