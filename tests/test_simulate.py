@@ -218,6 +218,7 @@ def test_cli_reports_solver_failure_on_one_line():
     assert doc["state"] == "solver_failed" and doc["limit_cycle"] is None
     assert "\n" not in doc["reason"] and "maximum number of solver steps" in doc["reason"].lower()
     assert doc["solver"]["ok"] is False and doc["solver"]["t_reached_s"] < 0.05
+    assert doc["solver"]["reason"] == doc["reason"]  # INTERFACE.md: {"ok": false, "reason": ...}
     # The text output (same document) leads with the state and that reason.
     assert render(doc).splitlines()[0] == f"state: solver_failed: {doc['reason']}"
     bad = subprocess.run(base[:-1] + ["0"], capture_output=True, text=True, timeout=120)

@@ -106,7 +106,9 @@ class Simulation:
     def report(self) -> dict[str, Any]:
         """The ``axojax simulate --json`` document."""
         lc = None if self.limit_cycle is None else {k: self.limit_cycle[k] for k in ("frequency_hz", "tip_amplitude_um", "period_s")}
-        return {"state": self.state, "reason": self.reason, "limit_cycle": lc, "linear": dict(self.linear), "waveform": self.limit_cycle, "solver": dict(self.meta["solver"])}
+        # INTERFACE.md: a failed solver's reason also under "solver"
+        solver = {**self.meta["solver"], "reason": self.reason if self.state == "solver_failed" else None}
+        return {"state": self.state, "reason": self.reason, "limit_cycle": lc, "linear": dict(self.linear), "waveform": self.limit_cycle, "solver": solver}
 
     def save(self, path: str | pathlib.Path) -> None:
         meta = {**self.meta, "kind": "simulation", "state": self.state, "limit_cycle": self.limit_cycle, "linear": self.linear, "beat_angle_rad": self.beat_angle_rad}
