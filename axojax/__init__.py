@@ -15,6 +15,7 @@ _runtime.configure_jax()
 
 from . import eigen, linalg, models  # noqa: E402
 from .assembly import System, assemble  # noqa: E402
+from .cache import enable_compilation_cache  # noqa: E402
 from .critical import Critical, critical_force  # noqa: E402
 from .eigen import Mode, dominant_mode, mode_shapes, spectrum  # noqa: E402
 from .dynamics import Simulation, simulate  # noqa: E402
@@ -27,4 +28,4 @@ from .units import Units  # noqa: E402
 
 __version__ = "0.1.0"
 
-__all__ = ["LimitCycle", "limit_cycle", "orbits", "FitResult", "ShapeTarget", "Target", "fit", "read_beat", "Simulation", "simulate", "SweepResult", "sweep", "Critical", "critical_force", "eigen", "linalg", "Mode", "PARAM_NAMES", "Params", "System", "Units", "assemble", "dominant_mode", "mode_shapes", "models", "spectrum"]
+__all__ = ["enable_compilation_cache", "LimitCycle", "limit_cycle", "orbits", "FitResult", "ShapeTarget", "Target", "fit", "read_beat", "Simulation", "simulate", "SweepResult", "sweep", "Critical", "critical_force", "eigen", "linalg", "Mode", "PARAM_NAMES", "Params", "System", "Units", "assemble", "dominant_mode", "mode_shapes", "models", "spectrum"]

@@ -1,3 +1,10 @@
+import os
+import tempfile
+
+# The command line keeps compiled programs on disk (axojax/cache.py); commands run by
+# the tests keep theirs in a temporary directory, not in the user's cache.
+os.environ.setdefault("AXOJAX_CACHE_DIR", tempfile.mkdtemp(prefix="axojax-test-cache-"))
+
 import numpy as np
 import pytest
 import scipy.linalg

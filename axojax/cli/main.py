@@ -6,6 +6,7 @@ import argparse
 import importlib
 import sys
 
+from ..cache import command_line_cache
 from .common import CLIError, emit_json
 
 SUBCOMMANDS = {
@@ -46,6 +47,7 @@ def main(argv: list[str] | None = None) -> int:
         if args.command is None:
             parser.print_help(sys.stderr)
             return 2
+        command_line_cache()  # compiled programs kept across commands (axojax/cache.py)
         doc = args._module.run(args)
     except CLIError as err:
         print(f"axojax: error: {err}", file=sys.stderr)

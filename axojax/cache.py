@@ -1,0 +1,61 @@
+"""A persistent cache of compiled programs, so that a command does not recompile.
+
+Every ``axojax`` command is a new process, and each compiles its programs afresh: about
+3 s for a seven-filament sweep with the structured solver (its eigenvalues then take
+~2 ms a point), more than the work of a few hundred points. JAX can keep compiled
+programs on disk (``jax_compilation_cache_dir``); the command line turns that on:
+
+- ``AXOJAX_CACHE_DIR=PATH``: keep them in PATH;
+- unset: ``$XDG_CACHE_HOME/axojax/jax`` (``~/.cache/axojax/jax``), on jax 0.10 and
+  newer only (older jaxlibs log spurious "machine feature" errors when they load a cached
+  CPU program);
+- ``AXOJAX_CACHE_DIR=off`` (or empty): no cache.
+
+In Python nothing is cached unless asked: ``ax.enable_compilation_cache()``. A cached
+program is the same program: results are identical with and without the cache.
+"""
+
+from __future__ import annotations
+
+import os
+import pathlib
+
+CACHE_ENV = "AXOJAX_CACHE_DIR"
+MIN_COMPILE_SECONDS = 0.5
+"""Programs that compile faster than this are not worth a file."""
+
+
+def default_cache_dir() -> pathlib.Path:
+    """``$XDG_CACHE_HOME/axojax/jax``, or ``~/.cache/axojax/jax``."""
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return pathlib.Path(base) / "axojax" / "jax"
+
+
+def enable_compilation_cache(path: str | os.PathLike | None = None) -> pathlib.Path:
+    """Keep compiled programs in ``path`` (default :func:`default_cache_dir`) from now on,
+    for this process. Returns the directory."""
+    import jax
+
+    directory = pathlib.Path(path) if path is not None else default_cache_dir()
+    directory.mkdir(parents=True, exist_ok=True)
+    jax.config.update("jax_compilation_cache_dir", str(directory))
+    jax.config.update("jax_persistent_cache_min_compile_time_secs", MIN_COMPILE_SECONDS)
+    jax.config.update("jax_persistent_cache_min_entry_size_bytes", 0)
+    return directory
+
+
+def command_line_cache() -> pathlib.Path | None:
+    """The command line's choice (module docstring): the directory now in use, or None."""
+    import jax
+
+    setting = os.environ.get(CACHE_ENV)
+    if setting is not None:
+        if setting.strip().lower() in ("", "off", "0", "none"):
+            return None
+        return enable_compilation_cache(setting)
+    if tuple(int(x) for x in jax.__version__.split(".")[:2]) < (0, 10):
+        return None
+    try:
+        return enable_compilation_cache()
+    except OSError:  # e.g. a read-only home: run without the cache
+        return None
