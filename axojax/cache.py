@@ -6,13 +6,15 @@ Every ``axojax`` command is a new process, and each compiles its programs afresh
 programs on disk (``jax_compilation_cache_dir``); the command line turns that on:
 
 - ``AXOJAX_CACHE_DIR=PATH``: keep them in PATH;
-- unset: ``$XDG_CACHE_HOME/axojax/jax`` (``~/.cache/axojax/jax``), on jax 0.10 and
-  newer only (older jaxlibs log spurious "machine feature" errors when they load a cached
-  CPU program);
+- unset: ``$XDG_CACHE_HOME/axojax/jax`` (``~/.cache/axojax/jax``);
 - ``AXOJAX_CACHE_DIR=off`` (or empty): no cache.
 
-In Python nothing is cached unless asked: ``ax.enable_compilation_cache()``. A cached
-program is the same program: results are identical with and without the cache.
+Only on jax 0.10 and newer: older jaxlibs log spurious "machine feature" errors on
+stderr each time they load a cached CPU program. Only the ``axojax`` command (its
+console entry point, and ``python -m axojax.cli.main``) does this; ``main()`` called in
+Python, and Python code in general, caches nothing unless asked:
+``ax.enable_compilation_cache()``. A cached program is the same program: results are
+identical with and without the cache.
 """
 
 from __future__ import annotations
@@ -49,13 +51,16 @@ def command_line_cache() -> pathlib.Path | None:
     import jax
 
     setting = os.environ.get(CACHE_ENV)
-    if setting is not None:
-        if setting.strip().lower() in ("", "off", "0", "none"):
-            return None
-        return enable_compilation_cache(setting)
-    if tuple(int(x) for x in jax.__version__.split(".")[:2]) < (0, 10):
+    if setting is not None and setting.strip().lower() in ("", "off", "0", "none"):
+        return None
+    if not quiet_loader(jax.__version__):
         return None
     try:
-        return enable_compilation_cache()
+        return enable_compilation_cache(setting or None)
     except OSError:  # e.g. a read-only home: run without the cache
         return None
+
+
+def quiet_loader(jax_version: str) -> bool:
+    """Whether this jax loads cached CPU programs without spurious errors (>= 0.10)."""
+    return tuple(int(x) for x in jax_version.split(".")[:2]) >= (0, 10)

@@ -1,9 +1,4 @@
 import os
-import tempfile
-
-# The command line keeps compiled programs on disk (axojax/cache.py); commands run by
-# the tests keep theirs in a temporary directory, not in the user's cache.
-os.environ.setdefault("AXOJAX_CACHE_DIR", tempfile.mkdtemp(prefix="axojax-test-cache-"))
 
 import numpy as np
 import pytest
@@ -30,3 +25,16 @@ def scipy_max_real(model, params):
 @pytest.fixture(scope="session")
 def seven():
     return ax.models.seven()
+
+
+@pytest.fixture(scope="session", autouse=True)
+def command_cache(tmp_path_factory):
+    """`axojax` commands run by the tests as processes keep their compiled programs
+    (axojax/cache.py) in a temporary directory, not in the user's cache."""
+    old = os.environ.get("AXOJAX_CACHE_DIR")
+    os.environ["AXOJAX_CACHE_DIR"] = str(tmp_path_factory.mktemp("compilation-cache"))
+    yield
+    if old is None:
+        os.environ.pop("AXOJAX_CACHE_DIR")
+    else:
+        os.environ["AXOJAX_CACHE_DIR"] = old

@@ -1,41 +1,66 @@
 """The command line's persistent compilation cache (axojax/cache.py): a second command
-loads what the first compiled and computes the same result; ``off`` keeps nothing."""
+loads what the first compiled (counted by jax's own cache-hit events) and computes the
+same result; ``off`` keeps nothing; Python code caches nothing unless asked."""
 
 import os
+import pathlib
 import subprocess
 import sys
 
+import jax
 import numpy as np
+import pytest
 
 import axojax as ax
+from axojax.cache import quiet_loader
+
+needs_quiet_loader = pytest.mark.skipif(not quiet_loader(jax.__version__), reason=f"the cache is off on jax {jax.__version__} (< 0.10)")
+
+# The `axojax` command (console entry point), counting jax's persistent-cache hits.
+COMMAND = """
+import sys
+import jax.monitoring
+hits = []
+jax.monitoring.register_event_listener(lambda name, **_: hits.append(name == "/jax/compilation_cache/cache_hits"))
+from axojax.cli.main import console
+code = console()
+print("cache hits:", sum(hits), file=sys.stderr)
+sys.exit(code)
+"""
+
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]  # this checkout, whatever the working directory
 
 
 def sweep(cache, out):
-    command = [sys.executable, "-m", "axojax.cli.main", "sweep", "--model", "seven", "--p", "250:350:2", "--ks", "log:1e5:1e6:2",
-               "--kl-ratio", "1000", "--solver", "arnoldi", "--out", str(out), "--json"]
-    subprocess.run(command, env={**os.environ, "AXOJAX_CACHE_DIR": str(cache)}, capture_output=True, text=True, timeout=300, check=True)
-    return ax.SweepResult.load(out).data
+    args = ["sweep", "--model", "seven", "--p", "250:350:2", "--ks", "log:1e5:1e6:2", "--kl-ratio", "1000", "--solver", "arnoldi", "--out", str(out), "--json"]
+    done = subprocess.run([sys.executable, "-c", COMMAND, *args], env={**os.environ, "AXOJAX_CACHE_DIR": str(cache), "PYTHONPATH": str(ROOT)},
+                          capture_output=True, text=True, timeout=300, check=True)
+    hits = int(done.stderr.rsplit("cache hits:", 1)[1])
+    return ax.SweepResult.load(out).data, hits
 
 
-def test_second_command_uses_the_cache_and_agrees(tmp_path):
+@needs_quiet_loader
+def test_second_command_loads_what_the_first_compiled(tmp_path):
     cache = tmp_path / "cache"
-    first = sweep(cache, tmp_path / "a.npz")
-    files = sorted(p.name for p in cache.iterdir())
-    assert files, "the first command left no compiled program"
-    second = sweep(cache, tmp_path / "b.npz")
-    assert sorted(p.name for p in cache.iterdir()) == files  # loaded, not compiled again
+    first, hits_first = sweep(cache, tmp_path / "a.npz")
+    assert hits_first == 0 and any(cache.iterdir()), "the first command left no compiled program"
+    second, hits_second = sweep(cache, tmp_path / "b.npz")
+    assert hits_second >= 1
     for name in ("eigenvalue_real", "eigenvalue_imag", "certified"):
         np.testing.assert_array_equal(second[name], first[name])
 
 
-def test_off_keeps_nothing(tmp_path, monkeypatch):
+def test_off_keeps_nothing_and_python_caches_nothing(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    sweep("off", tmp_path / "a.npz")
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.npz"]
+    _, hits = sweep("off", tmp_path / "a.npz")
+    assert hits == 0 and sorted(p.name for p in tmp_path.iterdir()) == ["a.npz"]
     monkeypatch.setenv("AXOJAX_CACHE_DIR", "off")
     assert ax.cache.command_line_cache() is None
+    assert not jax.config.jax_compilation_cache_dir  # this (test) process: main() enables nothing
 
 
 def test_default_directory_follows_xdg(monkeypatch, tmp_path):
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
     assert ax.cache.default_cache_dir() == tmp_path / "axojax" / "jax"
+    assert not quiet_loader("0.9.2") and quiet_loader("0.10.2") and quiet_loader("1.0.0")

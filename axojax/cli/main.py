@@ -47,7 +47,6 @@ def main(argv: list[str] | None = None) -> int:
         if args.command is None:
             parser.print_help(sys.stderr)
             return 2
-        command_line_cache()  # compiled programs kept across commands (axojax/cache.py)
         doc = args._module.run(args)
     except CLIError as err:
         print(f"axojax: error: {err}", file=sys.stderr)
@@ -60,5 +59,12 @@ def main(argv: list[str] | None = None) -> int:
     return getattr(args, "_exit_code", 0)
 
 
+def console() -> int:
+    """The ``axojax`` command: :func:`main` with compiled programs kept across commands
+    (:mod:`axojax.cache`)."""
+    command_line_cache()
+    return main()
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(console())
