@@ -3,8 +3,8 @@ elements (280 unknowns), cubic stiffening 10, p = 1.04 p_c, by harmonic balance 
 Newton (:func:`axojax.limit_cycle`), Floquet multipliers included.
 
 The first call includes compilation; the second, identical call does not (reported
-separately). The lead wires :func:`orbit_times` into ``bench_simulate.py`` beside the
-20-period simulation.
+separately). ``bench_simulate.py`` calls :func:`orbit_times` beside its 20-period
+simulation.
 
     python benchmarks/bench_orbit.py [--elements 10] [--harmonics 8]
 """

@@ -161,6 +161,9 @@ def test_fallback_when_not_certified_gives_the_dense_answer():
     fast = batch_modes(model, params, strict)
     assert not np.any(np.asarray(fast.certified))
     assert_same_modes(batch_modes(model, params, Dense()), fast)
+    # fallback off: the uncertified Krylov answer comes back as it is, flagged
+    loose = batch_modes(model, params, Arnoldi(krylov_dims=(8,), certify_factor=1e12, fallback=False))
+    assert not np.any(np.asarray(loose.certified)) and np.all(np.isfinite(np.asarray(loose.eigenvalue)))
 
 
 def metrics(model, solver):
@@ -186,6 +189,8 @@ def test_arnoldi_gradients_match_finite_differences_and_dense():
     scale = np.linalg.norm(fd, axis=1, keepdims=True)
     assert np.max(np.abs(fwd - fd) / scale) < 1e-6
     assert np.max(np.abs(rev - fd) / scale) < 1e-6
+    dense = np.asarray(jax.jit(jax.jacfwd(metrics(model, Dense())))(z))
+    assert np.max(np.abs(fwd - dense) / scale) < 1e-8  # the dense solver's derivative rule, independently
 
 
 def test_critical_force_with_arnoldi_equals_dense():
@@ -202,6 +207,9 @@ def test_cli_solver_flag(capsys):
     d = json.loads(capsys.readouterr().out)["dominant"]
     assert abs(complex(*d["eigenvalue"]) - complex(137.696, 270.311)) < 5e-4
     assert d["classification"] == "flutter" and round(d["frequency_hz"], 2) == 50.30
+    assert main(["modes", "--model", "seven", "--p", "300", "--solver", "dense", "--json", "--top", "2"]) == 0
+    dense = json.loads(capsys.readouterr().out)["dominant"]
+    assert abs(complex(*dense["eigenvalue"]) - complex(*d["eigenvalue"])) < RTOL * abs(complex(*d["eigenvalue"]))
     assert main(["modes", "--model", "seven", "--solver", "qr"]) == 2
     err = capsys.readouterr().err.strip()
     assert err.startswith("axojax: error: --solver:") and "\n" not in err and "qr" in err

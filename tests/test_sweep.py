@@ -1,5 +1,6 @@
 """Sweeps: agreement with dominant_mode and scipy, resumability, sharding, CLI, plot."""
 
+import importlib.metadata
 import json
 import subprocess
 import sys
@@ -10,6 +11,7 @@ import pytest
 import scipy.linalg
 
 import axojax as ax
+from axojax._runtime import blocking_batched_lapack
 import axojax.sweeps.engine as engine
 from axojax.cli.main import main
 
@@ -175,6 +177,8 @@ def test_netcdf_without_xarray_is_one_line_error(reference, tmp_path, monkeypatc
     assert "--netcdf" in err and "axojax[netcdf]" in err and len(err.strip().splitlines()) == 1
 
 
+@pytest.mark.skipif(not blocking_batched_lapack(importlib.metadata.version("jaxlib")),
+                    reason="this jaxlib has no blocking batched-LAPACK path (only 0.10.x and 0.11.0 do)")
 def test_batched_lapack_over_two_devices_does_not_deadlock():
     """The evaluator the sweep used before it looped over points: jit(vmap) of the dense
     metrics, sharded over 2 host CPU devices, so every eig/LU/Cholesky is a *batched*

@@ -87,7 +87,8 @@ def add_solver_flag(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--solver", default="auto", metavar="NAME",
         help=f"dominant-eigenpair solver: {', '.join(SOLVERS)} (default auto: certified Arnoldi on the "
-        f"block-tridiagonal pencil for models of {Auto().min_arnoldi_dof}+ unknowns and for sweeps, dense otherwise)",
+        f"block-tridiagonal pencil for models of {Auto().min_arnoldi_dof}+ unknowns, and for sweeps (or traced boundaries) of "
+        f"{Auto().min_batch_points}+ points on models of {Auto().min_batch_dof}+ unknowns; dense otherwise)",
     )
 
 

@@ -38,13 +38,16 @@ def _targets(args: argparse.Namespace) -> list[Target]:
     out = []
     cycle = args.target == "limit-cycle"
     if not cycle:
-        for flag, value in (("--target-amplitude", args.target_amplitude), ("--cubic", args.cubic)):
+        for flag, value in (("--target-amplitude", args.target_amplitude), ("--amplitude-sigma", args.amplitude_sigma), ("--cubic", args.cubic)):
             if value is not None:
                 raise common.CLIError(f"{flag}: describes the limit cycle; add --target limit-cycle")
     elif args.target_velocity is not None:
         raise common.CLIError("--target-velocity: not a limit-cycle target (use --target-frequency and --target-wavelength)")
     elif args.marginal is not None:
         raise common.CLIError("--marginal: a limit cycle lives past the Hopf point; drop --marginal with --target limit-cycle")
+    elif args.observation is not None or args.data is not None:
+        flag = "--observation" if args.observation is not None else "--data"
+        raise common.CLIError(f"{flag}: fits the linear mode; with --target limit-cycle give --target-frequency/--target-wavelength/--target-amplitude")
     spec = (
         ("frequency_hz", args.target_frequency, args.frequency_sigma, 0.05, "--target-frequency"),
         ("wavelength_um", args.target_wavelength, args.wavelength_sigma, 0.10, "--target-wavelength"),

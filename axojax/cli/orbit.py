@@ -15,6 +15,11 @@ from ..params import Params
 from . import common
 
 
+
+MAX_HARMONICS = 100
+"""More harmonics than a beat needs (its spectrum decays fast) and than memory allows:
+the Newton system grows as (2 H + 1)^2 blocks."""
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     common.add_model_flags(parser, axes=True)
     parser.add_argument("--cubic", type=common.finite_float, default=DEFAULT_CUBIC, metavar="KAPPA", help=f"cubic link stiffening kappa, 1/L^2 (default {DEFAULT_CUBIC:g})")
@@ -50,10 +55,10 @@ def run(args: argparse.Namespace) -> dict:
         raise common.CLIError(f"--model: {model.name!r} has no links, so the cubic link force cannot bound a beat; use a model with links")
     try:
         H = int(str(args.harmonics))
-        if H < 1:
+        if not 1 <= H <= MAX_HARMONICS:
             raise ValueError
     except ValueError:
-        raise common.CLIError(f"--harmonics: expected an integer >= 1, got {args.harmonics!r}") from None
+        raise common.CLIError(f"--harmonics: expected an integer in 1..{MAX_HARMONICS}, got {args.harmonics!r}") from None
     _check_path("--out", args.out, ".npz")
     _check_path("--plot", args.plot)
     solver = HarmonicBalance(harmonics=H)

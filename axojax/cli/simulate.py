@@ -19,7 +19,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--cubic", type=common.finite_float, default=None, metavar="KAPPA", help=f"cubic link stiffening kappa, 1/L^2 (default {DEFAULT_CUBIC:g}; 0: linear)")
     parser.add_argument("--perturbation-um", type=common.finite_float, default=0.1, metavar="UM", help="initial tip displacement in y (default 0.1 um)")
     parser.add_argument("--rtol", type=common.finite_float, default=1e-6, metavar="X", help="solver relative tolerance (default 1e-6)")
-    parser.add_argument("--max-steps", type=int, default=None, metavar="N", help="solver step budget (default: 2000 per period of the linear frequency, at least 10000); running out ends in state solver_failed")
+    parser.add_argument("--max-steps", type=int, default=None, metavar="N", help="solver step budget (default: 10000 + 2000 per period of the linear frequency, rounded up to a multiple of 10000); running out ends in state solver_failed")
     parser.add_argument("--out", default=None, metavar="FILE.npz", help="write the time series here")
     parser.add_argument("--gif", default=None, metavar="FILE.gif", help="also write an animation of the last beat cycles")
 
@@ -36,7 +36,7 @@ def run(args: argparse.Namespace) -> dict:
     except ValueError as err:
         raise common.CLIError(str(err)) from None
     if args.max_steps is not None and args.max_steps < 1:
-        raise common.CLIError(f"--max-steps must be a positive integer, got {args.max_steps}")
+        raise common.CLIError(f"--max-steps: must be a positive integer, got {args.max_steps}")
     for flag, path in (("--out", args.out), ("--gif", args.gif)):
         if path is not None and not pathlib.Path(path).resolve().parent.is_dir():
             raise common.CLIError(f"{flag}: directory of {path!r} does not exist")

@@ -31,6 +31,25 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--coordinator", metavar="HOST:PORT", help="address of process 0's coordination service (implies --distributed)")
     group.add_argument("--num-processes", type=int, metavar="N", help="processes in the job (implies --distributed)")
     group.add_argument("--process-id", type=int, metavar="I", help="this process's index, 0..N-1 (implies --distributed)")
+    group.add_argument("--timeout", type=int, default=120, metavar="SECONDS", help="how long to wait for every process to join (default 120): a process I > 0 stops with a one-line error when process 0 does not answer; process 0 stops with jax's error when the others do not join")
+
+
+def _wait_for_coordinator(address: str, timeout_s: float) -> None:
+    """A one-line error when nothing listens at process 0's address within the timeout
+    (jax's own client would abort the process with a C++ stack trace)."""
+    import socket
+    import time
+
+    host, _, port = address.rpartition(":")
+    deadline = time.monotonic() + timeout_s
+    while True:
+        try:
+            socket.create_connection((host, int(port)), timeout=1.0).close()
+            return
+        except OSError:
+            if time.monotonic() > deadline:
+                raise common.CLIError(f"--coordinator: nothing answered at {address} within {timeout_s:g} s (--timeout); is process 0 running?") from None
+            time.sleep(0.5)
 
 
 def init_distributed(args: argparse.Namespace) -> None:
@@ -40,18 +59,24 @@ def init_distributed(args: argparse.Namespace) -> None:
         return
     if args.coordinator is not None:
         host, _, port = args.coordinator.rpartition(":")
-        if not host or not port.isdigit():
-            raise common.CLIError(f"--coordinator: expected HOST:PORT, got {args.coordinator!r}")
+        if not host or not port.isdigit() or not 1 <= int(port) <= 65535:
+            raise common.CLIError(f"--coordinator: expected HOST:PORT with a port in 1..65535, got {args.coordinator!r}")
     if args.num_processes is not None and args.num_processes < 1:
         raise common.CLIError(f"--num-processes: expected an integer >= 1, got {args.num_processes}")
-    if args.process_id is not None and not (0 <= args.process_id < (args.num_processes or float("inf"))):
-        raise common.CLIError(f"--process-id: expected 0..{(args.num_processes or 1) - 1}, got {args.process_id}")
+    if args.process_id is not None and args.process_id < 0:
+        raise common.CLIError(f"--process-id: expected an integer >= 0, got {args.process_id}")
+    if args.process_id is not None and args.num_processes is not None and args.process_id >= args.num_processes:
+        raise common.CLIError(f"--process-id: expected 0..{args.num_processes - 1} (--num-processes {args.num_processes}), got {args.process_id}")
+    if args.timeout < 1:
+        raise common.CLIError(f"--timeout: expected seconds >= 1, got {args.timeout}")
+    if args.coordinator is not None and args.process_id:
+        _wait_for_coordinator(args.coordinator, args.timeout)
     import jax
 
     try:
-        jax.distributed.initialize(**{k: v for k, v in explicit.items() if v is not None})
+        jax.distributed.initialize(**{k: v for k, v in explicit.items() if v is not None}, initialization_timeout=args.timeout)
     except (RuntimeError, ValueError) as e:
-        flag = "--coordinator" if args.coordinator else "--distributed"
+        flag = next((f for f, v in (("--coordinator", args.coordinator), ("--process-id", args.process_id), ("--num-processes", args.num_processes)) if v is not None), "--distributed")
         raise common.CLIError(f"{flag}: jax.distributed.initialize failed: {str(e).splitlines()[0]}") from None
 
 

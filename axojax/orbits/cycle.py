@@ -40,7 +40,8 @@ class LimitCycle(eqx.Module):
         started: whether there was a start (False: the Hopf normal form has no orbit here).
         steps: Newton iterations (last stage).
         correction: last scaled Newton correction.
-        linear_eigenvalue: dominant eigenvalue of the straight state at these parameters.
+        linear_eigenvalue: dominant eigenvalue of the equilibrium the orbit surrounds (bent
+            by the static moment b where b != 0) at these parameters.
         phase_ref: (n,) the phase condition ``phase_ref . b_1 = 0``.
     """
 

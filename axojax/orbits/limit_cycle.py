@@ -48,9 +48,8 @@ def limit_cycle(
         Floquet multipliers. Where the normal form is no start (far past the Hopf
         point, e.g. where the dominant mode no longer oscillates) the orbit is continued
         in p from the Hopf point (:func:`axojax.orbits.branch.continue_to`).
- Differentiable in ``params`` and
-        ``kappa`` (implicit function theorem; use the jit-able ``solver.solve`` inside
-        your own transformations).
+        Differentiable in ``params`` and ``kappa`` (implicit function theorem; use the
+        jit-able ``solver.solve`` inside your own transformations).
     """
     params = params.validate()
     kappa = float(kappa)
