@@ -78,3 +78,30 @@ def test_console_script_exit_status():
     proc = subprocess.run([sys.executable, "-m", "axojax.cli.main", "modes", "--ks", "-5"], capture_output=True, text=True)
     assert proc.returncode == 2
     assert proc.stdout == "" and proc.stderr.strip().count("\n") == 0 and "--ks" in proc.stderr
+
+
+@pytest.mark.parametrize(
+    "argv,flag",
+    [
+        (["orbit", "--model", "two", "--harmonics", "100000"], "--harmonics"),
+        (["sweep", "--model", "two", "--p", "100:200:2", "--out", "x.npz", "--coordinator", "localhost:99999"], "--coordinator"),
+        (["sweep", "--model", "two", "--p", "100:200:2", "--out", "x.npz", "--process-id", "-1"], "--process-id"),
+        (["sweep", "--model", "two", "--p", "100:200:2", "--out", "x.npz", "--num-processes", "2", "--process-id", "2"], "--process-id"),
+        (["fit", "--model", "two", "--free", "p", "--target", "limit-cycle", "--observation", "chlamydomonas-wt"], "--observation"),
+        (["fit", "--model", "two", "--free", "p", "--target-frequency", "30", "--amplitude-sigma", "0.1"], "--amplitude-sigma"),
+        (["simulate", "--model", "two", "--t-end", "0.1", "--max-steps", "0"], "--max-steps"),
+    ],
+)
+def test_cli_new_flags_one_line(argv, flag, capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"axojax: error: {flag}:") and "\n" not in err, err
+
+
+def test_cli_coordinator_that_never_answers(tmp_path):
+    """A process I > 0 whose process 0 never starts stops within --timeout, on one line."""
+    cmd = [sys.executable, "-m", "axojax.cli.main", "sweep", "--model", "two", "--elements", "4", "--p", "100:200:2", "--out", str(tmp_path / "x.npz"),
+           "--coordinator", "localhost:1", "--num-processes", "2", "--process-id", "1", "--timeout", "1"]
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2 and r.stderr.strip().startswith("axojax: error: --coordinator: nothing answered") and len(r.stderr.strip().splitlines()) == 1
