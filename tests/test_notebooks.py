@@ -3,13 +3,9 @@ gallery's notebooks assert their key numbers against the paper inside (a failed 
 failed cell) and end in a paper-vs-axojax table.
 
 The stored outputs (scripts/run_notebooks.py, full size) are not touched: each test runs a
-copy and discards it. Two gallery notebooks are left out of the suite to keep it within
-its time budget (their asserts run in scripts/run_notebooks.py; test_docs.py checks their
-stored outputs): figure 12, whose fast run cannot reach the limit cycle it is about in
-seconds (the time domain is tested by time_domain_beating and tests/test_paper.py), and
-figure 8, the costliest fast run (three maps and their Hopf boundaries, about 24 s of CPU;
-the rise of p_c with k_s is tested by tests/test_trends.py). Fast runs of the others
-measured 13-20 s of CPU each, kernel start included.
+copy and discards it. Every notebook runs here; figure 12's fast run simulates the full
+asymmetric beat (about 10 s since the simulation's exact block Jacobian) and asserts its
+limit cycle, and figure 8's three small maps take about 20 s.
 """
 
 import os
@@ -20,10 +16,7 @@ import pytest
 from nbclient import NotebookClient
 
 NOTEBOOKS = sorted((pathlib.Path(__file__).parent.parent / "notebooks").glob("*.ipynb"))
-NOT_IN_SUITE = {
-    "gallery_fig08_stiffness": "suite time budget: three maps and Hopf boundaries (run by scripts/run_notebooks.py)",
-    "gallery_fig12_asymmetric_beat": "a limit cycle takes minutes to simulate (run by scripts/run_notebooks.py)",
-}
+NOT_IN_SUITE: dict[str, str] = {}  # notebook stem -> why it is not executed here
 
 
 def _source(nb) -> str:
