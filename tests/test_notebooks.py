@@ -8,7 +8,6 @@ asymmetric beat (about 10 s since the simulation's exact block Jacobian) and ass
 limit cycle, and figure 8's three small maps take about 20 s.
 """
 
-import os
 import pathlib
 
 import nbformat

@@ -10,7 +10,6 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
-import scipy.linalg
 
 import axojax as ax
 from axojax.assembly import assemble_blocks, node_major

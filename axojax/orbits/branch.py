@@ -38,7 +38,7 @@ from .solvers import OrbitSolver
 def _eq_eigenvalue(model: Model, params: Params, kappa):
     prob = Problem(model, params, assemble(model, params), kappa, 1, 6)
     qe = equilibrium(prob)
-    return dominant_eigenpair(prob.s.A + jax.jacfwd(prob.f_nl)(qe), prob.s.C)[0]
+    return dominant_eigenpair(prob.s.A + prob.f_nl_tangent(qe), prob.s.C)[0]
 
 
 _eq_eigenvalue_jit = jax.jit(_eq_eigenvalue, static_argnums=0)

@@ -12,10 +12,10 @@ import numpy as np
 from jaxtyping import Array, Complex, Float
 
 from ..eigen.metrics import wavenumber
-from ..fem import interpolation_matrix
 from ..models.section import Model
 from ..units import Units
 from ..waveform import FourierModes
+from ..waveform.shapes import centreline
 from .fourier import evaluate
 
 REFINE_GRID = 512
@@ -104,7 +104,7 @@ class LimitCycle(eqx.Module):
     def centreline_beat(self, x: np.ndarray, n_frames: int = 64, derivative: int = 0) -> tuple[np.ndarray, np.ndarray]:
         """(t (T,) tau, centreline (or slope) along the beat direction (T, S), L or rad)."""
         t, q = self.states(n_frames)
-        u = centreline_coefficients(self.model, q, np.asarray(x, dtype=float), derivative)  # (T, d, S)
+        u = centreline(self.model, q, np.asarray(x, dtype=float), derivative)  # (T, d, S)
         return t, _along(u, float(self.beat_angle))
 
     def fourier_modes(self, n_points: int = 41, units: Units = Units()) -> FourierModes:
@@ -113,7 +113,7 @@ class LimitCycle(eqx.Module):
         x = np.linspace(0.0, 1.0, n_points)
         X = np.asarray(self.coefficients)
         H = self.harmonics
-        slope = centreline_coefficients(self.model, np.stack([X[0], X[1], X[H + 1]]), x, 1)
+        slope = centreline(self.model, np.stack([X[0], X[1], X[H + 1]]), x, 1)
         psi = _along(slope, float(self.beat_angle))  # (3, S)
         return FourierModes(s=x * units.length_um, psi0=psi[0], psi1=psi[1] - 1j * psi[2], omega=float(self.frequency_hz(units)) * 2 * np.pi)
 
@@ -137,13 +137,6 @@ class LimitCycle(eqx.Module):
         }
 
 
-def centreline_coefficients(model: Model, q, x: np.ndarray, derivative: int = 0):
-    """Centreline (mean over filaments) of states q (..., n) at x: (..., d, S)."""
-    phi = jnp.asarray(interpolation_matrix(model.n_elements, np.asarray(x, dtype=float), derivative))
-    per = jnp.reshape(q, q.shape[:-1] + (model.n_filaments, model.n_dirs, model.mesh.n_dof)).mean(axis=-3)
-    return jnp.einsum("sr,...dr->...ds", phi, per)
-
-
 def _along(v, angle):
     """Component along the beat direction of (..., d, S) -> (..., S)."""
     if v.shape[-2] == 1:
@@ -154,7 +147,7 @@ def _along(v, angle):
 def measures(model: Model, X: Float[Array, "m n"]) -> tuple[Array, Array, Array]:
     """(amplitude (L), beat angle, wavenumber (rad/L)) of the orbit X; differentiable."""
     H = (X.shape[0] - 1) // 2
-    tip = centreline_coefficients(model, X, np.array([1.0]))[..., 0]  # (2H+1, d)
+    tip = centreline(model, X, np.array([1.0]))[..., 0]  # (2H+1, d)
     if model.n_dirs == 1:
         angle = jnp.zeros(())
         y = tip[:, 0]

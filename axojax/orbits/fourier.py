@@ -36,7 +36,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from ..assembly import System, assemble_blocks, node_major
-from ..dynamics.nonlinear import cubic_link_force
+from ..dynamics.nonlinear import cubic_link_force, cubic_link_tangent
 from ..linalg import BlockTridiagonal
 from ..models.section import Model
 from ..params import Params
@@ -90,6 +90,10 @@ class Problem:
     def f_nl(self, q):
         return cubic_link_force(self.model, self.params, self.kappa, q)
 
+    def f_nl_tangent(self, q):
+        """d f_nl / dq, exact (the rank-one sum, not autodiff)."""
+        return cubic_link_tangent(self.model, self.params, self.kappa, q)
+
     def split(self, x):
         return jnp.reshape(x[:-1], (self.m, self.n)), x[-1]
 
@@ -107,7 +111,7 @@ class Problem:
     def harmonic_jacobian(self, X, omega):
         """d R / d X, shape (m n, m n): omega D (x) C + I (x) A + Galerkin of d f_nl."""
         s, m, n = self.s, self.m, self.n
-        Df = jax.vmap(jax.jacfwd(self.f_nl))(self.E @ X)  # (N_t, n, n)
+        Df = jax.vmap(self.f_nl_tangent)(self.E @ X)  # (N_t, n, n)
         nl = jnp.einsum("mj,jl,jrs->mrls", self.P, self.E, Df).reshape(m * n, m * n)
         return omega * jnp.kron(self.D, s.C) + jnp.kron(jnp.eye(m), s.A) + nl
 
@@ -145,7 +149,7 @@ class Problem:
         """d R / d X in the node layout: block-tridiagonal, blocks (m b, m b)."""
         m, b = self.m, self.block
         sb = assemble_blocks(self.model, self.params)
-        Df = jax.vmap(jax.jacfwd(self.f_nl))(self.E @ X)  # (N_t, n, n)
+        Df = jax.vmap(self.f_nl_tangent)(self.E @ X)  # (N_t, n, n)
         W = jnp.einsum("mj,jl->jml", self.P, self.E)  # (N_t, m, m)
         Dm, I = jnp.asarray(self.D), jnp.eye(m)
 

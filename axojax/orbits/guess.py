@@ -35,7 +35,7 @@ def equilibrium(prob: Problem):
     s = prob.s
 
     def step(_, q):
-        J = s.A + jax.jacfwd(prob.f_nl)(q)
+        J = s.A + prob.f_nl_tangent(q)
         return q - jnp.linalg.solve(J, s.A @ q + prob.f_nl(q) - s.b)
 
     return jax.lax.fori_loop(0, EQUILIBRIUM_STEPS, step, jnp.linalg.solve(s.A, s.b))
@@ -61,7 +61,7 @@ def hopf_guess(prob: Problem):
     finite stand-in for failed solves (the mode at amplitude 1e-3, frequency |Im lambda|)."""
     s, H, n = prob.s, prob.H, prob.n
     qe = equilibrium(prob)
-    Ae = s.A + jax.jacfwd(prob.f_nl)(qe)
+    Ae = s.A + prob.f_nl_tangent(qe)
     lam, v = dominant_eigenpair(Ae, s.C)
     i = jnp.argmax(jnp.abs(v))
     v = v * jnp.conj(v[i]) / jnp.abs(v[i])  # largest entry real and positive

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import jax
+import jax.numpy as jnp
 import numpy as np
 
 from ..fem import interpolation_matrix
@@ -12,16 +14,18 @@ def centreline(model: Model, q: np.ndarray, x: np.ndarray, derivative: int = 0) 
     """Centreline (mean over filaments) displacement, or its x-derivative, at points x.
 
     Args:
-        q: (..., n) states (real or complex), n = ``model.n_dof``.
+        q: (..., n) states (real or complex), n = ``model.n_dof``: a numpy array, or a
+            jax array (then the result is one too, traceable and differentiable).
         x: (S,) points in [0, 1].
 
     Returns:
         (..., d, S) in units of L (``derivative=0``) or rad (``derivative=1``).
     """
-    q = np.asarray(q)
-    phi = interpolation_matrix(model.n_elements, np.asarray(x, dtype=float), derivative)
-    per = q.reshape(q.shape[:-1] + (model.n_filaments, model.n_dirs, model.mesh.n_dof)).mean(axis=-3)
-    return np.einsum("sr,...dr->...ds", phi, per)
+    xp = jnp if isinstance(q, jax.Array) else np
+    q = xp.asarray(q)
+    phi = xp.asarray(interpolation_matrix(model.n_elements, np.asarray(x, dtype=float), derivative))
+    per = xp.reshape(q, q.shape[:-1] + (model.n_filaments, model.n_dirs, model.mesh.n_dof)).mean(axis=-3)
+    return xp.einsum("sr,...dr->...ds", phi, per)
 
 
 def mode_frames(model: Model, v: np.ndarray, n_frames: int = 16, x: np.ndarray | None = None, amplitude: float = 0.1) -> tuple[np.ndarray, np.ndarray]:
