@@ -17,15 +17,16 @@ Algorithm (per parameter point, fixed shapes: jit/vmap-able):
    is the first of ``omega_est + 1e-6 |omega_est|`` and ``omega_est + (s - omega_est)
    / 8^k``, k = 4, 3, 2, 1 (:data:`POLE_FRACTIONS`), that a Cholesky *verifies* (else s
    itself). So, rigorously, no eigenvalue lies to the right of ``sigma``, and
-   ``A + sigma C`` (positive definite symmetric part) is nonsingular. On the parameter ranges of the paper omega lies within a factor ~2 of the
-   rightmost eigenvalue's real part, which makes it a good pole.
+   ``A + sigma C`` (positive definite symmetric part) is nonsingular. On the parameter
+   ranges of the paper omega lies within a factor ~2 of the rightmost eigenvalue's real
+   part, which makes it a good pole.
 2. **Shift-invert Arnoldi.** Arnoldi (classical Gram-Schmidt with reorthogonalisation)
    on ``S = (A + sigma C)^{-1} C`` using the pivoted block LU of :mod:`axojax.linalg`;
    Ritz values ``theta`` give ``lambda = sigma - 1/theta``. Every solve takes one step
    of iterative refinement: the links make ``|A|`` ~1e8 times the eigenvalues of
    interest, and without it the eigenvalue's backward error (and at 40 elements its
-   error, ~2e-9 relative) exceeds the dense solver's; with it, ~1e-11. The stiff bulk of the
-   spectrum (|lambda| up to ~1e8 from the links) maps to theta ~ 0, so the eigenvalues
+   error, ~2e-9 relative) exceeds the dense solver's; with it, ~1e-11. The stiff bulk of
+   the spectrum (|lambda| up to ~1e8 from the links) maps to theta ~ 0, so the eigenvalues
    near sigma converge in a few dozen steps. A Ritz pair has converged when its residual
    bound ``|h_{m+1,m} y_m| / |theta|^2 <= tol (1 + |lambda|)``. The Krylov space grows
    in stages (``krylov_dims``, default 16, 32, 48 vectors) until the certificate
@@ -63,7 +64,7 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Complex, Float
 
-from ..linalg import BlockCholesky, BlockTridiagonal, cholesky, lu_factor
+from ..linalg import BlockCholesky, BlockTridiagonal, arnoldi_steps, cholesky, lu_factor
 from .dominant import CLUSTER_RTOL, _normalise, dominant_eigenpair
 
 
@@ -149,8 +150,8 @@ def pole(A: BlockTridiagonal, C: BlockTridiagonal, lanczos_dim: int) -> tuple[Fl
     omega = s - 1.0 / jnp.maximum(top, 1e-300)
     # Ritz values of Lanczos underestimate the largest eigenvalue of T, so omega can lie
     # below the abscissa when the Lanczos has not converged (poles far above it separate
-    # the eigenvalues of T poorly). Verify candidates omega + 1e-6 |omega|, then closing
-    # in on s by factors of 8, and keep the first that passes (else s itself).
+    # the eigenvalues of T poorly). Verify omega + 1e-6 |omega|, then points from omega
+    # towards s (POLE_FRACTIONS of the gap), and keep the first that passes (else s).
     fractions = jnp.asarray(POLE_FRACTIONS)
     gap = jnp.maximum(s - omega, 0.0)
 
@@ -222,20 +223,11 @@ def _arnoldi_point(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOption
     V = jnp.zeros((m_max + 1, n)).at[0].set(v0 / jnp.linalg.norm(v0))
     H = jnp.zeros((m_max + 1, m_max))
 
-    def step(j, carry):
-        V, H = carry
-        b = C.matvec(V[j])
-        # The solve, then one step of iterative refinement: two passes through one
-        # compiled solve (from w = 0 the first pass is the plain solve).
-        w = jax.lax.fori_loop(0, 2, lambda _, w: w + lu.solve(b - M.matvec(w)), jnp.zeros_like(b))
-        for _ in range(2):  # classical Gram-Schmidt, twice
-            h = V @ w
-            w = w - V.T @ h
-            H = H.at[:, j].add(h)
-        beta = jnp.linalg.norm(w)
-        H = H.at[j + 1, j].set(beta)
-        V = V.at[j + 1].set(w / jnp.where(beta > 0, beta, 1.0))
-        return V, H
+    def shift_invert(v):
+        """(A + sigma C)^{-1} C v: the solve, then one step of iterative refinement, as
+        two passes through one compiled solve (from w = 0 the first is the plain solve)."""
+        b = C.matvec(v)
+        return jax.lax.fori_loop(0, 2, lambda _, w: w + lu.solve(b - M.matvec(w)), jnp.zeros_like(b))
 
     starts = jnp.asarray((0,) + dims[:-1])
     ends = jnp.asarray(dims)
@@ -246,7 +238,7 @@ def _arnoldi_point(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOption
 
     def body(state):
         stage, V, H, _ = state
-        V, H = jax.lax.fori_loop(starts[stage], ends[stage], step, (V, H))
+        V, H = arnoldi_steps(shift_invert, V, H, starts[stage], ends[stage])
         return stage + 1, V, H, _ritz(V, H, sigma, ends[stage], opts)
 
     empty = _Primal(jnp.zeros((), complex), jnp.zeros((n,), complex), jnp.zeros(()))

@@ -17,34 +17,11 @@ round-off (the discretisation keeps the phase-shift symmetry, see
 
 from __future__ import annotations
 
-import jax
 import jax.numpy as jnp
 
-
+from ..linalg import arnoldi_steps
 from .fourier import Problem
 from .linear import factor
-
-
-def _arnoldi(op, v0, k: int):
-    """Arnoldi factorisation op V_k = V_{k+1} H: returns (V (k+1, N), H (k+1, k))."""
-    N = v0.shape[0]
-    V = jnp.zeros((k + 1, N), v0.dtype).at[0].set(v0 / jnp.linalg.norm(v0))
-    Hm = jnp.zeros((k + 1, k), v0.dtype)
-
-    def body(j, carry):
-        V, Hm = carry
-        w = op(V[j])
-        mask = (jnp.arange(k + 1) <= j)[:, None]
-        for _ in range(2):  # classical Gram-Schmidt, twice
-            h = (V * mask) @ w
-            w = w - (V * mask).T @ h
-            Hm = Hm.at[:, j].add(h)
-        nrm = jnp.linalg.norm(w)
-        Hm = Hm.at[j + 1, j].set(nrm)
-        V = V.at[j + 1].set(w / jnp.where(nrm > 0, nrm, 1.0))
-        return V, Hm
-
-    return jax.lax.fori_loop(0, k, body, (V, Hm))
 
 
 def floquet_multipliers(prob: Problem, X, omega, *, count: int = 8, krylov: int = 60, shift: float = 0.05, tol: float = 1e-8):
@@ -66,7 +43,8 @@ def floquet_multipliers(prob: Problem, X, omega, *, count: int = 8, krylov: int 
     s = -shift * omega  # pencil value nu = -mu
     lu = factor(J - M.scale(s))
     v0 = jnp.cos(0.61 * jnp.arange(N)) + 0.5
-    V, Hm = _arnoldi(lambda v: lu.solve(M.matvec(v)), v0, k)
+    V = jnp.zeros((k + 1, N), v0.dtype).at[0].set(v0 / jnp.linalg.norm(v0))
+    V, Hm = arnoldi_steps(lambda v: lu.solve(M.matvec(v)), V, jnp.zeros((k + 1, k), v0.dtype), 0, k)
     theta, Y = jnp.linalg.eig(Hm[:k, :k])
     resid = jnp.abs(Hm[k, k - 1]) * jnp.abs(Y[k - 1, :])
     nu = s + 1.0 / theta

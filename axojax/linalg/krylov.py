@@ -1,0 +1,40 @@
+"""The Arnoldi process, shared by the eigen-solver (:mod:`axojax.eigen.arnoldi`) and the
+Floquet multipliers of periodic orbits (:mod:`axojax.orbits.floquet`)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import jax
+import jax.numpy as jnp
+from jaxtyping import Array, Float
+
+
+def arnoldi_steps(
+    op: Callable[[Float[Array, " N"]], Float[Array, " N"]],
+    V: Float[Array, "k1 N"],
+    H: Float[Array, "k1 k"],
+    start,
+    stop,
+) -> tuple[Float[Array, "k1 N"], Float[Array, "k1 k"]]:
+    """Arnoldi steps j = start, ..., stop - 1 extending ``op V[:j] = V[:j+1] H[:j+1, :j]``.
+
+    Classical Gram-Schmidt, twice, against every row of V: rows not yet reached must be
+    zero (start from ``V = zeros.at[0].set(unit start vector)``, ``H = zeros``). A
+    breakdown (a zero new vector) leaves a zero row. ``start``/``stop`` may be traced, so
+    that the space can grow in stages. Real arithmetic.
+    """
+
+    def step(j, carry):
+        V, H = carry
+        w = op(V[j])
+        for _ in range(2):
+            h = V @ w
+            w = w - V.T @ h
+            H = H.at[:, j].add(h)
+        beta = jnp.linalg.norm(w)
+        H = H.at[j + 1, j].set(beta)
+        V = V.at[j + 1].set(w / jnp.where(beta > 0, beta, 1.0))
+        return V, H
+
+    return jax.lax.fori_loop(start, stop, step, (V, H))
