@@ -85,6 +85,17 @@ def test_interrupted_sweep_resumes(model, reference, tmp_path, monkeypatch):
     assert loaded.meta["fixed"]["cl"] == 0.02 and loaded.meta["kl_ratio"] == 100.0
 
 
+def run_two_device_script(script: str, marker: str, what: str) -> None:
+    """Run ``script`` in a fresh process (its own XLA flags); it must print ``marker``
+    within 180 s, which a jaxlib 0.10 pool deadlock would prevent."""
+    try:
+        proc = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=180)
+    except subprocess.TimeoutExpired:
+        pytest.fail(f"{what} did not finish in 180 s (jaxlib 0.10 pool deadlock; see axojax/_runtime.py)")
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert marker in proc.stdout
+
+
 def test_two_cpu_devices_identical(tmp_path):
     script = textwrap.dedent(
         f"""
@@ -108,12 +119,7 @@ def test_two_cpu_devices_identical(tmp_path):
         print("identical")
         """
     )
-    try:
-        proc = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=180)
-    except subprocess.TimeoutExpired:
-        pytest.fail("the 2-device sweep did not finish in 180 s: see axojax/_runtime.py (jaxlib 0.10 pool deadlock)")
-    assert proc.returncode == 0, proc.stderr[-2000:]
-    assert "identical" in proc.stdout
+    run_two_device_script(script, "identical", "the 2-device sweep")
 
 
 def test_cli_sweep_and_plot(tmp_path, capsys):
@@ -202,12 +208,7 @@ def test_batched_lapack_over_two_devices_does_not_deadlock():
         print("finished", jax.__version__, os.environ.get("NPROC"))
         """
     )
-    try:
-        proc = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=180)
-    except subprocess.TimeoutExpired:
-        pytest.fail("batched LAPACK calls over 2 CPU devices did not finish in 180 s (jaxlib 0.10 pool deadlock; see axojax/_runtime.py)")
-    assert proc.returncode == 0, proc.stderr[-2000:]
-    assert "finished" in proc.stdout
+    run_two_device_script(script, "finished", "batched LAPACK calls over 2 CPU devices")
 
 
 @pytest.mark.parametrize(

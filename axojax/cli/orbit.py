@@ -14,11 +14,10 @@ from ..dynamics.simulate import DEFAULT_CUBIC
 from ..params import Params
 from . import common
 
-
-
 MAX_HARMONICS = 100
 """More harmonics than a beat needs (its spectrum decays fast) and than memory allows:
 the Newton system grows as (2 H + 1)^2 blocks."""
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     common.add_model_flags(parser, axes=True)

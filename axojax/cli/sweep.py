@@ -34,21 +34,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--timeout", type=int, default=120, metavar="SECONDS", help="how long to wait for every process to join (default 120): a process I > 0 stops with a one-line error when process 0 does not answer; process 0 stops with jax's error when the others do not join")
 
 
-def _wait_for_coordinator(address: str, timeout_s: float) -> None:
+def _wait_for_coordinator(host: str, port: int, timeout_s: float) -> None:
     """A one-line error when nothing listens at process 0's address within the timeout
     (jax's own client would abort the process with a C++ stack trace)."""
     import socket
     import time
 
-    host, _, port = address.rpartition(":")
     deadline = time.monotonic() + timeout_s
     while True:
         try:
-            socket.create_connection((host, int(port)), timeout=1.0).close()
+            socket.create_connection((host, port), timeout=1.0).close()
             return
         except OSError:
             if time.monotonic() > deadline:
-                raise common.CLIError(f"--coordinator: nothing answered at {address} within {timeout_s:g} s (--timeout); is process 0 running?") from None
+                raise common.CLIError(f"--coordinator: nothing answered at {host}:{port} within {timeout_s:g} s (--timeout); is process 0 running?") from None
             time.sleep(0.5)
 
 
@@ -57,6 +56,7 @@ def init_distributed(args: argparse.Namespace) -> None:
     explicit = {"coordinator_address": args.coordinator, "num_processes": args.num_processes, "process_id": args.process_id}
     if not args.distributed and all(v is None for v in explicit.values()):
         return
+    host, port = None, None
     if args.coordinator is not None:
         host, _, port = args.coordinator.rpartition(":")
         if not host or not port.isdigit() or not 1 <= int(port) <= 65535:
@@ -69,8 +69,8 @@ def init_distributed(args: argparse.Namespace) -> None:
         raise common.CLIError(f"--process-id: expected 0..{args.num_processes - 1} (--num-processes {args.num_processes}), got {args.process_id}")
     if args.timeout < 1:
         raise common.CLIError(f"--timeout: expected seconds >= 1, got {args.timeout}")
-    if args.coordinator is not None and args.process_id:
-        _wait_for_coordinator(args.coordinator, args.timeout)
+    if host is not None and args.process_id:
+        _wait_for_coordinator(host, int(port), args.timeout)
     import jax
 
     try:

@@ -82,8 +82,8 @@ class HarmonicBalance(OrbitSolver):
         theta = (params, jnp.asarray(kappa, dtype=float))
         make = self._problem(model, H)
         prob = make(theta)
-        fixed = jax.lax.stop_gradient(theta)  # the start and the multipliers are not differentiated
-        x_hopf, ref, lam, fallback = hopf_guess(make(fixed))
+        fixed = make(jax.lax.stop_gradient(theta))  # the start and the multipliers are not differentiated
+        x_hopf, ref, lam, fallback = hopf_guess(fixed)
         x0 = x_hopf
         if start is not None:
             X0 = resize(start.coefficients, H)
@@ -97,7 +97,7 @@ class HarmonicBalance(OrbitSolver):
         info = info.at[0].set(jnp.where(nontrivial, info[0], 0.0))
         amplitude, angle, k = measures(model, X)
         if self.floquet > 0:
-            rho = floquet_multipliers(make(fixed), jax.lax.stop_gradient(X), jax.lax.stop_gradient(omega), count=self.floquet, krylov=self.krylov)
+            rho = floquet_multipliers(fixed, jax.lax.stop_gradient(X), jax.lax.stop_gradient(omega), count=self.floquet, krylov=self.krylov)
         else:
             rho = jnp.full((0,), jnp.nan + 0j)
         return LimitCycle(
