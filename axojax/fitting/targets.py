@@ -63,18 +63,28 @@ class Target:
 
 @dataclasses.dataclass(frozen=True)
 class ShapeTarget:
-    """Observed first Fourier mode psi_1(s) (rad, complex) at arc lengths ``s_um``, with
-    the standard error ``sigma`` (rad) of each of its real and imaginary parts."""
+    """Observed Fourier modes of the tangent angle at arc lengths ``s_um`` (S,):
+    psi_1(s) (rad, complex, (S,)) with the standard error ``sigma`` (rad) of each of its
+    real and imaginary parts: a scalar, or one value per point (S,). ``psi0`` (rad, (S,))
+    is the observed static mode, optional (limit-cycle waveform fits use it; linear-mode
+    fits ignore it)."""
 
     s_um: np.ndarray
     psi1: np.ndarray
-    sigma: float
+    sigma: float | np.ndarray
+    psi0: np.ndarray | None = None
 
     def __post_init__(self) -> None:
-        if not (math.isfinite(self.sigma) and self.sigma > 0):
-            raise ValueError(f"shape uncertainty must be > 0, got {self.sigma!r}")
-        if np.asarray(self.s_um).shape != np.asarray(self.psi1).shape:
+        sigma = np.asarray(self.sigma, dtype=float)
+        if not (np.all(np.isfinite(sigma)) and np.all(sigma > 0)):
+            raise ValueError(f"shape uncertainty must be finite and > 0, got {self.sigma!r}")
+        shape = np.asarray(self.s_um).shape
+        if shape != np.asarray(self.psi1).shape:
             raise ValueError("shape target: s_um and psi1 must have the same length")
+        if sigma.ndim and sigma.shape != shape:
+            raise ValueError(f"shape target: sigma must be a scalar or have the shape of s_um {shape}, got {sigma.shape}")
+        if self.psi0 is not None and np.asarray(self.psi0).shape != shape:
+            raise ValueError("shape target: psi0 must have the shape of s_um")
 
 
 K_FLOOR = 1e-6  # rad/L: a standing (real) mode has k = 0; its wavelength is capped, not infinite
@@ -103,11 +113,13 @@ def model_psi1(model: Model, mode: Mode, s: Float[Array, " S"]) -> Array:
 
 
 def shape_residuals(model: Model, mode: Mode, target: ShapeTarget, units: Units) -> Float[Array, " 2S"]:
-    """(psi_obs - alpha psi_model) / sigma, real and imaginary parts, alpha the best complex scale."""
+    """(psi_obs - alpha psi_model) / sigma, real and imaginary parts, alpha the best complex scale
+    (weighted by 1 / sigma^2 where sigma varies along s)."""
     psi_m = model_psi1(model, mode, np.asarray(target.s_um) / units.length_um)
     obs = jnp.asarray(target.psi1)
-    alpha = jnp.vdot(psi_m, obs) / jnp.vdot(psi_m, psi_m)
-    r = (obs - alpha * psi_m) / target.sigma
+    w = 1.0 / jnp.broadcast_to(jnp.asarray(target.sigma, dtype=float), obs.shape) ** 2
+    alpha = jnp.vdot(psi_m, w * obs) / jnp.vdot(psi_m, w * psi_m)  # weighted least squares
+    r = (obs - alpha * psi_m) * jnp.sqrt(w)
     return jnp.concatenate([jnp.real(r), jnp.imag(r)])
 
 
