@@ -13,7 +13,7 @@ from . import _runtime
 _runtime.set_xla_flags()
 _runtime.configure_jax()
 
-from . import eigen, linalg, models  # noqa: E402
+from . import datasets, eigen, linalg, models  # noqa: E402
 from .assembly import System, assemble  # noqa: E402
 from .cache import enable_compilation_cache  # noqa: E402
 from .critical import Critical, critical_force  # noqa: E402
@@ -28,4 +28,4 @@ from .units import Units  # noqa: E402
 
 __version__ = "0.1.0"
 
-__all__ = ["enable_compilation_cache", "LimitCycle", "limit_cycle", "orbits", "FitResult", "ShapeTarget", "Target", "fit", "read_beat", "Simulation", "simulate", "SweepResult", "sweep", "Critical", "critical_force", "eigen", "linalg", "Mode", "PARAM_NAMES", "Params", "System", "Units", "assemble", "dominant_mode", "mode_shapes", "models", "spectrum"]
+__all__ = ["datasets", "enable_compilation_cache", "LimitCycle", "limit_cycle", "orbits", "FitResult", "ShapeTarget", "Target", "fit", "read_beat", "Simulation", "simulate", "SweepResult", "sweep", "Critical", "critical_force", "eigen", "linalg", "Mode", "PARAM_NAMES", "Params", "System", "Units", "assemble", "dominant_mode", "mode_shapes", "models", "spectrum"]

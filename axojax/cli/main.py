@@ -16,6 +16,7 @@ SUBCOMMANDS = {
     "fit": "estimate free parameters from observed beats (optax)",
     "simulate": "nonlinear beat in the time domain (diffrax), saved to .npz",
     "orbit": "limit cycle computed directly, or its branch in p from the Hopf point",
+    "data": "what axojax extracts from beat data (frequency, psi_0, psi_1, planarity) before any fit",
     "plot": "figures of a sweep or simulation file, or of a cross-section",
 }
 

@@ -1,16 +1,17 @@
-"""Observed beats: read a tangent-angle kymograph psi(s, t) or centreline coordinates per
-frame, and extract the beat frequency, the static mode psi_0(s) and the first Fourier
-mode psi_1(s) (:func:`axojax.waveform.fourier_modes`).
+"""Observed beats: read a file (:mod:`axojax.fitting.readers`: kymograph, 2D or 3D
+centreline, Fourier modes; ``.csv``, ``.npz``, ``.mat``), reduce it
+(:mod:`axojax.fitting.reduction`: planarity, beat phase, frequency, psi_0, psi_1 and their
+uncertainties) and hand a fit its targets (:meth:`BeatData.targets`).
 
-Accepted files (``frame_rate_hz`` and ``length_um`` are required in each):
+Physical inputs a file may lack come from the caller (``read_beat(..., length_um=,
+frame_rate_hz=)``, the command line's ``--length-um`` / ``--frame-rate-hz``). When both the
+file and the caller give one and they differ (by more than 1e-9 relative), that is an
+error: a file's value is a measurement, and silently overriding or ignoring it hides a
+mistake. A centreline's length, when neither gives it, is the median of its frames'
+measured arc lengths. A Fourier-mode file without a frequency keeps ``frequency_hz = None``
+(the fit then needs ``--target-frequency``; :attr:`BeatData.notes` says so).
 
-- ``.npz`` kymograph: ``psi`` (frames, S) in rad, optional ``s_um`` (S,);
-- ``.npz`` centreline: ``x_um`` and ``y_um`` (frames, P), points from base to tip;
-- ``.csv``: header comment lines ``# frame_rate_hz = 100`` and ``# length_um = 12``,
-  then a header row and rows of either ``frame,s_um,psi_rad`` (kymograph) or
-  ``frame,x_um,y_um`` (centreline points, base to tip, in order).
-
-Every problem (missing field or column, NaN, fewer frames than one beat period) is a
+Every problem (missing field or column, NaN, fewer frames than 1.5 beat periods) is a
 one-line ``ValueError`` naming the file and the problem.
 """
 
@@ -21,10 +22,13 @@ import pathlib
 
 import numpy as np
 
-from ..waveform import FourierModes, detect_cycles, fourier_modes
+from ..waveform import FourierModes
+from . import reduction
+from .readers import RawBeat, fail, read_file
+from .reduction import FREQUENCY_REL_FLOOR, PSI1_FLOOR_RAD, Planarity
 from .targets import ShapeTarget, Target
 
-N_POINTS = 41
+N_POINTS = reduction.N_POINTS
 
 
 @dataclasses.dataclass(frozen=True)
@@ -32,155 +36,241 @@ class BeatData:
     """A beat reduced to what a fit uses.
 
     Attributes:
-        t_s: (T,) frame times; s_um: (S,) arc length; psi_rad: (T, S) tangent angle.
-        frequency_hz, frequency_sigma_hz: beat frequency and its standard error.
-        modes: psi_0 and psi_1 over whole periods.
-        psi1_sigma: standard error of Re and Im of psi_1(s) (rad), from the residual of
-            the two-mode reconstruction.
+        s_um: (S,) arc length from the base (um).
+        modes: psi_0 and psi_1 (rad) at ``s_um``: the in-plane component for 3D beats.
+        psi1_sigma: (S,) standard error (rad) of each of Re and Im of psi_1 (per-cycle
+            scatter, floored: :mod:`axojax.fitting.reduction`).
+        frequency_hz, frequency_sigma_hz: beat frequency and its standard error; ``None``
+            when the file has frames of unknown timing or is a Fourier-mode file without one.
+        length_um: flagellum length (um).
+        kind: ``"kymograph"``, ``"centreline-2d"``, ``"centreline-3d"`` or ``"fourier"``.
+        source: the file (or ``"data"``).
+        t_s: (T,) frame times and psi_rad: (T, S) tangent angle, ``None`` for Fourier modes.
+        planarity: :class:`~axojax.fitting.reduction.Planarity` of a 3D record, else ``None``.
+        out_of_plane: for a non-planar 3D record, the out-of-plane component's modes and
+            psi_1 sigma ``(FourierModes, (S,))``, else ``None``.
+        cycles: whole cycles used (0 for Fourier modes); periods_s: their durations.
+        excluded_base_um: basal stretch left out (:meth:`exclude_base`).
+        notes: what the reduction decided or assumed, in words.
+        published_frequency_hz: a frequency stated by the data's authors, if the file has one.
     """
 
-    t_s: np.ndarray
     s_um: np.ndarray
-    psi_rad: np.ndarray
-    frequency_hz: float
-    frequency_sigma_hz: float
     modes: FourierModes
-    psi1_sigma: float
+    psi1_sigma: np.ndarray
+    frequency_hz: float | None
+    frequency_sigma_hz: float | None
+    length_um: float
+    kind: str = "kymograph"
+    source: str = "data"
+    t_s: np.ndarray | None = None
+    psi_rad: np.ndarray | None = None
+    planarity: Planarity | None = None
+    out_of_plane: tuple | None = None
+    cycles: int = 0
+    periods_s: np.ndarray | None = None
+    excluded_base_um: float = 0.0
+    notes: tuple = ()
+    published_frequency_hz: float | None = None
 
     def targets(self) -> tuple[list[Target], ShapeTarget]:
-        """Frequency target and the psi_1 shape target."""
-        return [Target("frequency_hz", self.frequency_hz, self.frequency_sigma_hz)], ShapeTarget(self.s_um, self.modes.psi1, self.psi1_sigma)
+        """Frequency target (none when the frequency is unknown) and the psi_1 shape
+        target (per-point sigma, with the observed psi_0)."""
+        freq = [] if self.frequency_hz is None else [Target("frequency_hz", self.frequency_hz, self.frequency_sigma_hz)]
+        return freq, ShapeTarget(self.s_um, self.modes.psi1, self.psi1_sigma, psi0=self.modes.psi0)
+
+    def shape_targets(self) -> list[ShapeTarget]:
+        """Shape targets of every reduced component: the in-plane one, and for a
+        non-planar 3D beat also the out-of-plane one (for fits that model both)."""
+        out = [self.targets()[1]]
+        if self.out_of_plane is not None:
+            m, sig = self.out_of_plane
+            out.append(ShapeTarget(self.s_um, m.psi1, sig, psi0=m.psi0))
+        return out
+
+    def exclude_base(self, um: float) -> BeatData:
+        """The same beat without its basal stretch s < ``um`` (arc lengths stay measured
+        from the base, so a model clamped at s = 0 is compared only where s >= um).
+
+        Raises:
+            ValueError: ``um`` negative, or fewer than 4 points would remain.
+        """
+        um = float(um)
+        if not (np.isfinite(um) and um >= 0):
+            raise ValueError(f"{self.source}: the basal stretch to exclude must be >= 0 um, got {um!r}")
+        keep = self.s_um >= um - 1e-9 * max(1.0, self.length_um)
+        if keep.sum() < 4:
+            raise ValueError(f"{self.source}: excluding {um:g} um of the base leaves {int(keep.sum())} points of {self.s_um.size} (length {self.length_um:g} um); need at least 4")
+
+        def cut(m: FourierModes) -> FourierModes:
+            return dataclasses.replace(m, s=m.s[keep], psi0=m.psi0[keep], psi1=m.psi1[keep])
+
+        oop = None if self.out_of_plane is None else (cut(self.out_of_plane[0]), self.out_of_plane[1][keep])
+        return dataclasses.replace(
+            self, s_um=self.s_um[keep], modes=cut(self.modes), psi1_sigma=self.psi1_sigma[keep],
+            psi_rad=None if self.psi_rad is None else self.psi_rad[:, keep], out_of_plane=oop,
+            excluded_base_um=max(um, self.excluded_base_um),
+            notes=self.notes + (f"basal {um:g} um excluded ({int((~keep).sum())} points)",),
+        )
 
     @property
     def static_curvature_rad_per_um(self) -> float:
-        return self.modes.static_curvature
+        """Least-squares slope of psi_0(s) (rad/um)."""
+        return float(np.polyfit(self.s_um, self.modes.psi0, 1)[0])
+
+    @property
+    def dynamic_amplitude_rad(self) -> float:
+        """Arc-length (trapezoidal) mean of |psi_1(s)| (rad)."""
+        a = np.abs(self.modes.psi1)
+        return float(np.trapezoid(a, self.s_um) / (self.s_um[-1] - self.s_um[0]))
+
+    @property
+    def wavelength_um(self) -> float | None:
+        """2 pi / |least-squares slope of the unwrapped phase of psi_1(s)| (um); ``None``
+        for a standing wave (zero slope)."""
+        phase = np.unwrap(np.angle(self.modes.psi1))
+        slope = float(np.polyfit(self.s_um, phase, 1)[0])
+        return None if abs(slope) < 1e-12 else float(2 * np.pi / abs(slope))
+
+    def summary(self) -> dict:
+        """What ``axojax data --json`` prints (keys in INTERFACE.md, plus extras)."""
+        return {
+            "file": self.source,
+            "kind": self.kind,
+            "length_um": float(self.length_um),
+            "frequency_hz": self.frequency_hz,
+            "frequency_sigma_hz": self.frequency_sigma_hz,
+            "wavelength_um": self.wavelength_um,
+            "static_curvature_rad_per_um": self.static_curvature_rad_per_um,
+            "dynamic_amplitude_rad": self.dynamic_amplitude_rad,
+            "planarity": None if self.planarity is None else self.planarity.as_dict(),
+            "n_points": int(self.s_um.size),
+            "frames": None if self.t_s is None else int(self.t_s.size),
+            "cycles": int(self.cycles),
+            "psi1_sigma_rad": {"min": float(self.psi1_sigma.min()), "median": float(np.median(self.psi1_sigma)), "max": float(self.psi1_sigma.max())},
+            "floors": {"frequency_relative": FREQUENCY_REL_FLOOR, "psi1_rad": PSI1_FLOOR_RAD},
+            "excluded_base_um": self.excluded_base_um,
+            "published_frequency_hz": self.published_frequency_hz,
+            "notes": list(self.notes),
+        }
 
 
-def _fail(path, problem: str):
-    raise ValueError(f"{path}: {problem}")
+def _physical(raw: RawBeat, name: str, given: float | None, flag: str) -> float | None:
+    have = raw.scalars.get(name)
+    if given is not None:
+        if not (np.isfinite(given) and given > 0):
+            raise ValueError(f"{flag}: must be a finite number > 0, got {given!r}")
+        if have is not None and abs(have - given) > 1e-9 * max(abs(have), abs(given)):
+            fail(raw.path, f"{name} = {have:g} in the file conflicts with {flag} {given:g}; drop {flag} or fix the file")
+        return float(given)
+    return have
 
 
-def _interp_extrapolate(x: np.ndarray, xp: np.ndarray, fp: np.ndarray) -> np.ndarray:
-    """``np.interp`` with linear extrapolation from the two end intervals."""
-    out = np.interp(x, xp, fp)
-    lo, hi = x < xp[0], x > xp[-1]
-    out[lo] = fp[0] + (x[lo] - xp[0]) * (fp[1] - fp[0]) / (xp[1] - xp[0])
-    out[hi] = fp[-1] + (x[hi] - xp[-1]) * (fp[-1] - fp[-2]) / (xp[-1] - xp[-2])
-    return out
+def read_beat(path: str | pathlib.Path, *, length_um: float | None = None, frame_rate_hz: float | None = None, variables: dict | None = None, cell: int | None = None, planarity_threshold: float = reduction.PLANARITY_THRESHOLD) -> BeatData:
+    """Read a beat file and reduce it (formats: :mod:`axojax.fitting.readers`).
 
+    Args:
+        path: the file, or the name of a bundled data set (``"human_sperm"``,
+            :mod:`axojax.datasets`).
+        length_um, frame_rate_hz: values the file lacks (a file value that differs is an
+            error, module docstring).
+        variables, cell: for ``.npz``/``.mat``: renamed variables, which cell of a cell array.
+        planarity_threshold: s3/s2 below which a 3D beat is planar.
+    """
+    from ..datasets import resolve
 
-def _tangent_angle(x: np.ndarray, y: np.ndarray, length_um: float, path) -> tuple[np.ndarray, np.ndarray]:
-    """Centreline points (T, P) -> psi (T, N_POINTS) on a uniform arc length in [0, L]."""
-    if x.shape != y.shape or x.ndim != 2 or x.shape[1] < 4:
-        _fail(path, f"centreline needs x_um and y_um of equal shape (frames, points >= 4), got {x.shape} and {y.shape}")
-    dx, dy = np.diff(x, axis=1), np.diff(y, axis=1)
-    seg = np.hypot(dx, dy)
-    if np.any(seg <= 0):
-        _fail(path, "centreline has repeated points (zero-length segments)")
-    s_mid = np.cumsum(seg, axis=1) - seg / 2
-    angle = np.unwrap(np.arctan2(dy, dx), axis=1)
-    s = np.linspace(0.0, length_um, N_POINTS)
-    # Segment angles belong to segment midpoints; the ends (s = 0 and L) lie half a
-    # segment beyond the first and last midpoints, so extrapolate linearly there
-    # (holding the end value instead would put the base angle half a segment up).
-    # Each frame's arc length is scaled to [0, 1] (a fraction of its own measured length).
-    total = seg.sum(axis=1)
-    psi = np.stack([_interp_extrapolate(s / length_um, s_mid[k] / total[k], angle[k]) for k in range(x.shape[0])])
-    base = psi[:, 0].mean()
-    return s, psi - base
-
-
-def _read_csv(path: pathlib.Path) -> dict:
-    meta, lines = {}, path.read_text().splitlines()
-    for line in lines:
-        if line.startswith("#") and "=" in line:
-            k, v = line[1:].split("=", 1)
-            meta[k.strip()] = v.strip()
-    body = [ln for ln in lines if ln.strip() and not ln.startswith("#")]
-    if not body:
-        _fail(path, "no data rows")
-    cols = [c.strip() for c in body[0].split(",")]
-    try:
-        table = np.array([[float(v) for v in ln.split(",")] for ln in body[1:]])
-    except ValueError:
-        _fail(path, "non-numeric value in the data rows")
-    if table.ndim != 2 or table.shape[1] != len(cols):
-        _fail(path, f"rows do not match the header {cols}")
-    out = {k: meta[k] for k in ("frame_rate_hz", "length_um") if k in meta}
-    col = dict(zip(cols, table.T))
-    if "frame" not in col:
-        _fail(path, f"missing column 'frame' (header: {','.join(cols)})")
-    frames = col["frame"].astype(int)
-    nf = len(np.unique(frames))
-    for kind, names in (("kymograph", ("s_um", "psi_rad")), ("centreline", ("x_um", "y_um"))):
-        if all(n in col for n in names):
-            shape = (nf, len(frames) // max(nf, 1))
-            if shape[0] * shape[1] != len(frames):
-                _fail(path, "every frame must have the same number of rows")
-            order = np.argsort(frames, kind="stable")
-            a, b = (col[n][order].reshape(shape) for n in names)
-            if kind == "kymograph":
-                out.update(psi=b, s_um=a[0])
-            else:
-                out.update(x_um=a, y_um=b)
-            return out
-    _fail(path, f"missing columns: need frame,s_um,psi_rad or frame,x_um,y_um (header: {','.join(cols)})")
-
-
-def read_beat(path: str | pathlib.Path) -> BeatData:
-    """Read a beat file (formats in the module docstring) and extract its modes."""
-    path = pathlib.Path(path)
-    if not path.is_file():
-        _fail(path, "file does not exist")
-    if path.suffix == ".npz":
-        try:
-            with np.load(path, allow_pickle=False) as f:
-                raw = {k: f[k] for k in f.files}
-        except (OSError, ValueError) as err:
-            _fail(path, f"cannot read as .npz ({err})")
-    elif path.suffix == ".csv":
-        raw = _read_csv(path)
-    else:
-        _fail(path, f"unknown format {path.suffix!r}: use .npz or .csv")
-    for key in ("frame_rate_hz", "length_um"):
-        if key not in raw:
-            _fail(path, f"missing {key}")
-        try:
-            value = float(raw[key])
-        except (TypeError, ValueError):
-            _fail(path, f"{key} must be a number, got {raw[key]!r}")
-        if not (np.isfinite(value) and value > 0):
-            _fail(path, f"{key} must be > 0, got {value!r}")
-        raw[key] = value
-    if "psi" in raw:
-        psi = np.asarray(raw["psi"], dtype=float)
+    raw = read_file(resolve(path), variables=variables, cell=cell)
+    length = _physical(raw, "length_um", length_um, "--length-um")
+    notes = []
+    published = raw.scalars.get("published_frequency_hz")
+    if raw.kind == "fourier":
+        if frame_rate_hz is not None:
+            notes.append("frame rate ignored: a Fourier-mode file has no frames")
+        return _from_modes(raw, length, notes)
+    rate = _physical(raw, "frame_rate_hz", frame_rate_hz, "--frame-rate-hz")
+    if rate is None:
+        fail(raw.path, "missing frame_rate_hz (give it in the file or with --frame-rate-hz)")
+    a = raw.arrays
+    planar = None
+    if raw.kind == "kymograph":
+        psi = a["psi"]
         if psi.ndim != 2:
-            _fail(path, f"psi must be (frames, points), got shape {psi.shape}")
-        s = np.asarray(raw.get("s_um", np.linspace(0, raw["length_um"], psi.shape[1])), dtype=float)
-        if not np.all(np.isfinite(psi)) or not np.all(np.isfinite(s)):
-            _fail(path, "psi contains NaN or infinite values")
-    elif "x_um" in raw and "y_um" in raw:
-        x, y = np.asarray(raw["x_um"], dtype=float), np.asarray(raw["y_um"], dtype=float)
-        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
-            _fail(path, "centreline contains NaN or infinite values")
-        s, psi = _tangent_angle(x, y, raw["length_um"], path)
+            fail(raw.path, f"psi must be (frames, points), got shape {psi.shape}")
+        if length is None:
+            if "s_um" not in a:
+                fail(raw.path, "missing length_um (give it in the file or with --length-um)")
+            length = float(a["s_um"][-1])
+        s = a.get("s_um", np.linspace(0, length, psi.shape[1]))
+        if s.shape != (psi.shape[1],):
+            fail(raw.path, f"s_um must have one value per column of psi ({psi.shape[1]}), got shape {s.shape}")
+        comps = [psi]
     else:
-        _fail(path, "missing data: need psi (kymograph) or x_um and y_um (centreline)")
-    t = np.arange(psi.shape[0]) / raw["frame_rate_hz"]
-    return beat_from_kymograph(t, s, psi, source=str(path))
+        names = ("x_um", "y_um", "z_um") if raw.kind == "centreline-3d" else ("x_um", "y_um")
+        shapes = {a[n].shape for n in names}
+        if len(shapes) != 1 or a["x_um"].ndim != 2:
+            fail(raw.path, f"centreline needs {', '.join(names)} of equal shape (frames, points), got {', '.join(str(a[n].shape) for n in names)}")
+        pts = np.stack([a[n] for n in names], axis=-1)
+        if pts.shape[1] < 4:
+            fail(raw.path, f"centreline needs at least 4 points per frame, got {pts.shape[1]}")
+        if length is None:
+            length = float(np.median(reduction.arc_lengths(pts)))
+            notes.append(f"length {length:.4g} um: median measured arc length of the frames")
+        if raw.kind == "centreline-3d":
+            planar = reduction.planarity(pts, planarity_threshold)
+            axes = planar.axes if not planar.planar else planar.axes[:2]
+            notes.append(planar.treatment)
+        else:
+            axes = np.eye(2)
+        s, comps = reduction.tangent_angles(pts, axes, length, raw.path)
+    t = np.arange(comps[0].shape[0]) / rate
+    beat = beat_from_kymograph(t, s, comps[0], source=raw.path, extra=comps[1:])
+    return dataclasses.replace(beat, length_um=float(length), kind=raw.kind, planarity=planar, notes=beat.notes + tuple(notes), published_frequency_hz=published)
 
 
-def beat_from_kymograph(t_s: np.ndarray, s_um: np.ndarray, psi_rad: np.ndarray, source: str = "data") -> BeatData:
-    """Frequency, psi_0 and psi_1 of a kymograph psi (T, S) sampled at times t_s."""
-    var = psi_rad.var(axis=0)
-    cycles = detect_cycles(t_s, psi_rad[:, int(np.argmax(var))])
-    if cycles.count < 1 or t_s[-1] - t_s[0] < 1.5 * cycles.periods.mean():
-        _fail(source, f"too few frames for one beat period ({len(t_s)} frames, {cycles.count} full cycles found; need at least 1.5 periods)")
-    period = float(cycles.periods.mean())
-    frame = float(t_s[1] - t_s[0])
-    # Standard error of the mean period; floor: a tenth of a frame over the whole record.
-    sigma_T = max(float(cycles.periods.std(ddof=1)) / np.sqrt(cycles.count) if cycles.count > 1 else 0.0, 0.1 * frame / cycles.count)
-    modes = fourier_modes(t_s, s_um, psi_rad, period)
-    sigma_psi1 = max(modes.residual_rms * np.sqrt(2.0 / modes.n_samples), 1e-6)
-    f = 1.0 / period
-    return BeatData(t_s=t_s, s_um=np.asarray(s_um, dtype=float), psi_rad=psi_rad, frequency_hz=f, frequency_sigma_hz=f * sigma_T / period, modes=modes, psi1_sigma=sigma_psi1)
+def _from_modes(raw: RawBeat, length: float | None, notes: list) -> BeatData:
+    a = raw.arrays
+    s = a["s_um"]
+    n = s.size
+    for k in ("psi0_rad", "psi1_re_rad", "psi1_im_rad", "psi1_sigma_rad"):
+        if k in a and a[k].shape != (n,):
+            fail(raw.path, f"{k} must have one value per s_um ({n}), got shape {a[k].shape}")
+    if s.ndim != 1 or n < 2 or np.any(np.diff(s) <= 0) or s[0] < 0:
+        fail(raw.path, "s_um must be >= 0 and increasing, with at least 2 points")
+    if length is None:
+        fail(raw.path, "missing length_um (a '# length_um = L' header line, or --length-um)")
+    if s[-1] > length * (1 + 1e-9):
+        fail(raw.path, f"s_um reaches {s[-1]:g} um, beyond length_um = {length:g}")
+    psi1 = a["psi1_re_rad"] + 1j * a["psi1_im_rad"]
+    if "psi1_sigma_rad" in a:
+        if np.any(a["psi1_sigma_rad"] <= 0):
+            fail(raw.path, "psi1_sigma_rad must be > 0")
+        sigma = a["psi1_sigma_rad"]
+    else:
+        sigma = np.full(n, PSI1_FLOOR_RAD)
+        notes.append(f"no psi1_sigma_rad column: psi_1 sigma is the floor {PSI1_FLOOR_RAD:g} rad")
+    f = raw.scalars.get("frequency_hz")
+    fs = raw.scalars.get("frequency_sigma_hz")
+    if f is None:
+        if fs is not None:
+            fail(raw.path, "frequency_sigma_hz given without frequency_hz")
+        notes.append("no frequency in the file: a fit needs --target-frequency")
+    elif fs is None:
+        fs = FREQUENCY_REL_FLOOR * f
+        notes.append(f"no frequency_sigma_hz: the {FREQUENCY_REL_FLOOR:.0%} floor")
+    modes = FourierModes(s=s, psi0=a["psi0_rad"], psi1=psi1, omega=float("nan") if f is None else 2 * np.pi * f)
+    return BeatData(s_um=s, modes=modes, psi1_sigma=sigma, frequency_hz=f, frequency_sigma_hz=fs, length_um=float(length), kind="fourier", source=raw.path, notes=tuple(notes), published_frequency_hz=raw.scalars.get("published_frequency_hz"))
+
+
+def beat_from_kymograph(t_s: np.ndarray, s_um: np.ndarray, psi_rad: np.ndarray, source: str = "data", extra: list | tuple = ()) -> BeatData:
+    """Frequency, psi_0 and psi_1 (with uncertainties) of a kymograph ``psi_rad`` (T, S)
+    sampled at times ``t_s`` (T,) and arc lengths ``s_um`` (S,); ``extra`` angle
+    components (each (T, S)) share its beat phase (a 3D beat's out-of-plane angle)."""
+    s = np.asarray(s_um, dtype=float)
+    psi = np.asarray(psi_rad, dtype=float)
+    red = reduction.reduce_frames(t_s, s, [psi, *extra], source=source)
+    return BeatData(
+        s_um=s, modes=red.modes[0], psi1_sigma=red.psi1_sigma[0], frequency_hz=red.frequency_hz, frequency_sigma_hz=red.frequency_sigma_hz,
+        length_um=float(s[-1]), kind="kymograph", source=str(source), t_s=np.asarray(t_s, dtype=float), psi_rad=psi,
+        cycles=red.cycles, periods_s=red.periods_s, out_of_plane=(red.modes[1], red.psi1_sigma[1]) if extra else None,
+        notes=(f"frequency from {red.cycles} cycles: scatter {red.frequency_scatter_hz:.3g} Hz, sigma {red.frequency_sigma_hz:.3g} Hz (floor {FREQUENCY_REL_FLOOR:.0%})",),
+    )

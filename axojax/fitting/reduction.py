@@ -1,0 +1,275 @@
+"""From frames to what a fit matches: tangent angles of 2D/3D centrelines (with the
+planarity decision), the beat phase and frequency, psi_0 and psi_1 per cycle, and their
+uncertainties with documented floors. Plain numpy (finished records, not traced).
+
+**Planarity** (3D centrelines): the singular values s1 >= s2 >= s3 of the point cloud of
+every frame's points relative to its base (centred) give the long axis e1, the direction
+of largest transverse motion e2 and the out-of-plane direction e3. The beat is called
+planar when ``s3 / s2 < PLANARITY_THRESHOLD`` (0.2): the out-of-plane rms excursion is
+under a fifth of the in-plane transverse one, so projecting on the (e1, e2) plane changes
+a tangent angle by under ``1 - cos(atan 0.2)`` ~ 2 % (below a measured psi_1's
+uncertainty). Planar: psi is the angle of the projected tangent in the best plane.
+Not planar: both transverse components are reduced, psi_a = atan2(t.e2, t.e1) (in the
+plane of largest motion, the one a fit's in-plane shape target uses) and
+psi_b = atan2(t.e3, t.e1) (out of it), on a common beat phase.
+
+**Beat phase and frequency**: the spectral peak f0 of the mean-removed angles (summed
+over s and components, zero-padded 8x) gives a first psi_1; projecting every frame on the
+quadrature pair (Re psi_1, Im psi_1) gives the beat phase theta(t) (all points at once,
+robust to noise at any one point; a standing wave, whose pair is degenerate, uses the
+analytic signal of its one spatial mode). A cycle ends where theta crosses a multiple of
+2 pi. Frequency = 1 / (least-squares slope of the crossing times against the cycle
+number), refined twice.
+
+**Uncertainties** (each never below its floor):
+
+- frequency: the cycle-to-cycle scatter, ``f^2 std(periods) / sqrt(n)``. Floors: the
+  timing resolution, ``f^2 (dt / sqrt 6) / n`` (each end of the n counted cycles known to
+  a uniform frame, dt / sqrt 12), and ``FREQUENCY_REL_FLOOR`` = 1 % of f: the beat
+  frequency of one flagellum wanders by a few percent over seconds, and a camera's frame
+  clock (the only time reference) is rarely calibrated better, so no single record pins
+  a cell's frequency below 1 %. (A phase-averaged or tiled record has zero scatter: the
+  floor then speaks.)
+- psi_1(s): per point, the scatter of the per-cycle psi_1 estimates (least squares of
+  psi = a0 + Re(c exp(i theta)) within each cycle, cycles aligned by the phase itself),
+  ``sqrt((var Re + var Im) / 2 / n)``; with one cycle, the residual of the two-mode
+  reconstruction. Floor ``PSI1_FLOOR_RAD`` = 0.01 rad: the angle resolution of tracked
+  centrelines (sub-pixel localisation ~0.1 um over the ~10 um on which the smoothed
+  tangent is resolved).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+
+import numpy as np
+
+from ..waveform import FourierModes
+from .readers import fail
+
+PLANARITY_THRESHOLD = 0.2
+FREQUENCY_REL_FLOOR = 0.01
+PSI1_FLOOR_RAD = 0.01
+N_POINTS = 41
+ZERO_PAD = 8
+
+
+@dataclasses.dataclass(frozen=True)
+class Planarity:
+    """Planarity of a 3D centreline record.
+
+    Attributes:
+        singular_values: (3,) of the base-relative point cloud, descending (um).
+        axes: (3, 3) rows e1 (long axis, base to tip), e2 (largest transverse motion), e3.
+        ratio: s3 / s2 (out-of-plane over in-plane transverse extent).
+        planar: ``ratio < threshold``.
+        threshold: :data:`PLANARITY_THRESHOLD`.
+    """
+
+    singular_values: np.ndarray
+    axes: np.ndarray
+    ratio: float
+    planar: bool
+    threshold: float = PLANARITY_THRESHOLD
+
+    @property
+    def treatment(self) -> str:
+        if self.planar:
+            return f"planar (s3/s2 = {self.ratio:.3g} < {self.threshold:g}): angles in the best plane"
+        return f"not planar (s3/s2 = {self.ratio:.3g} >= {self.threshold:g}): both transverse components reduced, the in-plane one (largest motion) is the shape target"
+
+    def as_dict(self) -> dict:
+        s = self.singular_values
+        return {
+            "singular_values_um": [float(v) for v in s],
+            "ratios": {"s2_over_s1": float(s[1] / s[0]), "s3_over_s1": float(s[2] / s[0]), "s3_over_s2": float(self.ratio)},
+            "threshold": self.threshold,
+            "planar": bool(self.planar),
+            "treatment": self.treatment,
+        }
+
+
+def planarity(points: np.ndarray, threshold: float = PLANARITY_THRESHOLD) -> Planarity:
+    """Planarity of ``points`` (T, P, 3), each frame's points from base to tip."""
+    rel = points - points[:, :1]
+    cloud = rel.reshape(-1, 3)
+    _, sv, vt = np.linalg.svd(cloud - cloud.mean(axis=0), full_matrices=False)
+    e = vt.copy()
+    if rel[:, -1].mean(axis=0) @ e[0] < 0:
+        e[0] = -e[0]
+    e[2] = np.cross(e[0], e[1])
+    ratio = float(sv[2] / max(sv[1], 1e-300))
+    return Planarity(singular_values=sv, axes=e, ratio=ratio, planar=ratio < threshold, threshold=threshold)
+
+
+def _interp_extrapolate(x: np.ndarray, xp: np.ndarray, fp: np.ndarray) -> np.ndarray:
+    """``np.interp`` with linear extrapolation from the two end intervals."""
+    out = np.interp(x, xp, fp)
+    lo, hi = x < xp[0], x > xp[-1]
+    out[lo] = fp[0] + (x[lo] - xp[0]) * (fp[1] - fp[0]) / (xp[1] - xp[0])
+    out[hi] = fp[-1] + (x[hi] - xp[-1]) * (fp[-1] - fp[-2]) / (xp[-1] - xp[-2])
+    return out
+
+
+def arc_lengths(points: np.ndarray, path="data") -> np.ndarray:
+    """Per-frame measured length (T,) of ``points`` (T, P, d)."""
+    seg = np.linalg.norm(np.diff(points, axis=1), axis=-1)
+    return seg.sum(axis=1)
+
+
+def tangent_angles(points: np.ndarray, axes: np.ndarray, length_um: float, path="data", n_points: int = N_POINTS) -> tuple[np.ndarray, list[np.ndarray]]:
+    """Angles of the tangent of ``points`` (T, P, d) in the planes (axes[0], axes[j]),
+    j = 1 .. len(axes) - 1, on a uniform arc length in [0, length_um].
+
+    Segment angles belong to segment midpoints; the ends lie half a segment beyond the
+    first and last midpoints, so they are extrapolated linearly (holding the end value
+    would put the base angle half a segment up). Each frame's arc length is scaled to
+    [0, 1] (a fraction of its own measured length). The mean base angle is subtracted.
+
+    Returns:
+        s (n_points,) um and one (T, n_points) angle array (rad) per transverse axis.
+    """
+    if points.ndim != 3 or points.shape[1] < 4:
+        fail(path, f"centreline needs (frames, points >= 4) coordinates, got shape {points.shape[:2]}")
+    d = np.diff(points, axis=1)
+    seg = np.linalg.norm(d, axis=-1)
+    if np.any(seg <= 0):
+        fail(path, "centreline has repeated points (zero-length segments)")
+    s_mid = (np.cumsum(seg, axis=1) - seg / 2) / seg.sum(axis=1, keepdims=True)
+    comp = d @ np.asarray(axes).T  # (T, P-1, k)
+    s = np.linspace(0.0, length_um, n_points)
+    out = []
+    for j in range(1, comp.shape[-1]):
+        angle = np.unwrap(np.arctan2(comp[..., j], comp[..., 0]), axis=1)
+        psi = np.stack([_interp_extrapolate(s / length_um, s_mid[k], angle[k]) for k in range(points.shape[0])])
+        out.append(psi - psi[:, 0].mean())
+    return s, out
+
+
+@dataclasses.dataclass(frozen=True)
+class Reduction:
+    """Frequency and modes of one or more angle components on a common beat phase.
+
+    Attributes:
+        frequency_hz, frequency_sigma_hz: beat frequency and its standard error.
+        frequency_scatter_hz: the cycle-to-cycle part of the sigma before the floors.
+        cycles: number of whole cycles used.
+        periods_s: (cycles,) their durations.
+        modes: one :class:`FourierModes` per component (psi_0, psi_1 = means over cycles).
+        psi1_sigma: one (S,) array per component (rad; each of Re and Im).
+        psi1_scatter: the same before the floor.
+    """
+
+    frequency_hz: float
+    frequency_sigma_hz: float
+    frequency_scatter_hz: float
+    cycles: int
+    periods_s: np.ndarray
+    modes: list
+    psi1_sigma: list
+    psi1_scatter: list
+
+
+def _spectral_peak(t: np.ndarray, x: np.ndarray) -> float:
+    dt = float(np.mean(np.diff(t)))
+    n = ZERO_PAD * t.size
+    power = (np.abs(np.fft.rfft(x, n=n, axis=0)) ** 2).sum(axis=1)
+    freq = np.fft.rfftfreq(n, dt)
+    ok = freq >= 1.0 / (t[-1] - t[0])
+    if not np.any(ok) or not np.any(power[ok] > 0):
+        return float("nan")
+    return float(freq[ok][np.argmax(power[ok])])
+
+
+def _phase(t: np.ndarray, x: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """Unwrapped beat phase theta(t): frames x (T, K) projected on Re c, Im c (K,)."""
+    m = np.stack([c.real, -c.imag], axis=1)
+    sv = np.linalg.svd(m, compute_uv=False)
+    if sv[1] > 1e-3 * sv[0]:
+        uv = np.linalg.lstsq(m, x.T, rcond=None)[0]
+        return np.unwrap(np.arctan2(uv[1], uv[0]))
+    from scipy.signal import hilbert  # standing wave: one spatial mode
+
+    u = x @ (np.abs(c) * np.sign(c.real + 1e-300))
+    return np.unwrap(np.angle(hilbert(u - u.mean())))
+
+
+def _crossings(t: np.ndarray, theta: np.ndarray) -> np.ndarray:
+    """Times where theta first reaches each multiple of 2 pi inside the record."""
+    ks = np.arange(np.ceil(theta[0] / (2 * np.pi)), np.floor(theta.max() / (2 * np.pi)) + 1)
+    out = []
+    for k in ks:
+        level = 2 * np.pi * k
+        i = int(np.argmax(theta >= level))
+        if i == 0:
+            out.append(t[0]) if theta[0] == level else None
+            continue
+        w = (level - theta[i - 1]) / (theta[i] - theta[i - 1])
+        out.append(t[i - 1] + w * (t[i] - t[i - 1]))
+    return np.asarray(out)
+
+
+def _fit_modes(theta: np.ndarray, psi: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
+    """Least squares psi (n, S) ~ a0 + Re(c exp(i theta)): (a0, c, residual rms)."""
+    design = np.stack([np.ones_like(theta), np.cos(theta), -np.sin(theta)], axis=1)
+    coef, *_ = np.linalg.lstsq(design, psi, rcond=None)
+    resid = psi - design @ coef
+    return coef[0], coef[1] + 1j * coef[2], float(np.sqrt(np.mean(resid**2)))
+
+
+def reduce_frames(t_s: np.ndarray, s_um: np.ndarray, components: list[np.ndarray], source="data") -> Reduction:
+    """Frequency, psi_0, psi_1 and their uncertainties of angle components, each (T, S)
+    sampled at times ``t_s`` (T,) (module docstring)."""
+    t = np.asarray(t_s, dtype=float)
+    comps = [np.asarray(c, dtype=float) for c in components]
+    too_few = f"too few frames for one beat period ({t.size} frames; need at least 1.5 periods)"
+    if t.size < 6:
+        fail(source, too_few)
+    dt = np.diff(t)
+    if np.any(dt <= 0):
+        fail(source, "frame times must increase")
+    x = np.concatenate([c - c.mean(axis=0) for c in comps], axis=1)
+    if not np.any(x):
+        fail(source, "the angles do not change: no beat in the record")
+    f = _spectral_peak(t, x)
+    if not np.isfinite(f):
+        fail(source, too_few)
+    for _ in range(3):  # spectral peak -> phase -> crossing-time regression, twice refined
+        c = 2 * np.mean(x * np.exp(-2j * np.pi * f * t)[:, None], axis=0)
+        theta = _phase(t, x, c)
+        if theta[-1] < theta[0]:
+            theta = -theta
+        tc = _crossings(t, theta)
+        if tc.size < 2:
+            fail(source, f"{too_few[:-1]}; {max(tc.size - 1, 0)} full cycles found)")
+        n = tc.size - 1
+        period = float(np.polyfit(np.arange(tc.size), tc, 1)[0]) if n > 1 else float(tc[1] - tc[0])
+        f = 1.0 / period
+    if t[-1] - t[0] < 1.5 * period:
+        fail(source, f"{too_few[:-1]}; the record is {(t[-1] - t[0]) / period:.2g} periods)")
+    periods = np.diff(tc)
+    scatter = f**2 * float(periods.std(ddof=1)) / np.sqrt(n) if n > 1 else 0.0
+    resolution = f**2 * float(np.mean(dt)) / np.sqrt(6.0) / n
+    sigma_f = max(scatter, resolution, FREQUENCY_REL_FLOOR * f)
+    inside = (t >= tc[0]) & (t <= tc[-1])
+    modes, sigmas, scatters = [], [], []
+    for comp in comps:
+        per_cycle = []
+        for a, b in itertools.pairwise(tc):
+            w = (t >= a) & (t <= b)
+            if w.sum() >= 3:
+                per_cycle.append(_fit_modes(theta[w], comp[w]))
+        a0_all, c_all, rms = _fit_modes(theta[inside], comp[inside])
+        if len(per_cycle) >= 2:
+            cs = np.stack([p[1] for p in per_cycle])
+            psi1 = cs.mean(axis=0)
+            psi0 = np.stack([p[0] for p in per_cycle]).mean(axis=0)
+            spread = np.sqrt((cs.real.var(axis=0, ddof=1) + cs.imag.var(axis=0, ddof=1)) / 2 / len(per_cycle))
+        else:
+            psi1, psi0 = c_all, a0_all
+            spread = np.full(psi1.shape, rms * np.sqrt(2.0 / max(int(inside.sum()), 1)))
+        modes.append(FourierModes(s=np.asarray(s_um, dtype=float), psi0=psi0, psi1=psi1, omega=2 * np.pi * f, residual_rms=rms, n_samples=int(inside.sum())))
+        scatters.append(spread)
+        sigmas.append(np.maximum(spread, PSI1_FLOOR_RAD))
+    return Reduction(frequency_hz=f, frequency_sigma_hz=sigma_f, frequency_scatter_hz=scatter, cycles=n, periods_s=periods, modes=modes, psi1_sigma=sigmas, psi1_scatter=scatters)
