@@ -35,6 +35,7 @@ import numpy as np
 SCALARS = ("frame_rate_hz", "length_um", "frequency_hz", "frequency_sigma_hz", "published_frequency_hz")
 ARRAYS = ("psi", "s_um", "x_um", "y_um", "z_um", "psi0_rad", "psi1_re_rad", "psi1_im_rad", "psi1_sigma_rad")
 FOURIER = ("s_um", "psi0_rad", "psi1_re_rad", "psi1_im_rad")
+VECTORS = ("s_um", "psi0_rad", "psi1_re_rad", "psi1_im_rad", "psi1_sigma_rad")  # MATLAB stores them (1, n)
 MATLAB_XYZ = {"X": "x_um", "Y": "y_um", "Z": "z_um"}  # (points, frames) in the file
 
 
@@ -177,9 +178,10 @@ def read_mat(path: pathlib.Path, variables: dict | None = None, cell: int | None
         raw = {k: v for k, v in scipy.io.loadmat(path).items() if not k.startswith("__")}
     except NotImplementedError:
         fail(path, "MATLAB v7.3 (HDF5) file: save it with -v7 or read it with h5py and pass arrays to beat_from_kymograph")
-    except (OSError, ValueError, TypeError) as err:
+    except (scipy.io.matlab.MatReadError, OSError, ValueError, TypeError, KeyError, EOFError) as err:
         fail(path, f"cannot read as a MATLAB .mat file ({err})")
     raw = {k: _pick_cell(path, k, v, cell) for k, v in raw.items()}
+    raw = {k: np.squeeze(v) if k in VECTORS or (variables and k in {variables.get(n) for n in VECTORS}) else v for k, v in raw.items()}
     renamed = set((variables or {}).values())
     for theirs, ours in MATLAB_XYZ.items():  # MATLAB-style (points, frames) columns
         if theirs in raw and ours not in raw and theirs not in renamed:
