@@ -5,6 +5,15 @@ optionally with a figure.
 Physical inputs the file may lack: ``--length-um`` and ``--frame-rate-hz``. A value in the
 file and a different one on the command line is an error (one line naming both); a
 centreline without either length uses the median measured arc length of its frames.
+
+JSON: the keys of INTERFACE.md (``file``, ``kind``, ``length_um``, ``frequency_hz``,
+``frequency_sigma_hz``, ``wavelength_um``, ``static_curvature_rad_per_um``,
+``dynamic_amplitude_rad``, ``planarity``) plus ``n_points``, ``frames``, ``cycles``,
+``psi1_sigma_rad`` (min/median/max), ``floors``, ``excluded_base_um``,
+``published_frequency_hz`` and ``notes`` (what the reduction decided, in words).
+``planarity`` is null except for 3D centrelines: ``{"singular_values_um": [s1, s2, s3],
+"ratios": {"s2_over_s1", "s3_over_s1", "s3_over_s2"}, "threshold", "planar", "treatment"}``.
+A frequency the file cannot give (a Fourier-mode file without one) is null.
 """
 
 from __future__ import annotations

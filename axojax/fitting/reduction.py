@@ -112,7 +112,7 @@ def _interp_extrapolate(x: np.ndarray, xp: np.ndarray, fp: np.ndarray) -> np.nda
     return out
 
 
-def arc_lengths(points: np.ndarray, path="data") -> np.ndarray:
+def arc_lengths(points: np.ndarray) -> np.ndarray:
     """Per-frame measured length (T,) of ``points`` (T, P, d)."""
     seg = np.linalg.norm(np.diff(points, axis=1), axis=-1)
     return seg.sum(axis=1)
@@ -196,14 +196,14 @@ def _phase(t: np.ndarray, x: np.ndarray, c: np.ndarray) -> np.ndarray:
 
 
 def _crossings(t: np.ndarray, theta: np.ndarray) -> np.ndarray:
-    """Times where theta first reaches each multiple of 2 pi inside the record."""
-    ks = np.arange(np.ceil(theta[0] / (2 * np.pi)), np.floor(theta.max() / (2 * np.pi)) + 1)
+    """Times where theta first reaches each multiple of 2 pi inside the record (linear
+    interpolation between frames; theta may step back a little between frames)."""
     out = []
-    for k in ks:
+    for k in np.arange(np.ceil(theta[0] / (2 * np.pi)), np.floor(theta.max() / (2 * np.pi)) + 1):
         level = 2 * np.pi * k
         i = int(np.argmax(theta >= level))
         if i == 0:
-            out.append(t[0]) if theta[0] == level else None
+            out.append(t[0])
             continue
         w = (level - theta[i - 1]) / (theta[i] - theta[i - 1])
         out.append(t[i - 1] + w * (t[i] - t[i - 1]))
