@@ -267,3 +267,22 @@ def test_bad_files_give_one_line_naming_the_file(tmp_path, capsys, name, content
     assert name in str(info.value) and "\n" not in str(info.value)
     code, out, err = run_cli(capsys, str(path), "--json")
     assert code == 2 and out == "" and name in err and err.count("\n") == 1
+
+
+def test_csv_3d_centreline_and_frame_rate_flag(tmp_path, capsys):
+    pts, fps = helix_points(True, noise=0.05, frames=60)
+    rows = [f"{k},{x!r},{y!r},{z!r}" for k in range(pts.shape[0]) for x, y, z in pts[k].tolist()]
+    path = tmp_path / "c3.csv"
+    path.write_text("frame,x_um,y_um,z_um\n" + "\n".join(rows) + "\n")
+    # No frame rate in the file: the flag gives it; without it, a one-line error.
+    code, _, err = run_cli(capsys, str(path))
+    assert code == 2 and "frame_rate_hz" in err and "c3.csv" in err
+    code, out, _ = run_cli(capsys, str(path), "--frame-rate-hz", str(fps), "--json")
+    doc = json.loads(out)
+    np.savez(tmp_path / "c3.npz", x_um=pts[..., 0], y_um=pts[..., 1], z_um=pts[..., 2], frame_rate_hz=fps)
+    ref = read_beat(tmp_path / "c3.npz")
+    assert code == 0 and doc["kind"] == "centreline-3d" and doc["planarity"]["planar"]
+    assert doc["frequency_hz"] == pytest.approx(ref.frequency_hz, rel=1e-9)
+    # A frame rate in the file and a different one on the command line: an error.
+    code, _, err = run_cli(capsys, str(tmp_path / "c3.npz"), "--frame-rate-hz", str(2 * fps))
+    assert code == 2 and "conflicts" in err and "--frame-rate-hz" in err
