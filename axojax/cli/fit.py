@@ -32,8 +32,9 @@ import argparse
 import math
 import pathlib
 import sys
-import tomllib
 import warnings
+
+import tomllib
 
 from ..dynamics.simulate import DEFAULT_CUBIC
 from ..fitting import OBSERVATIONS, Target, fit, observation_targets, read_beat
@@ -379,3 +380,25 @@ def render(doc: dict) -> str:
     if doc.get("out"):
         lines.append(f"wrote {doc['out']}")
     return "\n".join(lines)
+
+
+def figure_of_report(path) -> object:
+    """The figure of a saved fit report (``axojax plot FIT.json``); bad files are a
+    one-line :class:`CLIError` naming FILE."""
+    import json
+
+    from ..plotting.fit_report import plot_fit_report
+
+    path = pathlib.Path(path)
+    if not path.is_file():
+        raise common.CLIError(f"FILE: {str(path)!r} does not exist")
+    try:
+        doc = json.loads(path.read_text())
+    except (OSError, UnicodeDecodeError, ValueError) as err:
+        raise common.CLIError(f"FILE: cannot read {str(path)!r} as JSON ({err})") from None
+    if not isinstance(doc, dict) or not {"loss", "converged", "conditions"} <= set(doc):
+        raise common.CLIError(f"FILE: {str(path)!r} is not a fit report (write one with 'axojax fit --out FIT.json')")
+    try:
+        return plot_fit_report(doc)
+    except (KeyError, TypeError, ValueError) as err:
+        raise common.CLIError(f"FILE: {str(path)!r}: malformed fit report ({err})") from None

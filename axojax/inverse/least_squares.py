@@ -49,13 +49,14 @@ class LevenbergMarquardt(LeastSquaresSolver):
     """Levenberg-Marquardt (optimistix) with exact Jacobians.
 
     Attributes:
-        rtol, atol: optimistix's Cauchy termination on the step in z and the change in
-            the residuals.
+        rtol, atol: optimistix's Cauchy termination: stop when the step in z and the
+            change in the residuals are both below ``atol + rtol * size`` (defaults: far
+            below any standard error these fits can have).
         max_steps: iterations per start.
     """
 
-    rtol: float = 1e-8
-    atol: float = 1e-10
+    rtol: float = 1e-5
+    atol: float = 1e-6
     max_steps: int = 100
     name: ClassVar[str] = "lm"
 
