@@ -61,7 +61,12 @@ def _figure(args: argparse.Namespace):
 
 
 def run(args: argparse.Namespace) -> dict:
-    fig, kind, model = _figure(args)
+    if args.file is not None and str(args.file).endswith(".json"):  # a fit report (axojax fit --out)
+        from .fit import figure_of_report
+
+        fig, kind, model = figure_of_report(args.file), "fit", None
+    else:
+        fig, kind, model = _figure(args)
     try:
         fig.savefig(args.out, dpi=130)
     except (OSError, ValueError) as err:

@@ -1,0 +1,138 @@
+"""Figure of a fit report (``FitResult.save`` / ``axojax fit --out fit.json``).
+
+With a shape target (the first condition that has one): observed vs fitted psi_1
+amplitude and phase along s (the excluded basal stretch shaded), the observed psi_0,
+the normalised residuals, and the waveform over one cycle, observed beside fitted
+(centrelines integrated from psi(s, phase) = psi_0(s) + Re(psi_1(s) e^{i phase}); the
+fitted one uses the observed psi_0, which the linear mode does not predict). Without
+one: every scalar target against what the fit achieved, in units of its sigma, per
+condition.
+"""
+
+from __future__ import annotations
+
+import json
+import pathlib
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+PHASES = 12
+
+
+def _centrelines(s: np.ndarray, psi0: np.ndarray, psi1: np.ndarray, n: int = PHASES) -> tuple[np.ndarray, np.ndarray]:
+    """(x, y) (n, S) of the waveform at n phases over one cycle (trapezoidal integration)."""
+    x, y = [], []
+    for ph in np.linspace(0, 2 * np.pi, n, endpoint=False):
+        psi = psi0 + np.real(psi1 * np.exp(1j * ph))
+        ds = np.diff(s)
+        x.append(np.concatenate([[0.0], np.cumsum(ds * (np.cos(psi[1:]) + np.cos(psi[:-1])) / 2)]))
+        y.append(np.concatenate([[0.0], np.cumsum(ds * (np.sin(psi[1:]) + np.sin(psi[:-1])) / 2)]))
+    return np.array(x), np.array(y)
+
+
+def _arr(v) -> np.ndarray:
+    return np.array([np.nan if x is None else x for x in v], dtype=float)
+
+
+def plot_fit_report(report: dict | str | pathlib.Path) -> plt.Figure:
+    """The figure of a fit report (a ``to_json()`` dict or its saved file)."""
+    if not isinstance(report, dict):
+        report = json.loads(pathlib.Path(report).read_text())
+    shaped = [c for c in report.get("conditions", []) if c.get("shape")]
+    title = f"{report.get('method', '')} fit: loss {report['loss']:.4g}" + (f", chi2/dof {report['chi2_per_dof']:.3g}" if report.get("chi2_per_dof") is not None else "")
+    title += f", {'converged' if report['converged'] else 'targets NOT reproduced'}"
+    if report.get("at_bound"):
+        title += f"; at bound: {', '.join(report['at_bound'])}"
+    if not shaped:
+        return _scalar_figure(report, title)
+    c = shaped[0]
+    sh = c["shape"]
+    s = _arr(sh["s_um"])
+    obs = _arr(sh["psi1_obs_re"]) + 1j * _arr(sh["psi1_obs_im"])
+    fit = _arr(sh["psi1_fit_re"]) + 1j * _arr(sh["psi1_fit_im"])
+    sigma = _arr(sh["sigma_rad"])
+    kept = np.array(sh["kept"], dtype=bool)
+    psi0 = None if sh.get("psi0_rad") is None else _arr(sh["psi0_rad"])
+    fig, axes = plt.subplots(2, 3, figsize=(14, 8))
+    (a_amp, a_phase, a_psi0), (a_res, a_obs, a_fit) = axes
+
+    def shade(ax):
+        if not kept.all():
+            ax.axvspan(s.min(), s[~kept].max(), color="0.9", label="excluded base")
+
+    shade(a_amp)
+    a_amp.errorbar(s, np.abs(obs), yerr=sigma, fmt="o", ms=3, label="observed")
+    a_amp.plot(s, np.abs(fit), "-", label="fitted (model)")
+    a_amp.set(xlabel="s (um)", ylabel="|psi_1| (rad)", title="amplitude of psi_1")
+    a_amp.legend(fontsize=8)
+    shade(a_phase)
+    a_phase.plot(s, np.unwrap(np.angle(obs)), "o", ms=3, label="observed")
+    a_phase.plot(s, np.unwrap(np.angle(fit)), "-", label="fitted")  # the fitted complex scale aligns the phase
+    a_phase.set(xlabel="s (um)", ylabel="arg psi_1 (rad)", title="phase of psi_1")
+    a_phase.legend(fontsize=8)
+    if psi0 is not None:
+        a_psi0.plot(s, psi0, "o-", ms=3)
+        a_psi0.set(xlabel="s (um)", ylabel="psi_0 (rad)", title="observed static mode psi_0")
+    else:
+        a_psi0.text(0.5, 0.5, "no psi_0 observed", ha="center", va="center", transform=a_psi0.transAxes)
+        a_psi0.set_axis_off()
+    shade(a_res)
+    d = (obs - fit) / sigma
+    a_res.plot(s, d.real, "o-", ms=3, label="Re")
+    a_res.plot(s, d.imag, "s-", ms=3, label="Im")
+    a_res.axhline(0, color="k", lw=0.5)
+    a_res.set(xlabel="s (um)", ylabel="(observed - fitted) / sigma", title=f"normalised residuals (shape rms {c['shape_rms']:.2f})")
+    a_res.legend(fontsize=8)
+    base = np.zeros_like(s) if psi0 is None else psi0
+    for ax, psi1, name in ((a_obs, obs, "observed"), (a_fit, fit, "fitted")):
+        x, y = _centrelines(s, base, psi1)
+        colors = plt.cm.viridis(np.linspace(0, 1, len(x)))
+        for xi, yi, col in zip(x, y, colors):
+            ax.plot(xi, yi, color=col, lw=1.2)
+        ax.set(xlabel="x (um)", ylabel="y (um)", title=f"{name} waveform over one cycle")
+        ax.set_aspect("equal", adjustable="datalim")
+    fig.suptitle(title + "\n" + _values_line(report), fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def _values_line(report: dict) -> str:
+    parts = []
+    for k, v in report.get("fitted", report.get("params", {})).items():
+        se = report.get("stderr", {}).get(k)
+        flag = " (bound)" if k in report.get("at_bound", []) else ("" if report.get("identifiable", {}).get(k) else " (n.i.)")
+        parts.append(f"{k} = {v:.4g}" + (f" +- {se:.2g}" if se is not None else "") + flag)
+    return ", ".join(parts)
+
+
+def _scalar_figure(report: dict, title: str) -> plt.Figure:
+    def name(c):
+        fixed = ", ".join(f"{k}={v:g}" for k, v in (c.get("fixed") or {}).items())
+        return f"{c['label']} ({fixed})" if fixed else str(c["label"])
+
+    rows = [(name(c), t) for c in report.get("conditions", []) for t in c["targets"]]
+    fig, (a_val, a_res) = plt.subplots(1, 2, figsize=(12, 4.5))
+    names = sorted({t["name"] for _, t in rows})
+    for name in names:
+        sel = [(lab, t) for lab, t in rows if t["name"] == name]
+        x = np.arange(len(sel))
+        a_val.errorbar(x, [t["value"] for _, t in sel], yerr=[t["sigma"] for _, t in sel], fmt="o", label=f"{name} observed")
+        a_val.plot(x, [np.nan if t["achieved"] is None else t["achieved"] for _, t in sel], "x", ms=9, label=f"{name} fitted")
+        a_val.set_xticks(x, [lab for lab, _ in sel])
+    a_val.set(xlabel="condition", ylabel="value (physical units)", title="targets and fitted values")
+    if all(t["value"] > 0 for _, t in rows) and rows:
+        a_val.set_yscale("log")
+    a_val.legend(fontsize=8)
+    labels = [f"{lab}: {t['name']}" for lab, t in rows]
+    a_res.barh(np.arange(len(rows)), [t["residual"] for _, t in rows])
+    a_res.set_yticks(np.arange(len(rows)), labels, fontsize=8)
+    for v in (-1, 1):
+        a_res.axvline(v, color="k", ls=":", lw=0.8)
+    a_res.set(xlabel="(fitted - observed) / sigma", title="normalised residuals")
+    fig.suptitle(title + "\n" + _values_line(report), fontsize=10)
+    fig.tight_layout()
+    return fig
