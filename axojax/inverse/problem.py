@@ -97,13 +97,13 @@ class Problem:
         free: Sequence[str] = (),
         *,
         per_condition: Sequence[str] = (),
-        params: Params = Params(),
+        params: Params = Params(),  # noqa: B008
         bounds: dict[str, tuple[float, float]] | None = None,
         kl_ratio: float | None = None,
-        units: Units = Units(),
+        units: Units = Units(),  # noqa: B008
         solver: EigenSolver = DEFAULT_SOLVER,
         cubic: float = DEFAULT_CUBIC,
-        orbit_solver: OrbitSolver = HarmonicBalance(),
+        orbit_solver: OrbitSolver = HarmonicBalance(),  # noqa: B008
         shape_floor: float = SHAPE_FLOOR,
         exclude_base_um: float = 0.0,
         prior: Callable[[Array], Array] | None = None,
