@@ -12,7 +12,7 @@ Prints per solver: iterations per start, wall time (compilation included, then p
 start), the best loss and, for fig. 7, the worst relative frequency error of the best
 start. Timings are for comparison on one machine, not assertions.
 
-    python benchmarks/bench_fit.py [--starts 4] [--skip-data]
+    python benchmarks/bench_fit.py [--starts 8] [--only fig7|data]
 """
 
 import axojax as ax  # first: it sets the XLA flags before jax starts
@@ -70,12 +70,13 @@ def human_sperm(starts: int) -> None:
 
 def main() -> None:
     ap = argparse.ArgumentParser()
-    ap.add_argument("--starts", type=int, default=4)
-    ap.add_argument("--skip-data", action="store_true")
+    ap.add_argument("--starts", type=int, default=8)
+    ap.add_argument("--only", choices=("fig7", "data"), default=None, help="run one of the two comparisons")
     args = ap.parse_args()
     np.set_printoptions(precision=3)
-    fig7(args.starts)
-    if not args.skip_data:
+    if args.only != "data":
+        fig7(args.starts)
+    if args.only != "fig7":
         human_sperm(args.starts)
 
 
