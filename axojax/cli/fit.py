@@ -150,7 +150,7 @@ def _fit_options(args: argparse.Namespace) -> dict:
         raise common.CLIError(f"--shape-floor: must be >= 0 rad, got {args.shape_floor:g}")
     if args.exclude_base_um < 0:
         raise common.CLIError(f"--exclude-base-um: must be >= 0 um, got {args.exclude_base_um:g}")
-    return dict(starts=args.starts, method=args.method, progress=not args.json and sys.stderr.isatty(), solver=common.solver_from_args(args), shape_floor=args.shape_floor, exclude_base_um=args.exclude_base_um)
+    return {"starts": args.starts, "method": args.method, "progress": not args.json and sys.stderr.isatty(), "solver": common.solver_from_args(args), "shape_floor": args.shape_floor, "exclude_base_um": args.exclude_base_um}
 
 
 def _length_given(args) -> bool:

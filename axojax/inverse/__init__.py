@@ -6,7 +6,15 @@ as one :class:`Problem` seen by different solver objects.
 """
 
 from .conditions import Condition
-from .least_squares import METHODS, Adam, LBFGS, LeastSquaresSolver, LevenbergMarquardt, least_squares, solver_from_name
+from .least_squares import (
+    LBFGS,
+    METHODS,
+    Adam,
+    LeastSquaresSolver,
+    LevenbergMarquardt,
+    least_squares,
+    solver_from_name,
+)
 from .parameters import DEFAULT_BOUNDS, LINEAR, FreeParameter
 from .problem import SHAPE_FLOOR, Problem
 from .report import FitResult, build_report
