@@ -22,10 +22,11 @@ from .dynamics import Simulation, simulate  # noqa: E402
 from . import orbits  # noqa: E402
 from .orbits import LimitCycle, limit_cycle  # noqa: E402
 from .fitting import FitResult, ShapeTarget, Target, fit, read_beat  # noqa: E402
+from . import inverse  # noqa: E402
 from .sweeps import SweepResult, sweep  # noqa: E402
 from .params import PARAM_NAMES, Params  # noqa: E402
 from .units import Units  # noqa: E402
 
 __version__ = "0.1.0"
 
-__all__ = ["enable_compilation_cache", "LimitCycle", "limit_cycle", "orbits", "FitResult", "ShapeTarget", "Target", "fit", "read_beat", "Simulation", "simulate", "SweepResult", "sweep", "Critical", "critical_force", "eigen", "linalg", "Mode", "PARAM_NAMES", "Params", "System", "Units", "assemble", "dominant_mode", "mode_shapes", "models", "spectrum"]
+__all__ = ["enable_compilation_cache", "LimitCycle", "limit_cycle", "orbits", "FitResult", "inverse", "ShapeTarget", "Target", "fit", "read_beat", "Simulation", "simulate", "SweepResult", "sweep", "Critical", "critical_force", "eigen", "linalg", "Mode", "PARAM_NAMES", "Params", "System", "Units", "assemble", "dominant_mode", "mode_shapes", "models", "spectrum"]

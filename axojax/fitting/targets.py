@@ -112,14 +112,25 @@ def model_psi1(model: Model, mode: Mode, s: Float[Array, " S"]) -> Array:
     return jnp.cos(angle) * du[0] + jnp.sin(angle) * du[1]
 
 
-def shape_residuals(model: Model, mode: Mode, target: ShapeTarget, units: Units) -> Float[Array, " 2S"]:
-    """(psi_obs - alpha psi_model) / sigma, real and imaginary parts, alpha the best complex scale
-    (weighted by 1 / sigma^2 where sigma varies along s)."""
+def shape_fit(model: Model, mode: Mode, target: ShapeTarget, units: Units, at_um=None) -> tuple[Array, Array]:
+    """(alpha psi_model at ``at_um`` (default the target's s_um), alpha): the model's psi_1
+    scaled by the complex alpha that best fits the observed psi_1 in weighted least squares
+    (weights 1 / sigma^2) over the target's points."""
     psi_m = model_psi1(model, mode, np.asarray(target.s_um) / units.length_um)
     obs = jnp.asarray(target.psi1)
     w = 1.0 / jnp.broadcast_to(jnp.asarray(target.sigma, dtype=float), obs.shape) ** 2
     alpha = jnp.vdot(psi_m, w * obs) / jnp.vdot(psi_m, w * psi_m)  # weighted least squares
-    r = (obs - alpha * psi_m) * jnp.sqrt(w)
+    if at_um is None:
+        return alpha * psi_m, alpha
+    return alpha * model_psi1(model, mode, np.asarray(at_um) / units.length_um), alpha
+
+
+def shape_residuals(model: Model, mode: Mode, target: ShapeTarget, units: Units) -> Float[Array, " 2S"]:
+    """(psi_obs - alpha psi_model) / sigma, real and imaginary parts, alpha the best complex scale
+    (weighted by 1 / sigma^2 where sigma varies along s)."""
+    fitted, _ = shape_fit(model, mode, target, units)
+    obs = jnp.asarray(target.psi1)
+    r = (obs - fitted) / jnp.broadcast_to(jnp.asarray(target.sigma, dtype=float), obs.shape)
     return jnp.concatenate([jnp.real(r), jnp.imag(r)])
 
 

@@ -1,0 +1,183 @@
+"""Least-squares solvers of an inverse :class:`~axojax.inverse.Problem`, as objects.
+
+Each solver minimises ``0.5 |residuals(u(z))|^2`` over the unconstrained coordinate z
+(``u = lower + (upper - lower) sigmoid(z)``, :meth:`Problem.to_u`), from one start:
+
+- :class:`LevenbergMarquardt` (the default): ``optimistix.least_squares`` with
+  ``optimistix.LevenbergMarquardt``; the Jacobian is exact (forward mode through the
+  dominant eigenpair's derivative rule). These problems have a handful of unknowns and
+  residuals, so a damped Gauss-Newton step converges in a few iterations where a
+  first-order method needs many.
+- :class:`LBFGS`: ``optax.lbfgs`` with a zoom line search on the loss.
+- :class:`Adam`: ``optax.adam`` for a fixed number of steps (robust, slow).
+
+:func:`least_squares` runs a solver from several starts (the problem's start, then a
+scrambled Sobol design of the bounded box, :meth:`Problem.start_design`), keeps the best
+and reports it (:class:`~axojax.inverse.FitResult`).
+"""
+
+from __future__ import annotations
+
+import abc
+import math
+import time
+from typing import ClassVar
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+import optax
+import optimistix as optx
+from tqdm.auto import tqdm
+
+from .problem import Problem
+from .report import FitResult, build_report
+
+
+class LeastSquaresSolver(eqx.Module):
+    """Minimises a problem's loss from one start in z."""
+
+    name: eqx.AbstractClassVar[str]
+
+    @abc.abstractmethod
+    def compile(self, problem: Problem):
+        """A jitted ``z0 (k,) -> (z, loss, steps, |grad_z|)``."""
+
+
+class LevenbergMarquardt(LeastSquaresSolver):
+    """Levenberg-Marquardt (optimistix) with exact Jacobians.
+
+    Attributes:
+        rtol, atol: optimistix's Cauchy termination on the step in z and the change in
+            the residuals.
+        max_steps: iterations per start.
+    """
+
+    rtol: float = 1e-8
+    atol: float = 1e-10
+    max_steps: int = 100
+    name: ClassVar[str] = "lm"
+
+    def compile(self, problem: Problem):
+        solver = optx.LevenbergMarquardt(rtol=self.rtol, atol=self.atol)
+
+        def fn(z, _):
+            return problem.residuals(problem.to_u(z))
+
+        def run(z0):
+            sol = optx.least_squares(fn, solver, z0, max_steps=self.max_steps, throw=False)
+            z = sol.value
+            loss, grad = jax.value_and_grad(lambda z: 0.5 * jnp.sum(fn(z, None) ** 2))(z)
+            return z, loss, sol.stats["num_steps"], jnp.linalg.norm(grad)
+
+        return jax.jit(run)
+
+
+class LBFGS(LeastSquaresSolver):
+    """L-BFGS (optax, zoom line search) on the loss; stops when
+    ``|grad| <= gtol max(1, loss)`` or after ``max_steps``."""
+
+    max_steps: int = 80
+    gtol: float = 1e-6
+    name: ClassVar[str] = "lbfgs"
+
+    def compile(self, problem: Problem):
+        def loss(z):
+            return problem.loss(problem.to_u(z))
+
+        opt = optax.lbfgs()
+        value_and_grad = optax.value_and_grad_from_state(loss)
+        gtol, max_steps = self.gtol, self.max_steps
+
+        def run(z0):
+            def cond(carry):
+                z, state, k, gnorm, value = carry
+                return (k < max_steps) & (gnorm > gtol * jnp.maximum(1.0, value)) & jnp.isfinite(gnorm)
+
+            def body(carry):
+                z, state, k, _, _ = carry
+                value, grad = value_and_grad(z, state=state)
+                updates, state = opt.update(grad, state, z, value=value, grad=grad, value_fn=loss)
+                return optax.apply_updates(z, updates), state, k + 1, jnp.linalg.norm(grad), value
+
+            init = (z0, opt.init(z0), 0, jnp.asarray(1e300), jnp.asarray(1e300))
+            z, _, k, _, _ = jax.lax.while_loop(cond, body, init)
+            value, grad = jax.value_and_grad(loss)(z)
+            return z, value, k, jnp.linalg.norm(grad)
+
+        return jax.jit(run)
+
+
+class Adam(LeastSquaresSolver):
+    """Adam (optax) for ``max_steps`` steps of size ``learning_rate`` in z."""
+
+    max_steps: int = 80
+    learning_rate: float = 0.05
+    name: ClassVar[str] = "adam"
+
+    def compile(self, problem: Problem):
+        def loss(z):
+            return problem.loss(problem.to_u(z))
+
+        opt = optax.adam(self.learning_rate)
+        max_steps = self.max_steps
+
+        def run(z0):
+            def body(carry, _):
+                z, state = carry
+                grad = jax.grad(loss)(z)
+                updates, state = opt.update(grad, state, z)
+                return (optax.apply_updates(z, updates), state), None
+
+            (z, _), _ = jax.lax.scan(body, (z0, opt.init(z0)), None, length=max_steps)
+            value, grad = jax.value_and_grad(loss)(z)
+            return z, value, max_steps, jnp.linalg.norm(grad)
+
+        return jax.jit(run)
+
+
+METHODS = {"lm": LevenbergMarquardt, "lbfgs": LBFGS, "adam": Adam}
+
+
+def solver_from_name(method: str | LeastSquaresSolver, max_steps: int | None = None) -> LeastSquaresSolver:
+    """``"lm"``, ``"lbfgs"``, ``"adam"`` or a solver object (``max_steps`` overrides its own)."""
+    if isinstance(method, LeastSquaresSolver):
+        solver = method
+    elif method in METHODS:
+        solver = METHODS[method]()
+    else:
+        raise ValueError(f"method must be one of {', '.join(METHODS)} or a least-squares solver object, got {method!r}")
+    if max_steps is not None:
+        if max_steps < 1:
+            raise ValueError(f"max_steps must be >= 1, got {max_steps}")
+        solver = eqx.tree_at(lambda s: s.max_steps, solver, int(max_steps))
+    return solver
+
+
+def least_squares(problem: Problem, solver: LeastSquaresSolver | str = "lm", *, starts: int = 4, seed: int = 0, progress: bool = False) -> FitResult:
+    """Fit ``problem`` by ``solver`` from ``starts`` starts; the report of the best.
+
+    Args:
+        problem: the inverse problem.
+        solver: :class:`LevenbergMarquardt` (default), :class:`LBFGS`, :class:`Adam` or
+            their names.
+        starts: the problem's start ``u0`` and ``starts - 1`` points of a scrambled Sobol
+            design of the bounded box.
+        seed: seed of the design.
+        progress: a progress bar over starts.
+    """
+    solver = solver_from_name(solver)
+    t0 = time.perf_counter()
+    run = solver.compile(problem)
+    initial = problem.start_design(starts, seed)
+    runs = []
+    for u in tqdm(initial, desc="fit starts", unit="start", disable=not progress):
+        z, value, steps, gnorm = run(problem.to_z(jnp.asarray(u)))
+        value = float(value)
+        runs.append({"z": np.asarray(z), "loss": value if math.isfinite(value) else math.inf, "steps": int(steps), "gnorm": float(gnorm)})
+    wall = time.perf_counter() - t0
+    best = min(range(len(runs)), key=lambda i: runs[i]["loss"])
+    u_best = np.asarray(problem.to_u(jnp.asarray(runs[best]["z"])))
+    start_log = [(problem.values(u), r["loss"]) for u, r in zip(initial, runs)]
+    return build_report(problem, u_best, method=solver.name, loss=runs[best]["loss"], gnorm=runs[best]["gnorm"], iterations=[r["steps"] for r in runs], wall_s=wall, starts=start_log)

@@ -1,0 +1,369 @@
+"""The inverse problem: model(s), conditions, free parameters, and one traced residual
+function over every condition.
+
+``Problem`` holds what every solver shares (least squares, samplers, profiles): the
+model (or one per condition) and units, the :class:`~axojax.inverse.Condition` s, the free
+parameters (shared, or one per condition, each with bounds and a fitted coordinate, see
+:mod:`axojax.inverse.parameters`), the tie ``kl = ks / kl_ratio`` and a prior. Its
+``residuals(u)`` is one jax-traceable function of the fitted coordinates ``u`` (k,):
+normalised residuals ``(model - observed) / sigma`` of every target of every condition,
+with exact derivatives through the dominant eigenpair (and the limit cycle, by the
+implicit function theorem). Conditions that share a model have their dominant modes
+computed in one ``jax.vmap``.
+
+Contract used by the samplers (:mod:`axojax.inverse.posterior`): ``names``, ``lower``,
+``upper``, ``u0``, ``residuals(u)``, ``log_prior(u)``, ``to_u(z)``, ``to_z(u)``,
+``log_density(z)``, ``values(u)``.
+
+Shape targets. The model's psi_1 is a linear eigenmode of an idealised axoneme with a
+clamped base; a measured beat is a finite-amplitude, noisy limit cycle of a real one. A
+statistical sigma of psi_1 from many clean cycles can be 0.01 rad or less, and a fit
+would then call a 0.05 rad shape difference "24 sigma". ``shape_floor`` (rad) adds a
+model-discrepancy term in quadrature, ``sigma_eff = sqrt(sigma^2 + floor^2)``. The default,
+0.05 rad (about 3 degrees), is the accuracy of tangent angles from tracked centrelines
+(a few pixels over a micrometre-scale segment) and about 5-10 % of a typical |psi_1|
+of 0.5-1 rad: a shape that differs by less is as good as the model can claim.
+``exclude_base_um`` leaves out the observed points with s < exclude (a basal body that
+swings cannot be followed by a clamped base); the misfit there, evaluated at the
+optimum with the complex scale fitted to the kept points, is reported separately.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Float
+
+from ..dynamics.simulate import DEFAULT_CUBIC
+from ..eigen.mode import DEFAULT_SOLVER, _dominant_mode_impl
+from ..eigen.solvers import EigenSolver
+from ..fitting.targets import SCALARS, ShapeTarget, cycle_value, scalar_value, shape_fit
+from ..models.section import Model
+from ..orbits.solvers import HarmonicBalance, OrbitSolver
+from ..params import PARAM_NAMES, Params
+from ..units import Units
+from .conditions import Condition
+from .parameters import DEFAULT_BOUNDS, FreeParameter, coordinate_bounds
+
+SHAPE_FLOOR = 0.05  # rad: model-discrepancy floor of psi_1 (module docstring)
+CYCLE_FAILED = 1e3  # normalised residual of a limit-cycle target where no orbit is found
+EDGE = 1e-9  # starts are kept this fraction of the range inside the bounds
+
+
+def _stack(params: Sequence[Params]) -> Params:
+    return Params(**{k: jnp.stack([jnp.asarray(getattr(p, k), dtype=float) for p in params]) for k in PARAM_NAMES})
+
+
+@dataclasses.dataclass(frozen=True)
+class _Layout:
+    """Where condition i's residuals sit: [start, start + n_scalar) scalars, then 2 S shape."""
+
+    start: int
+    n_scalar: int
+    n_shape: int
+
+
+class Problem:
+    """An inverse problem over one or several conditions.
+
+    Args:
+        model: the model (a condition may carry its own, ``Condition.model``).
+        conditions: a sequence of :class:`~axojax.inverse.Condition`.
+        free: parameters shared by all conditions (``Params`` fields).
+        per_condition: parameters fitted separately in every condition (named
+            ``"<field>@<label>"``).
+        params: base values of every parameter (each condition's ``params`` override
+            them); the start of the free ones.
+        bounds: per field ``(low, high)`` in values; defaults ``DEFAULT_BOUNDS``.
+        kl_ratio: tie ``kl = ks / kl_ratio`` in every condition (fit ks, not kl).
+        units: physical units of the targets.
+        solver: dominant-eigenpair solver.
+        cubic, orbit_solver: limit-cycle setup for targets with ``source="limit_cycle"``.
+        shape_floor: model-discrepancy floor (rad) added in quadrature to psi_1's sigma.
+        exclude_base_um: drop observed shape points with s < this (um).
+        prior: optional ``log_prior(u) -> scalar``; default 0 (uniform in u).
+    """
+
+    def __init__(
+        self,
+        model: Model,
+        conditions: Sequence[Condition],
+        free: Sequence[str] = (),
+        *,
+        per_condition: Sequence[str] = (),
+        params: Params = Params(),
+        bounds: dict[str, tuple[float, float]] | None = None,
+        kl_ratio: float | None = None,
+        units: Units = Units(),
+        solver: EigenSolver = DEFAULT_SOLVER,
+        cubic: float = DEFAULT_CUBIC,
+        orbit_solver: OrbitSolver = HarmonicBalance(),
+        shape_floor: float = SHAPE_FLOOR,
+        exclude_base_um: float = 0.0,
+        prior: Callable[[Array], Array] | None = None,
+    ):
+        conditions = list(conditions)
+        if not conditions:
+            raise ValueError("conditions: give at least one condition")
+        for c in conditions:
+            if not isinstance(c, Condition):
+                raise TypeError(f"conditions must be axojax.inverse.Condition, got {c!r}")
+        free, per_condition = list(free), list(per_condition)
+        if not free and not per_condition:
+            raise ValueError("free: name at least one parameter to fit")
+        for name in free + per_condition:
+            if name not in PARAM_NAMES:
+                raise ValueError(f"free: unknown parameter {name!r}; choose from {', '.join(PARAM_NAMES)}")
+        both = set(free) & set(per_condition)
+        if both or len(set(free)) < len(free) or len(set(per_condition)) < len(per_condition):
+            raise ValueError(f"free: each parameter once, shared or per condition (repeated: {', '.join(sorted(both)) or 'a name'})")
+        if kl_ratio is not None:
+            if not (math.isfinite(kl_ratio) and kl_ratio > 0):
+                raise ValueError(f"kl_ratio must be > 0, got {kl_ratio!r}")
+            if "kl" in free + per_condition:
+                raise ValueError("free: kl is tied to ks by kl_ratio; fit ks instead")
+        if not (math.isfinite(shape_floor) and shape_floor >= 0):
+            raise ValueError(f"shape_floor must be >= 0 (rad), got {shape_floor!r}")
+        if not (math.isfinite(exclude_base_um) and exclude_base_um >= 0):
+            raise ValueError(f"exclude_base_um must be >= 0 (um), got {exclude_base_um!r}")
+        labels = [str(i) if c.label is None else str(c.label) for i, c in enumerate(conditions)]
+        if len(set(labels)) < len(labels):
+            raise ValueError(f"conditions: labels must differ, got {labels}")
+        self.model, self.units, self.solver = model, units, solver
+        self.conditions, self.labels = conditions, labels
+        self.kl_ratio, self.shape_floor, self.exclude_base_um = kl_ratio, float(shape_floor), float(exclude_base_um)
+        self.prior = prior
+        self.free_shared, self.free_per_condition = tuple(free), tuple(per_condition)
+        self.bounds = {**DEFAULT_BOUNDS, **(bounds or {})}
+        self.base = [params.with_values(c.params).validate() for c in conditions]
+        self.models = [c.model if c.model is not None else model for c in conditions]
+
+        # Free parameters and the start.
+        out, u0 = [], []
+        for name in free:
+            log, lo, hi = coordinate_bounds(name, self.bounds)
+            out.append(FreeParameter(name, name, None, log, lo, hi))
+            u0.append(float(getattr(params, name)))
+        for name in per_condition:
+            log, lo, hi = coordinate_bounds(name, self.bounds)
+            for i, lab in enumerate(labels):
+                out.append(FreeParameter(f"{name}@{lab}", name, i, log, lo, hi))
+                u0.append(float(getattr(self.base[i], name)))
+        self.parameters: tuple[FreeParameter, ...] = tuple(out)
+        self.names: tuple[str, ...] = tuple(p.name for p in out)
+        self.lower = np.array([p.lower for p in out])
+        self.upper = np.array([p.upper for p in out])
+        self._log = np.array([p.log for p in out])
+        u0 = np.array([p.to_u(v) if (v > 0 or not p.log) else p.lower for p, v in zip(out, u0)])
+        span = self.upper - self.lower
+        self.u0 = np.clip(u0, self.lower + EDGE * span, self.upper - EDGE * span)
+
+        # Targets: shapes trimmed to s >= exclude and given the floor.
+        self.shapes: list[ShapeTarget | None] = []
+        self.shapes_excluded: list[ShapeTarget | None] = []
+        for c in conditions:
+            self.shapes.append(None if c.shape is None else self._prepare_shape(c.shape, keep=True, label=c.label))
+            self.shapes_excluded.append(None if c.shape is None else self._prepare_shape(c.shape, keep=False, label=c.label))
+        self.scalar_targets = [list(c.targets) for c in conditions]
+        self.needs_mode = [any(t.source == "linear" for t in c.targets) or c.shape is not None for c in conditions]
+        self.needs_cycle = [any(t.source == "limit_cycle" for t in c.targets) for c in conditions]
+        if any(self.needs_cycle):
+            if not (math.isfinite(cubic) and cubic > 0):
+                raise ValueError(f"cubic must be a finite number > 0 for limit-cycle targets, got {cubic!r}")
+            for m, need in zip(self.models, self.needs_cycle):
+                if need and m.link_B.shape[0] == 0:
+                    raise ValueError(f"limit-cycle targets need a model with links; {m.name!r} has none")
+            if getattr(orbit_solver, "floquet", 0):
+                orbit_solver = dataclasses.replace(orbit_solver, floquet=0)  # stability is not fitted: skip it
+        self.cubic, self.orbit_solver = cubic, orbit_solver
+        layout, start = [], 0
+        for i in range(len(conditions)):
+            n_scalar = len(self.scalar_targets[i])
+            n_shape = 0 if self.shapes[i] is None else 2 * len(np.asarray(self.shapes[i].s_um))
+            layout.append(_Layout(start, n_scalar, n_shape))
+            start += n_scalar + n_shape
+        self.layout, self.n_residuals = layout, start
+        # Mode groups: conditions sharing a model (by identity) are vmapped together.
+        groups: dict[int, list[int]] = {}
+        for i, m in enumerate(self.models):
+            if self.needs_mode[i]:
+                groups.setdefault(id(m), []).append(i)
+        self._groups = list(groups.values())
+        self._solvers = {id(self.models[g[0]]): solver.resolve(self.models[g[0]], len(g)) for g in self._groups}
+        self._jit_residuals = jax.jit(self.residuals)
+        self._jit_jacobian = jax.jit(jax.jacfwd(self.residuals))
+
+    # -- targets ---------------------------------------------------------------------
+    def _prepare_shape(self, shape: ShapeTarget, keep: bool, label) -> ShapeTarget | None:
+        s = np.asarray(shape.s_um, dtype=float)
+        mask = s >= self.exclude_base_um if keep else s < self.exclude_base_um
+        if keep and mask.sum() < 2:
+            raise ValueError(f"exclude_base_um: {self.exclude_base_um:g} um leaves fewer than 2 shape points (condition {label}); the data end at {s.max():g} um")
+        if not mask.any():
+            return None
+        sigma = np.broadcast_to(np.asarray(shape.sigma, dtype=float), s.shape)
+        sigma = np.sqrt(sigma**2 + self.shape_floor**2)[mask]
+        psi0 = None if shape.psi0 is None else np.asarray(shape.psi0)[mask]
+        return ShapeTarget(s[mask], np.asarray(shape.psi1)[mask], sigma, psi0)
+
+    @property
+    def n_conditions(self) -> int:
+        return len(self.conditions)
+
+    @property
+    def dof(self) -> int:
+        """Residuals minus fitted values (chi^2 degrees of freedom)."""
+        return self.n_residuals - len(self.names)
+
+    # -- coordinates -----------------------------------------------------------------
+    def to_u(self, z: Float[Array, " k"]) -> Float[Array, " k"]:
+        """Unconstrained z in R^k -> u inside the bounds (logistic)."""
+        lo, hi = jnp.asarray(self.lower), jnp.asarray(self.upper)
+        return lo + (hi - lo) * jax.nn.sigmoid(z)
+
+    def to_z(self, u: Float[Array, " k"]) -> Float[Array, " k"]:
+        """u strictly inside the bounds -> z (inverse of :meth:`to_u`)."""
+        lo, hi = jnp.asarray(self.lower), jnp.asarray(self.upper)
+        frac = (jnp.asarray(u) - lo) / (hi - lo)
+        return jnp.log(frac) - jnp.log1p(-frac)
+
+    def log_jacobian(self, z: Float[Array, " k"]) -> Float[Array, ""]:
+        """log |du/dz| of the logistic map."""
+        lo, hi = jnp.asarray(self.lower), jnp.asarray(self.upper)
+        return jnp.sum(jnp.log(hi - lo) + jax.nn.log_sigmoid(z) + jax.nn.log_sigmoid(-z))
+
+    def log_prior(self, u: Float[Array, " k"]) -> Float[Array, ""]:
+        """log prior density in u (0: uniform in the fitted coordinate within the bounds)."""
+        return jnp.zeros(()) if self.prior is None else jnp.asarray(self.prior(u))
+
+    def log_density(self, z: Float[Array, " k"]) -> Float[Array, ""]:
+        """Unnormalised log posterior density in z: -|r(u)|^2 / 2 + log prior(u) + log|du/dz|."""
+        u = self.to_u(z)
+        r = self.residuals(u)
+        return -0.5 * jnp.sum(r**2) + self.log_prior(u) + self.log_jacobian(z)
+
+    def values(self, u) -> dict[str, float]:
+        """Dimensionless values of the fitted parameters by name (concrete u)."""
+        u = np.asarray(u, dtype=float)
+        return {p.name: float(np.exp(x) if p.log else x) for p, x in zip(self.parameters, u)}
+
+    def condition_params(self, u, i: int) -> Params:
+        """The complete :class:`Params` of condition ``i`` at ``u`` (traceable)."""
+        values = {}
+        for j, p in enumerate(self.parameters):
+            if p.condition is None or p.condition == i:
+                values[p.field] = p.to_value(u[j])
+        return self.base[i].with_values(values, self.kl_ratio)
+
+    # -- the model's predictions -----------------------------------------------------
+    def modes(self, u) -> list:
+        """Dominant mode of every condition (None where no target needs it)."""
+        out: list = [None] * self.n_conditions
+        for group in self._groups:
+            model = self.models[group[0]]
+            solver = self._solvers[id(model)]
+            prms = [self.condition_params(u, i) for i in group]
+            if len(group) == 1:
+                out[group[0]] = _dominant_mode_impl(model, prms[0], solver)
+                continue
+            batch = jax.vmap(lambda prm, model=model, solver=solver: _dominant_mode_impl(model, prm, solver))(_stack(prms))
+            for k, i in enumerate(group):
+                out[i] = jax.tree_util.tree_map(lambda x, k=k: x[k], batch)
+        return out
+
+    def cycles(self, u) -> list:
+        """Limit cycle of every condition with limit-cycle targets (None elsewhere)."""
+        return [self.orbit_solver.solve(self.models[i], self.condition_params(u, i), self.cubic) if need else None for i, need in enumerate(self.needs_cycle)]
+
+    def residuals(self, u: Float[Array, " k"]) -> Float[Array, " m"]:
+        """Normalised residuals (model - observed) / sigma of every target of every
+        condition, in condition order: scalar targets, then Re and Im of the shape."""
+        u = jnp.asarray(u)
+        modes, cycles = self.modes(u), self.cycles(u)
+        parts = []
+        for i in range(self.n_conditions):
+            mode, cycle = modes[i], cycles[i]
+            for t in self.scalar_targets[i]:
+                if t.source == "limit_cycle":
+                    r = (cycle_value(cycle, t.name, self.units) - t.value) / t.sigma
+                    parts.append(jnp.where(cycle.converged, r, CYCLE_FAILED)[None])
+                else:
+                    parts.append(((scalar_value(mode, t.name, self.units) - t.value) / t.sigma)[None])
+            shape = self.shapes[i]
+            if shape is not None:
+                fitted, _ = shape_fit(self.models[i], mode, shape, self.units)
+                r = (jnp.asarray(shape.psi1) - fitted) / jnp.asarray(shape.sigma)
+                parts.append(jnp.concatenate([jnp.real(r), jnp.imag(r)]))
+        return jnp.concatenate(parts)
+
+    def loss(self, u) -> Float[Array, ""]:
+        """0.5 |residuals(u)|^2."""
+        return 0.5 * jnp.sum(self.residuals(u) ** 2)
+
+    def jacobian(self, u) -> np.ndarray:
+        """(m, k) exact d residuals / d u (forward mode, compiled once)."""
+        return np.asarray(self._jit_jacobian(jnp.asarray(u, dtype=float)))
+
+    def evaluate(self, u) -> dict[str, Any]:
+        """Everything a report needs at a concrete u: residuals, Jacobian, every
+        condition's scalar observables and, for shapes, the observed and fitted psi_1 on
+        all observed points (the excluded basal stretch included)."""
+        u = jnp.asarray(u, dtype=float)
+
+        def predictions(u):
+            modes, cycles = self.modes(u), self.cycles(u)
+            out = []
+            for i in range(self.n_conditions):
+                d: dict[str, Any] = {}
+                if modes[i] is not None:
+                    d["achieved"] = {k: scalar_value(modes[i], k, self.units) for k in SCALARS}
+                    shape = self.conditions[i].shape
+                    if shape is not None:
+                        fitted, alpha = shape_fit(self.models[i], modes[i], self.shapes[i], self.units, at_um=np.asarray(shape.s_um))
+                        d["psi1_fit"], d["alpha"] = fitted, alpha
+                if cycles[i] is not None:
+                    d["cycle"] = {k: cycle_value(cycles[i], k, self.units) for k in ("frequency_hz", "amplitude_um", "wavelength_um")}
+                    d["cycle_converged"] = cycles[i].converged
+                out.append(d)
+            return out
+
+        r, J = self._jit_residuals(u), self._jit_jacobian(u)
+        preds = jax.jit(predictions)(u)
+        return {"r": np.asarray(r), "J": np.asarray(J), "conditions": jax.tree_util.tree_map(np.asarray, preds)}
+
+    def start_design(self, n: int, seed: int = 0) -> np.ndarray:
+        """(n, k) starts: ``u0`` first, then a scrambled Sobol design of the bounded box
+        (points kept 1e-9 of the range inside the bounds)."""
+        if n < 1:
+            raise ValueError(f"starts must be >= 1, got {n}")
+        k = len(self.names)
+        if n == 1:
+            return self.u0[None]
+        import warnings
+
+        from scipy.stats import qmc
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # Sobol balance warning for n not a power of 2
+            unit = qmc.Sobol(d=k, scramble=True, seed=seed).random(n - 1)
+        span = self.upper - self.lower
+        design = self.lower + span * np.clip(unit, EDGE, 1 - EDGE)
+        return np.vstack([self.u0[None], design])
+
+    def describe(self) -> dict[str, Any]:
+        """Plain-Python summary of the problem (names, bounds in values, conditions)."""
+        return {
+            "names": list(self.names),
+            "bounds": {p.name: [float(np.exp(p.lower) if p.log else p.lower), float(np.exp(p.upper) if p.log else p.upper)] for p in self.parameters},
+            "coordinate": {p.name: "log" if p.log else "linear" for p in self.parameters},
+            "kl_ratio": self.kl_ratio,
+            "shape_floor_rad": self.shape_floor,
+            "exclude_base_um": self.exclude_base_um,
+            "conditions": [dict(c.describe(), label=lab) for c, lab in zip(self.conditions, self.labels)],
+        }

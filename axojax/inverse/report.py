@@ -1,0 +1,373 @@
+"""The report of a fit: values, what the data determine and what they do not, and why.
+
+Standard errors and correlations come from the Gauss-Newton (Fisher) matrix ``J^T J`` of
+the normalised residuals in the fitted coordinate u at the optimum (log for positive
+parameters: a log-space standard error 0.1 is a 10 % uncertainty). Rules:
+
+- ``at_bound``: a parameter within 1 % of its bound range (in u) of a bound. The fit
+  was stopped by the box, not by the data: it is never called identifiable.
+- ``identifiable``: not at a bound, and a standard error (in u) at most
+  ``IDENTIFIABLE_MAX_LOG_SE`` = 1 for log parameters (a factor e), at most
+  ``IDENTIFIABLE_MAX_LINEAR_FRACTION`` = 5 % of the bound range for linear ones (0.3 for
+  gamma's default (-3, 3): gamma is judged on its own scale, not relative to a value
+  that may be near 0).
+- ``converged``: every scalar target reproduced within its sigma and every shape's rms
+  normalised residual at most ``SHAPE_RMS_OK`` = 2.
+- ``chi2_per_dof``: ``sum r^2 / (m - k)`` (None when there are no more residuals than
+  fitted values).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import pathlib
+from typing import Any
+
+import numpy as np
+
+from ..params import PARAM_NAMES, Params
+from .problem import Problem
+
+IDENTIFIABLE_MAX_LOG_SE = 1.0
+IDENTIFIABLE_MAX_LINEAR_FRACTION = 0.05
+AT_BOUND_FRACTION = 0.01
+SHAPE_RMS_OK = 2.0
+STRONG_CORRELATION = 0.95
+
+
+@dataclasses.dataclass
+class FitResult:
+    """What a least-squares fit found and how well it is determined.
+
+    Attributes:
+        params: fitted values by name (dimensionless; ``"ks"``, per-condition ``"p@150"``).
+        full_params: the complete :class:`Params` of the first condition at the optimum.
+        achieved: every scalar observable at the optimum, physical units (one condition:
+            by name; several: ``"<name>@<label>"``).
+        residuals: normalised residual of each scalar target (keys as ``achieved``).
+        shape_rms: rms normalised residual of the shape target(s) (None without one).
+        loss: 0.5 * sum of squared normalised residuals.
+        converged: every target reproduced (scalars within 1 sigma, shapes rms <= 2).
+        message: what is determined, what is not, and why.
+        stderr: standard error of each fitted value, in its units (inf if not determined).
+        correlation: (k, k) correlation matrix in the fitted coordinates.
+        identifiable: per fitted value (never True at a bound).
+        starts: (initial values, final loss) of each start.
+        names: the fitted values' names, in the order of ``correlation``.
+        shared: the shared fitted values.
+        chi2_per_dof: sum r^2 / (m - k), None if m <= k.
+        dof: m - k.
+        at_bound: names of values within 1 % of a bound (fitted coordinate).
+        stderr_fitted: standard errors in the fitted coordinate (log or linear).
+        coordinate: "log" or "linear" per name.
+        conditions: per condition: label, complete params, achieved observables, targets
+            with residuals, shape data (observed/fitted psi_1, psi_0, sigma) and the
+            misfit of an excluded basal stretch.
+        method, iterations, wall_s: solver name, iterations per start, wall time (s).
+        problem: summary of the problem (bounds, floor, exclusion).
+        notes: the message's parts.
+    """
+
+    params: dict[str, float]
+    full_params: Params
+    achieved: dict[str, float]
+    residuals: dict[str, float]
+    shape_rms: float | None
+    loss: float
+    converged: bool
+    message: str
+    stderr: dict[str, float]
+    correlation: np.ndarray
+    identifiable: dict[str, bool]
+    starts: list[tuple[dict[str, float], float]]
+    names: tuple[str, ...] = ()
+    shared: dict[str, float] = dataclasses.field(default_factory=dict)
+    chi2_per_dof: float | None = None
+    dof: int = 0
+    at_bound: list[str] = dataclasses.field(default_factory=list)
+    stderr_fitted: dict[str, float] = dataclasses.field(default_factory=dict)
+    coordinate: dict[str, str] = dataclasses.field(default_factory=dict)
+    conditions: list[dict[str, Any]] = dataclasses.field(default_factory=list)
+    method: str = ""
+    iterations: list[int] = dataclasses.field(default_factory=list)
+    wall_s: float = 0.0
+    problem: dict[str, Any] = dataclasses.field(default_factory=dict)
+    notes: list[str] = dataclasses.field(default_factory=list)
+    condition_params: list[Params] = dataclasses.field(default_factory=list)
+
+    @property
+    def multi(self) -> bool:
+        return len(self.conditions) > 1
+
+    def to_json(self) -> dict[str, Any]:
+        """The ``axojax fit --json`` document (plain Python; NaN/inf as None)."""
+        doc = {
+            "params": dict(self.shared) if self.multi else dict(self.params),
+            "fitted": dict(self.params),
+            "loss": self.loss,
+            "chi2_per_dof": self.chi2_per_dof,
+            "dof": self.dof,
+            "converged": self.converged,
+            "stderr": self.stderr,
+            "stderr_fitted": self.stderr_fitted,
+            "coordinate": self.coordinate,
+            "at_bound": list(self.at_bound),
+            "identifiable": self.identifiable,
+            "names": list(self.names),
+            "correlation": self.correlation.tolist(),
+            "residuals": self.residuals,
+            "shape_rms": self.shape_rms,
+            "message": self.message,
+            "notes": list(self.notes),
+            "method": self.method,
+            "iterations": list(self.iterations),
+            "wall_s": self.wall_s,
+            "problem": self.problem,
+            "conditions": self.conditions,
+        }
+        if not self.multi:
+            doc["achieved"] = self.achieved
+        return _clean(doc)
+
+    def report(self) -> dict[str, Any]:
+        """Alias of :meth:`to_json` (the historical name)."""
+        return self.to_json()
+
+    def save(self, path: str | pathlib.Path) -> None:
+        """Write :meth:`to_json` to ``path`` (read by ``axojax plot FILE.json``)."""
+        pathlib.Path(path).write_text(json.dumps(self.to_json(), indent=1, allow_nan=False) + "\n")
+
+
+def _clean(obj):
+    if isinstance(obj, dict):
+        return {str(k): _clean(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_clean(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return _clean(obj.tolist())
+    if isinstance(obj, (np.bool_, bool)):
+        return bool(obj)
+    if isinstance(obj, (np.integer,)):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        return float(obj) if math.isfinite(float(obj)) else None
+    return obj
+
+
+def _fmt(x: float) -> str:
+    return f"{x:.3g}"
+
+
+def build_report(problem: Problem, u, *, method: str = "", loss: float | None = None, gnorm: float = math.nan, iterations=(), wall_s: float = 0.0, starts=()) -> FitResult:
+    """The :class:`FitResult` of ``problem`` at the fitted coordinates ``u`` (k,)."""
+    u = np.asarray(u, dtype=float)
+    ev = problem.evaluate(u)
+    r, J = ev["r"], ev["J"]
+    loss = float(0.5 * np.sum(r**2)) if loss is None or not math.isfinite(loss) else float(loss)
+    names, k = problem.names, len(problem.names)
+    log = np.array([p.log for p in problem.parameters])
+    values = problem.values(u)
+    span = problem.upper - problem.lower
+
+    # Standard errors in u from the Gauss-Newton matrix.
+    fisher = J.T @ J
+    if np.all(np.isfinite(fisher)):
+        ridge = 1e-12 * max(float(np.abs(fisher).max()), 1e-300)  # a singular direction gets a huge, finite variance
+        cov = np.linalg.inv(fisher + ridge * np.eye(k))
+    else:
+        cov = np.full((k, k), np.inf)
+    se_u = np.sqrt(np.abs(np.diag(cov)))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = cov / np.outer(se_u, se_u)
+    corr = np.where(np.isfinite(corr), corr, np.nan)
+    frac = (u - problem.lower) / span
+    at_bound = [n for n, f in zip(names, frac) if f <= AT_BOUND_FRACTION or f >= 1 - AT_BOUND_FRACTION]
+    stderr, ident = {}, {}
+    for i, n in enumerate(names):
+        v = values[n]
+        stderr[n] = float(v * se_u[i]) if log[i] else float(se_u[i])
+        limit = IDENTIFIABLE_MAX_LOG_SE if log[i] else IDENTIFIABLE_MAX_LINEAR_FRACTION * span[i]
+        ident[n] = bool(np.isfinite(se_u[i]) and se_u[i] <= limit and n not in at_bound)
+
+    # Per condition: observables, residuals, shapes.
+    conditions, achieved_all, res_all, shape_sq, shape_n = [], {}, {}, 0.0, 0
+    multi = problem.n_conditions > 1
+    reproduced, off = True, []
+    for i, (cond, lay, pred) in enumerate(zip(problem.conditions, problem.layout, ev["conditions"])):
+        label = problem.labels[i]
+        suffix = f"@{label}" if multi else ""
+        full = problem.condition_params(u, i)
+        achieved = {kk: float(v) for kk, v in pred.get("achieved", {}).items()}
+        if "cycle" in pred:
+            ok = bool(pred["cycle_converged"])
+            for kk, v in pred["cycle"].items():
+                achieved[f"limit_cycle_{kk}"] = float(v) if ok else math.nan
+        rs = r[lay.start : lay.start + lay.n_scalar]
+        targets, residuals = [], {}
+        for t, rv in zip(problem.scalar_targets[i], rs):
+            a = achieved.get(t.key, math.nan)
+            targets.append({"name": t.key, "value": t.value, "sigma": t.sigma, "achieved": a, "residual": float(rv)})
+            residuals[t.key] = float(rv)
+            if not abs(rv) <= 1.0:
+                reproduced = False
+                off.append(f"{t.key}{suffix} {a:.4g} vs {t.value:.4g} +- {t.sigma:.3g} ({rv:+.1f} sigma)")
+        entry: dict[str, Any] = {
+            "label": label,
+            "params": {f: float(np.asarray(getattr(full, f))) for f in PARAM_NAMES},
+            "fixed": dict(cond.params),
+            "source": cond.source,
+            "achieved": achieved,
+            "targets": targets,
+            "residuals": residuals,
+            "shape_rms": None,
+            "shape": None,
+            "excluded_base": None,
+        }
+        if lay.n_shape:
+            rsh = r[lay.start + lay.n_scalar : lay.start + lay.n_scalar + lay.n_shape]
+            rms = float(np.sqrt(np.mean(rsh**2)))
+            entry["shape_rms"] = rms
+            shape_sq += float(np.sum(rsh**2))
+            shape_n += rsh.size
+            if not rms <= SHAPE_RMS_OK:
+                reproduced = False
+                off.append(f"mode shape{suffix} rms residual {rms:.2f} sigma")
+            entry["shape"], entry["excluded_base"] = _shape_data(problem, i, pred)
+        conditions.append(entry)
+        for kk, v in achieved.items():
+            achieved_all[kk + suffix] = v
+        for kk, v in residuals.items():
+            res_all[kk + suffix] = v
+    shape_rms = float(np.sqrt(shape_sq / shape_n)) if shape_n else None
+    converged = bool(reproduced and math.isfinite(loss))
+    dof = problem.dof
+    chi2 = float(np.sum(r**2) / dof) if dof > 0 else None
+
+    notes = _notes(problem, names, values, se_u, stderr, ident, at_bound, corr, log, span, u)
+    if converged:
+        head = f"targets reproduced (loss {loss:.3g}" + (f", chi2/dof {chi2:.3g}" if chi2 is not None else "") + ")"
+    else:
+        head = "targets not reproduced within their uncertainty (infeasible for this model and bounds?): " + "; ".join(off)
+    for c in conditions:
+        ex = c["excluded_base"]
+        if ex is not None:
+            notes.append(
+                f"basal stretch s < {ex['exclude_base_um']:g} um{(' of ' + c['label']) if multi else ''} left out: misfit there {ex['rms_rad']:.3g} rad rms "
+                f"({ex['rms_sigma']:.2g} sigma) vs {ex['kept_rms_rad']:.3g} rad rms on the fitted points"
+            )
+    message = "; ".join([head] + notes)
+    shared = {p.name: values[p.name] for p in problem.parameters if p.condition is None}
+    return FitResult(
+        params=dict(values),
+        full_params=problem.condition_params(u, 0),
+        achieved=achieved_all,
+        residuals=res_all,
+        shape_rms=shape_rms,
+        loss=loss,
+        converged=converged,
+        message=message,
+        stderr=stderr,
+        correlation=corr,
+        identifiable=ident,
+        starts=list(starts),
+        names=tuple(names),
+        shared=shared,
+        chi2_per_dof=chi2,
+        dof=dof,
+        at_bound=at_bound,
+        stderr_fitted={n: float(se_u[i]) for i, n in enumerate(names)},
+        coordinate={p.name: "log" if p.log else "linear" for p in problem.parameters},
+        conditions=conditions,
+        method=method,
+        iterations=list(iterations),
+        wall_s=float(wall_s),
+        problem=problem.describe(),
+        notes=notes,
+        condition_params=[problem.condition_params(u, i) for i in range(problem.n_conditions)],
+    )
+
+
+def _shape_data(problem: Problem, i: int, pred) -> tuple[dict, dict | None]:
+    """Observed and fitted psi_1 on all observed points (for plots) and the misfit of
+    the excluded basal stretch (None when nothing is excluded)."""
+    shape = problem.conditions[i].shape
+    s = np.asarray(shape.s_um, dtype=float)
+    obs = np.asarray(shape.psi1)
+    fit = np.asarray(pred["psi1_fit"])
+    sigma = np.sqrt(np.broadcast_to(np.asarray(shape.sigma, dtype=float), s.shape) ** 2 + problem.shape_floor**2)
+    kept = s >= problem.exclude_base_um
+    data = {
+        "s_um": s,
+        "psi1_obs_re": obs.real,
+        "psi1_obs_im": obs.imag,
+        "psi1_fit_re": fit.real,
+        "psi1_fit_im": fit.imag,
+        "sigma_rad": sigma,
+        "psi0_rad": None if shape.psi0 is None else np.asarray(shape.psi0, dtype=float),
+        "kept": kept,
+        "length_um": problem.units.length_um,
+    }
+    if kept.all():
+        return data, None
+    diff = obs - fit
+    norm = np.concatenate([(diff.real / sigma), (diff.imag / sigma)])
+    ex = np.concatenate([~kept, ~kept])
+    excluded = {
+        "exclude_base_um": problem.exclude_base_um,
+        "points": int((~kept).sum()),
+        "rms_rad": float(np.sqrt(np.mean(np.abs(diff[~kept]) ** 2))),
+        "rms_sigma": float(np.sqrt(np.mean(norm[ex] ** 2))),
+        "kept_rms_rad": float(np.sqrt(np.mean(np.abs(diff[kept]) ** 2))),
+        "fraction_of_chi2": float(np.sum(norm[ex] ** 2) / max(np.sum(norm**2), 1e-300)),
+    }
+    return data, excluded
+
+
+def _notes(problem, names, values, se_u, stderr, ident, at_bound, corr, log, span, u) -> list[str]:
+    """Plain-language statements: determined values, values at a bound, undetermined ones
+    and the strongly correlated pairs."""
+    notes = []
+    determined = []
+    for i, n in enumerate(names):
+        if ident[n]:
+            if log[i]:
+                determined.append(f"{n} = {_fmt(values[n])} (x/ {math.exp(se_u[i]):.3g})")
+            else:
+                determined.append(f"{n} = {_fmt(values[n])} +- {_fmt(stderr[n])}")
+    if determined:
+        notes.append("determined: " + ", ".join(determined))
+    for i, n in enumerate(names):
+        if n in at_bound:
+            p = problem.parameters[i]
+            lower = (u[i] - p.lower) <= (p.upper - u[i])
+            edge = p.lower if lower else p.upper
+            edge = math.exp(edge) if p.log else edge
+            notes.append(
+                f"{n} sits at its {'lower' if lower else 'upper'} bound {_fmt(edge)}: the data push it out of the box (or do not constrain it); "
+                "it is not determined; widen the bound, fix it, or add data that depend on it"
+            )
+    bad = [n for n in names if not ident[n] and n not in at_bound]
+    if bad:
+        parts = []
+        for n in bad:
+            i = names.index(n)
+            if not np.isfinite(se_u[i]):
+                parts.append(f"{n} (no information)")
+            elif log[i]:
+                parts.append(f"{n} (uncertain by a factor {math.exp(min(se_u[i], 700)):.3g})")
+            else:
+                parts.append(f"{n} (+- {_fmt(se_u[i])}, {se_u[i] / span[i]:.0%} of its range)")
+        notes.append(
+            "not identifiable from these targets: " + ", ".join(parts) + " (standard error over a factor e, or over 5 % of a linear range); fix them or add targets"
+        )
+    pairs = []
+    for i in range(len(names)):
+        for j in range(i + 1, len(names)):
+            c = corr[i, j]
+            if np.isfinite(c) and abs(c) >= STRONG_CORRELATION:
+                pairs.append(f"{names[i]}-{names[j]} {c:+.3f}")
+    if pairs:
+        notes.append("strongly correlated (only a combination is determined): " + ", ".join(pairs))
+    return notes
