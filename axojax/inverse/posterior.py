@@ -36,7 +36,8 @@ import json
 import math
 import time
 import warnings
-from typing import Any, Callable, Mapping, Protocol, Sequence, runtime_checkable
+from collections.abc import Callable, Mapping, Sequence
+from typing import Any, Protocol, runtime_checkable
 
 import blackjax
 import equinox as eqx
@@ -50,6 +51,7 @@ from tqdm.auto import tqdm
 from . import diagnostics
 
 NPZ_KIND = "posterior"
+SAMPLE_CHUNK = 50  # draws per compiled sampling call: one program for any number of draws (the last chunk's surplus is dropped)
 MAX_START_SD_Z = 2.0  # widest start spread in z: about the logistic prior's own width (pi / sqrt 3)
 
 
@@ -125,6 +127,9 @@ class NormalPrior(eqx.Module):
 
     def __call__(self, u: Float[Array, " k"]) -> Float[Array, ""]:
         return -0.5 * jnp.sum(((u[jnp.asarray(self.index)] - self.mean) / self.sd) ** 2)
+
+
+DEFAULT_NUTS = NUTS()
 
 
 def normal_prior(names: Sequence[str], spec: Mapping[str, tuple[float, float]]) -> NormalPrior:
@@ -290,7 +295,7 @@ class Posterior:
         )
 
     @classmethod
-    def load(cls, path) -> "Posterior":
+    def load(cls, path) -> Posterior:
         """Read what :meth:`save` wrote."""
         with np.load(path, allow_pickle=False) as f:
             meta = json.loads(str(f["meta"]))
@@ -323,7 +328,8 @@ def posterior(
     seed: int = 0,
     init: Any = None,
     prior: Callable[[Array], Array] | Mapping[str, tuple[float, float]] | None = None,
-    sampler: NUTS = NUTS(),
+    sampler: NUTS = DEFAULT_NUTS,
+    vectorize: bool = True,
     progress: bool = False,
 ) -> Posterior:
     """Sample the posterior of ``problem``'s free parameters with NUTS.
@@ -343,6 +349,11 @@ def posterior(
             ``{name: (mean_u, sd_u)}`` (:func:`normal_prior`). ``None``: the problem's
             own prior (uniform in ``u`` by default).
         sampler: :class:`NUTS` settings.
+        vectorize: run the chains vmapped (they step together, each NUTS step costing
+            the longest of the chains' trajectories; batched model evaluations), or,
+            ``False``, one after another inside the same compiled program (each chain
+            pays only for its own trajectories: faster where a batch of k model
+            evaluations costs k single ones, e.g. LAPACK-bound eigen-solves on few cores).
         progress: a progress bar over the sampling (tqdm).
 
     Returns:
@@ -386,7 +397,7 @@ def posterior(
     t0 = time.perf_counter()
     imm0 = cov if sampler.dense_mass else jnp.diag(cov)
     if warmup > 0:
-        states, step_size, imm, warm_grads = call(_warmup, (sampler, int(warmup)), target, jax.random.split(key_warm, chains), z_start, imm0)
+        states, step_size, imm, warm_grads = call(_warmup, (sampler, int(warmup), bool(vectorize)), target, jax.random.split(key_warm, chains), z_start, imm0)
     else:  # no adaptation: the Laplace covariance as mass matrix, a moderate step
         states = call(_init_states, None, target, z_start)
         step_size = jnp.full(chains, 0.5)
@@ -395,20 +406,19 @@ def posterior(
     jax.block_until_ready(states)
     seconds_warmup = time.perf_counter() - t0
 
-    n_chunks = min(20, draws) if progress else 1
-    chunk = -(-draws // n_chunks)
+    chunk = SAMPLE_CHUNK
     n_chunks = -(-draws // chunk)
-    keys = jax.random.split(key_sample, n_chunks * chunk * chains).reshape(n_chunks, chunk, chains, -1)
+    keys = jax.random.split(key_sample, n_chunks * chains * chunk).reshape(n_chunks, chains, chunk, -1)
     t0 = time.perf_counter()
     outs = []
     for i in tqdm(range(n_chunks), desc="posterior", unit="chunk", disable=not progress):
-        states, out = call(_sample, sampler, target, states, step_size, imm, keys[i])
+        states, out = call(_sample, (sampler, bool(vectorize)), target, states, step_size, imm, keys[i])
         outs.append(jax.device_get(out))
     seconds_sampling = time.perf_counter() - t0
-    z, logd, divergent, n_steps, accept = (np.concatenate([o[j] for o in outs], axis=0)[:draws].swapaxes(0, 1) for j in range(5))
+    z, logd, divergent, n_steps, accept = (np.concatenate([o[j] for o in outs], axis=1)[:, :draws] for j in range(5))
 
-    u, values_dict = call(_values, None, target, jnp.asarray(z))
-    u = np.asarray(u)
+    u = np.asarray(call(_to_u, None, target, jnp.asarray(z)))
+    values_dict = _values(problem, u.reshape(-1, k), call)
     value_names = list(names) + [n for n in values_dict if n not in names]
     cols = []
     for i, n in enumerate(value_names):
@@ -421,7 +431,7 @@ def posterior(
     gradients = int(np.sum(warm_grads)) + int(np.sum(n_steps))
     seconds = time.perf_counter() - t_start
     ess_min = float(np.min(summ["ess_bulk"]))
-    per = lambda key: {n: float(summ[key][i]) for i, n in enumerate(names)}  # noqa: E731
+    per = lambda key: {n: float(summ[key][i]) for i, n in enumerate(names)}
 
     notes = []
     bad_rhat = [f"{n} {summ['rhat'][i]:.3f}" for i, n in enumerate(names) if not summ["rhat"][i] <= diagnostics.RHAT_MAX]
@@ -554,9 +564,9 @@ def _log_density_batch(_, target, z):
 
 
 def _warmup(settings, target, keys, z0, imm0):
-    """Window adaptation of every chain, vmapped: final states, step sizes, inverse mass
-    matrices and the gradients spent per chain."""
-    sampler, num_steps = settings
+    """Window adaptation of every chain (vmapped or mapped): final states, step sizes,
+    inverse mass matrices and the gradients spent per chain."""
+    sampler, num_steps, vectorize = settings
     adapt = blackjax.window_adaptation(
         blackjax.nuts,
         target,
@@ -571,33 +581,55 @@ def _warmup(settings, target, keys, z0, imm0):
         (state, params), info = adapt.run(key, z, num_steps=num_steps)
         return state, params["step_size"], params["inverse_mass_matrix"], jnp.sum(info.info.num_integration_steps)
 
-    return jax.vmap(one)(keys, z0)
+    return _over_chains(one, vectorize, keys, z0)
 
 
 def _init_states(_, target, z0):
     return jax.vmap(lambda z: blackjax.nuts.init(z, target))(z0)
 
 
-def _sample(sampler, target, states, step_size, imm, keys):
-    """``keys.shape[0]`` NUTS steps of every chain (vmapped kernels, scanned steps):
-    the final states and per step (positions, log densities, divergent, gradients,
-    acceptance rates), each (steps, chains, ...)."""
+def _over_chains(fn, vectorize: bool, *args):
+    """``fn`` of one chain applied to every chain (leading axis of ``args``): vmapped
+    (the chains step together; a NUTS step costs the longest of their trajectories) or
+    one after another (``jax.lax.map``: each chain's trajectories cost only their own)."""
+    return jax.vmap(fn)(*args) if vectorize else jax.lax.map(lambda a: fn(*a), args)
 
-    def one(key, state, eps, m):
+
+def _sample(settings, target, states, step_size, imm, keys):
+    """``keys.shape[1]`` NUTS steps of every chain (steps scanned inside each chain,
+    chains vmapped or mapped): the final states and, per chain and step, (positions,
+    log densities, divergent, gradients, acceptance rates), each (chains, steps, ...)."""
+    sampler, vectorize = settings
+
+    def chain(state, eps, m, keys_c):
         kernel = blackjax.nuts(target, eps, m, max_num_doublings=sampler.max_num_doublings, divergence_threshold=sampler.divergence_threshold)
-        return kernel.step(key, state)
 
-    def step(states, keys_t):
-        states, info = jax.vmap(one)(keys_t, states, step_size, imm)
-        return states, (states.position, states.logdensity, info.is_divergent, info.num_integration_steps, info.acceptance_rate)
+        def step(state, key):
+            state, info = kernel.step(key, state)
+            return state, (state.position, state.logdensity, info.is_divergent, info.num_integration_steps, info.acceptance_rate)
 
-    return jax.lax.scan(step, states, keys)
+        return jax.lax.scan(step, state, keys_c)
+
+    return _over_chains(chain, vectorize, states, step_size, imm, keys)
 
 
-def _values(_, target, z):
-    """Draws z (chains, draws, k) -> u (chains, draws, k) and ``problem.values`` of each, flat."""
-    u = jax.vmap(jax.vmap(target.problem.to_u))(z)
-    return u, jax.vmap(target.problem.values)(u.reshape(-1, u.shape[-1]))
+def _to_u(_, target, z):
+    """Draws z (chains, draws, k) -> u (chains, draws, k)."""
+    return jax.vmap(jax.vmap(target.problem.to_u))(z)
+
+
+def _values_batch(_, target, u):
+    return jax.vmap(target.problem.values)(u)
+
+
+def _values(problem, u: np.ndarray, call) -> dict[str, np.ndarray]:
+    """``problem.values`` of every row of u (n, k): vmapped where it is traceable, else
+    one call per draw (a ``values`` written in numpy for concrete u)."""
+    try:
+        return {n: np.asarray(v, dtype=float) for n, v in call(_values_batch, None, _Target(problem), jnp.asarray(u)).items()}
+    except TypeError:  # jax's concretisation errors: values() needs concrete u
+        rows = [problem.values(x) for x in u]
+        return {n: np.array([float(r[n]) for r in rows]) for n in rows[0]}
 
 
 def _starts(target, init, chains: int, key, call) -> tuple[Array, Array, np.ndarray]:
