@@ -136,6 +136,12 @@ def test_ess_of_an_autoregressive_chain():
     assert diagnostics.ess_bulk(y) == pytest.approx(4 * n * (1 - rho) / (1 + rho), rel=0.2)
 
 
+def test_diagnostics_keep_one_value_per_component():
+    x = np.random.default_rng(3).normal(size=(2, 50, 1))
+    assert diagnostics.rhat(x).shape == (1,) and diagnostics.summary(x)["ess_bulk"].shape == (1,)
+    assert diagnostics.rhat(x[..., 0]).shape == ()
+
+
 def test_rhat_flags_a_chain_that_disagrees():
     x = np.random.default_rng(2).normal(size=(4, 500))
     x[0] += 1.0
@@ -213,6 +219,10 @@ def test_starts_settings_and_errors():
     mean, _ = problem.exact()
     assert abs(post.mean_u["a"] - mean[0]) < mc_tol(post, "a")
     np.testing.assert_allclose(post.start_u, starts.mean(axis=0))
+    # A least-squares result (params by name, coordinate per name) as the centre.
+    fitted = type("Fit", (), {"params": {"a": float(np.exp(mean[0])), "b": float(np.exp(mean[1]))}, "coordinate": {"a": "log", "b": "log"}})()
+    post = posterior(problem, init=fitted, seed=0, **SMALL)
+    np.testing.assert_allclose(post.start_u, mean)
     with pytest.raises(ValueError, match="init"):
         posterior(problem, init=np.zeros(3))
     with pytest.raises(ValueError, match="init"):
@@ -262,7 +272,8 @@ def test_seven_filament_posterior_matches_quadrature():
     """One parameter (p) of the four-element seven-filament model from noisy frequency and
     wavelength: the sampled posterior against the posterior by quadrature on a grid of
     the fitted coordinate (an independent computation of the same density), and the
-    truth inside the 90 % interval."""
+    truth inside the 90 % interval. (Its density in z is skewed, with a shoulder: NUTS
+    gets about one effective draw in four, so the run warns about its ESS.)"""
     model = ax.models.seven(n_elements=4)
     base = ax.Params().with_values({"ks": 1e5}, 1000.0)
     truth = 320.0
@@ -271,14 +282,19 @@ def test_seven_filament_posterior_matches_quadrature():
     rng = np.random.default_rng(0)
     targets = [Target("frequency_hz", f * (1 + 0.02 * rng.normal()), 0.02 * f), Target("wavelength_um", lam * (1 + 0.05 * rng.normal()), 0.05 * lam)]
     problem = Problem(model, [Condition({}, targets)], ["p"], params=base.replace(p=300.0), bounds={"p": (100.0, 1000.0)}, kl_ratio=1000.0)
-    post = posterior(problem, draws=300, chains=4, warmup=200, seed=0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        post = posterior(problem, draws=300, chains=4, warmup=200, seed=0, init=np.log([300.0]))
     assert post.q05["p"] <= truth <= post.q95["p"]
     assert post.rhat["p"] < 1.01
-    grid = np.linspace(problem.lower[0], problem.upper[0], 2001)
-    r = jax.jit(jax.vmap(problem.residuals))(jnp.asarray(grid[:, None]))
-    logp = -0.5 * np.sum(np.asarray(r) ** 2, axis=1)  # uniform prior in u = log p
+    assert post.divergences <= 0.01 * 4 * 300  # a few, at the steep side of the density
+    # Quadrature: the posterior in u = log p (uniform prior) on a grid around the draws.
+    residuals = jax.jit(problem.residuals)
+    grid = np.linspace(np.log(post.q50["p"]) - 8 * post.sd_u["p"], np.log(post.q50["p"]) + 8 * post.sd_u["p"], 321)
+    logp = np.array([-0.5 * float(jnp.sum(residuals(jnp.array([g])) ** 2)) for g in grid])
     w = np.exp(logp - scipy.special.logsumexp(logp))
+    assert w[0] < 1e-6 and w[-1] < 1e-6  # the grid covers the posterior
     mean = np.sum(w * grid)
     sd = np.sqrt(np.sum(w * (grid - mean) ** 2))
     assert abs(post.mean_u["p"] - mean) < mc_tol(post, "p")
-    assert post.sd_u["p"] == pytest.approx(sd, rel=0.12)
+    assert post.sd_u["p"] == pytest.approx(sd, rel=0.15)

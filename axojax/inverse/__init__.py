@@ -18,7 +18,14 @@ from .least_squares import (
     solver_from_name,
 )
 from .parameters import DEFAULT_BOUNDS, LINEAR, FreeParameter
-from .posterior import NUTS, InverseProblem, NormalPrior, Posterior, normal_prior, posterior
+from .posterior import (
+    NUTS,
+    InverseProblem,
+    NormalPrior,
+    Posterior,
+    normal_prior,
+    posterior,
+)
 from .problem import SHAPE_FLOOR, Problem
 from .report import FitResult, build_report
 

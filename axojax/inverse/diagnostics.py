@@ -54,17 +54,20 @@ def _all(x):
 
 def rhat(draws: Float[np.ndarray, "chains draws *k"]) -> Float[np.ndarray, "*k"]:
     """Rank-normalised split R-hat (max of bulk and folded-tail): 1 at convergence."""
-    return np.asarray(_rhat(_check(draws)))
+    x = _check(draws)
+    return np.asarray(_rhat(x)).reshape(x.shape[2:])  # blackjax squeezes a k of 1 away
 
 
 def ess_bulk(draws: Float[np.ndarray, "chains draws *k"]) -> Float[np.ndarray, "*k"]:
     """Bulk effective sample size (rank-normalised split chains), total over chains."""
-    return np.asarray(_ess_bulk(_check(draws)))
+    x = _check(draws)
+    return np.asarray(_ess_bulk(x)).reshape(x.shape[2:])
 
 
 def ess_tail(draws: Float[np.ndarray, "chains draws *k"]) -> Float[np.ndarray, "*k"]:
     """Tail effective sample size (the 5 % and 95 % quantile indicators), total over chains."""
-    return np.asarray(_ess_tail(_check(draws)))
+    x = _check(draws)
+    return np.asarray(_ess_tail(x)).reshape(x.shape[2:])
 
 
 def summary(draws: Float[np.ndarray, "chains draws k"]) -> dict[str, Float[np.ndarray, " k"]]:
@@ -75,7 +78,7 @@ def summary(draws: Float[np.ndarray, "chains draws k"]) -> dict[str, Float[np.nd
         raise ValueError(f"draws must be shaped (chains, draws, k), got shape {x.shape}")
     flat = x.reshape(-1, x.shape[-1])
     q05, q50, q95 = np.quantile(flat, [0.05, 0.5, 0.95], axis=0)
-    r, eb, et = (np.asarray(v) for v in _all(x))
+    r, eb, et = (np.asarray(v).reshape(x.shape[2:]) for v in _all(x))
     return {
         "mean": flat.mean(axis=0),
         "sd": flat.std(axis=0, ddof=1),

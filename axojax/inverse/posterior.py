@@ -343,8 +343,9 @@ def posterior(
         seed: seed of the chains and their starts.
         init: where the chains start. ``None``: the posterior mode (BFGS in ``z``
             from ``problem.u0``) and a spread drawn from its Laplace approximation;
-            a (k,) point in ``u`` (e.g. a least-squares optimum): a spread around it;
-            a (chains, k) array in ``u``: these starts exactly.
+            a (k,) point in ``u``, or a least-squares result
+            (:func:`axojax.inverse.least_squares`' ``FitResult``, its optimum): a spread
+            around it; a (chains, k) array in ``u``: these starts exactly.
         prior: replaces ``problem.log_prior``: a jax-traceable ``log_prior(u)``, or
             ``{name: (mean_u, sd_u)}`` (:func:`normal_prior`). ``None``: the problem's
             own prior (uniform in ``u`` by default).
@@ -391,15 +392,15 @@ def posterior(
 
     key_init, key_warm, key_sample = jax.random.split(jax.random.PRNGKey(seed), 3)
     t0 = time.perf_counter()
-    z_start, cov, start_u = _starts(target, init, chains, key_init, call)
+    z_start, z_c, cov, start_u = _starts(target, init, chains, key_init, call)
     seconds_start = time.perf_counter() - t0
 
     t0 = time.perf_counter()
     imm0 = cov if sampler.dense_mass else jnp.diag(cov)
     if warmup > 0:
-        states, step_size, imm, warm_grads = call(_warmup, (sampler, int(warmup), bool(vectorize)), target, jax.random.split(key_warm, chains), z_start, imm0)
+        states, step_size, imm, warm_grads = call(_warmup, (sampler, int(warmup), bool(vectorize)), target, jax.random.split(key_warm, chains), z_start, z_c, imm0)
     else:  # no adaptation: the Laplace covariance as mass matrix, a moderate step
-        states = call(_init_states, None, target, z_start)
+        states = call(_init_states, None, target, z_start, z_c)
         step_size = jnp.full(chains, 0.5)
         imm = jnp.broadcast_to(imm0, (chains, *imm0.shape))
         warm_grads = jnp.zeros(chains, dtype=int)
@@ -537,17 +538,18 @@ def _compiled(fn, static, dynamic: tuple) -> tuple[Any, float]:
     return _CACHE[key](dyn, rest), seconds
 
 
-def _mode(_, target, z0):
-    """The maximum of the log density in z (optimistix BFGS); ``z0`` if that fails."""
-    sol = optx.minimise(lambda z, _: -target(z), optx.BFGS(rtol=1e-6, atol=1e-6), z0, max_steps=200, throw=False)
-    better = jnp.all(jnp.isfinite(sol.value)) & (target(sol.value) >= target(z0))
-    return jnp.where(better, sol.value, z0)
-
-
-def _precision(forward: bool, target, z):
-    """Laplace precision (k, k) in z: Gauss-Newton ``J^T J`` of the residuals plus minus
-    the Hessian of the log prior and of the log-Jacobian of ``to_u``."""
+def _centre(settings, target, z0):
+    """The centre of the starts and the Laplace precision (k, k) in z there, in one
+    program: with ``optimise``, the maximum of the log density (optimistix BFGS from
+    ``z0``; ``z0`` itself if that fails), else ``z0``. The precision is the Gauss-Newton
+    ``J^T J`` of the residuals minus the Hessian of the log prior and of the log-Jacobian
+    of ``to_u`` (``forward``: J by forward mode, else reverse)."""
+    optimise, forward = settings
     problem = target.problem
+    if optimise:
+        sol = optx.minimise(lambda z, _: -target(z), optx.BFGS(rtol=1e-6, atol=1e-6), z0, max_steps=200, throw=False)
+        better = jnp.all(jnp.isfinite(sol.value)) & (target(sol.value) >= target(z0))
+        z0 = jnp.where(better, sol.value, z0)
 
     def r(z):
         return problem.residuals(problem.to_u(z))
@@ -555,18 +557,22 @@ def _precision(forward: bool, target, z):
     def rest(z):
         return target.log_prior(problem.to_u(z)) + jnp.linalg.slogdet(jax.jacfwd(problem.to_u)(z))[1]
 
-    J = (jax.jacfwd if forward else jax.jacrev)(r)(z)
-    return J.T @ J - jax.hessian(rest)(z)
+    J = (jax.jacfwd if forward else jax.jacrev)(r)(z0)
+    return z0, J.T @ J - jax.hessian(rest)(z0)
 
 
-def _log_density_batch(_, target, z):
-    return jax.vmap(target)(z)
+def _finite_starts(target, z, z_c):
+    """Starts where the log density is finite; the others moved to the centre ``z_c``."""
+    ok = jnp.isfinite(jax.vmap(target)(z))
+    return jnp.where(ok[:, None], z, z_c)
 
 
-def _warmup(settings, target, keys, z0, imm0):
-    """Window adaptation of every chain (vmapped or mapped): final states, step sizes,
-    inverse mass matrices and the gradients spent per chain."""
+def _warmup(settings, target, keys, z0, z_c, imm0):
+    """Window adaptation of every chain (vmapped or mapped) from ``z0`` (a start with a
+    non-finite density moved to ``z_c``): final states, step sizes, inverse mass matrices
+    and the gradients spent per chain."""
     sampler, num_steps, vectorize = settings
+    z0 = _finite_starts(target, z0, z_c)
     adapt = blackjax.window_adaptation(
         blackjax.nuts,
         target,
@@ -584,8 +590,8 @@ def _warmup(settings, target, keys, z0, imm0):
     return _over_chains(one, vectorize, keys, z0)
 
 
-def _init_states(_, target, z0):
-    return jax.vmap(lambda z: blackjax.nuts.init(z, target))(z0)
+def _init_states(_, target, z0, z_c):
+    return jax.vmap(lambda z: blackjax.nuts.init(z, target))(_finite_starts(target, z0, z_c))
 
 
 def _over_chains(fn, vectorize: bool, *args):
@@ -632,33 +638,45 @@ def _values(problem, u: np.ndarray, call) -> dict[str, np.ndarray]:
         return {n: np.array([float(r[n]) for r in rows]) for n in rows[0]}
 
 
-def _starts(target, init, chains: int, key, call) -> tuple[Array, Array, np.ndarray]:
-    """Starting points (chains, k) in z, the Laplace covariance (k, k) in z at their
-    centre (the initial inverse mass matrix) and that centre in u (k,)."""
+def _starts(target, init, chains: int, key, call) -> tuple[Array, Array, Array, np.ndarray]:
+    """Starting points (chains, k) in z, their centre (k,) in z, the Laplace covariance
+    (k, k) in z there (the initial inverse mass matrix) and the centre in u (k,)."""
     problem = target.problem
     k = len(problem.names)
     lower, upper = np.asarray(problem.lower, dtype=float), np.asarray(problem.upper, dtype=float)
     given = None
     if init is None:
-        z_c = call(_mode, None, target, jnp.asarray(problem.to_z(jnp.asarray(problem.u0, dtype=float)), dtype=float))
+        z_c = jnp.asarray(problem.to_z(jnp.asarray(problem.u0, dtype=float)), dtype=float)
     else:
-        given = np.asarray(init, dtype=float)
+        if hasattr(init, "params") and hasattr(init, "coordinate"):  # a least-squares FitResult
+            given = _fitted_u(init, problem.names, lower, upper)
+        else:
+            given = np.asarray(init, dtype=float)
         if given.shape not in ((k,), (chains, k)):
             raise ValueError(f"init must be a point (k={k},) or one per chain ({chains}, {k}) in the fitted coordinate, got shape {given.shape}")
         if not (np.all(np.isfinite(given)) and np.all(given > lower) and np.all(given < upper)):
             raise ValueError("init: every start must lie strictly inside the bounds (lower, upper) of the fitted coordinate")
         z_c = jnp.asarray(problem.to_z(jnp.asarray(given.reshape(-1, k).mean(axis=0))), dtype=float)
     try:
-        precision = call(_precision, True, target, z_c)
+        z_c, precision = call(_centre, (init is None, True), target, z_c)
     except TypeError:  # residuals with a reverse-only (custom_vjp) derivative
-        precision = call(_precision, False, target, z_c)
+        z_c, precision = call(_centre, (init is None, False), target, z_c)
     cov = _covariance(np.asarray(precision, dtype=float))
     if given is not None and given.ndim == 2:
-        return jnp.asarray(jax.vmap(problem.to_z)(jnp.asarray(given)), dtype=float), cov, given.mean(axis=0)
+        return jnp.asarray(jax.vmap(problem.to_z)(jnp.asarray(given)), dtype=float), z_c, cov, given.mean(axis=0)
     z = z_c + jax.random.normal(key, (chains, k), dtype=float) @ jnp.linalg.cholesky(cov).T
-    ok = jnp.isfinite(call(_log_density_batch, None, target, z))
-    z = jnp.where(ok[:, None], z, z_c)
-    return z, cov, np.asarray(problem.to_u(z_c), dtype=float)
+    return z, z_c, cov, np.asarray(problem.to_u(z_c), dtype=float)
+
+
+def _fitted_u(result, names, lower, upper) -> np.ndarray:
+    """The optimum of a least-squares result (``params`` by name, ``coordinate`` "log" or
+    "linear") in u, kept 1e-6 of the range inside the bounds (an optimum at a bound)."""
+    missing = [n for n in names if n not in result.params]
+    if missing:
+        raise ValueError(f"init: the fit result has no value of {', '.join(missing)}")
+    u = np.array([math.log(result.params[n]) if result.coordinate.get(n, "log") == "log" else result.params[n] for n in names], dtype=float)
+    span = upper - lower
+    return np.clip(u, lower + 1e-6 * span, upper - 1e-6 * span)
 
 
 def _covariance(precision: np.ndarray) -> Array:
