@@ -76,7 +76,7 @@ def main() -> None:
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        post = posterior(pb, draws=args.draws, chains=args.chains, warmup=args.warmup, seed=0, vectorize=not args.sequential)
+        post = posterior(pb, draws=args.draws, chains=args.chains, warmup=args.warmup, seed=0, vectorize=not args.sequential, progress=True)
     for w in caught:
         print("warning:", w.message)
     ess_min = min(post.ess.values())

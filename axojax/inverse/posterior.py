@@ -193,8 +193,8 @@ class Posterior:
             was sampled before in this process: compiled programs are cached).
         seconds_warmup, seconds_sampling: wall time of the warm-up and of the draws (each
             with its compilation, if any).
-        seconds_per_gradient: seconds of all but compilation / gradients (the chains'
-            gradients are evaluated together, vmapped).
+        seconds_per_gradient: seconds of the warm-up and the draws, less their
+            compilation, over ``gradients`` (vmapped chains evaluate theirs together).
         seconds_per_ess: seconds / the smallest bulk ESS.
         start_u: (k,) centre of the starts (the posterior mode unless ``init`` was given).
         message: warnings raised (R-hat, ESS, divergences), or "ok".
@@ -337,7 +337,7 @@ def posterior(
     Args:
         problem: an :class:`InverseProblem` (e.g. :class:`axojax.inverse.Problem`).
         draws: draws per chain kept after warm-up.
-        chains: independent chains, vmapped.
+        chains: independent chains (vmapped unless ``vectorize=False``).
         warmup: window-adaptation steps per chain (Stan's schedule; at least 150 gives
             its full set of windows), discarded.
         seed: seed of the chains and their starts.
@@ -394,6 +394,7 @@ def posterior(
     t0 = time.perf_counter()
     z_start, z_c, cov, start_u = _starts(target, init, chains, key_init, call)
     seconds_start = time.perf_counter() - t0
+    compile_start = compile_s[0]
 
     t0 = time.perf_counter()
     imm0 = cov if sampler.dense_mass else jnp.diag(cov)
@@ -416,6 +417,7 @@ def posterior(
         states, out = call(_sample, (sampler, bool(vectorize)), target, states, step_size, imm, keys[i])
         outs.append(jax.device_get(out))
     seconds_sampling = time.perf_counter() - t0
+    compile_chains = compile_s[0] - compile_start
     z, logd, divergent, n_steps, accept = (np.concatenate([o[j] for o in outs], axis=1)[:, :draws] for j in range(5))
 
     u = np.asarray(call(_to_u, None, target, jnp.asarray(z)))
@@ -447,7 +449,7 @@ def posterior(
         notes.append(f"{n_div} divergent transitions of {chains * draws} (try NUTS(target_acceptance_rate=0.95), or check the bounds)")
     for note in notes:
         warnings.warn("posterior: " + note, stacklevel=2)
-    work = seconds_start + seconds_warmup + seconds_sampling - compile_s[0]
+    work = seconds_warmup + seconds_sampling - compile_chains
 
     return Posterior(
         names=names,
