@@ -81,7 +81,7 @@ def main() -> None:
         print("warning:", w.message)
     ess_min = min(post.ess.values())
     print(f"\n{args.chains} chains x {args.draws} draws (+{args.warmup} warm-up), {'sequential' if args.sequential else 'vmapped'} chains, solver {args.solver}, N_e = {args.elements}")
-    print(f"total {post.seconds:.1f} s (target 300 s): compile {post.seconds_compile:.1f} s, warm-up {post.seconds_warmup:.1f} s, sampling {post.seconds_sampling:.1f} s (each with its compilation)")
+    print(f"total {post.seconds:.1f} s (target 300 s): compile {post.seconds_compile:.1f} s; starts {post.seconds_start:.1f} s, warm-up {post.seconds_warmup:.1f} s, sampling {post.seconds_sampling:.1f} s (each with its compilation)")
     print(f"gradients {post.gradients} ({post.gradients / (args.chains * (args.draws + args.warmup)):.1f} per chain step), divergences {post.divergences}, acceptance {post.acceptance:.2f}, step sizes {np.round(post.step_size, 3)}")
     print(f"time per gradient {1e3 * post.seconds_per_gradient:.2f} ms (x{post.seconds_per_gradient / single:.2f} one value-and-gradient alone)")
     print(f"time per effective sample {post.seconds_per_ess:.3f} s (smallest bulk ESS {ess_min:.0f}); excluding compilation {(post.seconds - post.seconds_compile) / ess_min:.3f} s")

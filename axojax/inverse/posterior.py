@@ -191,8 +191,9 @@ class Posterior:
         seconds: wall time of the whole call (compilation, optimisation, warm-up, sampling).
         seconds_compile: the part spent compiling (0 when a problem of the same structure
             was sampled before in this process: compiled programs are cached).
-        seconds_warmup, seconds_sampling: wall time of the warm-up and of the draws (each
-            with its compilation, if any).
+        seconds_start, seconds_warmup, seconds_sampling: wall time of the starts (mode
+            and Laplace approximation), of the warm-up and of the draws (each with its
+            compilation, if any).
         seconds_per_gradient: seconds of the warm-up and the draws, less their
             compilation, over ``gradients`` (vmapped chains evaluate theirs together).
         seconds_per_ess: seconds / the smallest bulk ESS.
@@ -226,6 +227,7 @@ class Posterior:
     gradients: int
     seconds: float
     seconds_compile: float
+    seconds_start: float
     seconds_warmup: float
     seconds_sampling: float
     seconds_per_gradient: float
@@ -309,7 +311,7 @@ class Posterior:
 _ARRAY_FIELDS = ("u", "values", "log_density", "divergent", "lower", "upper", "step_size", "start_u")
 _SCALAR_FIELDS = (
     "mean", "sd", "q05", "q50", "q95", "mean_u", "sd_u", "rhat", "ess", "ess_tail", "divergences", "acceptance", "warmup",
-    "gradients", "seconds", "seconds_compile", "seconds_warmup", "seconds_sampling", "seconds_per_gradient", "seconds_per_ess", "message",
+    "gradients", "seconds", "seconds_compile", "seconds_start", "seconds_warmup", "seconds_sampling", "seconds_per_gradient", "seconds_per_ess", "message",
 )
 
 
@@ -478,6 +480,7 @@ def posterior(
         gradients=gradients,
         seconds=seconds,
         seconds_compile=compile_s[0],
+        seconds_start=seconds_start,
         seconds_warmup=seconds_warmup,
         seconds_sampling=seconds_sampling,
         seconds_per_gradient=work / max(gradients, 1),
