@@ -9,7 +9,12 @@ import numpy as np
 import pytest
 
 import axojax as ax
-from axojax.orbits.measures import cycle_measures, dynamic_amplitude, phase_wavelength, static_curvature
+from axojax.orbits.measures import (
+    cycle_measures,
+    dynamic_amplitude,
+    phase_wavelength,
+    static_curvature,
+)
 from axojax.waveform import fourier_modes
 
 SOLVER = ax.orbits.HarmonicBalance(harmonics=5, floquet=0, rtol=1e-12)

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import Sequence
+from collections.abc import Sequence
 
 import jax.numpy as jnp
 import numpy as np
@@ -61,7 +61,7 @@ class CycleTarget:
             raise ValueError(f"uncertainty of target {self.name} must be > 0, got {self.sigma!r}")
 
     @classmethod
-    def of(cls, target: "CycleTarget | Target") -> "CycleTarget":
+    def of(cls, target: CycleTarget | Target) -> CycleTarget:
         """A :class:`CycleTarget` from itself or from a fitting ``Target`` with
         ``source="limit_cycle"``."""
         if isinstance(target, CycleTarget):

@@ -105,6 +105,7 @@ def _load_matching(path: str | pathlib.Path, n_elements: int, params: Params, se
     m = sim.meta
     same = (
         m["model"] == "seven" and m["n_elements"] == n_elements and m["cubic"] == settings.cubic
+        and m.get("imbalance_kind", "force") == "moment"
         and m["t_end_s"] == settings.t_end_s and m["perturbation_um"] == settings.perturbation_um
         and all(np.isclose(m["params"][k], float(v), rtol=1e-9, atol=0.0) for k, v in params.as_dict().items())
     )
