@@ -131,5 +131,8 @@ def inferred_rows(claims: Sequence[Claim], units: Units = Units(), measured=None
     for c in claims:
         value = float(getattr(m, c.quantity))
         digits = {"frequency_hz": 2, "wavelength_um": 1, "dynamic_amplitude_rad": 2, "static_curvature_rad_per_um": 3}[c.quantity]
-        rows.append(Row(c, value if math.isfinite(value) else None, f"{value:.{digits}f} {c.unit}", None, context))
+        note = context
+        if c.quantity == "wavelength_um":
+            note += "; wavelength from the least-squares slope of the phase of psi_1(s) (as axojax data measures a beat)"
+        rows.append(Row(c, value if math.isfinite(value) else None, f"{value:.{digits}f} {c.unit}", None, note))
     return rows
