@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from ..eigen.solvers import SOLVERS, Auto, EigenSolver, solver_from_name
-from ..models import PRESETS, Model, from_file, preset
+from ..models import IMBALANCE_KINDS, PRESETS, Model, from_file, preset
 from ..params import PARAM_NAMES, Params
 from ..units import Units
 
@@ -73,6 +73,11 @@ def add_model_flags(parser: argparse.ArgumentParser, params: tuple[str, ...] = t
         field = PARAM_FLAGS[flag]
         kind = str if axes else finite_float
         g.add_argument(f"--{flag}", type=kind, default=None, metavar="AXIS" if axes else "X", help=f"dimensionless {field} (default {getattr(d, field):g})")
+    g.add_argument(
+        "--imbalance-kind", choices=IMBALANCE_KINDS, default=IMBALANCE_KINDS[0],
+        help="read --imbalance R as a static couple p a0 (1 - 1/R) with balanced forces (moment, the paper's reading, "
+        "default) or as group 1 carrying p / R (force); MODEL.md section 3",
+    )
     g.add_argument("--kl-ratio", type=finite_float, default=None, metavar="R", help="tie kl = ks / R wherever ks is set, swept or fitted")
     u = parser.add_argument_group("units")
     du = Units()
@@ -128,8 +133,8 @@ def model_from_args(args: argparse.Namespace) -> Model:
         if args.model_file is not None:
             if args.rotation_deg != 0.0:
                 raise CLIError("--rotation-deg: applies to presets; a --model-file gives its positions itself")
-            return from_file(args.model_file, n_elements=n)
-        return preset(args.model or "seven", n_elements=n, rotation_deg=args.rotation_deg)
+            return from_file(args.model_file, n_elements=n, imbalance_kind=getattr(args, "imbalance_kind", IMBALANCE_KINDS[0]))
+        return preset(args.model or "seven", n_elements=n, rotation_deg=args.rotation_deg, imbalance_kind=getattr(args, "imbalance_kind", IMBALANCE_KINDS[0]))
     except ValueError as err:
         flag = "--model-file" if args.model_file is not None else ("--rotation-deg" if "rotation_deg" in str(err) else "--model")
         raise CLIError(f"{flag}: {err}") from None

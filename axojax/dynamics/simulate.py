@@ -255,6 +255,7 @@ def simulate(
         "model": model.name,
         "n_elements": model.n_elements,
         "params": {k: float(v) for k, v in params.as_dict().items()},
+        "imbalance_kind": model.imbalance_kind,
         "cubic": cubic,
         "t_end_s": t_end_s,
         "perturbation_um": perturbation_um,

@@ -31,7 +31,7 @@ from ..units import Units
 from .cycle import LimitCycle
 from .fourier import Problem
 from .guess import equilibrium
-from .limit_cycle import _impl_jit
+from ._solve import solve_jit
 from .solvers import OrbitSolver
 
 
@@ -75,7 +75,7 @@ def hopf_point(model: Model, params: Params, kappa: float, *, rtol: float = 1e-1
 
 
 def _solve(model, params, kappa, solver, start):
-    return _impl_jit(model, params, jnp.asarray(kappa, float), solver, start)
+    return solve_jit(model, params, jnp.asarray(kappa, float), solver, start)
 
 
 def _predict(prev: LimitCycle, prev2: LimitCycle | None, p_prev: float, p_prev2: float | None, p: float) -> LimitCycle:
