@@ -13,7 +13,7 @@ from axojax.cli.main import main
 
 @pytest.mark.parametrize(
     "change,match",
-    [({"ks": -1.0}, "ks must be >= 0"), ({"p": float("nan")}, "p must be finite"), ({"cl": -0.1}, "cl must be >= 0"), ({"out_of_plane": 0.0}, "out_of_plane must be > 0")],
+    [({"ks": -1.0}, "ks must be >= 0"), ({"p": float("nan")}, "p must be finite"), ({"cl": -0.1}, "cl must be >= 0"), ({"out_of_plane": 0.0}, "out_of_plane must be >= 1e-09"), ({"ks": 1e300}, "ks must be at most 1e\\+09")],
 )
 def test_python_bad_params(change, match):
     with pytest.raises(ValueError, match=match):

@@ -132,9 +132,15 @@ def mode_from_eigenpair(model: Model, lam: Complex[Array, ""], v: Complex[Array,
 DEFAULT_SOLVER = Auto()
 
 
-def _dominant_mode_impl(model: Model, params: Params, solver: EigenSolver = DEFAULT_SOLVER) -> Mode:
+def dominant_mode_impl(model: Model, params: Params, solver: EigenSolver = DEFAULT_SOLVER) -> Mode:
+    """:func:`dominant_mode` without its validation and its own ``jax.jit``: the entry
+    point for code that traces it inside its own transformations (the sweep engine,
+    fits)."""
     lam, v, certified = solver.eigenpair(model, params)
     return mode_from_eigenpair(model, lam, v, certified)
+
+
+_dominant_mode_impl = dominant_mode_impl  # the old private name, for existing callers
 
 
 def _spectrum_impl(model: Model, params: Params, top: int | None = None) -> Complex[Array, " k"]:
@@ -144,7 +150,7 @@ def _spectrum_impl(model: Model, params: Params, top: int | None = None) -> Comp
 
 
 # The model is a static, identity-hashed argument: one compilation per model.
-_dominant_mode_jit = jax.jit(_dominant_mode_impl, static_argnums=(0, 2))
+_dominant_mode_jit = jax.jit(dominant_mode_impl, static_argnums=(0, 2))
 _spectrum_jit = jax.jit(_spectrum_impl, static_argnums=(0, 2))
 
 
