@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 import sys
 
+import numpy as np
+
 from ..dynamics.simulate import DEFAULT_CUBIC
 from ..fitting import OBSERVATIONS, Target, fit, observation_targets, read_beat
 from . import common
@@ -89,10 +91,12 @@ def run(args: argparse.Namespace) -> dict:
     shape = None
     if args.data is not None:
         try:
-            beat = read_beat(args.data)
+            with np.errstate(all="ignore"):  # overflowing data is refused by check_beat
+                beat = read_beat(args.data)
+            common.check_beat(beat)
+            data_targets, shape = beat.targets()
         except ValueError as err:
             raise common.CLIError(f"--data: {err}") from None
-        data_targets, shape = beat.targets()
         targets += [t for t in data_targets if t.name not in {u.name for u in targets}]
     if not targets and shape is None:
         raise common.CLIError("--free: nothing to fit to; give --target-frequency, --target-wavelength, --observation or --data")
