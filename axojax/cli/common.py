@@ -148,13 +148,17 @@ def check_memory(need_bytes: float, flag: str, what: str) -> None:
 
 def model_bytes(section: CrossSection, n_elements: int) -> float:
     """Estimated peak memory (bytes) of building the model and one dominant eigenpair:
-    the model's dense (n_fd, n_fd) coupling matrices (one per active pair), then either
+    the mesh's dense shape-function tables, the model's dense (n_fd, n_fd) coupling
+    matrices (one per active pair), then either
     the dense pencil (12 n x n doubles: A, C, the complex eigen-decomposition) or, for
     models the Arnoldi solver takes (``Auto.min_arnoldi_dof`` unknowns or more), its
     block-tridiagonal factors and Krylov basis."""
     n_fd = section.n_filaments * section.n_dirs
     n = dense_unknowns(section, n_elements)
     build = 8.0 * (n_fd**2 * (2 + len(section.active_pairs)) + (len(section.links) + 3 * len(section.active_pairs)) * n_fd)
+    # the mesh: shape-function rows at 5 quadrature points per element over the 2 (n_e + 1)
+    # nodal dofs (three of them), and the filament's dense matrices
+    build += 8.0 * (3 * 5 * n_elements * 2 * (n_elements + 1) + 8 * (2 * n_elements) ** 2)
     if n < Auto().min_arnoldi_dof:
         return build + 96.0 * n**2
     block = 2 * n_fd
