@@ -130,6 +130,35 @@ class Params(eqx.Module):
         return self
 
 
+def valid(params: Params) -> Any:
+    """Whether every value of ``params`` is within :meth:`Params.validate`'s limits, as a
+    (traceable) boolean array of the parameters' broadcast shape: what ``jit``-ed code
+    uses in place of the check it cannot make (:mod:`axojax.results`)."""
+    import jax.numpy as jnp
+
+    ok = jnp.asarray(True)
+    for name in PARAM_NAMES:
+        x = jnp.asarray(getattr(params, name), dtype=float)
+        good = jnp.isfinite(x) & (jnp.abs(x) <= MAX_MAGNITUDE)
+        if name in _BOUNDS:
+            low, inclusive = _BOUNDS[name]
+            good = good & ((x >= low) if inclusive else (x > low))
+        ok = ok & good
+    return ok
+
+
+def require_scalars(params: Params, what: str) -> None:
+    """Raise a one-line ``ValueError`` naming ``jax.vmap`` when a field is not a scalar
+    (``what`` names the function): array-valued ``Params`` are batches, to be mapped."""
+    for name in PARAM_NAMES:
+        shape = np.shape(getattr(params, name))
+        if shape != ():
+            raise ValueError(
+                f"{what} takes one parameter point, but {name} has shape {shape}: map over a batch of Params "
+                f"with jax.vmap (e.g. jax.vmap(lambda prm: {what}(model, prm))(params)), or use ax.sweep for a grid"
+            )
+
+
 def _show(value: Any) -> str:
     try:
         f = float(value)
