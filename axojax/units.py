@@ -12,7 +12,6 @@ import math
 import jax.numpy as jnp
 from jaxtyping import ArrayLike
 
-
 UNIT_RANGE = (1e-9, 1e9)
 """Accepted range of each physical scale (so tau = c_n L^4 / EI and every conversion stay
 finite in float64)."""

@@ -3,17 +3,15 @@
 from __future__ import annotations
 
 import argparse
+import sys
 
 import jax
 import numpy as np
 from tqdm.auto import tqdm
 
-import sys
-
 from ..critical import critical_force
 from ..results import RESULTS, message
 from . import common
-
 
 EVALUATIONS_PER_POINT = 20
 """About how many dominant eigenpairs one Hopf point costs (bracketing and Newton): a
