@@ -1,4 +1,5 @@
-"""Bad input ends in one clear line, in Python and on the command line."""
+"""Bad input ends in one clear line, in Python and on the command line (the defect
+classes of issue 21, each tested over the subcommands, are in tests/test_hardening.py)."""
 
 import json
 import subprocess

@@ -422,3 +422,50 @@ def test_fit_data_no_fit_can_use(kind, tmp_path, capsys):
 )
 def test_the_flag_at_fault_is_named(argv, flag, capsys):
     one_line(argv, capsys, flag)
+
+
+# -- 11. traced inputs and the result convention ------------------------------------------
+
+
+def test_traced_parameters_out_of_range_give_nan_and_a_code():
+    import jax
+    import jax.numpy as jnp
+
+    from axojax.results import RESULTS
+
+    model = ax.models.two(n_elements=4)
+    f = jax.jit(lambda p: ax.dominant_mode(model, ax.Params(p=p)))
+    good = f(300.0)
+    assert good.result == RESULTS.successful and np.isfinite(complex(good.eigenvalue))
+    for bad in (float("nan"), -5.0, 1e300):
+        mode = f(bad)
+        assert mode.result == RESULTS.invalid_params and np.isnan(complex(mode.eigenvalue)), bad
+    batch = jax.vmap(lambda p: ax.dominant_mode(model, ax.Params(p=p)))(jnp.array([300.0, jnp.nan]))
+    assert np.isfinite(complex(batch.eigenvalue[0])) and np.isnan(complex(batch.eigenvalue[1]))
+    with pytest.raises(ValueError, match="jax.vmap"):
+        ax.dominant_mode(model, ax.Params(p=jnp.array([1.0, 2.0])))
+    with pytest.raises(ValueError, match="jax.vmap"):
+        ax.critical_force(model, ax.Params(ks=np.array([1.0, 2.0])))
+    with pytest.raises(Exception, match="invalid|out of its range"):
+        jax.block_until_ready(jax.jit(lambda p: ax.dominant_mode(model, ax.Params(p=p), throw=True))(jnp.nan))
+
+
+def test_one_result_convention():
+    from axojax.results import RESULTS, message
+
+    model = ax.models.two(n_elements=4)
+    full = ax.critical_force(model, ax.Params())
+    assert full.result == RESULTS.successful and bool(full.found)
+    short = ax.critical_force(model, ax.Params(), max_iter=2)  # runs out: reported, not silent
+    assert short.result == RESULTS.max_steps_reached and "maximum number" in message(short.result)
+    assert abs(float(short.p) - float(full.p)) < 0.1 * float(full.p)
+    none = ax.critical_force(model, ax.Params(), p_max=20.0)
+    assert none.result == RESULTS.no_crossing and not bool(none.found) and float(none.p) == np.inf
+    with pytest.raises(Exception, match="maximum number"):
+        ax.critical_force(model, ax.Params(), max_iter=2, throw=True).p.block_until_ready()
+    sim = ax.simulate(model, ax.Params(), 0.02, max_steps=20)
+    assert sim.state == "solver_failed" and sim.meta["solver"]["result"].startswith("The maximum number of solver steps")
+    import diffrax
+
+    promoted = RESULTS.promote(diffrax.RESULTS.max_steps_reached)  # what Trajectory.result holds
+    assert promoted == RESULTS.max_steps_reached and message(promoted).startswith("The maximum number of solver steps")
