@@ -87,7 +87,7 @@ GRID_BYTES_PER_POINT = 3 * (8 * 10 + 8 * 4)
 times (the chunks, their concatenation, the saved arrays)."""
 
 
-def check_grid(model, axes: dict[str, np.ndarray], chunk: int, solver) -> None:
+def check_grid(model, axes: dict[str, np.ndarray], chunk: int) -> None:
     """Refuse a grid whose arrays, or whose chunks (accelerators evaluate a chunk's
     points at once), cannot fit in memory; with the estimate."""
     import jax
@@ -124,7 +124,7 @@ def run(args: argparse.Namespace) -> dict:
     if ratio is not None:
         ks = axes.get("ks", np.asarray([params.ks]))
         common.check_params(Params(kl=np.asarray(ks) / ratio), "--kl-ratio")
-    check_grid(model, axes, args.chunk, None)
+    check_grid(model, axes, args.chunk)
     t0 = time.perf_counter()
     solver = common.solver_from_args(args)
     try:
