@@ -36,12 +36,15 @@ import warnings
 
 import tomllib
 
+import numpy as np
+
 from ..dynamics.simulate import DEFAULT_CUBIC
 from ..fitting import OBSERVATIONS, Target, fit, observation_targets, read_beat
 from ..inverse import SHAPE_FLOOR, Condition
 from ..models import from_file, preset
 from ..params import PARAM_NAMES, Params
 from ..units import Units
+from .. import _io
 from . import common
 
 METHODS = ("lm", "lbfgs", "adam")
@@ -133,7 +136,9 @@ def _read_data(path, flag: str):
     """(BeatData, its report) of a beat file; the report is ``BeatData.summary()`` where
     the reader provides one (what ``axojax data`` prints), else the essentials."""
     try:
-        beat = read_beat(path)
+        with np.errstate(all="ignore"):  # overflowing data is refused by check_beat
+            beat = read_beat(path)
+        common.check_beat(beat, flag)
     except (ValueError, OSError) as err:
         raise common.CLIError(f"{flag}: {err}") from None
     if hasattr(beat, "summary"):
@@ -164,7 +169,7 @@ def _finish(args, result, extra: dict) -> dict:
         import json
 
         try:
-            pathlib.Path(args.out).write_text(json.dumps(common.to_jsonable(doc), indent=1, allow_nan=False) + "\n")
+            _io.write_text(args.out, json.dumps(common.to_jsonable(doc), indent=1, allow_nan=False) + "\n")
         except OSError as err:
             raise common.CLIError(f"--out: cannot write {args.out!r} ({err})") from None
         doc["out"] = str(args.out)
@@ -184,6 +189,7 @@ def _run_fit(*fit_args, flag: str, **kwargs):
 
 
 def run(args: argparse.Namespace) -> dict:
+    common.check_output("--out", args.out, (".json",))  # before any work, as every command
     if args.spec is not None:
         return _run_spec(args)
     if args.free is None:

@@ -268,7 +268,7 @@ def simulate(
             "rejected": int(traj.rejected),
             "max_steps": int(max_steps),
             "ok": ok,
-            "result": result_message(int(traj.result)),
+            "result": result_message(traj.result),
             "t_reached_s": t_reached * tau,
         },
     }
