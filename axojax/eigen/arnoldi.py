@@ -30,8 +30,13 @@ Algorithm (per parameter point, fixed shapes: jit/vmap-able):
    near sigma converge in a few dozen steps. A Ritz pair has converged when its residual
    bound ``|h_{m+1,m} y_m| / |theta|^2 <= tol (1 + |lambda|)``. The Krylov space grows
    in stages (``krylov_dims``, default 16, 32, 48 vectors) until the certificate
-   holds, each point on its own (under ``jax.vmap`` the points run one after another,
-   so that no point pays for another's stages).
+   holds. Per-point path (the CPU default): under ``jax.vmap`` the points run one after
+   another, so that no point pays for another's stages, with LAPACK's small kernels and
+   each stage's own Ritz eigen-solve size. Batched path (``ArnoldiOptions.batched``,
+   the default on accelerators): one ``vmap`` over the chunk, the block factorisations
+   in plain jnp (:mod:`axojax.linalg.small`, no LAPACK custom calls), every point
+   running its batch's stages; the projected m x m eigen-problems (``eigh`` of the
+   Lanczos matrix, ``eig`` of the Hessenberg matrix) stay library calls, batched.
 3. **Certificate** (Cayley view, Meerbergen, Spence & Roose, BIT 34, 1994). The Cayley
    transform ``(A + sigma C)^{-1} (A + alpha C)`` has the same Krylov space as S and maps
    the half-plane right of the line ``(sigma + alpha)/2`` outside the unit disc; in S's
@@ -179,17 +184,41 @@ class _Primal(NamedTuple):
     certified: Float[Array, ""]
 
 
-def _ritz(V, H, sigma, m, opts: ArnoldiOptions, size: int | None = None) -> _Primal:
+def _stage_eig(H, stage, dims: tuple[int, ...]):
+    """Eigenvalues and vectors of the leading ``dims[stage]`` square block of H, padded
+    to the full size as the eigen-decomposition of the zero-padded matrix reads (theta =
+    0, unit vectors): a scalar ``switch`` between one small eig per stage size, so that
+    the first stage (where most points certify) does not pay for a 48 x 48 one."""
+    m_max = H.shape[1]
+
+    def branch(m):
+        def f(H):
+            theta, Y = jnp.linalg.eig(H[:m, :m])
+            pad = m_max - m
+            if pad == 0:
+                return theta, Y
+            theta = jnp.concatenate([theta, jnp.zeros(pad, theta.dtype)])
+            Y = jnp.block([[Y, jnp.zeros((m, pad), Y.dtype)], [jnp.zeros((pad, m), Y.dtype), jnp.eye(pad, dtype=Y.dtype)]])
+            return theta, Y
+
+        return f
+
+    return jax.lax.switch(stage, [branch(m) for m in dims], H)
+
+
+def _ritz(V, H, sigma, m, opts: ArnoldiOptions, eig=None) -> _Primal:
     """Rightmost converged Ritz pair of the first m Arnoldi steps and its certificate.
 
     ``m`` may be traced: the leading m x m block of H is embedded in a zero matrix of
-    size ``size`` >= m (default: all of H); the padding gives theta = 0 with zero
-    residual, i.e. lambda at minus infinity, which never competes. The eigen-solve costs
-    O(size^3): the per-point path passes each stage's own size."""
-    m_max = H.shape[1] if size is None else size
-    k = jnp.arange(m_max)
-    Hm = jnp.where((k[:, None] < m) & (k[None, :] < m), H[:m_max, :m_max], 0.0)
-    theta, Y = jnp.linalg.eig(Hm)
+    the full size (one compiled eigen-solve serves every stage); the padding gives
+    theta = 0 with zero residual, i.e. lambda at minus infinity, which never competes.
+    ``eig``: that padded decomposition (theta, Y) when the caller has it (see
+    :func:`_stage_eig`)."""
+    m_max = H.shape[1]
+    if eig is None:
+        k = jnp.arange(m_max)
+        eig = jnp.linalg.eig(jnp.where((k[:, None] < m) & (k[None, :] < m), H[:m_max, :m_max], 0.0))
+    theta, Y = eig
     Y = Y / jnp.linalg.norm(Y, axis=0)
     residual = jnp.abs(H[m, m - 1] * Y[m - 1])
     padding = theta == 0
@@ -237,10 +266,11 @@ def _arnoldi_point(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOption
     H = jnp.zeros((m_max + 1, m_max))
 
     def shift_invert(v):
-        """(A + sigma C)^{-1} C v: the solve, then one step of iterative refinement."""
+        """(A + sigma C)^{-1} C v: the solve, then one step of iterative refinement, as
+        two passes through one compiled solve (from w = 0 the first is the plain solve;
+        its product with zero costs less than a second copy of the solve to compile)."""
         b = C.matvec(v)
-        w = lu.solve(b)
-        return w + lu.solve(b - M.matvec(w))
+        return jax.lax.fori_loop(0, 2, lambda _, w: w + lu.solve(b - M.matvec(w)), jnp.zeros_like(b))
 
     starts = jnp.asarray((0,) + dims[:-1])
     ends = jnp.asarray(dims)
@@ -250,10 +280,9 @@ def _arnoldi_point(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOption
         return (stage < len(dims)) & (result.certified < 0.5)
 
     def ritz(V, H, stage):
-        if batched:
+        if batched:  # a vmapped switch would run every branch
             return _ritz(V, H, sigma, ends[stage], opts)
-        # One eigen-solve of each stage's own size (a scalar switch runs one branch).
-        return jax.lax.switch(stage, [lambda V, H, m=m: _ritz(V, H, sigma, m, opts, size=m) for m in dims], V, H)
+        return _ritz(V, H, sigma, ends[stage], opts, eig=_stage_eig(H, stage, dims))
 
     def body(state):
         stage, V, H, _ = state
