@@ -227,6 +227,9 @@ def test_arnoldi_gradients_match_finite_differences_and_dense():
     assert np.max(np.abs(rev - fd) / scale) < 1e-6
     dense = np.asarray(jax.jit(jax.jacfwd(metrics(model, Dense())))(z))
     assert np.max(np.abs(fwd - dense) / scale) < 1e-8  # the dense solver's derivative rule, independently
+    # The batched path (vmapped: its jnp kernels, also in the derivative rule's complex LU).
+    batched = np.asarray(jax.jit(jax.vmap(jax.jacrev(metrics(model, Arnoldi(batched=True)))))(jnp.stack([z, z])))
+    assert np.max(np.abs(batched - fd[None]) / scale[None]) < 1e-6
 
 
 def test_critical_force_with_arnoldi_equals_dense():
