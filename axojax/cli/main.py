@@ -55,22 +55,26 @@ def version() -> str:
         return "unknown"
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The full parser; with ``only``, the flags of that subcommand alone (the others
+    listed but not imported: ``axojax sweep`` never loads diffrax, optax or matplotlib)."""
     parser = _Parser(prog="axojax", description="Flutter of the ciliary axoneme: eigen-analysis, sweeps, fits and simulations.")
     parser.add_argument("--version", action="version", version=f"axojax {version()}")
     sub = parser.add_subparsers(dest="command", parser_class=_Parser)
     for name, help_text in SUBCOMMANDS.items():
-        module = importlib.import_module(f"axojax.cli.{name}")
         p = sub.add_parser(name, help=help_text, description=help_text)
-        module.add_arguments(p)
-        p.set_defaults(_module=module)
+        if only is None or name == only:
+            module = importlib.import_module(f"axojax.cli.{name}")
+            module.add_arguments(p)
+            p.set_defaults(_module=module)
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = build_parser()
+    argv = list(sys.argv[1:] if argv is None else argv)
+    first = next((a for a in argv if not a.startswith("-")), None)
+    parser = build_parser(first if first in SUBCOMMANDS else None)
     try:
-        argv = list(sys.argv[1:] if argv is None else argv)
         args = parser.parse_args(argv)
         args._argv = argv
         if args.command is None:

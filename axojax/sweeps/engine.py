@@ -80,7 +80,9 @@ def _compiled(model: Model, names: tuple[str, ...], tie: bool, units: Units, n_d
     TPUs), the devices in parallel (``shard_map`` over this process's first ``n_dev``
     local devices)."""
 
-    loop = jax.local_devices()[0].platform == "cpu"
+    # A solver with a batched path (ax.eigen.Arnoldi(batched=True): plain jnp block
+    # kernels) is vmapped on every platform.
+    loop = jax.local_devices()[0].platform == "cpu" and not getattr(getattr(solver, "options", None), "batched", False)
 
     def batched(params, ratio, rows):
         def one(row):
