@@ -55,6 +55,9 @@ _LAZY = {
 
 __all__ = sorted(_LAZY)  # noqa: PLE0605
 
+# Subpackages that an eager import used to bind as attributes too (``ax.dynamics``, ...).
+_SUBMODULES = ("assembly", "cache", "critical", "dynamics", "fem", "fitting", "params", "sweeps", "units", "waveform")
+
 if TYPE_CHECKING:  # the same names for static tools (type checkers, the API docs' griffe)
     from . import eigen, linalg, models, orbits
     from .assembly import System, assemble
@@ -70,6 +73,8 @@ if TYPE_CHECKING:  # the same names for static tools (type checkers, the API doc
 
 
 def __getattr__(name: str):
+    if name in _SUBMODULES:
+        return importlib.import_module(f".{name}", __name__)
     try:
         module, attribute = _LAZY[name]
     except KeyError:
@@ -82,4 +87,4 @@ def __getattr__(name: str):
 
 
 def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_LAZY))
+    return sorted(set(globals()) | set(_LAZY) | set(_SUBMODULES))
