@@ -13,6 +13,7 @@ or matplotlib. ``ax.simulate``, ``ax.fit``, ... work as before.
 """
 
 import importlib
+from typing import TYPE_CHECKING
 
 from . import _runtime
 
@@ -58,8 +59,26 @@ _LAZY = {
 
 __all__ = sorted(_LAZY)  # noqa: PLE0605
 
+# Subpackages that an eager import used to bind as attributes too (``ax.dynamics``, ...).
+_SUBMODULES = ("assembly", "cache", "critical", "dynamics", "fem", "fitting", "params", "sweeps", "units", "waveform")
+
+if TYPE_CHECKING:  # the same names for static tools (type checkers, the API docs' griffe)
+    from . import eigen, linalg, models, orbits
+    from .assembly import System, assemble
+    from .cache import enable_compilation_cache
+    from .critical import Critical, critical_force
+    from .dynamics import Simulation, simulate
+    from .eigen import Mode, dominant_mode, mode_shapes, spectrum
+    from .fitting import FitResult, ShapeTarget, Target, fit, read_beat
+    from .orbits import LimitCycle, limit_cycle
+    from .params import PARAM_NAMES, Params
+    from .sweeps import SweepResult, sweep
+    from .units import Units
+
 
 def __getattr__(name: str):
+    if name in _SUBMODULES:
+        return importlib.import_module(f".{name}", __name__)
     try:
         module, attribute = _LAZY[name]
     except KeyError:
@@ -72,4 +91,4 @@ def __getattr__(name: str):
 
 
 def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_LAZY))
+    return sorted(set(globals()) | set(_LAZY) | set(_SUBMODULES))

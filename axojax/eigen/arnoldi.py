@@ -31,12 +31,12 @@ Algorithm (per parameter point, fixed shapes: jit/vmap-able):
    bound ``|h_{m+1,m} y_m| / |theta|^2 <= tol (1 + |lambda|)``. The Krylov space grows
    in stages (``krylov_dims``, default 16, 32, 48 vectors) until the certificate
    holds. Per-point path (the CPU default): under ``jax.vmap`` the points run one after
-   another, so that no point pays for another's stages, with LAPACK's small kernels and
-   each stage's own Ritz eigen-solve size. Batched path (``ArnoldiOptions.batched``,
-   the default on accelerators): one ``vmap`` over the chunk, the block factorisations
-   in plain jnp (:mod:`axojax.linalg.small`, no LAPACK custom calls), every point
-   running its batch's stages; the projected m x m eigen-problems (``eigh`` of the
-   Lanczos matrix, ``eig`` of the Hessenberg matrix) stay library calls, batched.
+   another, so that no point pays for another's stages, with LAPACK's small kernels.
+   Batched path (``ArnoldiOptions.batched``, the default on accelerators): one
+   ``vmap`` over the chunk, the block factorisations in plain jnp
+   (:mod:`axojax.linalg.small`, no LAPACK custom calls), every point running its
+   batch's stages; the projected m x m eigen-problems (``eigh`` of the Lanczos matrix,
+   ``eig`` of the Hessenberg matrix) stay library calls, batched.
 3. **Certificate** (Cayley view, Meerbergen, Spence & Roose, BIT 34, 1994). The Cayley
    transform ``(A + sigma C)^{-1} (A + alpha C)`` has the same Krylov space as S and maps
    the half-plane right of the line ``(sigma + alpha)/2`` outside the unit disc; in S's
@@ -184,41 +184,18 @@ class _Primal(NamedTuple):
     certified: Float[Array, ""]
 
 
-def _stage_eig(H, stage, dims: tuple[int, ...]):
-    """Eigenvalues and vectors of the leading ``dims[stage]`` square block of H, padded
-    to the full size as the eigen-decomposition of the zero-padded matrix reads (theta =
-    0, unit vectors): a scalar ``switch`` between one small eig per stage size, so that
-    the first stage (where most points certify) does not pay for a 48 x 48 one."""
-    m_max = H.shape[1]
-
-    def branch(m):
-        def f(H):
-            theta, Y = jnp.linalg.eig(H[:m, :m])
-            pad = m_max - m
-            if pad == 0:
-                return theta, Y
-            theta = jnp.concatenate([theta, jnp.zeros(pad, theta.dtype)])
-            Y = jnp.block([[Y, jnp.zeros((m, pad), Y.dtype)], [jnp.zeros((pad, m), Y.dtype), jnp.eye(pad, dtype=Y.dtype)]])
-            return theta, Y
-
-        return f
-
-    return jax.lax.switch(stage, [branch(m) for m in dims], H)
-
-
-def _ritz(V, H, sigma, m, opts: ArnoldiOptions, eig=None) -> _Primal:
+def _ritz(V, H, sigma, m, opts: ArnoldiOptions) -> _Primal:
     """Rightmost converged Ritz pair of the first m Arnoldi steps and its certificate.
 
     ``m`` may be traced: the leading m x m block of H is embedded in a zero matrix of
     the full size (one compiled eigen-solve serves every stage); the padding gives
     theta = 0 with zero residual, i.e. lambda at minus infinity, which never competes.
-    ``eig``: that padded decomposition (theta, Y) when the caller has it (see
-    :func:`_stage_eig`)."""
+    (LAPACK's balancing isolates the zero rows and columns at once, so the padding costs
+    next to nothing: a switch to each stage's own size was measured slower.)"""
     m_max = H.shape[1]
-    if eig is None:
-        k = jnp.arange(m_max)
-        eig = jnp.linalg.eig(jnp.where((k[:, None] < m) & (k[None, :] < m), H[:m_max, :m_max], 0.0))
-    theta, Y = eig
+    k = jnp.arange(m_max)
+    Hm = jnp.where((k[:, None] < m) & (k[None, :] < m), H[:m_max, :m_max], 0.0)
+    theta, Y = jnp.linalg.eig(Hm)
     Y = Y / jnp.linalg.norm(Y, axis=0)
     residual = jnp.abs(H[m, m - 1] * Y[m - 1])
     padding = theta == 0
@@ -251,9 +228,8 @@ def _arnoldi_point(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOption
     each stage and the fallback run only when needed.
 
     ``batched``: written to be ``vmap``-ed over a chunk of points (see :func:`_batched`):
-    plain jnp block kernels (:mod:`axojax.linalg.small`), one Ritz eigen-solve size for
-    every stage (a vmapped ``switch`` would run every branch), no fallback here (the
-    caller runs it for the uncertified points only)."""
+    plain jnp block kernels (:mod:`axojax.linalg.small`), no fallback here (the caller
+    runs it for the uncertified points only)."""
     n = A.shape[0]
     dims = tuple(sorted({min(m, n - 1) for m in opts.krylov_dims}))
     m_max = dims[-1]
@@ -279,15 +255,10 @@ def _arnoldi_point(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOption
         stage, _, _, result = state
         return (stage < len(dims)) & (result.certified < 0.5)
 
-    def ritz(V, H, stage):
-        if batched:  # a vmapped switch would run every branch
-            return _ritz(V, H, sigma, ends[stage], opts)
-        return _ritz(V, H, sigma, ends[stage], opts, eig=_stage_eig(H, stage, dims))
-
     def body(state):
         stage, V, H, _ = state
         V, H = arnoldi_steps(shift_invert, V, H, starts[stage], ends[stage])
-        return stage + 1, V, H, ritz(V, H, stage)
+        return stage + 1, V, H, _ritz(V, H, sigma, ends[stage], opts)
 
     empty = _Primal(jnp.zeros((), complex), jnp.zeros((n,), complex), jnp.zeros(()))
     _, _, _, result = jax.lax.while_loop(cond, body, (0, V, H, empty))
