@@ -28,8 +28,8 @@ _LAZY = {
     "System": (".assembly", "System"),
     "enable_compilation_cache": (".cache", "enable_compilation_cache"),
     "Critical": (".critical", "Critical"),
-    "datasets": (".datasets", None),
     "critical_force": (".critical", "critical_force"),
+    "datasets": (".datasets", None),
     "Simulation": (".dynamics", "Simulation"),
     "simulate": (".dynamics", "simulate"),
     "eigen": (".eigen", None),
@@ -63,13 +63,14 @@ __all__ = sorted(_LAZY)  # noqa: PLE0605
 _SUBMODULES = ("assembly", "cache", "critical", "dynamics", "fem", "fitting", "params", "sweeps", "units", "waveform")
 
 if TYPE_CHECKING:  # the same names for static tools (type checkers, the API docs' griffe)
-    from . import eigen, linalg, models, orbits
+    from . import datasets, eigen, inverse, linalg, models, orbits
     from .assembly import System, assemble
     from .cache import enable_compilation_cache
     from .critical import Critical, critical_force
     from .dynamics import Simulation, simulate
     from .eigen import Mode, dominant_mode, mode_shapes, spectrum
     from .fitting import FitResult, ShapeTarget, Target, fit, read_beat
+    from .inverse import Posterior, posterior
     from .orbits import LimitCycle, limit_cycle
     from .params import PARAM_NAMES, Params
     from .sweeps import SweepResult, sweep
