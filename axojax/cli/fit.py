@@ -48,6 +48,8 @@ from .. import _io
 from . import common
 
 METHODS = ("lm", "lbfgs", "adam")
+MAX_DRAWS = 100_000  # draws per chain of --posterior (a 3-parameter posterior needs ~1000)
+MAX_CHAINS = 64
 SPEC_TOP = {"model", "model_file", "elements", "kl_ratio", "length_um", "free", "free_per_condition", "params", "condition", "bounds"}
 SPEC_TARGETS = {
     # key: (target name, sigma key, default relative sigma)
@@ -87,6 +89,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--exclude-base-um", type=common.finite_float, default=0.0, metavar="UM", help="leave the basal stretch s < UM of the data's shape out of the fit (its misfit is reported)")
     parser.add_argument("--out", default=None, metavar="FIT.json", help="save the fit report (read by 'axojax plot FIT.json')")
+    parser.add_argument(
+        "--posterior", type=int, default=None, metavar="DRAWS",
+        help="then sample the posterior from the optimum with NUTS: DRAWS per chain after as many warm-up steps "
+        "(adds \"posterior\" to the report; with --out FIT.json the draws go to FIT.posterior.npz, drawn by 'axojax plot')",
+    )
+    parser.add_argument("--chains", type=int, default=4, metavar="C", help="posterior chains (default 4; with --posterior)")
 
 
 def _targets(args: argparse.Namespace) -> list[Target]:
@@ -148,6 +156,17 @@ def _read_data(path, flag: str):
     return beat, doc
 
 
+def _check_posterior(args: argparse.Namespace) -> None:
+    if args.posterior is None:
+        if args.chains != 4:
+            raise common.CLIError("--chains: applies to the posterior; add --posterior DRAWS")
+        return
+    if not 4 <= args.posterior <= MAX_DRAWS:
+        raise common.CLIError(f"--posterior: draws per chain must be in 4..{MAX_DRAWS}, got {args.posterior}")
+    if not 1 <= args.chains <= MAX_CHAINS:
+        raise common.CLIError(f"--chains: expected an integer in 1..{MAX_CHAINS}, got {args.chains}")
+
+
 def _fit_options(args: argparse.Namespace) -> dict:
     if args.starts < 1:
         raise common.CLIError(f"--starts: expected an integer >= 1, got {args.starts}")
@@ -162,9 +181,18 @@ def _length_given(args) -> bool:
     return any(a == "--length-um" or a.startswith("--length-um=") for a in getattr(args, "_argv", []))
 
 
-def _finish(args, result, extra: dict) -> dict:
+def _finish(args, result, extra: dict, post=None) -> dict:
     doc = result.to_json()
     doc.update(extra)
+    if post is not None:
+        doc["posterior"] = post.to_json()
+        if args.out is not None:
+            draws = pathlib.Path(args.out).with_suffix(".posterior.npz")
+            try:
+                post.save(draws)
+            except OSError as err:
+                raise common.CLIError(f"--out: cannot write {str(draws)!r} ({err})") from None
+            doc["posterior"]["file"] = str(draws)
     if args.out is not None:
         import json
 
@@ -179,17 +207,37 @@ def _finish(args, result, extra: dict) -> dict:
     return doc
 
 
-def _run_fit(*fit_args, flag: str, **kwargs):
+LEAST_SQUARES_ONLY = ("starts", "method", "progress", "max_steps", "seed")
+
+
+def _run_fit(args, *fit_args, flag: str, **kwargs):
+    """The fit, then (``--posterior``) NUTS from its optimum on the same problem."""
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            return fit(*fit_args, **kwargs)
+            result = fit(*fit_args, **kwargs)
     except ValueError as err:
         raise common.CLIError(f"{flag}: {err}") from None
+    if args.posterior is None:
+        return result, None
+    from ..fitting import build_problem
+    from ..inverse import posterior
+
+    problem = build_problem(*fit_args, **{k: v for k, v in kwargs.items() if k not in LEAST_SQUARES_ONLY})
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            post = posterior(problem, draws=args.posterior, chains=args.chains, warmup=max(args.posterior, 150), init=result, progress=kwargs.get("progress", False))
+    except ValueError as err:
+        raise common.CLIError(f"--posterior: {err}") from None
+    for w in caught:  # R-hat, ESS and divergence warnings: one line each on stderr
+        print(f"axojax: fit: posterior: {w.message}", file=sys.stderr)
+    return result, post
 
 
 def run(args: argparse.Namespace) -> dict:
     common.check_output("--out", args.out, (".json",))  # before any work, as every command
+    _check_posterior(args)
     if args.spec is not None:
         return _run_spec(args)
     if args.free is None:
@@ -222,8 +270,8 @@ def run(args: argparse.Namespace) -> dict:
             raise common.CLIError(f"--target: {model.name!r} has no links, so it has no limit cycle; use a model with links")
         options["cubic"] = kappa
     flag = "--exclude-base-um" if args.exclude_base_um else "--free"
-    result = _run_fit(model, params, targets, free, shape=shape, kl_ratio=common.kl_ratio(args), units=units, flag=flag, **options)
-    return _finish(args, result, extra)
+    result, post = _run_fit(args, model, params, targets, free, shape=shape, kl_ratio=common.kl_ratio(args), units=units, flag=flag, **options)
+    return _finish(args, result, extra, post)
 
 
 # -- --spec: several conditions ----------------------------------------------------------
@@ -354,11 +402,11 @@ def _run_spec(args: argparse.Namespace) -> dict:
         except ValueError as err:
             _spec_error(path, f"{where}: {err}")
     flag = "--exclude-base-um" if args.exclude_base_um else "--spec"
-    result = _run_fit(model, params, conditions, free, per_condition=per, bounds=bounds or None, kl_ratio=kl_ratio, units=units, flag=flag, **options)
+    result, post = _run_fit(args, model, params, conditions, free, per_condition=per, bounds=bounds or None, kl_ratio=kl_ratio, units=units, flag=flag, **options)
     extra = {"spec": str(path)}
     if data_docs:
         extra["data"] = data_docs[0] if len(data_docs) == 1 else data_docs
-    return _finish(args, result, extra)
+    return _finish(args, result, extra, post)
 
 
 def render(doc: dict) -> str:
@@ -383,6 +431,14 @@ def render(doc: dict) -> str:
     chi2 = doc.get("chi2_per_dof")
     lines.append(f"loss {doc['loss']:.4g}; chi2/dof {chi2:.3g}" if chi2 is not None else f"loss {doc['loss']:.4g}; chi2/dof undefined (no more residuals than fitted values)")
     lines.append(f"converged: {doc['converged']}; {doc['message']}")
+    post = doc.get("posterior")
+    if post:
+        lines.append(f"posterior ({post['chains']} chains x {post['draws']} draws, {post['seconds']:.1f} s):")
+        lines.append(f"{'parameter':>12s}  {'mean':>12s}  {'sd':>10s}  {'q05':>12s}  {'q95':>12s}  {'rhat':>6s}  {'ess':>7s}")
+        for k, m in post["mean"].items():
+            lines.append(f"{k:>12s}  {m:12.5g}  {post['sd'][k]:10.3g}  {post['q05'][k]:12.5g}  {post['q95'][k]:12.5g}  {post['rhat'][k]:6.3f}  {post['ess'][k]:7.0f}")
+        if post.get("file"):
+            lines.append(f"wrote {post['file']} (axojax plot it for a corner plot)")
     if doc.get("out"):
         lines.append(f"wrote {doc['out']}")
     return "\n".join(lines)

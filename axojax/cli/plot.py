@@ -22,7 +22,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", action="store_true", help="print one JSON document on stdout")
 
 
-KINDS = ("sweep", "simulation", "orbit_branch")
+KINDS = ("sweep", "simulation", "orbit_branch", "posterior")
 READ_ERRORS = (OSError, EOFError, KeyError, ValueError, TypeError, AttributeError, IndexError, zipfile.BadZipFile)
 """What a truncated, damaged or foreign file raises on the way in (numpy's zip reader,
 the JSON meta, the arrays)."""
@@ -78,6 +78,12 @@ def _load(path: pathlib.Path, kind: str):
             _check_shapes(path, kind, {**{k: np.asarray(v) for k, v in obj.coords.items()}, **{k: obj.data[k] for k in METRICS if k in obj.data}},
                           {**{k: (len(v),) for k, v in obj.coords.items()}, **{k: shape for k in METRICS if k in obj.data}})
             return obj
+        if kind == "posterior":
+            from ..inverse import Posterior
+
+            post = Posterior.load(path)
+            _check_shapes(path, kind, {"u": post.u}, {"u": (None, None, len(post.names))})
+            return post
         if kind == "orbit_branch":
             from ..orbits.branch import Branch
 
@@ -114,7 +120,7 @@ def _figure(args: argparse.Namespace):
         model = common.model_from_args(args)
         return plot_section(model), "section", model.name
     if args.file is None:
-        raise common.CLIError("FILE: give FILE.npz (a sweep, simulation or orbit branch), or --model/--model-file for a cross-section")
+        raise common.CLIError("FILE: give FILE.npz (a sweep, simulation, orbit branch or posterior), FIT.json (a fit report), or --model/--model-file for a cross-section")
     if args.rotation_deg != 0.0:
         raise common.CLIError("--rotation-deg: turns a cross-section (--model); FILE.npz has its own")
     path = pathlib.Path(args.file)
@@ -127,6 +133,11 @@ def _figure(args: argparse.Namespace):
             from ..plotting import plot_sweep
 
             return plot_sweep(obj), kind, None
+        if kind == "posterior":
+            from ..inverse.posterior import load_truth
+            from ..plotting.corner import plot_corner
+
+            return plot_corner(obj, truth=load_truth(path)), kind, None
         if kind == "orbit_branch":
             from ..orbits.plot import plot_branch
 

@@ -16,7 +16,7 @@ from .readers import BeatFileError
 from .reduction import Planarity
 from .targets import SCALARS, ShapeTarget, Target
 
-_FROM_FIT = ("DEFAULT_BOUNDS", "FitResult", "fit")
+_FROM_FIT = ("DEFAULT_BOUNDS", "FitResult", "build_problem", "fit")
 
 
 def __getattr__(name: str):
@@ -27,4 +27,4 @@ def __getattr__(name: str):
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-__all__ = ["DEFAULT_BOUNDS", "OBSERVATIONS", "SCALARS", "BeatData", "BeatFileError", "FitResult", "Planarity", "ShapeTarget", "Target", "beat_from_kymograph", "fit", "observation_targets", "read_beat"]
+__all__ = ["DEFAULT_BOUNDS", "OBSERVATIONS", "SCALARS", "BeatData", "BeatFileError", "FitResult", "Planarity", "ShapeTarget", "Target", "beat_from_kymograph", "build_problem", "fit", "observation_targets", "read_beat"]

@@ -28,7 +28,7 @@ from ..params import Params
 from ..units import Units
 from .targets import ShapeTarget, Target
 
-__all__ = ["CYCLE_FAILED", "DEFAULT_BOUNDS", "IDENTIFIABLE_MAX_LOG_SE", "LINEAR", "SHAPE_RMS_OK", "FitResult", "fit"]
+__all__ = ["CYCLE_FAILED", "DEFAULT_BOUNDS", "IDENTIFIABLE_MAX_LOG_SE", "LINEAR", "SHAPE_RMS_OK", "FitResult", "build_problem", "fit"]
 
 
 def fit(
@@ -92,6 +92,43 @@ def fit(
     """
     if isinstance(solver, LeastSquaresSolver):
         method, solver = solver, DEFAULT_SOLVER
+    if starts < 1:
+        raise ValueError(f"starts must be >= 1, got {starts}")
+    optimiser = solver_from_name(method, max_steps)
+    problem = build_problem(
+        model, params, targets, free, shape=shape, bounds=bounds, kl_ratio=kl_ratio, units=units, solver=solver, cubic=cubic,
+        orbit_solver=orbit_solver, per_condition=per_condition, shape_floor=shape_floor, exclude_base_um=exclude_base_um, prior=prior,
+    )
+    result = least_squares(problem, optimiser, starts=starts, seed=seed, progress=progress)
+    if not result.converged:
+        warnings.warn(result.message.split("; ")[0], stacklevel=2)
+    bad = [n for n, ok in result.identifiable.items() if not ok]
+    if bad:
+        warnings.warn(f"not identifiable from these targets: {', '.join(bad)}" + (f" (at a bound: {', '.join(result.at_bound)})" if result.at_bound else ""), stacklevel=2)
+    return result
+
+
+def build_problem(
+    model: Model,
+    params: Params,
+    targets: Sequence[Target] | Sequence[Condition],
+    free: Sequence[str],
+    *,
+    shape: ShapeTarget | None = None,
+    bounds: dict[str, tuple[float, float]] | None = None,
+    kl_ratio: float | None = None,
+    units: Units = Units(),
+    solver: EigenSolver = DEFAULT_SOLVER,
+    cubic: float = DEFAULT_CUBIC,
+    orbit_solver: OrbitSolver = HarmonicBalance(),
+    per_condition: Sequence[str] = (),
+    shape_floor: float = SHAPE_FLOOR,
+    exclude_base_um: float = 0.0,
+    prior=None,
+) -> Problem:
+    """The :class:`~axojax.inverse.Problem` that :func:`fit` solves, from the same
+    arguments (less the least-squares settings): hand it to another solver, e.g.
+    ``ax.inverse.posterior(build_problem(...), init=fit(...))``."""
     targets = list(targets)
     if targets and all(isinstance(t, Condition) for t in targets):
         if shape is not None:
@@ -103,18 +140,8 @@ def fit(
         if not targets and shape is None:
             raise ValueError("targets: give at least one target or a shape")
         conditions = [Condition(targets=targets, shape=shape)]
-    if starts < 1:
-        raise ValueError(f"starts must be >= 1, got {starts}")
     params.validate()
-    optimiser = solver_from_name(method, max_steps)
-    problem = Problem(
+    return Problem(
         model, conditions, free, per_condition=per_condition, params=params, bounds=bounds, kl_ratio=kl_ratio, units=units,
         solver=solver, cubic=cubic, orbit_solver=orbit_solver, shape_floor=shape_floor, exclude_base_um=exclude_base_um, prior=prior,
     )
-    result = least_squares(problem, optimiser, starts=starts, seed=seed, progress=progress)
-    if not result.converged:
-        warnings.warn(result.message.split("; ")[0], stacklevel=2)
-    bad = [n for n, ok in result.identifiable.items() if not ok]
-    if bad:
-        warnings.warn(f"not identifiable from these targets: {', '.join(bad)}" + (f" (at a bound: {', '.join(result.at_bound)})" if result.at_bound else ""), stacklevel=2)
-    return result

@@ -290,11 +290,11 @@ class Posterior:
             "truth": None if truth is None else {k: float(v) for k, v in truth.items()},
             **{f.name: getattr(self, f.name) for f in dataclasses.fields(self) if f.name in _SCALAR_FIELDS},
         }
-        np.savez(
-            path,
-            meta=json.dumps(meta),
-            **{name: np.asarray(getattr(self, name)) for name in _ARRAY_FIELDS},
-        )
+        from .._io import atomic_path
+
+        with atomic_path(path) as tmp:  # a killed run leaves no half-written file
+            with open(tmp, "wb") as f:
+                np.savez(f, meta=json.dumps(meta), **{name: np.asarray(getattr(self, name)) for name in _ARRAY_FIELDS})
 
     @classmethod
     def load(cls, path) -> Posterior:
