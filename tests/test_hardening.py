@@ -463,8 +463,8 @@ def test_one_result_convention():
     assert none.result == RESULTS.no_crossing and not bool(none.found) and float(none.p) == np.inf
     with pytest.raises(Exception, match="maximum number"):
         ax.critical_force(model, ax.Params(), max_iter=2, throw=True).p.block_until_ready()
-    sim = ax.simulate(model, ax.Params(), 0.02, max_steps=20)
-    assert sim.state == "solver_failed" and sim.meta["solver"]["result"].startswith("The maximum number of solver steps")
+    # Trajectory.result: diffrax's code promoted (the simulation's own test, test_simulate.py,
+    # checks the message it gives when the step budget runs out)
     import diffrax
 
     promoted = RESULTS.promote(diffrax.RESULTS.max_steps_reached)  # what Trajectory.result holds
