@@ -6,27 +6,70 @@ ten orders of magnitude in stiffness and need it.
 Unless ``AXOJAX_KEEP_XLA_FLAGS=1`` is set, importing axojax also makes XLA's CPU
 runtime run one executable at a time and gives scipy's BLAS (which jaxlib's LAPACK
 kernels call) a single thread: see :mod:`axojax._runtime` for why.
+
+The public names below are imported on first use (module ``__getattr__``), so that
+``import axojax`` costs jax and nothing else: ``ax.sweep`` does not load diffrax, optax
+or matplotlib. ``ax.simulate``, ``ax.fit``, ... work as before.
 """
+
+import importlib
 
 from . import _runtime
 
 _runtime.set_xla_flags()
 _runtime.configure_jax()
 
-from . import datasets, eigen, linalg, models  # noqa: E402
-from .assembly import System, assemble  # noqa: E402
-from .cache import enable_compilation_cache  # noqa: E402
-from .critical import Critical, critical_force  # noqa: E402
-from .eigen import Mode, dominant_mode, mode_shapes, spectrum  # noqa: E402
-from .dynamics import Simulation, simulate  # noqa: E402
-from . import orbits  # noqa: E402
-from .orbits import LimitCycle, limit_cycle  # noqa: E402
-from .fitting import FitResult, ShapeTarget, Target, fit, read_beat  # noqa: E402
-from . import inverse  # noqa: E402
-from .sweeps import SweepResult, sweep  # noqa: E402
-from .params import PARAM_NAMES, Params  # noqa: E402
-from .units import Units  # noqa: E402
-
 __version__ = "0.1.0"
 
-__all__ = ["datasets", "enable_compilation_cache", "LimitCycle", "limit_cycle", "orbits", "FitResult", "inverse", "ShapeTarget", "Target", "fit", "read_beat", "Simulation", "simulate", "SweepResult", "sweep", "Critical", "critical_force", "eigen", "linalg", "Mode", "PARAM_NAMES", "Params", "System", "Units", "assemble", "dominant_mode", "mode_shapes", "models", "spectrum"]
+# public name -> (module, attribute); attribute None: the module itself. One line a name.
+_LAZY = {
+    "assemble": (".assembly", "assemble"),
+    "System": (".assembly", "System"),
+    "enable_compilation_cache": (".cache", "enable_compilation_cache"),
+    "Critical": (".critical", "Critical"),
+    "datasets": (".datasets", None),
+    "critical_force": (".critical", "critical_force"),
+    "Simulation": (".dynamics", "Simulation"),
+    "simulate": (".dynamics", "simulate"),
+    "eigen": (".eigen", None),
+    "Mode": (".eigen", "Mode"),
+    "dominant_mode": (".eigen", "dominant_mode"),
+    "mode_shapes": (".eigen", "mode_shapes"),
+    "spectrum": (".eigen", "spectrum"),
+    "FitResult": (".fitting", "FitResult"),
+    "ShapeTarget": (".fitting", "ShapeTarget"),
+    "Target": (".fitting", "Target"),
+    "fit": (".fitting", "fit"),
+    "read_beat": (".fitting", "read_beat"),
+    "inverse": (".inverse", None),
+    "posterior": (".inverse", "posterior"),
+    "Posterior": (".inverse", "Posterior"),
+    "linalg": (".linalg", None),
+    "models": (".models", None),
+    "orbits": (".orbits", None),
+    "LimitCycle": (".orbits", "LimitCycle"),
+    "limit_cycle": (".orbits", "limit_cycle"),
+    "PARAM_NAMES": (".params", "PARAM_NAMES"),
+    "Params": (".params", "Params"),
+    "SweepResult": (".sweeps", "SweepResult"),
+    "sweep": (".sweeps", "sweep"),
+    "Units": (".units", "Units"),
+}
+
+__all__ = sorted(_LAZY)  # noqa: PLE0605
+
+
+def __getattr__(name: str):
+    try:
+        module, attribute = _LAZY[name]
+    except KeyError:
+        raise AttributeError(f"module 'axojax' has no attribute {name!r}") from None
+    value = importlib.import_module(module, __name__)
+    if attribute is not None:
+        value = getattr(value, attribute)
+    globals()[name] = value  # later look-ups skip this function
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))

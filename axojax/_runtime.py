@@ -19,7 +19,9 @@
    both ``tf_XLAEigen`` threads in ``ParallelBatchMap`` / ``BlockingCounter::Wait``). A
    deadlock needs every pool thread blocked at once, so a wider pool removes it; the idle
    threads cost nothing. The sweep engine also never batches a LAPACK call
-   (:mod:`axojax.sweeps.engine`). jaxlib 0.9.x has no such path and 0.11.1+ runs the
+   (:mod:`axojax.sweeps.engine`), except through the structured solver's batched path
+   (``ax.eigen.Arnoldi(batched=True)``), whose block factorisations are plain jnp and
+   whose only library calls are the small projected eigen-problems. jaxlib 0.9.x has no such path and 0.11.1+ runs the
    batch inline.
 """
 

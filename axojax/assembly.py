@@ -42,11 +42,30 @@ class System(eqx.Module):
     b: Float[Array, " n"]
 
 
-def pair_forces(model: Model, params: Params) -> Float[Array, " P"]:
-    """Force p_a on each active pair: p for group 0, p / imbalance for group 1."""
+def imbalanced_forces(model: Model, params: Params) -> Float[Array, " P"]:
+    """p_a of an R : 1 force ratio (R = ``params.imbalance``): p for group 0, p / R for
+    group 1. Its moments give the static load b in both readings of the imbalance."""
     p = jnp.asarray(params.p, dtype=float)
     scale = jnp.where(jnp.asarray(model.pair_group) == 0, 1.0, 1.0 / jnp.asarray(params.imbalance, dtype=float))
     return p * scale
+
+
+def pair_forces(model: Model, params: Params) -> Float[Array, " P"]:
+    """Force p_a on each active pair, as it enters A: :func:`imbalanced_forces` in the
+    force reading of the imbalance, p on every pair in the moment reading
+    (``model.imbalance_kind``, MODEL.md section 3)."""
+    if model.imbalance_kind == "force":
+        return imbalanced_forces(model, params)
+    p = jnp.asarray(params.p, dtype=float)
+    return p * jnp.ones(model.pair_group.shape)
+
+
+def static_couple(model: Model, params: Params) -> Float[Array, " n_fd"]:
+    """The constant dynein couple per unit length on each (filament, direction),
+    ``a0 sum_a p_a w_a`` with the R : 1 forces of :func:`imbalanced_forces` (both readings):
+    zero for balanced presets at R = 1; at R != 1 the net couple p a0 (1 - 1/R) of group 0's
+    pairs (MODEL.md section 3, asymmetric beats)."""
+    return params.a0 * jnp.einsum("a,ai->i", imbalanced_forces(model, params), jnp.asarray(model.pair_w))
 
 
 def link_stiffness(model: Model, params: Params) -> Float[Array, " E"]:
@@ -108,8 +127,7 @@ def terms(model: Model, params: Params) -> tuple[list[Term], list[Term], Float[A
         follow = jnp.einsum("a,aij->ij", pa, jnp.asarray(model.pair_follow))
         gain = params.gamma * jnp.einsum("a,ai,aj->ij", pa, jnp.asarray(model.pair_w), jnp.asarray(model.pair_B))
         A_terms += [(jnp.diag(nu), "G0"), (-follow, "F0"), (-gain, "F0T")]
-        moment = params.a0 * jnp.einsum("a,ai->i", pa, jnp.asarray(model.pair_w))
-        b = jnp.kron(moment, jnp.asarray(m.f1))
+        b = jnp.kron(static_couple(model, params), jnp.asarray(m.f1))
     return A_terms, C_terms, b
 
 

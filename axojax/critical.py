@@ -20,7 +20,8 @@ from jaxtyping import Array, Float
 from .eigen.mode import DEFAULT_SOLVER
 from .eigen.solvers import EigenSolver
 from .models.section import Model
-from .params import Params
+from .params import Params, require_scalars, valid
+from .results import RESULTS
 from .units import Units
 
 
@@ -31,11 +32,17 @@ class Critical(eqx.Module):
         p: critical dimensionless force p_c (inf if none below ``p_max``).
         eigenvalue: dominant eigenvalue at p_c (Re ~ 0), Im >= 0.
         found: whether a crossing was bracketed.
+        result: :class:`axojax.results.RESULTS` item: ``successful``, ``no_crossing``
+            (none below ``p_max``: ``p = inf``), ``max_steps_reached`` (the Newton
+            iteration ran out of ``max_iter`` steps before ``rtol``: ``p`` is its last
+            iterate, inside the bracket) or ``invalid_params`` (traced parameters out of
+            range: ``p`` is NaN).
     """
 
     p: Float[Array, ""]
     eigenvalue: Array
     found: Array
+    result: RESULTS = eqx.field(default_factory=lambda: RESULTS.successful)
 
     def frequency_hz(self, units: Units = Units()) -> Float[Array, ""]:
         """Onset frequency |Im lambda| / (2 pi tau)."""
@@ -63,7 +70,7 @@ def _bracket(g, p_start, growth_factor, max_steps):
 
 
 def _safeguarded_newton(g, lo, hi, rtol, max_iter):
-    """Root of g in [lo, hi] with g(lo) <= 0 < g(hi)."""
+    """Root of g in [lo, hi] with g(lo) <= 0 < g(hi), and whether it met ``rtol``."""
     dg = lambda x: jax.jvp(g, (x,), (jnp.ones_like(x),))
 
     def cond(state):
@@ -82,8 +89,8 @@ def _safeguarded_newton(g, lo, hi, rtol, max_iter):
         return lo, hi, nxt, k + 1, done
 
     x0 = 0.5 * (lo + hi)
-    _, _, x, _, _ = jax.lax.while_loop(cond, body, (lo, hi, x0, 0, jnp.array(False)))
-    return x
+    _, _, x, _, done = jax.lax.while_loop(cond, body, (lo, hi, x0, 0, jnp.array(False)))
+    return x, done.astype(float)  # a float: custom_root's aux gets a tangent (bool has none)
 
 
 def _critical_force_impl(
@@ -96,6 +103,7 @@ def _critical_force_impl(
     rtol: float = 1e-12,
     max_iter: int = 100,
     solver: EigenSolver = DEFAULT_SOLVER,
+    throw: bool = False,
 ) -> Critical:
     """The first p (from 0) at which the dominant eigenvalue's real part turns positive.
 
@@ -107,7 +115,12 @@ def _critical_force_impl(
             of re-entrant boundaries more reliably).
         p_max: give up (``found = False``, ``p = inf``) above this force.
         rtol: relative tolerance on p_c.
+        max_iter: Newton/bisection steps; running out is reported
+            (``result = max_steps_reached``).
         solver: dominant-eigenpair solver (:mod:`axojax.eigen.solvers`).
+        throw: raise (at run time, also under ``jit``) when ``result`` is a failure
+            (``max_steps_reached``, ``invalid_params``); ``no_crossing`` is an answer,
+            not a failure. Default False: read ``result``.
 
     Returns:
         :class:`Critical`; ``p`` is differentiable in every other field of ``params``.
@@ -125,16 +138,28 @@ def _critical_force_impl(
     def tangent_solve(linear_g, y):
         return y / linear_g(jnp.ones_like(y))
 
-    p_c = jax.lax.custom_root(lambda p: g(p, params), 0.5 * (lo + hi), solve, tangent_solve)
+    p_c, converged = jax.lax.custom_root(lambda p: g(p, params), 0.5 * (lo + hi), solve, tangent_solve, has_aux=True)
     lam = _eig_at(model, params, p_c, solver)
-    p_c = jnp.where(found, p_c, jnp.inf)
-    return Critical(p=p_c, eigenvalue=lam, found=found)
+    ok = valid(params.replace(p=0.0))
+    p_c = jnp.where(ok, jnp.where(found, p_c, jnp.inf), jnp.nan)
+    lam = jnp.where(ok, lam, jnp.nan + 0j)
+    result = RESULTS.where(
+        ok,
+        RESULTS.where(found, RESULTS.where(converged > 0.5, RESULTS.successful, RESULTS.max_steps_reached), RESULTS.no_crossing),
+        RESULTS.invalid_params,
+    )
+    crit = Critical(p=p_c, eigenvalue=lam, found=found & ok, result=result)
+    if throw:
+        crit = result.error_if(crit, (result != RESULTS.successful) & (result != RESULTS.no_crossing))
+    return crit
 
 
-_critical_force_jit = jax.jit(_critical_force_impl, static_argnums=0, static_argnames=("p_start", "growth_factor", "p_max", "rtol", "max_iter", "solver"))
+critical_force_impl = _critical_force_impl  # the traceable entry point (no validation, no jit of its own)
+_critical_force_jit = jax.jit(_critical_force_impl, static_argnums=0, static_argnames=("p_start", "growth_factor", "p_max", "rtol", "max_iter", "solver", "throw"))
 
 
 def critical_force(model: Model, params: Params, **options) -> Critical:
+    require_scalars(params, "critical_force")
     return _critical_force_jit(model, params.validate(), **options)
 
 

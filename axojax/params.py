@@ -16,18 +16,27 @@ import jax
 import numpy as np
 from jaxtyping import ArrayLike
 
+MAX_MAGNITUDE = 1e9
+"""Largest accepted |value| of every parameter. Beyond it float64 eigenvalues lose their
+digits (tests/test_hardening.py: ks or kl = 1e10 already moves the seven-filament dominant
+eigenvalue by 1e-8 relative to scipy's, cl = 1e12 gives NaN; p, gamma = 1e300 overflow),
+so larger values are refused instead of answered wrongly."""
+MIN_RATIO = 1e-9
+"""Smallest accepted ``out_of_plane`` and ``imbalance`` (stiffness and force ratios: their
+reciprocals are bounded by :data:`MAX_MAGNITUDE` too)."""
+
 PARAM_NAMES = ("p", "ks", "kl", "cl", "gamma", "ktheta", "out_of_plane", "inactive_factor", "imbalance", "a0")
 
-# (lower bound, inclusive?) of each field; gamma is unbounded.
+# (lower bound, inclusive?) of each field; gamma is unbounded below.
 _BOUNDS = {
     "p": (0.0, True),
     "ks": (0.0, True),
     "kl": (0.0, True),
     "cl": (0.0, True),
     "ktheta": (0.0, True),
-    "out_of_plane": (0.0, False),
+    "out_of_plane": (MIN_RATIO, True),
     "inactive_factor": (0.0, True),
-    "imbalance": (0.0, False),
+    "imbalance": (MIN_RATIO, True),
     "a0": (0.0, True),
 }
 
@@ -94,7 +103,11 @@ class Params(eqx.Module):
     def validate(self) -> "Params":
         """Check concrete values; raise a one-line ``ValueError`` naming the bad one.
 
-        Traced values (inside ``jit``/``vmap``) are not checked. Returns ``self``.
+        Limits: every value finite with ``|value| <=`` :data:`MAX_MAGNITUDE` (1e9);
+        ``p, ks, kl, cl, ktheta, inactive_factor, a0 >= 0``; ``out_of_plane, imbalance >=``
+        :data:`MIN_RATIO` (1e-9); gamma of either sign. Traced values (inside
+        ``jit``/``vmap``) are not checked here (see :func:`axojax.eigen.mode.dominant_mode`
+        for what happens to them). Returns ``self``.
         """
         for name in PARAM_NAMES:
             value = getattr(self, name)
@@ -112,7 +125,38 @@ class Params(eqx.Module):
                 if not bool(ok):
                     rel = ">=" if inclusive else ">"
                     raise ValueError(f"parameter {name} must be {rel} {low:g}, got {_show(value)}")
+            if not bool(np.all(np.abs(arr) <= MAX_MAGNITUDE)):
+                raise ValueError(f"parameter {name} must be at most {MAX_MAGNITUDE:g} in magnitude (float64 loses the answer beyond), got {_show(value)}")
         return self
+
+
+def valid(params: Params) -> Any:
+    """Whether every value of ``params`` is within :meth:`Params.validate`'s limits, as a
+    (traceable) boolean array of the parameters' broadcast shape: what ``jit``-ed code
+    uses in place of the check it cannot make (:mod:`axojax.results`)."""
+    import jax.numpy as jnp
+
+    ok = jnp.asarray(True)
+    for name in PARAM_NAMES:
+        x = jnp.asarray(getattr(params, name), dtype=float)
+        good = jnp.isfinite(x) & (jnp.abs(x) <= MAX_MAGNITUDE)
+        if name in _BOUNDS:
+            low, inclusive = _BOUNDS[name]
+            good = good & ((x >= low) if inclusive else (x > low))
+        ok = ok & good
+    return ok
+
+
+def require_scalars(params: Params, what: str) -> None:
+    """Raise a one-line ``ValueError`` naming ``jax.vmap`` when a field is not a scalar
+    (``what`` names the function): array-valued ``Params`` are batches, to be mapped."""
+    for name in PARAM_NAMES:
+        shape = np.shape(getattr(params, name))
+        if shape != ():
+            raise ValueError(
+                f"{what} takes one parameter point, but {name} has shape {shape}: map over a batch of Params "
+                f"with jax.vmap (e.g. jax.vmap(lambda prm: {what}(model, prm))(params)), or use ax.sweep for a grid"
+            )
 
 
 def _show(value: Any) -> str:

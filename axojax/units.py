@@ -12,6 +12,10 @@ import math
 import jax.numpy as jnp
 from jaxtyping import ArrayLike
 
+UNIT_RANGE = (1e-9, 1e9)
+"""Accepted range of each physical scale (so tau = c_n L^4 / EI and every conversion stay
+finite in float64)."""
+
 
 @dataclasses.dataclass(frozen=True)
 class Units:
@@ -31,8 +35,10 @@ class Units:
     def __post_init__(self) -> None:
         for name in ("length_um", "ei_pn_um2", "cn_pn_s_um2"):
             v = getattr(self, name)
-            if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
                 raise ValueError(f"unit {name} must be a finite positive number, got {v!r}")
+            if not UNIT_RANGE[0] <= v <= UNIT_RANGE[1]:
+                raise ValueError(f"unit {name} must be in {UNIT_RANGE[0]:g}..{UNIT_RANGE[1]:g}, got {v!r}")
 
     # -- scales ---------------------------------------------------------------------
     @property

@@ -1,16 +1,26 @@
 """Cost of value + gradient over value alone (seven-filament model, 10 elements).
 
-Prints, measured in one run, for each eigen-solver (dense and the certified Arnoldi):
-wall time per point of the three metrics (growth rate, frequency, wavelength), of the
-metrics plus their gradient with respect to five parameters in reverse mode (one scalar
-loss: a weighted sum, as in a fit) and in forward mode (the full 3 x 5 Jacobian), and
-the ratios. Target: value + gradient under 1.5x value.
+Prints, measured in one run (with the machine's load average before and after):
 
-    python benchmarks/bench_gradients.py [--points 64] [--repeats 5]
+1. for each eigen-solver (dense and the certified Arnoldi): wall time per point of the
+   three metrics (growth rate, frequency, wavelength), of the metrics plus their
+   gradient with respect to five parameters in reverse mode (one scalar loss: a
+   weighted sum, as in a fit) and in forward mode (the full 3 x 5 Jacobian), and the
+   ratios, over a batch of ``--points`` points;
+2. small batches as posterior sampling and global fits call them (``--chains``, 4 and 8
+   simultaneous points): wall time of one call, value and value + reverse-mode
+   gradient, for the Arnoldi solver's per-point path (``batched=False``, the CPU
+   default) and its batched path (``batched=True``).
+
+Targets (issue 22): value + gradient <= 1.3x value; a 4-point batch's value + gradient
+<= 2 ms.
+
+    python benchmarks/bench_gradients.py [--points 64] [--repeats 5] [--chains 4,8]
 """
 
 import axojax as ax  # first: it sets the XLA flags before jax starts
 import argparse
+import os
 import time
 
 import jax
@@ -26,16 +36,30 @@ def main() -> None:
     ap.add_argument("--points", type=int, default=64)
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--model", default="seven")
+    ap.add_argument("--chains", default="4,8", help="small batch sizes of part 2 (empty: skip)")
+    ap.add_argument("--skip-large", action="store_true", help="skip part 1")
     args = ap.parse_args()
     model = ax.models.preset(args.model)
+    print(f"load average (1, 5, 15 min) at start: {' '.join(f'{x:.2f}' for x in os.getloadavg())}; {os.cpu_count()} cores")
+    if not args.skip_large:
+        Z = sample(args.points)
+        for solver in (ax.eigen.Dense(), ax.eigen.Arnoldi()):
+            report(model, solver, Z, args)
+    chains = [int(c) for c in args.chains.split(",") if c.strip()]
+    if chains:
+        print("\n2. small batches (chains): wall time of one call, best of", 10 * args.repeats)
+        for solver in (ax.eigen.Arnoldi(batched=False), ax.eigen.Arnoldi(batched=True)):
+            for k in chains:
+                small_batch(model, solver, sample(k), 10 * args.repeats)
+    print(f"load average at end: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
+
+
+def sample(points: int):
     rng = np.random.default_rng(0)
-    Z = jnp.asarray(np.column_stack([rng.uniform(400, 700, args.points), 10 ** rng.uniform(4, 6, args.points), 10 ** rng.uniform(1, 3, args.points), 10 ** rng.uniform(-3, -1, args.points), rng.uniform(-1, 0.3, args.points)]))
-
-    for solver in (ax.eigen.Dense(), ax.eigen.Arnoldi()):
-        report(model, solver, Z, args)
+    return jnp.asarray(np.column_stack([rng.uniform(400, 700, points), 10 ** rng.uniform(4, 6, points), 10 ** rng.uniform(1, 3, points), 10 ** rng.uniform(-3, -1, points), rng.uniform(-1, 0.3, points)]))
 
 
-def report(model, solver, Z, args) -> None:
+def functions(model, solver):
     def metrics(z):
         mode = ax.dominant_mode(model, ax.Params().with_values(dict(zip(NAMES, z))), solver=solver)
         return jnp.stack([mode.growth_rate_per_s(), mode.frequency_hz(), mode.wavelength_um()])
@@ -44,18 +68,35 @@ def report(model, solver, Z, args) -> None:
         m = metrics(z)
         return m[0] * 1e-3 + m[1] + m[2], m
 
+    return metrics, loss
+
+
+def best_time(f, Z, repeats: int) -> float:
+    jax.block_until_ready(f(Z))  # compile
+    best = np.inf
+    for _ in range(repeats):
+        t = time.perf_counter()
+        jax.block_until_ready(f(Z))
+        best = min(best, time.perf_counter() - t)
+    return best
+
+
+def small_batch(model, solver, Z, repeats: int) -> None:
+    metrics, loss = functions(model, solver)
+    t_v = best_time(jax.jit(jax.vmap(metrics)), Z, repeats)
+    t_g = best_time(jax.jit(jax.vmap(jax.value_and_grad(loss, has_aux=True))), Z, repeats)
+    path = "batched" if solver.batched else "per-point"
+    print(f"Arnoldi {path:9s} {Z.shape[0]} points: value {t_v * 1e3:7.2f} ms/call   value + gradient {t_g * 1e3:7.2f} ms/call   ratio {t_g / t_v:5.2f}x", flush=True)
+
+
+def report(model, solver, Z, args) -> None:
+    metrics, loss = functions(model, solver)
     value = jax.jit(jax.vmap(metrics))
     value_grad = jax.jit(jax.vmap(jax.value_and_grad(loss, has_aux=True)))
     value_jac = jax.jit(jax.vmap(lambda z: (metrics(z), jax.jacfwd(metrics)(z))))
 
     def clock(f):
-        jax.block_until_ready(f(Z))  # compile
-        best = np.inf
-        for _ in range(args.repeats):
-            t = time.perf_counter()
-            jax.block_until_ready(f(Z))
-            best = min(best, time.perf_counter() - t)
-        return best / args.points
+        return best_time(f, Z, args.repeats) / args.points
 
     t_v, t_r, t_f = clock(value), clock(value_grad), clock(value_jac)
     print(f"solver {solver}, device: {jax.devices()[0].device_kind}, model {args.model} ({model.n_dof} dof), {args.points} points, best of {args.repeats}")

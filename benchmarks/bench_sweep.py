@@ -14,8 +14,19 @@ Prints, measured in one run:
    80 x 80 map (6400 points), whose rate is compared with the scipy loops' rates measured
    on the 400 points.
 2. the time per point of the dominant eigenpair at N_e = 10, 20, 40, 80 elements for the
-   certified Arnoldi solver (and the dense one up to 40), compilation excluded, and the
-   growth exponent fitted to log(time) against log(N_e).
+   certified Arnoldi solver's per-point path (the CPU default), its batched path
+   (``Arnoldi(batched=True)``, up to 40) and the dense solver (up to 40), compilation
+   excluded, the growth exponents fitted to log(time) against log(N_e), and at N_e = 10
+   the ratios to the scipy loops' time per point of part 1;
+3. cold start: the import of the command (``axojax.cli.main`` and its sweep module, in
+   a fresh process, best of 3) and the compilation of the sweep's chunk evaluator
+   (256 points, wall and CPU seconds, one run).
+
+The machine's load average is printed before and after (timings on a shared machine
+vary with it; the ratios are measured within one run). Targets (issue 22): per point
+>= 60x the scipy eig loop and >= 8x ARPACK's best case, exponent <= 1.2; the whole
+command >= 40x on 6400 points and >= 10x on 400 points cold; import <= 0.8 s and
+compilation <= 1.5 s.
 
     python benchmarks/bench_sweep.py [--p 100:900:20] [--ks log:1e2:1e7:20] [--large 80] [--skip-scaling]
 """
@@ -86,6 +97,25 @@ def scipy_loops(model, p, ks):
     return t_eig, t_arpack, np.asarray(errors)
 
 
+def import_seconds(repeats: int = 3) -> float:
+    """Best wall time of importing the ``axojax sweep`` command's modules in a fresh process."""
+    code = "import time; t = time.perf_counter(); import axojax.cli.main, axojax.cli.sweep; print(time.perf_counter() - t)"
+    return min(float(subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True).stdout) for _ in range(repeats))
+
+
+def compile_seconds(model) -> tuple[float, float]:
+    """(wall, CPU) seconds to trace, lower and compile the sweep's evaluator of a
+    256-point chunk over (p, ks) with the default solver, as ``axojax sweep`` does."""
+    from axojax.sweeps import engine
+
+    solver = ax.eigen.DEFAULT_SOLVER.resolve(model, 400)
+    f = engine._compiled(model, ("p", "ks"), True, ax.Units(), jax.local_device_count(), solver)
+    args = (ax.Params().validate().broadcast(()), jax.numpy.asarray(1e-3), jax.numpy.ones((256, 2)))
+    t, c = time.perf_counter(), time.process_time()
+    f.lower(*args).compile() if hasattr(f, "lower") else f(*args)
+    return time.perf_counter() - t, time.process_time() - c
+
+
 def per_point(model, solver, n_points: int, repeats: int = 3) -> float:
     rng = np.random.default_rng(0)
     ks = 10 ** rng.uniform(3, 6, n_points)
@@ -111,6 +141,7 @@ def main() -> None:
     p, ks = parse_axis(args.p, "--p"), parse_axis(args.ks, "--ks")
     n = p.size * ks.size
     model = ax.models.preset(args.model)
+    print(f"load average (1, 5, 15 min) at start: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
 
     t_ax, doc = whole_command(args, args.p, args.ks)  # compiles everything
     with tempfile.TemporaryDirectory() as cache:
@@ -132,23 +163,36 @@ def main() -> None:
         print(f"a larger map, where compilation and start-up matter less: {k} x {k} = {k * k} points, whole command {t_big:.2f} s"
               f" ({k * k / t_big:.2f} points/s, {doc['solver']['dense_fallbacks']} dense fallbacks):"
               f" {k * k / t_big / (n / t_eig):.2f}x the scipy eig loop's rate, {k * k / t_big / (n / t_arpack):.2f}x ARPACK's")
-    if args.skip_scaling:
-        return
+    if not args.skip_scaling:
+        print("\n2. time per point of the dominant eigenpair (vmapped, compile excluded; per-point path 16 points, batched 64, dense 4)")
+        sizes = (10, 20, 40, 80)
+        rows = {"arnoldi": [], "arnoldi batched": [], "dense": []}
 
-    print("\n2. time per point of the dominant eigenpair (16 points, vmapped, compile excluded)")
-    sizes = (10, 20, 40, 80)
-    rows = {"arnoldi": [], "dense": []}
-    for ne in sizes:
-        m = ax.models.preset(args.model, n_elements=ne)
-        rows["arnoldi"].append(per_point(m, Arnoldi(), 16))
-        rows["dense"].append(per_point(m, Dense(), 4, repeats=1) if ne <= 40 else np.nan)
-        d = rows["dense"][-1]
-        print(f"N_e = {ne:3d} ({m.n_dof:5d} dof): arnoldi {rows['arnoldi'][-1] * 1e3:9.2f} ms   dense "
-              + ("        -" if np.isnan(d) else f"{d * 1e3:9.2f} ms"), flush=True)
-    for name, t in rows.items():
-        ok = ~np.isnan(t)
-        slope = np.polyfit(np.log(np.asarray(sizes)[ok]), np.log(np.asarray(t)[ok]), 1)[0]
-        print(f"fitted growth exponent, {name} (N_e = {', '.join(str(s) for s, k in zip(sizes, ok) if k)}): {slope:5.2f}")
+        def fmt(x):
+            return "        -" if np.isnan(x) else f"{x * 1e3:9.2f} ms"
+
+        for ne in sizes:
+            m = ax.models.preset(args.model, n_elements=ne)
+            rows["arnoldi"].append(per_point(m, Arnoldi(batched=False), 16))
+            rows["arnoldi batched"].append(per_point(m, Arnoldi(batched=True), 64, repeats=2) if ne <= 40 else np.nan)
+            rows["dense"].append(per_point(m, Dense(), 4, repeats=1) if ne <= 40 else np.nan)
+            print(f"N_e = {ne:3d} ({m.n_dof:5d} dof): arnoldi {fmt(rows['arnoldi'][-1])}   arnoldi batched {fmt(rows['arnoldi batched'][-1])}"
+                  f"   dense {fmt(rows['dense'][-1])}", flush=True)
+        for name, t in rows.items():
+            ok = ~np.isnan(t)
+            slope = np.polyfit(np.log(np.asarray(sizes)[ok]), np.log(np.asarray(t)[ok]), 1)[0]
+            print(f"fitted growth exponent, {name} (N_e = {', '.join(str(s) for s, k in zip(sizes, ok) if k)}): {slope:5.2f}")
+        if model.n_elements == 10:
+            t10 = rows["arnoldi"][0]
+            print(f"per point at N_e = 10, compile excluded: {t_eig / n / t10:.1f}x the scipy eig loop (target 60x), {t_arpack / n / t10:.1f}x ARPACK's best case (target 8x);"
+                  f" batched path {t_eig / n / rows['arnoldi batched'][0]:.1f}x")
+
+    print("\n3. cold start")
+    t_imp = import_seconds()
+    wall, cpu = compile_seconds(model)
+    print(f"import of the sweep command (fresh process, best of 3): {t_imp:.2f} s (target 0.8 s)")
+    print(f"compilation of the 256-point chunk evaluator: {wall:.2f} s wall, {cpu:.2f} s CPU (target 1.5 s)")
+    print(f"load average at end: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
 
 
 if __name__ == "__main__":

@@ -5,10 +5,10 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from conftest import scipy_max_real
 
 import axojax as ax
 from axojax.cli.main import main
-from conftest import scipy_max_real
 
 
 @pytest.mark.parametrize("name,pc,om", [("single", "76.10", "196.59"), ("beck", "37.70", "191.26")])

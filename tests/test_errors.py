@@ -1,4 +1,5 @@
-"""Bad input ends in one clear line, in Python and on the command line."""
+"""Bad input ends in one clear line, in Python and on the command line (the defect
+classes of issue 21, each tested over the subcommands, are in tests/test_hardening.py)."""
 
 import json
 import subprocess
@@ -13,7 +14,7 @@ from axojax.cli.main import main
 
 @pytest.mark.parametrize(
     "change,match",
-    [({"ks": -1.0}, "ks must be >= 0"), ({"p": float("nan")}, "p must be finite"), ({"cl": -0.1}, "cl must be >= 0"), ({"out_of_plane": 0.0}, "out_of_plane must be > 0")],
+    [({"ks": -1.0}, "ks must be >= 0"), ({"p": float("nan")}, "p must be finite"), ({"cl": -0.1}, "cl must be >= 0"), ({"out_of_plane": 0.0}, "out_of_plane must be >= 1e-09"), ({"ks": 1e300}, "ks must be at most 1e\\+09")],
 )
 def test_python_bad_params(change, match):
     with pytest.raises(ValueError, match=match):

@@ -45,7 +45,8 @@ def test_recovery_from_synthetic_kymograph_file(model, synthetic, tmp_path):
     assert beat.frequency_hz == pytest.approx(synthetic["f"], rel=2e-3)
     targets, shape = beat.targets()
     start = ax.Params().with_values(dict(p=280.0, ks=4e5), RATIO)
-    result = fit(model, start, targets, ["p", "ks"], shape=shape, kl_ratio=RATIO, bounds=BOX, starts=1)
+    # The data are the model's own mode plus noise: no model discrepancy, so no shape floor.
+    result = fit(model, start, targets, ["p", "ks"], shape=shape, kl_ratio=RATIO, bounds=BOX, starts=1, shape_floor=0.0)
     assert result.converged, result.message
     for name, true in TRUE.items():
         err = abs(result.params[name] - true)
@@ -133,3 +134,48 @@ def test_cli_fit_json_and_infeasible_exit(synthetic):
     assert json.loads(bad.stdout)["converged"] is False
     nodata = subprocess.run(base + ["--free", "p", "--data", "/nonexistent.npz"], capture_output=True, text=True, timeout=120)
     assert nodata.returncode == 2 and "--data" in nodata.stderr and len(nodata.stderr.strip().splitlines()) == 1
+
+
+def test_cli_data_fit_report_exclusion_and_plot(synthetic, tmp_path, capsys):
+    """`axojax fit --data` ends with a report: chi2/dof, at_bound, identifiability, the
+    data's summary, the shape for the figure; --exclude-base-um reports the basal misfit;
+    `axojax plot fit.json` draws it."""
+    from axojax.cli.main import main
+
+    path = tmp_path / "beat.npz"
+    np.savez(path, psi=synthetic["psi"], frame_rate_hz=synthetic["fps"], length_um=12.0)
+    out, fig = tmp_path / "fit.json", tmp_path / "fit.png"
+    argv = ["fit", "--model", "seven", "--elements", "6", "--kl-ratio", "1000", "--ks", "1e5", "--p", "300", "--free", "p", "--starts", "1",
+            "--data", str(path), "--exclude-base-um", "1.5", "--shape-floor", "0.02", "--json", "--out", str(out)]
+    code = main(argv)
+    doc = json.loads(capsys.readouterr().out)
+    assert code in (0, 1)
+    assert set(doc) >= {"chi2_per_dof", "at_bound", "identifiable", "data", "conditions"}
+    assert doc["data"]["frequency_hz"] == pytest.approx(synthetic["f"], rel=2e-3)
+    assert doc["problem"]["shape_floor_rad"] == 0.02 and doc["problem"]["exclude_base_um"] == 1.5
+    ex = doc["conditions"][0]["excluded_base"]
+    assert ex is not None and ex["points"] == int(np.sum(synthetic["s"] < 1.5))
+    assert abs(doc["params"]["p"] - TRUE["p"]) <= 2 * doc["stderr"]["p"]
+    assert main(["plot", str(out), "--out", str(fig)]) == 0
+    assert fig.stat().st_size > 10_000
+
+
+@pytest.mark.parametrize(
+    "spec, problem",
+    [
+        ('model = "seven"\nfree = ["ks"]\ncolour = 1\n[[condition]]\nfrequency_hz = 50\n', "unknown key"),
+        ('model = "seven"\nfree = ["ks"]\n', "no [[condition]]"),
+        ('model = "seven"\nfree = ["zz"]\n[[condition]]\nfrequency_hz = 50\n', "unknown parameter 'zz'"),
+        ('model = "seven"\nfree = ["ks"]\n[[condition]]\nfrequency_hz = -5\n', "must be > 0"),
+        ('model = "seven"\nfree = ["ks"]\n[[condition]]\np = 100\n', "at least one target"),
+        ('model = "seven"\nfree = ["ks"\n', "not valid TOML"),
+    ],
+)
+def test_cli_spec_errors_name_the_problem(tmp_path, capsys, spec, problem):
+    from axojax.cli.main import main
+
+    path = tmp_path / "fit.toml"
+    path.write_text(spec)
+    assert main(["fit", "--spec", str(path), "--json"]) == 2
+    err = capsys.readouterr().err
+    assert "--spec" in err and problem in err and len(err.strip().splitlines()) == 1

@@ -112,3 +112,31 @@ def test_cli_errors(capsys, tmp_path):
     assert main(["--write", "--readme", str(plain)]) == 2
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and "--readme" in err and "markers" in err
+
+
+def test_inferred_json(capsys):
+    """``python -m axojax.paper --inferred --json`` (INTERFACE.md): fig12's set."""
+    import json
+
+    assert main(["--inferred", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    fig12 = doc["fig12"]
+    assert {"params", "imbalance", "imbalance_kind", "cubic", "elements"} <= set(fig12)
+    assert fig12["imbalance"] == 5.0 and fig12["imbalance_kind"] == "moment"
+    assert {"p", "a0", "cl", "kl", "ks"} <= set(fig12["params"])
+    ax.Params(**fig12["params"]).validate()
+    assert main(["--json"]) == 2  # --json alone is a one-line error
+
+
+def test_inferred_fig12_gives_the_papers_beat():
+    """The limit cycle at the inferred parameters has fig. 12b's four numbers (paper,
+    section 3.7.1: 17 um, 17 Hz, 0.71 rad, -0.044 rad/um) within 5 %, is stable and planar;
+    its mirror image (the stronger side on -y) has the opposite curvature."""
+    m, cyc = paper.inferred.fig12_measures()
+    claims = [c for c in paper.CLAIMS if c.kind == "inferred"]
+    rows = paper.inferred_rows(claims, measured=(m, cyc))
+    assert len(rows) == 4
+    for r in rows:
+        assert abs(r.difference) < 0.05, (r.claim.label, r.value)
+    assert bool(cyc.stable) and float(m.out_of_plane) < 0.05
+    assert float(m.static_curvature_rad_per_um) == pytest.approx(-0.044, rel=0.05)

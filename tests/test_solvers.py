@@ -1,8 +1,9 @@
-"""The structure-exploiting eigen-solver (issue 14): block-tridiagonal algebra against
-numpy, node-major assembly against the dense one, and ``ax.eigen.Arnoldi`` against
-``ax.eigen.Dense`` (same eigenvalue to 1e-9, same classification) on seven, nine, a
-40-element mesh and a user's cross-section; derivatives against finite differences; the
-dense fallback; the command line."""
+"""The structure-exploiting eigen-solver (issues 14, 22): block-tridiagonal algebra and
+the plain-jnp small kernels against numpy, node-major assembly against the dense one,
+and ``ax.eigen.Arnoldi`` (per-point and batched paths) against ``ax.eigen.Dense`` (same
+eigenvalue to 1e-9, same classification) on seven, nine, a 40-element mesh and a user's
+cross-section; derivatives against finite differences; the dense fallback; the command
+line."""
 
 import json
 
@@ -15,9 +16,11 @@ import axojax as ax
 from axojax.assembly import assemble_blocks, node_major
 from axojax.cli.main import main
 from axojax.eigen import Arnoldi, Dense
-from axojax.linalg import BlockTridiagonal, cholesky, lu_factor
+from axojax.linalg import BlockTridiagonal, cholesky, lu_factor, small
 
 RTOL = 1e-9
+PATHS = [Arnoldi(batched=False), Arnoldi(batched=True)]
+PATH_IDS = ["per-point", "batched"]
 
 
 def random_blocks(rng, N, b, complex_=False, diag_scale=0.1):
@@ -29,19 +32,21 @@ def random_blocks(rng, N, b, complex_=False, diag_scale=0.1):
     return BlockTridiagonal(jnp.asarray(mk(N - 1, b, b)), jnp.asarray(diag_scale * mk(N, b, b)), jnp.asarray(mk(N - 1, b, b)))
 
 
+@pytest.mark.parametrize("kernels", ["lapack", "jnp"])
 @pytest.mark.parametrize("N,b,complex_", [(1, 3, False), (2, 4, False), (7, 5, False), (6, 4, True)])
-def test_block_lu_solves_against_numpy(N, b, complex_):
+def test_block_lu_solves_against_numpy(N, b, complex_, kernels):
     rng = np.random.default_rng(N * 10 + b)
     M = random_blocks(rng, N, b, complex_)
     D = np.asarray(M.to_dense())
     r = rng.normal(size=N * b) + (1j * rng.normal(size=N * b) if complex_ else 0)
-    lu = lu_factor(M)
+    lu = lu_factor(M, kernels)
     np.testing.assert_allclose(np.asarray(lu.solve(jnp.asarray(r))), np.linalg.solve(D, r), rtol=1e-9, atol=1e-9)
     np.testing.assert_allclose(np.asarray(lu.solve_transpose(jnp.asarray(r))), np.linalg.solve(D.T, r), rtol=1e-9, atol=1e-9)
     np.testing.assert_allclose(np.asarray(M.matvec(jnp.asarray(r))), D @ r, rtol=1e-12, atol=1e-12)
 
 
-def test_block_cholesky_solves_and_tests_definiteness():
+@pytest.mark.parametrize("kernels", ["lapack", "jnp"])
+def test_block_cholesky_solves_and_tests_definiteness(kernels):
     rng = np.random.default_rng(3)
     N, b = 6, 5
     lower = rng.normal(size=(N - 1, b, b))
@@ -50,11 +55,38 @@ def test_block_cholesky_solves_and_tests_definiteness():
     D = np.asarray(M.to_dense())
     assert np.linalg.eigvalsh(D).min() > 0
     r = rng.normal(size=N * b)
-    chol = cholesky(M)
+    chol = cholesky(M, kernels)
     assert bool(chol.ok)
     np.testing.assert_allclose(np.asarray(chol.solve(jnp.asarray(r))), np.linalg.solve(D, r), rtol=1e-10)
     shifted = M - BlockTridiagonal(0 * M.lower, jnp.asarray(np.eye(b)[None] * (np.linalg.eigvalsh(D).min() + 1.0)), 0 * M.upper)
-    assert not bool(cholesky(shifted).ok)
+    assert not bool(cholesky(shifted, kernels).ok)
+
+
+def test_small_jnp_kernels_against_numpy_and_scipy():
+    """Pivoted LU (same pivots as LAPACK: scipy), Cholesky and triangular inverses,
+    real and complex, with no LAPACK custom call when vmapped."""
+    import scipy.linalg
+
+    rng = np.random.default_rng(7)
+    for a in (rng.normal(size=(10, 6)), rng.normal(size=(8, 8)) + 1j * rng.normal(size=(8, 8))):
+        lu, perm = small.lu_pivoted(jnp.asarray(a))
+        p, l, u = scipy.linalg.lu(a)  # a = p l u
+        np.testing.assert_array_equal(np.asarray(perm), np.argmax(p, axis=0))
+        np.testing.assert_allclose(np.tril(np.asarray(lu), -1)[:, : a.shape[1]] + np.eye(*a.shape), l, atol=1e-12)
+        np.testing.assert_allclose(np.triu(np.asarray(lu))[: a.shape[1]], u, atol=1e-12)
+    s = rng.normal(size=(7, 7))
+    s = s @ s.T + np.eye(7)
+    np.testing.assert_allclose(np.asarray(small.cholesky_lower(jnp.asarray(s))), np.linalg.cholesky(s), atol=1e-12)
+    assert np.isnan(np.asarray(small.cholesky_lower(jnp.asarray(s - 50 * np.eye(7))))).any()
+    t = np.tril(rng.normal(size=(7, 7))) + 4 * np.eye(7)
+    np.testing.assert_allclose(np.asarray(small.triangular_inverse(jnp.asarray(t), lower=True)), np.linalg.inv(t), atol=1e-12)
+    np.testing.assert_allclose(np.asarray(small.triangular_inverse(jnp.asarray(t.T), lower=False)), np.linalg.inv(t.T), atol=1e-12)
+    unit = np.tril(t, -1) + np.eye(7)
+    np.testing.assert_allclose(np.asarray(small.triangular_inverse(jnp.asarray(t), lower=True, unit_diagonal=True)), np.linalg.inv(unit), atol=1e-12)
+    hlo = jax.jit(jax.vmap(lambda m: lu_factor(m, "jnp").solve(jnp.ones(m.shape[0])))).lower(
+        jax.tree.map(lambda x: jnp.stack([x, x]), random_blocks(rng, 3, 4))
+    ).as_text()
+    assert "custom_call" not in hlo
 
 
 @pytest.mark.parametrize("name", ["single", "beck", "two", "four", "seven", "nine"])
@@ -87,11 +119,12 @@ def assert_same_modes(dense, fast):
     assert np.all(overlap > 1 - 1e-6), overlap.min()
 
 
-def test_seven_sweep_arnoldi_equals_dense(capsys):
+@pytest.mark.parametrize("arnoldi", PATHS, ids=PATH_IDS)
+def test_seven_sweep_arnoldi_equals_dense(capsys, arnoldi):
     model = ax.models.seven()
     axes = {"p": np.linspace(100, 900, 5), "ks": np.logspace(2, 7, 6)}
     dense = ax.sweep(model, ax.Params(), axes, kl_ratio=1e3, solver=Dense(), progress=False)
-    fast = ax.sweep(model, ax.Params(), axes, kl_ratio=1e3, solver=Arnoldi(), progress=False)
+    fast = ax.sweep(model, ax.Params(), axes, kl_ratio=1e3, solver=arnoldi, progress=False)
     lam_d = dense.data["eigenvalue_real"] + 1j * dense.data["eigenvalue_imag"]
     lam_f = fast.data["eigenvalue_real"] + 1j * fast.data["eigenvalue_imag"]
     assert np.max(np.abs(lam_f - lam_d) / np.maximum(np.abs(lam_d), 1.0)) < RTOL
@@ -112,7 +145,8 @@ def test_auto_picks_arnoldi_for_large_models_and_sweeps():
     assert isinstance(auto.resolve(four, n_points=400), Dense)
 
 
-def test_nine_and_other_parameters_arnoldi_equals_dense():
+@pytest.mark.parametrize("arnoldi", PATHS, ids=PATH_IDS)
+def test_nine_and_other_parameters_arnoldi_equals_dense(arnoldi):
     model = ax.models.nine()
     params = ax.Params(
         p=jnp.array([150.0, 300.0, 500.0, 250.0]),
@@ -123,19 +157,21 @@ def test_nine_and_other_parameters_arnoldi_equals_dense():
         ktheta=jnp.array([0.0, 5.0, 0.0, 1.0]),
         imbalance=jnp.array([1.0, 1.0, 2.0, 5.0]),
     ).broadcast()
-    assert_same_modes(batch_modes(model, params, Dense()), batch_modes(model, params, Arnoldi()))
+    assert_same_modes(batch_modes(model, params, Dense()), batch_modes(model, params, arnoldi))
 
 
-def test_forty_elements_arnoldi_equals_dense():
+@pytest.mark.parametrize("arnoldi", PATHS, ids=PATH_IDS)
+def test_forty_elements_arnoldi_equals_dense(arnoldi):
     # Away from Re lambda = 0: at 40 elements the dense solver's own error is ~1e-7 in
     # absolute terms (eps times the norm of the reduced matrix), which is above 1e-9 of
     # |lambda| only for eigenvalues of modulus below ~100, e.g. right at a Hopf point.
     model = ax.models.seven(n_elements=40)
     params = grid_params(np.array([300.0, 600.0]), np.array([1e4, 1e6]))
-    assert_same_modes(batch_modes(model, params, Dense()), batch_modes(model, params, Arnoldi()))
+    assert_same_modes(batch_modes(model, params, Dense()), batch_modes(model, params, arnoldi))
 
 
-def test_model_file_cross_section_arnoldi_equals_dense(tmp_path):
+@pytest.mark.parametrize("arnoldi", PATHS, ids=PATH_IDS)
+def test_model_file_cross_section_arnoldi_equals_dense(tmp_path, arnoldi):
     """A five-filament cross-section of a user's own, with unequal rigidity and drag."""
     path = tmp_path / "five.toml"
     path.write_text(
@@ -148,20 +184,21 @@ def test_model_file_cross_section_arnoldi_equals_dense(tmp_path):
     )
     model = ax.models.from_file(path, n_elements=12)
     params = grid_params(np.array([200.0, 500.0]), np.array([1e3, 1e6]))
-    assert_same_modes(batch_modes(model, params, Dense()), batch_modes(model, params, Arnoldi()))
+    assert_same_modes(batch_modes(model, params, Dense()), batch_modes(model, params, arnoldi))
 
 
-def test_fallback_when_not_certified_gives_the_dense_answer():
+@pytest.mark.parametrize("batched", [False, True], ids=PATH_IDS)
+def test_fallback_when_not_certified_gives_the_dense_answer(batched):
     """A certificate radius no Krylov space of this size can reach: every point goes to
     the dense solver, and says so."""
     model = ax.models.seven(n_elements=6)
     params = grid_params(np.array([300.0, 700.0]), np.array([1e5]))
-    strict = Arnoldi(krylov_dims=(8,), certify_factor=1e12)
+    strict = Arnoldi(krylov_dims=(8,), certify_factor=1e12, batched=batched)
     fast = batch_modes(model, params, strict)
     assert not np.any(np.asarray(fast.certified))
     assert_same_modes(batch_modes(model, params, Dense()), fast)
     # fallback off: the uncertified Krylov answer comes back as it is, flagged
-    loose = batch_modes(model, params, Arnoldi(krylov_dims=(8,), certify_factor=1e12, fallback=False))
+    loose = batch_modes(model, params, Arnoldi(krylov_dims=(8,), certify_factor=1e12, fallback=False, batched=batched))
     assert not np.any(np.asarray(loose.certified)) and np.all(np.isfinite(np.asarray(loose.eigenvalue)))
 
 
@@ -190,6 +227,9 @@ def test_arnoldi_gradients_match_finite_differences_and_dense():
     assert np.max(np.abs(rev - fd) / scale) < 1e-6
     dense = np.asarray(jax.jit(jax.jacfwd(metrics(model, Dense())))(z))
     assert np.max(np.abs(fwd - dense) / scale) < 1e-8  # the dense solver's derivative rule, independently
+    # The batched path (vmapped: its jnp kernels, also in the derivative rule's complex LU).
+    batched = np.asarray(jax.jit(jax.vmap(jax.jacrev(metrics(model, Arnoldi(batched=True)))))(jnp.stack([z, z])))
+    assert np.max(np.abs(batched - fd[None]) / scale[None]) < 1e-6
 
 
 def test_critical_force_with_arnoldi_equals_dense():

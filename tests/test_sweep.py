@@ -11,8 +11,8 @@ import pytest
 import scipy.linalg
 
 import axojax as ax
-from axojax._runtime import blocking_batched_lapack
 import axojax.sweeps.engine as engine
+from axojax._runtime import blocking_batched_lapack
 from axojax.cli.main import main
 
 AXES = {"p": np.array([150.0, 300.0, 600.0]), "ks": np.array([1e3, 1e5])}
@@ -98,19 +98,19 @@ def run_two_device_script(script: str, marker: str, what: str) -> None:
 
 def test_two_cpu_devices_identical(tmp_path):
     script = textwrap.dedent(
-        f"""
+        """
         import os
         os.environ["XLA_FLAGS"] = "--xla_force_host_platform_device_count=2"
         import numpy as np, jax, axojax as ax
         assert jax.device_count() == 2
         m = ax.models.two()
-        axes = {{"p": np.linspace(200, 500, 5), "kl": np.array([1e2, 1e3])}}
+        axes = {"p": np.linspace(200, 500, 5), "kl": np.array([1e2, 1e3])}
         a = ax.sweep(m, ax.Params(), axes, chunk_size=4, devices=2, progress=False)
         b = ax.sweep(m, ax.Params(), axes, chunk_size=4, devices=1, progress=False)
         for k in a.data:
             np.testing.assert_array_equal(a.data[k], b.data[k])
         # the structured solver's loops inside shard_map (no collectives: check_vma off)
-        small, few = ax.models.two(n_elements=4), {{"p": np.array([200.0, 400.0, 800.0])}}
+        small, few = ax.models.two(n_elements=4), {"p": np.array([200.0, 400.0, 800.0])}
         c = ax.sweep(small, ax.Params(), few, chunk_size=4, devices=2, progress=False, solver=ax.eigen.Arnoldi())
         d = ax.sweep(small, ax.Params(), few, chunk_size=4, devices=1, progress=False, solver=ax.eigen.Dense())
         assert (c.data["certified"] == 1).all()

@@ -9,13 +9,16 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import sys
 from typing import Any
 
 import numpy as np
 
+from .. import _io
 from ..eigen.solvers import SOLVERS, Auto, EigenSolver, solver_from_name
-from ..models import PRESETS, Model, from_file, preset
+from ..models import IMBALANCE_KINDS, PRESETS, CrossSection, Model, build_model, load_section
+from ..models.presets import SECTIONS
 from ..params import PARAM_NAMES, Params
 from ..units import Units
 
@@ -38,6 +41,19 @@ PARAM_FLAGS = {
     "a0": "a0",
 }
 FIELD_FLAGS = {v: k for k, v in PARAM_FLAGS.items()}
+
+
+MAX_ROTATION_DEG = 360.0
+"""``--rotation-deg`` beyond one turn is refused (a huge angle is all rounding error)."""
+MAX_ELEMENTS = 100_000
+"""Elements per filament beyond any use (the memory check below refuses most models far
+earlier); refused before anything is built."""
+MEMORY_FRACTION = 0.75
+"""A model or grid whose estimated memory exceeds this share of the machine's physical
+memory is refused before any work, with the estimate (:func:`check_memory`)."""
+MAX_AXIS = 10_000_000
+"""Most values on one axis (``a:b:n``)."""
+FIGURE_SUFFIXES = (".png", ".pdf", ".svg", ".eps", ".jpg", ".jpeg")
 
 
 def finite_float(text: str) -> float:
@@ -73,6 +89,11 @@ def add_model_flags(parser: argparse.ArgumentParser, params: tuple[str, ...] = t
         field = PARAM_FLAGS[flag]
         kind = str if axes else finite_float
         g.add_argument(f"--{flag}", type=kind, default=None, metavar="AXIS" if axes else "X", help=f"dimensionless {field} (default {getattr(d, field):g})")
+    g.add_argument(
+        "--imbalance-kind", choices=IMBALANCE_KINDS, default=IMBALANCE_KINDS[0],
+        help="read --imbalance R as a static couple p a0 (1 - 1/R) with balanced forces (moment, the paper's reading, "
+        "default) or as group 1 carrying p / R (force); MODEL.md section 3",
+    )
     g.add_argument("--kl-ratio", type=finite_float, default=None, metavar="R", help="tie kl = ks / R wherever ks is set, swept or fitted")
     u = parser.add_argument_group("units")
     du = Units()
@@ -117,28 +138,122 @@ def split_axes(args: argparse.Namespace, argv: list[str]) -> tuple[dict[str, flo
     return fixed, dict(sorted(axes.items(), key=lambda kv: position[kv[0]]))
 
 
+def physical_memory() -> int:
+    """This machine's physical memory in bytes."""
+    return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+
+
+def check_memory(need_bytes: float, flag: str, what: str) -> None:
+    """Refuse (one line naming ``flag``, with the estimate) work whose estimated memory
+    exceeds :data:`MEMORY_FRACTION` of the physical memory."""
+    total = physical_memory()
+    if need_bytes > MEMORY_FRACTION * total:
+        raise CLIError(f"{flag}: {what} needs about {need_bytes / 2**30:.3g} GiB of memory, more than {MEMORY_FRACTION:.0%} of this machine's {total / 2**30:.3g} GiB")
+
+
+def model_bytes(section: CrossSection, n_elements: int) -> float:
+    """Estimated peak memory (bytes) of building the model and one dominant eigenpair:
+    the mesh's dense shape-function tables, the model's dense (n_fd, n_fd) coupling
+    matrices (one per active pair), then either
+    the dense pencil (12 n x n doubles: A, C, the complex eigen-decomposition) or, for
+    models the Arnoldi solver takes (``Auto.min_arnoldi_dof`` unknowns or more), its
+    block-tridiagonal factors and Krylov basis."""
+    n_fd = section.n_filaments * section.n_dirs
+    n = dense_unknowns(section, n_elements)
+    build = 8.0 * (n_fd**2 * (2 + len(section.active_pairs)) + (len(section.links) + 3 * len(section.active_pairs)) * n_fd)
+    # the mesh: shape-function rows at 5 quadrature points per element over the 2 (n_e + 1)
+    # nodal dofs (three of them), and the filament's dense matrices
+    build += 8.0 * (3 * 5 * n_elements * 2 * (n_elements + 1) + 8 * (2 * n_elements) ** 2)
+    if n < Auto().min_arnoldi_dof:
+        return build + 96.0 * n**2
+    block = 2 * n_fd
+    return build + 8.0 * 16 * n_elements * block**2 + 16.0 * 96 * n
+
+
+def dense_unknowns(section: CrossSection, n_elements: int) -> int:
+    """Unknowns of the model (2 per node and transverse direction, clamped base)."""
+    return section.n_filaments * section.n_dirs * 2 * n_elements
+
+
 def model_from_args(args: argparse.Namespace) -> Model:
+    """The model of ``--model``/``--model-file``/``--elements``/``--rotation-deg``; its
+    size is checked (:func:`check_memory`) before it is built."""
     try:
         n = int(str(args.elements))
     except ValueError:
         raise CLIError(f"--elements: expected an integer >= 1, got {args.elements!r}") from None
-    if n < 1:
-        raise CLIError(f"--elements: expected an integer >= 1, got {n}")
+    if not 1 <= n <= MAX_ELEMENTS:
+        raise CLIError(f"--elements: expected an integer in 1..{MAX_ELEMENTS}, got {n}")
+    if abs(args.rotation_deg) > MAX_ROTATION_DEG:
+        raise CLIError(f"--rotation-deg: expected degrees in -{MAX_ROTATION_DEG:g}..{MAX_ROTATION_DEG:g}, got {args.rotation_deg:g}")
+    if args.model_file is not None:
+        source = "--model-file"
+        if args.rotation_deg != 0.0:
+            raise CLIError("--rotation-deg: applies to presets; a --model-file gives its positions itself")
+    else:
+        source = "--model"
+        name = args.model or "seven"
+        if name not in SECTIONS:
+            raise CLIError(f"--model: unknown model {name!r}; choose one of {', '.join(PRESETS)}")
     try:
         if args.model_file is not None:
-            if args.rotation_deg != 0.0:
-                raise CLIError("--rotation-deg: applies to presets; a --model-file gives its positions itself")
-            return from_file(args.model_file, n_elements=n)
-        return preset(args.model or "seven", n_elements=n, rotation_deg=args.rotation_deg)
+            section = load_section(args.model_file)
+        else:
+            section = SECTIONS[name](args.rotation_deg)
     except ValueError as err:
-        flag = "--model-file" if args.model_file is not None else ("--rotation-deg" if "rotation_deg" in str(err) else "--model")
+        flag = "--rotation-deg" if (source == "--model" and "rotation_deg" in str(err)) else source
+        raise CLIError(f"{flag}: {err}") from None
+    need = model_bytes(section, n)
+    # blame --elements when the cross-section itself would fit at the default mesh
+    flag = "--elements" if model_bytes(section, 10) <= MEMORY_FRACTION * physical_memory() else source
+    check_memory(need, flag, f"the {section.name!r} model with {n} elements per filament ({dense_unknowns(section, n)} unknowns)")
+    try:
+        return build_model(section, n, imbalance_kind=getattr(args, "imbalance_kind", IMBALANCE_KINDS[0]))
+    except ValueError as err:
+        raise CLIError(f"{source}: {err}") from None
+
+
+MAX_PSI_RAD = 100.0
+"""Largest |tangent angle| accepted in beat data (radians; unwrapped angles of a real
+beat stay within a few turns)."""
+MIN_DATA_POINTS = 3
+"""Fewest arc-length points (and frames) of beat data: a wavelength needs a phase
+gradient, a frequency a time series."""
+
+
+def check_beat(beat: Any, flag: str = "--data") -> None:
+    """Refuse beat data (:class:`axojax.fitting.BeatData`) that no fit can use: too few
+    arc-length points or frames, or tangent angles that are not angles."""
+    psi = np.asarray(beat.psi_rad, dtype=float)
+    frames, points = psi.shape if psi.ndim == 2 else (0, 0)
+    if points < MIN_DATA_POINTS:
+        raise CLIError(f"{flag}: needs at least {MIN_DATA_POINTS} arc-length points per frame, got {points}")
+    if frames < MIN_DATA_POINTS:
+        raise CLIError(f"{flag}: needs at least {MIN_DATA_POINTS} frames, got {frames}")
+    peak = float(np.max(np.abs(psi)))
+    if not np.isfinite(peak) or peak > MAX_PSI_RAD:
+        raise CLIError(f"{flag}: tangent angles must be radians with |psi| <= {MAX_PSI_RAD:g}, got {peak:.3g}")
+
+
+def check_output(flag: str, path: str | None, suffixes: tuple[str, ...]) -> None:
+    """The one output-path rule of every command (:func:`axojax._io.check_output_path`),
+    applied before any work; None (flag not given) passes."""
+    if path is None:
+        return
+    try:
+        _io.check_output_path(path, suffixes)
+    except ValueError as err:
         raise CLIError(f"{flag}: {err}") from None
 
 
 def kl_ratio(args: argparse.Namespace) -> float | None:
     r = getattr(args, "kl_ratio", None)
-    if r is not None and r <= 0:
-        raise CLIError(f"--kl-ratio: must be > 0, got {r:g}")
+    if r is None:
+        return None
+    if getattr(args, "kl", None) is not None:
+        raise CLIError("--kl-ratio: sets kl = ks / R, so it conflicts with --kl; give one of them")
+    if not 1e-9 <= r <= 1e9:
+        raise CLIError(f"--kl-ratio: expected a ratio in 1e-09..1e+09, got {r:g}")
     return r
 
 
@@ -148,17 +263,21 @@ def params_from_args(args: argparse.Namespace) -> Params:
         v = getattr(args, field, None)
         if v is not None:
             values[field] = v
-    params = Params().with_values(values, kl_ratio(args))
-    check_params(params)
+    ratio = kl_ratio(args)
+    check_params(Params().with_values(values))  # the flags as given, before kl is tied
+    params = Params().with_values(values, ratio)
+    check_params(params, "--kl-ratio" if ratio is not None else None)
     return params
 
 
-def check_params(params: Params) -> None:
+def check_params(params: Params, tied: str | None = None) -> None:
+    """:meth:`Params.validate` as a :class:`CLIError` naming the flag (``tied``, e.g.
+    ``--kl-ratio``, is blamed for a bad kl when kl is derived from it)."""
     try:
         params.validate()
     except ValueError as err:
         bad = next((f for f in PARAM_NAMES if f" {f} " in f" {err} "), None)
-        flag = f"--{FIELD_FLAGS[bad]}" if bad else "parameters"
+        flag = (tied if tied and bad == "kl" else f"--{FIELD_FLAGS[bad]}") if bad else "parameters"
         raise CLIError(f"{flag}: {err}") from None
 
 
@@ -218,6 +337,8 @@ def parse_axis(text: str, flag: str) -> np.ndarray:
             a, b, n = float(parts[0]), float(parts[1]), int(parts[2])
             if n < 1:
                 raise ValueError
+            if n > MAX_AXIS:
+                raise CLIError(f"{flag}: an axis of {n} values is more than {MAX_AXIS} (split the sweep), got {text!r}")
             if log:
                 if a <= 0 or b <= 0:
                     raise CLIError(f"{flag}: log axis needs positive ends, got {text!r}")

@@ -3,14 +3,15 @@
 from __future__ import annotations
 
 import argparse
+import sys
 
 import jax
 import numpy as np
 from tqdm.auto import tqdm
 
 from ..critical import critical_force
+from ..results import RESULTS, message
 from . import common
-
 
 EVALUATIONS_PER_POINT = 20
 """About how many dominant eigenpairs one Hopf point costs (bracketing and Newton): a
@@ -37,6 +38,7 @@ def run(args: argparse.Namespace) -> dict:
         raise common.CLIError(f"--chunk: expected an integer >= 1, got {args.chunk}")
     if args.along is None:
         c = critical_force(model, params, solver=solver)
+        _report_failures(args, [("", c.result)])
         return {"critical": [{"p": float(c.p) if bool(c.found) else None, "frequency_hz": float(c.frequency_hz(units)) if bool(c.found) else None}]}
     (field,) = common.parse_names(args.along, "--along")
     if field == "p":
@@ -50,19 +52,38 @@ def run(args: argparse.Namespace) -> dict:
     def batch(vals):
         def one(v):
             c = critical_force(model, params.with_values({field: v}, ratio), solver=solver)
-            return c.p, c.frequency_hz(units), c.found
+            return c.p, c.frequency_hz(units), c.found, c.result
 
         return jax.vmap(one)(vals)
 
     chunk_size = min(args.chunk, len(values))
-    out = []
+    out, failures = [], []
     for start in tqdm(range(0, len(values), chunk_size), desc="critical", unit="chunk", disable=None):
         chunk = values[start : start + chunk_size]
         padded = np.concatenate([chunk, np.repeat(chunk[-1:], chunk_size - len(chunk))])
-        p, f, found = (np.asarray(a)[: len(chunk)] for a in batch(padded))
-        for v, pc, fc, ok in zip(chunk, p, f, found):
+        p, f, found, result = batch(padded)
+        p, f, found = (np.asarray(a)[: len(chunk)] for a in (p, f, found))
+        codes = np.asarray(result._value)[: len(chunk)]
+        for v, pc, fc, ok, code in zip(chunk, p, f, found, codes):
             out.append({common.FIELD_FLAGS[field]: float(v), "p": float(pc) if ok else None, "frequency_hz": float(fc) if ok else None})
+            failures.append((f" at --{common.FIELD_FLAGS[field]} {v:g}", _item(int(code))))
+    _report_failures(args, failures)
     return {"critical": out}
+
+
+def _item(code: int):
+    """The RESULTS item of a code taken out of a batch."""
+    return next(item for item in RESULTS._name_to_item.values() if int(item._value) == code)
+
+
+def _report_failures(args: argparse.Namespace, results) -> None:
+    """One line on stderr per point whose Hopf search failed (not for "no crossing",
+    which is an answer: p is reported as null); exit status 1 then."""
+    for where, result in results:
+        if bool(result == RESULTS.successful) or bool(result == RESULTS.no_crossing):
+            continue
+        print(f"axojax: critical{where}: {message(result)}", file=sys.stderr)
+        args._exit_code = 1
 
 
 def render(doc: dict) -> str:

@@ -36,12 +36,15 @@ import warnings
 
 import tomllib
 
+import numpy as np
+
 from ..dynamics.simulate import DEFAULT_CUBIC
 from ..fitting import OBSERVATIONS, Target, fit, observation_targets, read_beat
 from ..inverse import SHAPE_FLOOR, Condition
 from ..models import from_file, preset
 from ..params import PARAM_NAMES, Params
 from ..units import Units
+from .. import _io
 from . import common
 
 METHODS = ("lm", "lbfgs", "adam")
@@ -133,7 +136,9 @@ def _read_data(path, flag: str):
     """(BeatData, its report) of a beat file; the report is ``BeatData.summary()`` where
     the reader provides one (what ``axojax data`` prints), else the essentials."""
     try:
-        beat = read_beat(path)
+        with np.errstate(all="ignore"):  # overflowing data is refused by check_beat
+            beat = read_beat(path)
+        common.check_beat(beat, flag)
     except (ValueError, OSError) as err:
         raise common.CLIError(f"{flag}: {err}") from None
     if hasattr(beat, "summary"):
@@ -150,7 +155,7 @@ def _fit_options(args: argparse.Namespace) -> dict:
         raise common.CLIError(f"--shape-floor: must be >= 0 rad, got {args.shape_floor:g}")
     if args.exclude_base_um < 0:
         raise common.CLIError(f"--exclude-base-um: must be >= 0 um, got {args.exclude_base_um:g}")
-    return dict(starts=args.starts, method=args.method, progress=not args.json and sys.stderr.isatty(), solver=common.solver_from_args(args), shape_floor=args.shape_floor, exclude_base_um=args.exclude_base_um)
+    return {"starts": args.starts, "method": args.method, "progress": not args.json and sys.stderr.isatty(), "solver": common.solver_from_args(args), "shape_floor": args.shape_floor, "exclude_base_um": args.exclude_base_um}
 
 
 def _length_given(args) -> bool:
@@ -164,7 +169,7 @@ def _finish(args, result, extra: dict) -> dict:
         import json
 
         try:
-            pathlib.Path(args.out).write_text(json.dumps(common.to_jsonable(doc), indent=1, allow_nan=False) + "\n")
+            _io.write_text(args.out, json.dumps(common.to_jsonable(doc), indent=1, allow_nan=False) + "\n")
         except OSError as err:
             raise common.CLIError(f"--out: cannot write {args.out!r} ({err})") from None
         doc["out"] = str(args.out)
@@ -184,6 +189,7 @@ def _run_fit(*fit_args, flag: str, **kwargs):
 
 
 def run(args: argparse.Namespace) -> dict:
+    common.check_output("--out", args.out, (".json",))  # before any work, as every command
     if args.spec is not None:
         return _run_spec(args)
     if args.free is None:

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
+import re
 import sys
 
 from ..cache import command_line_cache
@@ -21,28 +23,58 @@ SUBCOMMANDS = {
 }
 
 
+VALUE_LIKE = re.compile(r"^-(\d|\.\d|inf|nan)", re.IGNORECASE)
+"""Arguments that are values although they start with '-': numbers and axes such as
+``-1``, ``-1e3``, ``-1:1:3``, ``-0.5,0,0.5`` (no axojax flag starts with a digit)."""
+
+EXIT_SIGPIPE = 128 + 13
+"""Exit status after the reader of stdout went away (as a Unix tool killed by SIGPIPE)."""
+
+
 class _Parser(argparse.ArgumentParser):
-    """argparse with one-line errors (no usage block) on stderr."""
+    """argparse with one-line errors (no usage block) on stderr, no abbreviated flags
+    (``--gam`` is not ``--gamma``: a sweep's axis order follows its flags), and values
+    that start with '-' (``--gamma -1:1:3``) taken as values."""
+
+    def __init__(self, *args, **kwargs) -> None:
+        kwargs.setdefault("allow_abbrev", False)
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = VALUE_LIKE
 
     def error(self, message: str) -> None:  # noqa: D401
         raise CLIError(message)
 
 
-def build_parser() -> argparse.ArgumentParser:
+def version() -> str:
+    from importlib.metadata import PackageNotFoundError
+    from importlib.metadata import version as dist_version
+
+    try:
+        return dist_version("axojax")
+    except PackageNotFoundError:  # a source tree on PYTHONPATH
+        return "unknown"
+
+
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The full parser; with ``only``, the flags of that subcommand alone (the others
+    listed but not imported: ``axojax sweep`` never loads diffrax, optax or matplotlib)."""
     parser = _Parser(prog="axojax", description="Flutter of the ciliary axoneme: eigen-analysis, sweeps, fits and simulations.")
+    parser.add_argument("--version", action="version", version=f"axojax {version()}")
     sub = parser.add_subparsers(dest="command", parser_class=_Parser)
     for name, help_text in SUBCOMMANDS.items():
-        module = importlib.import_module(f"axojax.cli.{name}")
         p = sub.add_parser(name, help=help_text, description=help_text)
-        module.add_arguments(p)
-        p.set_defaults(_module=module)
+        if only is None or name == only:
+            module = importlib.import_module(f"axojax.cli.{name}")
+            module.add_arguments(p)
+            p.set_defaults(_module=module)
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = build_parser()
+    argv = list(sys.argv[1:] if argv is None else argv)
+    first = next((a for a in argv if not a.startswith("-")), None)
+    parser = build_parser(first if first in SUBCOMMANDS else None)
     try:
-        argv = list(sys.argv[1:] if argv is None else argv)
         args = parser.parse_args(argv)
         args._argv = argv
         if args.command is None:
@@ -53,11 +85,26 @@ def main(argv: list[str] | None = None) -> int:
         print(f"axojax: error: {err}", file=sys.stderr)
         return 2
     if doc is not None:
-        if getattr(args, "json", False):
-            emit_json(doc)
-        else:
-            print(args._module.render(doc))
+        try:
+            if getattr(args, "json", False):
+                emit_json(doc)
+            else:
+                print(args._module.render(doc))
+            sys.stdout.flush()
+        except BrokenPipeError:
+            return _stdout_gone()
     return getattr(args, "_exit_code", 0)
+
+
+def _stdout_gone() -> int:
+    """The reader of stdout went away (``axojax ... | head``): stop quietly, as Unix tools
+    do; stdout goes to /dev/null so the interpreter's final flush cannot complain."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError):  # stdout without a file descriptor (tests capture it)
+        pass
+    return EXIT_SIGPIPE
 
 
 def console() -> int:

@@ -5,14 +5,15 @@ from __future__ import annotations
 
 import argparse
 import math
-import pathlib
 import sys
 
 import numpy as np
 
+from .. import _io
 from ..dynamics.simulate import DEFAULT_CUBIC
 from ..params import Params
 from . import common
+from .simulate import MAX_CUBIC
 
 MAX_HARMONICS = 100
 """More harmonics than a beat needs (its spectrum decays fast) and than memory allows:
@@ -27,15 +28,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--plot", default=None, metavar="FIGURE.png", help="figure: the branch (amplitude, frequency, stability against p) or the single orbit's waveform")
 
 
-def _check_path(flag: str, path: str | None, suffix: str | None = None) -> None:
-    if path is None:
-        return
-    if suffix and not str(path).endswith(suffix):
-        raise common.CLIError(f"{flag}: expected a {suffix} path, got {path!r}")
-    if not pathlib.Path(path).resolve().parent.is_dir():
-        raise common.CLIError(f"{flag}: directory of {path!r} does not exist")
-
-
 def run(args: argparse.Namespace) -> dict:
     from ..orbits import HarmonicBalance, limit_cycle
     from ..orbits.branch import Branch, branch
@@ -46,10 +38,16 @@ def run(args: argparse.Namespace) -> dict:
     other = [f for f in axes if f != "p"]
     if other:
         raise common.CLIError(f"--{common.FIELD_FLAGS[other[0]]}: only --p takes an axis in 'orbit' (the branch in p)")
-    params = Params().with_values(fixed, common.kl_ratio(args))
-    common.check_params(params)
+    ratio = common.kl_ratio(args)
+    common.check_params(Params().with_values(fixed))
+    params = Params().with_values(fixed, ratio)
+    common.check_params(params, "--kl-ratio")
+    for value in axes.get("p", []):
+        common.check_params(params.replace(p=float(value)))
     if not (args.cubic > 0):
         raise common.CLIError(f"--cubic: must be > 0 (the stiffening that bounds the beat), got {args.cubic:g}")
+    if args.cubic > MAX_CUBIC:
+        raise common.CLIError(f"--cubic: expected at most {MAX_CUBIC:g} (1/L^2; default {DEFAULT_CUBIC:g}), got {args.cubic:g}")
     if model.link_B.shape[0] == 0:
         raise common.CLIError(f"--model: {model.name!r} has no links, so the cubic link force cannot bound a beat; use a model with links")
     try:
@@ -58,8 +56,10 @@ def run(args: argparse.Namespace) -> dict:
             raise ValueError
     except ValueError:
         raise common.CLIError(f"--harmonics: expected an integer in 1..{MAX_HARMONICS}, got {args.harmonics!r}") from None
-    _check_path("--out", args.out, ".npz")
-    _check_path("--plot", args.plot)
+    common.check_output("--out", args.out, (".npz",))
+    common.check_output("--plot", args.plot, common.FIGURE_SUFFIXES)
+    # the Newton system: (2H + 1) n unknowns, a dense LU (and its complex Floquet twin)
+    common.check_memory(32.0 * ((2 * H + 1) * model.n_dof) ** 2, "--harmonics", f"an orbit of {H} harmonics on {model.n_dof} unknowns")
     solver = HarmonicBalance(harmonics=H)
 
     if "p" not in axes:
@@ -69,11 +69,13 @@ def run(args: argparse.Namespace) -> dict:
             raise common.CLIError(f"--p: {err}") from None
         report = {"p": float(params.p), **cycle.report(units)}
         if args.out is not None:
-            Branch(np.array([float(params.p)]), [report], math.nan, math.nan, {"model": model.name, "n_elements": model.n_elements, "cubic": args.cubic}).save(args.out)
+            with _io.atomic_path(args.out) as tmp:
+                Branch(np.array([float(params.p)]), [report], math.nan, math.nan, {"model": model.name, "n_elements": model.n_elements, "cubic": args.cubic}).save(tmp)
         if args.plot is not None:
             from ..orbits.plot import plot_orbit, save
 
-            save(plot_orbit(cycle, units), args.plot)
+            with _io.atomic_path(args.plot) as tmp:
+                save(plot_orbit(cycle, units), tmp)
         return {"orbits": [report]}
 
     p_values = axes["p"]
@@ -99,11 +101,13 @@ def run(args: argparse.Namespace) -> dict:
         if bar is not None:
             bar.close()
     if args.out is not None:
-        result.save(args.out)
+        with _io.atomic_path(args.out) as tmp:
+            result.save(tmp)
     if args.plot is not None:
         from ..orbits.plot import plot_branch, save
 
-        save(plot_branch(result.arrays(), {**result.meta, "p_hopf": result.p_hopf, "hopf_frequency_hz": result.hopf_frequency_hz}), args.plot)
+        with _io.atomic_path(args.plot) as tmp:
+            save(plot_branch(result.arrays(), {**result.meta, "p_hopf": result.p_hopf, "hopf_frequency_hz": result.hopf_frequency_hz}), tmp)
     return result.report()
 
 

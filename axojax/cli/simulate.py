@@ -3,12 +3,20 @@
 from __future__ import annotations
 
 import argparse
+import math
 import sys
-import pathlib
 
+from .. import _io
 from ..dynamics import DEFAULT_CUBIC, simulate
-from ..dynamics.simulate import check_inputs
+from ..dynamics.simulate import MIN_STEPS, STEPS_PER_PERIOD, check_inputs
 from . import common
+
+MAX_STEPS = 100_000_000
+"""Largest solver step budget (given or implied by ``--t-end``): beyond it a run would
+take days (about 250 steps a period at ~1e4 steps/s)."""
+MAX_CUBIC = 1e6
+"""Largest ``--cubic`` (1/L^2; default 10): at 1e6 the links stiffen at a displacement of
+L/1000, below the resolution of the beat; beyond, the nonlinear solve breaks down."""
 
 FLAGS = {"t_end_s": "--t-end", "cubic": "--cubic", "perturbation_um": "--perturbation-um", "rtol": "--rtol"}
 
@@ -35,19 +43,48 @@ def run(args: argparse.Namespace) -> dict:
         check_inputs(model, args.t_end, cubic, args.perturbation_um, args.rtol, names=FLAGS)
     except ValueError as err:
         raise common.CLIError(str(err)) from None
-    if args.max_steps is not None and args.max_steps < 1:
-        raise common.CLIError(f"--max-steps: must be a positive integer, got {args.max_steps}")
-    for flag, path in (("--out", args.out), ("--gif", args.gif)):
-        if path is not None and not pathlib.Path(path).resolve().parent.is_dir():
-            raise common.CLIError(f"{flag}: directory of {path!r} does not exist")
+    if cubic > MAX_CUBIC:
+        raise common.CLIError(f"--cubic: expected at most {MAX_CUBIC:g} (1/L^2; default {DEFAULT_CUBIC:g}), got {cubic:g}")
+    if args.perturbation_um > units.length_um:
+        raise common.CLIError(f"--perturbation-um: a tip displacement of {args.perturbation_um:g} um exceeds the cilium length ({units.length_um:g} um, --length-um)")
+    if args.rtol >= 1:
+        raise common.CLIError(f"--rtol: expected a relative tolerance < 1, got {args.rtol:g}")
+    if args.max_steps is not None and not 1 <= args.max_steps <= MAX_STEPS:
+        raise common.CLIError(f"--max-steps: expected an integer in 1..{MAX_STEPS}, got {args.max_steps}")
+    common.check_output("--out", args.out, (".npz",))
+    common.check_output("--gif", args.gif, (".gif",))
+    common.check_memory(96.0 * model.n_dof**2, "--elements", f"a simulation of {model.n_dof} unknowns (dense matrices)")
+    if args.max_steps is None:
+        _check_duration(model, params, units, args.t_end)
     sim = simulate(model, params, args.t_end, cubic=cubic, units=units, perturbation_um=args.perturbation_um, rtol=args.rtol, atol=args.rtol * 1e-3, max_steps=args.max_steps, progress=not args.json and sys.stderr.isatty())
     if args.out is not None:
-        sim.save(args.out)
+        with _io.atomic_path(args.out) as tmp:
+            sim.save(tmp)
     if args.gif is not None:
         from ..plotting import animate_simulation
 
-        animate_simulation(sim, args.gif)
+        with _io.atomic_path(args.gif) as tmp:
+            animate_simulation(sim, tmp)
+    if sim.state == "solver_failed":
+        wrote = f"; {args.out} holds the record up to there" if args.out is not None else ""
+        # a state, not an input error (INTERFACE.md: exit 0, the document says why); one
+        # line on stderr so that a script that ignores the document still sees it
+        print(f"axojax: simulate: solver_failed: {sim.reason}{wrote}", file=sys.stderr)
     return sim.report()
+
+
+def _check_duration(model, params, units, t_end_s: float) -> None:
+    """Refuse a ``--t-end`` whose default step budget (as :func:`axojax.simulate` sets it)
+    exceeds :data:`MAX_STEPS`."""
+    from ..eigen.mode import dominant_mode
+
+    frequency = float(dominant_mode(model, params).frequency_hz(units))
+    steps = MIN_STEPS + STEPS_PER_PERIOD * t_end_s * max(frequency, 20.0)
+    if not math.isfinite(steps) or steps > MAX_STEPS:
+        raise common.CLIError(
+            f"--t-end: {t_end_s:g} s at the linear frequency {frequency:.4g} Hz would need a budget of about {steps:.3g} solver steps "
+            f"(limit {MAX_STEPS:g}); give a shorter --t-end, or --max-steps"
+        )
 
 
 def render(doc: dict) -> str:

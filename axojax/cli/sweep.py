@@ -11,10 +11,12 @@ writes ``FILE.npz`` (docs/scaling_out.md).
 from __future__ import annotations
 
 import argparse
+import sys
 import time
 
 import numpy as np
 
+from .. import _io
 from ..params import Params
 from ..sweeps import netcdf, sweep
 from . import common
@@ -80,18 +82,34 @@ def init_distributed(args: argparse.Namespace) -> None:
         raise common.CLIError(f"{flag}: jax.distributed.initialize failed: {str(e).splitlines()[0]}") from None
 
 
+GRID_BYTES_PER_POINT = 3 * (8 * 10 + 8 * 4)
+"""Memory of one grid point (bytes): its coordinates and ten metrics, held about three
+times (the chunks, their concatenation, the saved arrays)."""
+
+
+def check_grid(model, axes: dict[str, np.ndarray], chunk: int) -> None:
+    """Refuse a grid whose arrays, or whose chunks (accelerators evaluate a chunk's
+    points at once), cannot fit in memory; with the estimate."""
+    import jax
+
+    n_points = int(np.prod([len(v) for v in axes.values()], dtype=float))
+    flags = " x ".join(f"--{common.FIELD_FLAGS[k]} {len(v)}" for k, v in axes.items())
+    common.check_memory(float(n_points) * (GRID_BYTES_PER_POINT + 8 * len(axes)), "--" + common.FIELD_FLAGS[next(iter(axes))], f"a grid of {n_points:.4g} points ({flags})")
+    per_point = common.model_bytes(model.section, model.n_elements)
+    at_once = 1 if jax.local_devices()[0].platform == "cpu" else min(chunk, n_points)
+    common.check_memory(at_once * per_point, "--chunk", f"a chunk of {at_once} points evaluated at once on {model.n_dof} unknowns")
+
+
 def run(args: argparse.Namespace) -> dict:
     init_distributed(args)
+    common.check_output("--out", args.out, (".npz",))
+    common.check_output("--netcdf", args.netcdf, (".nc",))
     model = common.model_from_args(args)
     units = common.units_from_args(args)
     fixed, axes = common.split_axes(args, args._argv)
     if not axes:
         raise common.CLIError("--p: give at least one parameter as an axis, e.g. --p 100:900:41")
-    if not str(args.out).endswith(".npz"):
-        raise common.CLIError(f"--out: expected a .npz path, got {args.out!r}")
     if args.netcdf is not None:
-        if not str(args.netcdf).endswith(".nc"):
-            raise common.CLIError(f"--netcdf: expected a .nc path, got {args.netcdf!r}")
         try:
             netcdf.require_xarray()
         except ImportError as e:
@@ -103,9 +121,16 @@ def run(args: argparse.Namespace) -> dict:
     common.check_params(params)
     for name, values in axes.items():
         common.check_params(Params().replace(**{name: values}))
+    if ratio is not None:
+        ks = axes.get("ks", np.asarray([params.ks]))
+        common.check_params(Params(kl=np.asarray(ks) / ratio), "--kl-ratio")
+    check_grid(model, axes, args.chunk)
     t0 = time.perf_counter()
     solver = common.solver_from_args(args)
-    result = sweep(model, params, axes, kl_ratio=ratio, units=units, chunk_size=args.chunk, out=args.out, solver=solver)
+    try:
+        result = sweep(model, params, axes, kl_ratio=ratio, units=units, chunk_size=args.chunk, out=args.out, solver=solver, log=lambda line: print(f"axojax: sweep: {line}", file=sys.stderr))
+    except _io.OutputBusy as err:
+        raise common.CLIError(f"--out: {err}") from None
     import jax
 
     if args.netcdf is not None and jax.process_index() == 0:

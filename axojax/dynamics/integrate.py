@@ -37,6 +37,7 @@ from ..assembly import assemble, assemble_blocks, node_major
 from ..linalg import lu_factor
 from ..models.section import Model
 from ..params import Params
+from ..results import RESULTS, message
 from .chord import MassChord, MassSystem, mass_vector_field
 from .nonlinear import cubic_links
 
@@ -50,8 +51,9 @@ class Trajectory(eqx.Module):
         ok: True when the solver reached ``t[-1]``.
         steps: accepted steps taken.
         rejected: rejected steps.
-        result: diffrax's result code (an index of ``diffrax.RESULTS``; 0 = success);
-            :func:`result_message` turns it into diffrax's message.
+        result: :class:`axojax.results.RESULTS` item (diffrax's code, promoted:
+            ``successful``, ``max_steps_reached``, ...); :func:`result_message` gives
+            its message.
         t_reached: the time the solver reached (``t[-1]`` on success).
         q_reached: (n,) the state there.
     """
@@ -61,15 +63,15 @@ class Trajectory(eqx.Module):
     ok: Array
     steps: Array
     rejected: Array
-    result: Array
+    result: RESULTS
     t_reached: Array
     q_reached: Float[Array, " n"]
 
 
-def result_message(code: int) -> str:
-    """diffrax's message for a result code, on one line (its first sentence)."""
-    message = diffrax.RESULTS._index_to_message[int(code)]  # diffrax 0.7: equinox Enumeration
-    line = " ".join(message.split())
+def result_message(code) -> str:
+    """The message of a result (a :class:`~axojax.results.RESULTS` item, or an index of
+    ``diffrax.RESULTS``), on one line (its first sentence)."""
+    line = message(code) if hasattr(code, "_value") else " ".join(diffrax.RESULTS._index_to_message[int(code)].split())
     return line.split(". ")[0].rstrip(".") if line else "successful"
 
 
@@ -156,7 +158,7 @@ def integrate(
         ok=ok,
         steps=sol.stats["num_accepted_steps"],
         rejected=sol.stats["num_rejected_steps"],
-        result=sol.result._value,
+        result=RESULTS.promote(sol.result),
         t_reached=sol.ts[1][0],
         q_reached=sol.ys[1][0],
     )

@@ -255,6 +255,7 @@ def simulate(
         "model": model.name,
         "n_elements": model.n_elements,
         "params": {k: float(v) for k, v in params.as_dict().items()},
+        "imbalance_kind": model.imbalance_kind,
         "cubic": cubic,
         "t_end_s": t_end_s,
         "perturbation_um": perturbation_um,
@@ -267,7 +268,7 @@ def simulate(
             "rejected": int(traj.rejected),
             "max_steps": int(max_steps),
             "ok": ok,
-            "result": result_message(int(traj.result)),
+            "result": result_message(traj.result),
             "t_reached_s": t_reached * tau,
         },
     }

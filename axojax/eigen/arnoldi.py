@@ -30,8 +30,13 @@ Algorithm (per parameter point, fixed shapes: jit/vmap-able):
    near sigma converge in a few dozen steps. A Ritz pair has converged when its residual
    bound ``|h_{m+1,m} y_m| / |theta|^2 <= tol (1 + |lambda|)``. The Krylov space grows
    in stages (``krylov_dims``, default 16, 32, 48 vectors) until the certificate
-   holds, each point on its own (under ``jax.vmap`` the points run one after another,
-   so that no point pays for another's stages).
+   holds. Per-point path (the CPU default): under ``jax.vmap`` the points run one after
+   another, so that no point pays for another's stages, with LAPACK's small kernels and
+   each stage's own Ritz eigen-solve size. Batched path (``ArnoldiOptions.batched``,
+   the default on accelerators): one ``vmap`` over the chunk, the block factorisations
+   in plain jnp (:mod:`axojax.linalg.small`, no LAPACK custom calls), every point
+   running its batch's stages; the projected m x m eigen-problems (``eigh`` of the
+   Lanczos matrix, ``eig`` of the Hessenberg matrix) stay library calls, batched.
 3. **Certificate** (Cayley view, Meerbergen, Spence & Roose, BIT 34, 1994). The Cayley
    transform ``(A + sigma C)^{-1} (A + alpha C)`` has the same Krylov space as S and maps
    the half-plane right of the line ``(sigma + alpha)/2`` outside the unit disc; in S's
@@ -85,6 +90,7 @@ class ArnoldiOptions(NamedTuple):
     certify_factor: float = 2.0
     tol: float = 1e-10
     fallback: bool = True
+    batched: bool = False
 
 
 def _start_vector(n: int, dtype=float) -> Array:
@@ -97,13 +103,13 @@ def _symmetric_part_neg(A: BlockTridiagonal) -> BlockTridiagonal:
     return (A + A.T).scale(-0.5)
 
 
-def pole(A: BlockTridiagonal, C: BlockTridiagonal, lanczos_dim: int) -> tuple[Float[Array, ""], Array]:
+def pole(A: BlockTridiagonal, C: BlockTridiagonal, lanczos_dim: int, kernels: str = "lapack") -> tuple[Float[Array, ""], Array]:
     """A real pole sigma with ``sigma C - G`` positive definite (G the symmetric part of
     -A), close above the numerical abscissa omega. Returns (sigma, verified)."""
     G = _symmetric_part_neg(A)
 
     def factor(s):
-        return cholesky(C.scale(s) - G)
+        return cholesky(C.scale(s) - G, kernels)
 
     # Trial poles 0, 7, 63, 511, ... (ratio 8): the first that passes lies within a
     # factor ~8 above omega when omega > 0; s = 0 passes when every mode is damped.
@@ -178,16 +184,41 @@ class _Primal(NamedTuple):
     certified: Float[Array, ""]
 
 
-def _ritz(V, H, sigma, m, opts: ArnoldiOptions) -> _Primal:
+def _stage_eig(H, stage, dims: tuple[int, ...]):
+    """Eigenvalues and vectors of the leading ``dims[stage]`` square block of H, padded
+    to the full size as the eigen-decomposition of the zero-padded matrix reads (theta =
+    0, unit vectors): a scalar ``switch`` between one small eig per stage size, so that
+    the first stage (where most points certify) does not pay for a 48 x 48 one."""
+    m_max = H.shape[1]
+
+    def branch(m):
+        def f(H):
+            theta, Y = jnp.linalg.eig(H[:m, :m])
+            pad = m_max - m
+            if pad == 0:
+                return theta, Y
+            theta = jnp.concatenate([theta, jnp.zeros(pad, theta.dtype)])
+            Y = jnp.block([[Y, jnp.zeros((m, pad), Y.dtype)], [jnp.zeros((pad, m), Y.dtype), jnp.eye(pad, dtype=Y.dtype)]])
+            return theta, Y
+
+        return f
+
+    return jax.lax.switch(stage, [branch(m) for m in dims], H)
+
+
+def _ritz(V, H, sigma, m, opts: ArnoldiOptions, eig=None) -> _Primal:
     """Rightmost converged Ritz pair of the first m Arnoldi steps and its certificate.
 
     ``m`` may be traced: the leading m x m block of H is embedded in a zero matrix of
     the full size (one compiled eigen-solve serves every stage); the padding gives
-    theta = 0 with zero residual, i.e. lambda at minus infinity, which never competes."""
+    theta = 0 with zero residual, i.e. lambda at minus infinity, which never competes.
+    ``eig``: that padded decomposition (theta, Y) when the caller has it (see
+    :func:`_stage_eig`)."""
     m_max = H.shape[1]
-    k = jnp.arange(m_max)
-    Hm = jnp.where((k[:, None] < m) & (k[None, :] < m), H[:m_max, :m_max], 0.0)
-    theta, Y = jnp.linalg.eig(Hm)
+    if eig is None:
+        k = jnp.arange(m_max)
+        eig = jnp.linalg.eig(jnp.where((k[:, None] < m) & (k[None, :] < m), H[:m_max, :m_max], 0.0))
+    theta, Y = eig
     Y = Y / jnp.linalg.norm(Y, axis=0)
     residual = jnp.abs(H[m, m - 1] * Y[m - 1])
     padding = theta == 0
@@ -209,23 +240,35 @@ def _ritz(V, H, sigma, m, opts: ArnoldiOptions) -> _Primal:
     return _Primal(lam_c, _normalise(x), certified.astype(float))
 
 
-def _arnoldi_point(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOptions) -> _Primal:
+def _dense_primal(A: BlockTridiagonal, C: BlockTridiagonal) -> _Primal:
+    lam, v = dominant_eigenpair(A.to_dense(), C.to_dense())
+    return _Primal(lam, v, jnp.zeros(()))
+
+
+def _arnoldi_point(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOptions, batched: bool = False) -> _Primal:
     """One parameter point: pole, factorisation, Arnoldi in stages until certified, and
     the dense solver where no stage certifies (``opts.fallback``). Scalar control flow:
-    each stage and the fallback run only when needed."""
+    each stage and the fallback run only when needed.
+
+    ``batched``: written to be ``vmap``-ed over a chunk of points (see :func:`_batched`):
+    plain jnp block kernels (:mod:`axojax.linalg.small`), one Ritz eigen-solve size for
+    every stage (a vmapped ``switch`` would run every branch), no fallback here (the
+    caller runs it for the uncertified points only)."""
     n = A.shape[0]
     dims = tuple(sorted({min(m, n - 1) for m in opts.krylov_dims}))
     m_max = dims[-1]
-    sigma, verified = pole(A, C, opts.lanczos_dim)
+    kernels = "jnp" if batched else "lapack"
+    sigma, verified = pole(A, C, opts.lanczos_dim, kernels)
     M = A + C.scale(sigma)
-    lu = lu_factor(M)
+    lu = lu_factor(M, kernels)
     v0 = _start_vector(n)
     V = jnp.zeros((m_max + 1, n)).at[0].set(v0 / jnp.linalg.norm(v0))
     H = jnp.zeros((m_max + 1, m_max))
 
     def shift_invert(v):
         """(A + sigma C)^{-1} C v: the solve, then one step of iterative refinement, as
-        two passes through one compiled solve (from w = 0 the first is the plain solve)."""
+        two passes through one compiled solve (from w = 0 the first is the plain solve;
+        its product with zero costs less than a second copy of the solve to compile)."""
         b = C.matvec(v)
         return jax.lax.fori_loop(0, 2, lambda _, w: w + lu.solve(b - M.matvec(w)), jnp.zeros_like(b))
 
@@ -236,29 +279,47 @@ def _arnoldi_point(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOption
         stage, _, _, result = state
         return (stage < len(dims)) & (result.certified < 0.5)
 
+    def ritz(V, H, stage):
+        if batched:  # a vmapped switch would run every branch
+            return _ritz(V, H, sigma, ends[stage], opts)
+        return _ritz(V, H, sigma, ends[stage], opts, eig=_stage_eig(H, stage, dims))
+
     def body(state):
         stage, V, H, _ = state
         V, H = arnoldi_steps(shift_invert, V, H, starts[stage], ends[stage])
-        return stage + 1, V, H, _ritz(V, H, sigma, ends[stage], opts)
+        return stage + 1, V, H, ritz(V, H, stage)
 
     empty = _Primal(jnp.zeros((), complex), jnp.zeros((n,), complex), jnp.zeros(()))
     _, _, _, result = jax.lax.while_loop(cond, body, (0, V, H, empty))
     result = result._replace(certified=result.certified * verified)
-    if not opts.fallback:
+    if batched or not opts.fallback:
         return result
+    return jax.lax.cond(result.certified > 0.5, lambda _: result, lambda _: _dense_primal(A, C), None)
 
-    def dense(_):
-        lam, v = dominant_eigenpair(A.to_dense(), C.to_dense())
-        return _Primal(lam, v, jnp.zeros(()))
 
-    return jax.lax.cond(result.certified > 0.5, lambda _: result, dense, None)
+def _batched_points(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOptions) -> _Primal:
+    """The batched path over a chunk of points (leading axis of A and C): one ``vmap``
+    of :func:`_arnoldi_point` (every block operation one batched jnp operation; a point
+    that certifies early idles through its batch's remaining stages), then the dense
+    fallback for the uncertified points only (one after another, and not at all when
+    every point is certified)."""
+    out = jax.vmap(lambda a, c: _arnoldi_point(a, c, opts, batched=True))(A, C)
+    if not opts.fallback:
+        return out
+
+    def fix(args):
+        r, a, c = args
+        return jax.lax.cond(r.certified > 0.5, lambda: r, lambda: _dense_primal(a, c))
+
+    return jax.lax.cond(jnp.all(out.certified > 0.5), lambda: out, lambda: jax.lax.map(fix, (out, A, C)))
 
 
 @functools.lru_cache(maxsize=None)
 def _batched(opts: ArnoldiOptions):
-    """:func:`_arnoldi_point` whose ``jax.vmap`` runs the points one after another
-    (``lax.map``): every point keeps its own stages and fallback, where a vmapped
-    ``while``/``cond`` would make each point pay for the slowest of its batch."""
+    """:func:`_arnoldi_point` with its own ``vmap`` rule. ``opts.batched`` off (the
+    per-point path): the points run one after another (``lax.map``), every point with
+    its own stages and fallback, where a vmapped ``while``/``cond`` would make each
+    point pay for the slowest of its batch. On: :func:`_batched_points`."""
 
     @jax.custom_batching.custom_vmap
     def point(A, C):
@@ -270,7 +331,10 @@ def _batched(opts: ArnoldiOptions):
             return x if batched else jnp.broadcast_to(x, (axis_size,) + x.shape)
 
         A, C = (jax.tree.map(full, M, flags) for M, flags in ((A, in_batched[0]), (C, in_batched[1])))
-        out = jax.lax.map(lambda args: point(*args), (A, C))
+        if opts.batched:
+            out = _batched_points(A, C, opts)
+        else:
+            out = jax.lax.map(lambda args: point(*args), (A, C))
         return out, jax.tree.map(lambda _: True, out)
 
     return point
@@ -295,7 +359,7 @@ def _structured_jvp(opts, primals, tangents):
     # x that the tiny offset amplifies is projected out below.
     shift = lam + 1e-10 * (1.0 + jnp.abs(lam))
     K = A.astype(cdt) + C.astype(cdt).scale(shift)
-    lu = lu_factor(K)
+    lu = lu_factor(K, "jnp" if opts.batched else "lapack")
     Cx = C.matvec(x.astype(cdt))
     w = _start_vector(x.shape[0], cdt)
     for _ in range(3):  # left eigenvector: (A^T + conj(lambda) C) w = 0

@@ -12,7 +12,8 @@ from jaxtyping import Array, Complex, Float, Int
 
 from ..assembly import assemble
 from ..models.section import Model
-from ..params import Params
+from ..params import Params, require_scalars, valid
+from ..results import RESULTS
 from ..units import Units
 from . import pencil
 from .metrics import beat_plane, wavenumber
@@ -53,6 +54,9 @@ class Mode(eqx.Module):
         certified: True when the solver certified the eigenvalue as the rightmost
             (always for :class:`~axojax.eigen.Dense`); False where a structured solver
             could not, and the dense fallback supplied it.
+        result: :class:`axojax.results.RESULTS` item: ``successful``,
+            ``invalid_params`` (a traced parameter out of range: every number is NaN) or
+            ``nonfinite`` (the eigen-solve gave no finite eigenvalue).
     """
 
     eigenvalue: Complex[Array, ""]
@@ -67,6 +71,7 @@ class Mode(eqx.Module):
     beat_angle: Float[Array, ""]
     classification: Int[Array, ""]
     certified: Array = True
+    result: RESULTS = eqx.field(default_factory=lambda: RESULTS.successful)
 
     # -- physical units ------------------------------------------------------------
     def frequency_hz(self, units: Units = Units()) -> Float[Array, "..."]:
@@ -132,9 +137,22 @@ def mode_from_eigenpair(model: Model, lam: Complex[Array, ""], v: Complex[Array,
 DEFAULT_SOLVER = Auto()
 
 
-def _dominant_mode_impl(model: Model, params: Params, solver: EigenSolver = DEFAULT_SOLVER) -> Mode:
+def dominant_mode_impl(model: Model, params: Params, solver: EigenSolver = DEFAULT_SOLVER) -> Mode:
+    """:func:`dominant_mode` without its validation and its own ``jax.jit``: the entry
+    point for code that traces it inside its own transformations (the sweep engine,
+    fits). Parameters out of range give NaN numbers and ``result = invalid_params``
+    (:mod:`axojax.results`)."""
+    require_scalars(params, "dominant_mode")
+    ok = valid(params)
     lam, v, certified = solver.eigenpair(model, params)
-    return mode_from_eigenpair(model, lam, v, certified)
+    lam = jnp.where(ok, lam, jnp.nan + 0j)
+    v = jnp.where(ok, v, jnp.nan + 0j)
+    mode = mode_from_eigenpair(model, lam, v, certified)
+    result = RESULTS.where(ok, RESULTS.where(jnp.isfinite(lam), RESULTS.successful, RESULTS.nonfinite), RESULTS.invalid_params)
+    return eqx.tree_at(lambda m: m.result, mode, result)
+
+
+_dominant_mode_impl = dominant_mode_impl  # the old private name, for existing callers
 
 
 def _spectrum_impl(model: Model, params: Params, top: int | None = None) -> Complex[Array, " k"]:
@@ -144,22 +162,30 @@ def _spectrum_impl(model: Model, params: Params, top: int | None = None) -> Comp
 
 
 # The model is a static, identity-hashed argument: one compilation per model.
-_dominant_mode_jit = jax.jit(_dominant_mode_impl, static_argnums=(0, 2))
+_dominant_mode_jit = jax.jit(dominant_mode_impl, static_argnums=(0, 2))
 _spectrum_jit = jax.jit(_spectrum_impl, static_argnums=(0, 2))
 
 
-def dominant_mode(model: Model, params: Params, solver: EigenSolver = DEFAULT_SOLVER) -> Mode:
+def dominant_mode(model: Model, params: Params, solver: EigenSolver = DEFAULT_SOLVER, *, throw: bool = False) -> Mode:
     """The dominant (largest real part) mode of ``model`` at ``params``.
 
     Jit-compiled per (model, solver), and composable: call it under ``jax.jit``,
     ``jax.vmap`` over a batch of ``params``, ``jax.grad``/``jax.jacfwd``/``jax.jacrev``.
     Concrete parameters are validated first (one-line ``ValueError`` naming the bad
-    value). ``solver`` is an :mod:`axojax.eigen.solvers` object (default
-    :class:`~axojax.eigen.Auto`: dense for small models, certified Arnoldi for large).
+    value); traced ones cannot be, and a NaN or out-of-range one gives NaN numbers with
+    ``mode.result == RESULTS.invalid_params`` (:mod:`axojax.results`). Array-valued
+    ``Params`` are refused with a message naming ``jax.vmap``. ``solver`` is an
+    :mod:`axojax.eigen.solvers` object (default :class:`~axojax.eigen.Auto`: dense for
+    small models, certified Arnoldi for large). ``throw=True`` raises (at run time, also
+    under ``jit``) when ``mode.result`` is not ``successful``.
     """
     if not isinstance(solver, EigenSolver):
         raise TypeError(f"solver must be an axojax eigen-solver (ax.eigen.Dense(), ax.eigen.Arnoldi(), ...), got {solver!r}")
-    return _dominant_mode_jit(model, params.validate(), solver)
+    require_scalars(params, "dominant_mode")
+    mode = _dominant_mode_jit(model, params.validate(), solver)
+    if throw:
+        mode = mode.result.error_if(mode, mode.result != RESULTS.successful)
+    return mode
 
 
 def spectrum(model: Model, params: Params, top: int | None = None) -> Complex[Array, " k"]:

@@ -23,6 +23,7 @@ from __future__ import annotations
 import abc
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Complex, Float
@@ -69,6 +70,12 @@ class Arnoldi(EigenSolver):
         tol: relative residual tolerance of a converged Ritz value.
         fallback: solve the points that no stage certifies with the dense solver (only
             those points). Off, the uncertified answer is returned as it is (flagged).
+        batched: how ``jax.vmap`` over points runs: ``True``, one batched computation
+            with plain jnp block kernels (no LAPACK custom calls in the factorisations;
+            every point runs its batch's stages); ``False``, one point after another
+            with LAPACK's kernels; ``None`` (default), ``False`` on CPU (measured faster
+            there: ``benchmarks/bench_sweep.py``) and ``True`` on accelerators. Same
+            answers, certificates and fallbacks either way.
     """
 
     krylov_dims: tuple[int, ...] = eqx.field(default=(16, 32, 48), static=True)
@@ -76,6 +83,7 @@ class Arnoldi(EigenSolver):
     certify_factor: float = eqx.field(default=2.0, static=True)
     tol: float = eqx.field(default=1e-10, static=True)
     fallback: bool = eqx.field(default=True, static=True)
+    batched: bool | None = eqx.field(default=None, static=True)
 
     def __check_init__(self):
         if not self.krylov_dims or min(self.krylov_dims) < 2 or self.lanczos_dim < 2:
@@ -87,7 +95,8 @@ class Arnoldi(EigenSolver):
 
     @property
     def options(self) -> ArnoldiOptions:
-        return ArnoldiOptions(tuple(self.krylov_dims), self.lanczos_dim, self.certify_factor, self.tol, self.fallback)
+        batched = self.batched if self.batched is not None else jax.default_backend() != "cpu"
+        return ArnoldiOptions(tuple(self.krylov_dims), self.lanczos_dim, self.certify_factor, self.tol, self.fallback, bool(batched))
 
     def eigenpair(self, model, params):
         system = assemble_blocks(model, params)

@@ -1,13 +1,31 @@
-"""Inverse problems: fits, global fits across conditions, and (with samplers) posteriors,
-as one :class:`Problem` seen by different solver objects.
+"""Inverse problems: fits, global fits across conditions, and posteriors, as one
+:class:`Problem` seen by different solver objects.
 
 >>> problem = ax.inverse.Problem(model, [ax.inverse.Condition({"p": 150}, [Target(...)]), ...], ["ks", "cl"])
 >>> result = ax.inverse.least_squares(problem, ax.inverse.LevenbergMarquardt(), starts=8)
+>>> post = ax.inverse.posterior(problem, draws=1000, chains=4)
 """
 
+from . import diagnostics
 from .conditions import Condition
-from .least_squares import METHODS, Adam, LBFGS, LeastSquaresSolver, LevenbergMarquardt, least_squares, solver_from_name
+from .least_squares import (
+    LBFGS,
+    METHODS,
+    Adam,
+    LeastSquaresSolver,
+    LevenbergMarquardt,
+    least_squares,
+    solver_from_name,
+)
 from .parameters import DEFAULT_BOUNDS, LINEAR, FreeParameter
+from .posterior import (
+    NUTS,
+    InverseProblem,
+    NormalPrior,
+    Posterior,
+    normal_prior,
+    posterior,
+)
 from .problem import SHAPE_FLOOR, Problem
 from .report import FitResult, build_report
 
@@ -16,15 +34,22 @@ __all__ = [
     "LBFGS",
     "LINEAR",
     "METHODS",
+    "NUTS",
     "SHAPE_FLOOR",
     "Adam",
     "Condition",
     "FitResult",
     "FreeParameter",
+    "InverseProblem",
     "LeastSquaresSolver",
     "LevenbergMarquardt",
+    "NormalPrior",
+    "Posterior",
     "Problem",
     "build_report",
+    "diagnostics",
     "least_squares",
+    "normal_prior",
+    "posterior",
     "solver_from_name",
 ]

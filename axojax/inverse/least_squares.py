@@ -93,7 +93,7 @@ class LBFGS(LeastSquaresSolver):
 
         def run(z0):
             def cond(carry):
-                z, state, k, gnorm, value = carry
+                _, _, k, gnorm, value = carry
                 return (k < max_steps) & (gnorm > gtol * jnp.maximum(1.0, value)) & jnp.isfinite(gnorm)
 
             def body(carry):

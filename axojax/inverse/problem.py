@@ -97,13 +97,13 @@ class Problem:
         free: Sequence[str] = (),
         *,
         per_condition: Sequence[str] = (),
-        params: Params = Params(),
+        params: Params = Params(),  # noqa: B008
         bounds: dict[str, tuple[float, float]] | None = None,
         kl_ratio: float | None = None,
-        units: Units = Units(),
+        units: Units = Units(),  # noqa: B008
         solver: EigenSolver = DEFAULT_SOLVER,
         cubic: float = DEFAULT_CUBIC,
-        orbit_solver: OrbitSolver = HarmonicBalance(),
+        orbit_solver: OrbitSolver = HarmonicBalance(),  # noqa: B008
         shape_floor: float = SHAPE_FLOOR,
         exclude_base_um: float = 0.0,
         prior: Callable[[Array], Array] | None = None,
@@ -198,6 +198,7 @@ class Problem:
         self._solvers = {id(self.models[g[0]]): solver.resolve(self.models[g[0]], len(g)) for g in self._groups}
         self._jit_residuals = jax.jit(self.residuals)
         self._jit_jacobian = jax.jit(jax.jacfwd(self.residuals))
+        self._jit_evaluate = None
 
     # -- targets ---------------------------------------------------------------------
     def _prepare_shape(self, shape: ShapeTarget, keep: bool, label) -> ShapeTarget | None:
@@ -306,36 +307,39 @@ class Problem:
         """0.5 |residuals(u)|^2."""
         return 0.5 * jnp.sum(self.residuals(u) ** 2)
 
+    def residuals_at(self, u) -> np.ndarray:
+        """(m,) residuals at a concrete u (compiled once per problem), as numpy."""
+        return np.asarray(self._jit_residuals(jnp.asarray(u, dtype=float)))
+
     def jacobian(self, u) -> np.ndarray:
         """(m, k) exact d residuals / d u (forward mode, compiled once)."""
         return np.asarray(self._jit_jacobian(jnp.asarray(u, dtype=float)))
 
     def evaluate(self, u) -> dict[str, Any]:
-        """Everything a report needs at a concrete u: residuals, Jacobian, every
-        condition's scalar observables and, for shapes, the observed and fitted psi_1 on
-        all observed points (the excluded basal stretch included)."""
-        u = jnp.asarray(u, dtype=float)
-
-        def predictions(u):
-            modes, cycles = self.modes(u), self.cycles(u)
-            out = []
-            for i in range(self.n_conditions):
-                d: dict[str, Any] = {}
-                if modes[i] is not None:
-                    d["achieved"] = {k: scalar_value(modes[i], k, self.units) for k in SCALARS}
-                    shape = self.conditions[i].shape
-                    if shape is not None:
-                        fitted, alpha = shape_fit(self.models[i], modes[i], self.shapes[i], self.units, at_um=np.asarray(shape.s_um))
-                        d["psi1_fit"], d["alpha"] = fitted, alpha
-                if cycles[i] is not None:
-                    d["cycle"] = {k: cycle_value(cycles[i], k, self.units) for k in ("frequency_hz", "amplitude_um", "wavelength_um")}
-                    d["cycle_converged"] = cycles[i].converged
-                out.append(d)
-            return out
-
-        r, J = self._jit_residuals(u), self._jit_jacobian(u)
-        preds = jax.jit(predictions)(u)
+        """Everything a report needs at a concrete u (one compiled program, built once):
+        residuals, Jacobian, every condition's scalar observables and, for shapes, the
+        fitted psi_1 on all observed points (the excluded basal stretch included)."""
+        if self._jit_evaluate is None:
+            self._jit_evaluate = jax.jit(lambda u: (self.residuals(u), jax.jacfwd(self.residuals)(u), self._predictions(u)))
+        r, J, preds = self._jit_evaluate(jnp.asarray(u, dtype=float))
         return {"r": np.asarray(r), "J": np.asarray(J), "conditions": jax.tree_util.tree_map(np.asarray, preds)}
+
+    def _predictions(self, u) -> list[dict[str, Any]]:
+        modes, cycles = self.modes(u), self.cycles(u)
+        out = []
+        for i in range(self.n_conditions):
+            d: dict[str, Any] = {}
+            if modes[i] is not None:
+                d["achieved"] = {k: scalar_value(modes[i], k, self.units) for k in SCALARS}
+                shape = self.conditions[i].shape
+                if shape is not None:
+                    fitted, alpha = shape_fit(self.models[i], modes[i], self.shapes[i], self.units, at_um=np.asarray(shape.s_um))
+                    d["psi1_fit"], d["alpha"] = fitted, alpha
+            if cycles[i] is not None:
+                d["cycle"] = {k: cycle_value(cycles[i], k, self.units) for k in ("frequency_hz", "amplitude_um", "wavelength_um")}
+                d["cycle_converged"] = cycles[i].converged
+            out.append(d)
+        return out
 
     def start_design(self, n: int, seed: int = 0) -> np.ndarray:
         """(n, k) starts: ``u0`` first, then a scrambled Sobol design of the bounded box

@@ -14,7 +14,8 @@ elements, where a dense LU costs O((N b)^3).
   its ``ok`` flag doubles as a positive-definiteness test.
 
 Everything is ``lax.scan`` over the blocks: jit-, vmap- and (for the matrices' entries)
-grad-able, real or complex.
+grad-able, real or complex. The factorisations take ``kernels="lapack"`` (default) or
+``"jnp"`` (no LAPACK custom calls: the batched path, see :data:`KERNELS`).
 """
 
 from __future__ import annotations
@@ -24,6 +25,18 @@ import jax
 import jax.numpy as jnp
 from jax.scipy.linalg import solve_triangular
 from jaxtyping import Array, Bool, Float, Inexact
+
+from . import small
+
+KERNELS = ("lapack", "jnp")
+"""Small-block kernels of the factorisations: ``lapack`` (``jax.lax.linalg``: LAPACK on
+CPU, fastest per point) or ``jnp`` (:mod:`axojax.linalg.small`: plain jnp loops, which
+``vmap`` turns into batched elementwise operations on any backend)."""
+
+
+def _check(kernels: str) -> None:
+    if kernels not in KERNELS:
+        raise ValueError(f"kernels must be one of {KERNELS}, got {kernels!r}")
 
 
 class BlockTridiagonal(eqx.Module):
@@ -173,15 +186,16 @@ class BlockLU(eqx.Module):
         return jnp.concatenate([x0[None], X[:-1]]).reshape(-1)
 
 
-def lu_factor(M: BlockTridiagonal) -> BlockLU:
+def lu_factor(M: BlockTridiagonal, kernels: str = "lapack") -> BlockLU:
     """LU factorisation with partial pivoting inside each pair of block rows.
 
     Step k factors the (2b, b) panel [row k; block (k+1, k)] with partial pivoting
     (``jax.lax.linalg.lu``), applies the same row exchanges to the next two block
     columns and updates block row k+1. Row exchanges bring block row k+1's entries into
     row k, hence the fill-in block ``u13``. Cost O(N b^3); the inverses kept for the
-    solves cost about as much as the factorisation itself.
+    solves cost about as much as the factorisation itself. ``kernels``: see :data:`KERNELS`.
     """
+    _check(kernels)
     N, b = M.n_blocks, M.block_size
     P = _padded(M)
     eye = jnp.eye(b, dtype=M.diag.dtype)
@@ -189,17 +203,25 @@ def lu_factor(M: BlockTridiagonal) -> BlockLU:
     def step(carry, k):
         row_k, row_k1 = carry  # current block row k in columns (k, k+1)
         panel = jnp.concatenate([row_k, P.lower[k]])
-        lu, _, perm = jax.lax.linalg.lu(panel)
+        if kernels == "jnp":
+            lu, perm = small.lu_pivoted(panel)
+        else:
+            lu, _, perm = jax.lax.linalg.lu(panel)
         l11 = jnp.tril(lu[:b], -1) + eye
         u11 = jnp.triu(lu[:b])
         l21 = lu[b:]
         right = jnp.block([[row_k1, jnp.zeros((b, b), lu.dtype)], [P.diag[k + 1], P.upper[k + 1]]])[perm]
-        u1 = solve_triangular(l11, right[:b], lower=True, unit_diagonal=True)
+        if kernels == "jnp":
+            l11inv = small.triangular_inverse(l11, lower=True, unit_diagonal=True)
+            u1 = l11inv @ right[:b]
+            uinv = small.triangular_inverse(u11, lower=False)
+        else:
+            u1 = solve_triangular(l11, right[:b], lower=True, unit_diagonal=True)
+            l11inv = solve_triangular(l11, eye, lower=True, unit_diagonal=True)
+            uinv = solve_triangular(u11, eye, lower=False)
         schur = right[b:] - l21 @ u1
-        l11inv = solve_triangular(l11, eye, lower=True, unit_diagonal=True)
         elim = jnp.block([[l11inv, jnp.zeros((b, b), lu.dtype)], [-l21 @ l11inv, eye]])
         fwd = elim[:, jnp.argsort(perm)]  # fwd @ v == elim @ v[perm]
-        uinv = solve_triangular(u11, eye, lower=False)
         u12, u13 = u1[:, :b], u1[:, b:]
         return (schur[:, :b], schur[:, b:]), (fwd, uinv, u12, u13, uinv @ u12, uinv @ u13)
 
@@ -241,16 +263,21 @@ class BlockCholesky(eqx.Module):
         return X.reshape(-1)
 
 
-def cholesky(M: BlockTridiagonal) -> BlockCholesky:
+def cholesky(M: BlockTridiagonal, kernels: str = "lapack") -> BlockCholesky:
     """Block Cholesky of a symmetric block-tridiagonal M (only ``diag`` and ``lower`` are
-    read). ``ok`` is False, without an error, when M is not positive definite."""
+    read). ``ok`` is False, without an error, when M is not positive definite.
+    ``kernels``: see :data:`KERNELS`."""
+    _check(kernels)
     N, b = M.n_blocks, M.block_size
     low = jnp.concatenate([M.lower, jnp.zeros((1, b, b), M.diag.dtype)])
     eye = jnp.eye(b, dtype=M.diag.dtype)
 
     def step(prev_lower, k):
-        c = jnp.linalg.cholesky(M.diag[k] - prev_lower @ prev_lower.T)
-        cinv = solve_triangular(c, eye, lower=True)
+        schur = M.diag[k] - prev_lower @ prev_lower.T
+        if kernels == "jnp":
+            cinv = small.triangular_inverse(small.cholesky_lower(schur), lower=True)
+        else:
+            cinv = solve_triangular(jnp.linalg.cholesky(schur), eye, lower=True)
         nxt = low[k] @ cinv.T  # block (k+1, k) = A_{k+1,k} C^{-T}
         return nxt, (cinv, nxt)
 

@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..fem import Profiles
-from .section import ActivePair, CrossSection, Link, Model, build_model
+from .section import DEFAULT_IMBALANCE_KIND, ActivePair, CrossSection, Link, Model, build_model
 
 
 def _ring(angles_deg: list[float], central: bool, rotation_deg: float = 0.0) -> np.ndarray:
@@ -100,13 +100,14 @@ PRESETS = tuple(SECTIONS)
 
 
 def _preset(name: str):
-    def make(n_elements: int = 10, profiles: Profiles = Profiles(), rotation_deg: float = 0.0) -> Model:
-        return build_model(SECTIONS[name](rotation_deg), n_elements, profiles)
+    def make(n_elements: int = 10, profiles: Profiles = Profiles(), rotation_deg: float = 0.0, imbalance_kind: str = DEFAULT_IMBALANCE_KIND) -> Model:
+        return build_model(SECTIONS[name](rotation_deg), n_elements, profiles, imbalance_kind)
 
     make.__name__ = name
     make.__doc__ = (
         f"The ``{name}`` preset of MODEL.md section 4 with ``n_elements`` elements per filament;\n"
-        "``rotation_deg`` turns its cross-section (degrees from +z towards +y, 3D presets only)."
+        "``rotation_deg`` turns its cross-section (degrees from +z towards +y, 3D presets only);\n"
+        "``imbalance_kind`` reads ``Params.imbalance`` as a static moment (default) or as unequal forces."
     )
     return make
 
@@ -119,7 +120,8 @@ seven = _preset("seven")
 nine = _preset("nine")
 
 
-def preset(name: str, n_elements: int = 10, profiles: Profiles = Profiles(), rotation_deg: float = 0.0) -> Model:
+def preset(name: str, n_elements: int = 10, profiles: Profiles = Profiles(), rotation_deg: float = 0.0,
+           imbalance_kind: str = DEFAULT_IMBALANCE_KIND) -> Model:
     """Build a preset by name; unknown names (or a rotation of a planar preset) raise a
     one-line ``ValueError``."""
     if name not in SECTIONS:
@@ -127,4 +129,4 @@ def preset(name: str, n_elements: int = 10, profiles: Profiles = Profiles(), rot
     rotation_deg = float(rotation_deg)
     if not np.isfinite(rotation_deg):
         raise ValueError(f"rotation_deg must be finite, got {rotation_deg!r}")
-    return build_model(SECTIONS[name](rotation_deg), n_elements, profiles)
+    return build_model(SECTIONS[name](rotation_deg), n_elements, profiles, imbalance_kind)

@@ -22,6 +22,11 @@ LinkKind = Literal["spoke", "link"]
 LoadKind = Literal["pairs", "distributed", "tip"]
 LOADS = ("pairs", "distributed", "tip")
 KINDS = ("spoke", "link")
+ImbalanceKind = Literal["moment", "force"]
+IMBALANCE_KINDS = ("moment", "force")
+DEFAULT_IMBALANCE_KIND: ImbalanceKind = "moment"
+"""The paper's reading (section 3.7.1: "a constant distributed moment"; MODEL.md
+section 3, asymmetric beats): fig. 12 is reproduced with it."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -41,7 +46,9 @@ class Link:
 class ActivePair:
     """Dynein between ``i`` (pulled baseward) and ``j`` (pulled tipward).
 
-    ``group`` 0 carries force p, group 1 carries p / imbalance (``Params.imbalance``).
+    ``group`` 0 carries force p, group 1 carries p / imbalance (``Params.imbalance``)
+    in the *force* reading of the imbalance; in the *moment* reading (the default) both
+    carry p and the imbalance is a static couple only (:attr:`Model.imbalance_kind`).
     """
 
     i: int
@@ -172,6 +179,14 @@ class Model:
         pair_follow: (P, n_fd, n_fd) the matrices (e_j - e_i)(e_i + e_j)^T / 2 (x) I_d.
         pair_sign: (P, n_fd) -1 at i, +1 at j in every direction (axial force sign).
         pair_group: (P,) 0 or 1.
+
+    Static choice:
+        imbalance_kind: how ``Params.imbalance`` R is read (MODEL.md section 3,
+            asymmetric beats). ``"moment"`` (default, the paper's reading): every active
+            pair carries p, so A and C are the balanced ones, and the static load b gains
+            the net couple of an R : 1 force ratio, p a0 (1 - 1/R) per unit length.
+            ``"force"``: group 1 carries p / R, which also changes A (K_G, P_follow,
+            P_gain); b is the same couple. Set with :meth:`with_imbalance_kind`.
     """
 
     section: CrossSection
@@ -187,6 +202,19 @@ class Model:
     pair_follow: np.ndarray
     pair_sign: np.ndarray
     pair_group: np.ndarray
+    imbalance_kind: ImbalanceKind = DEFAULT_IMBALANCE_KIND
+
+    def __post_init__(self) -> None:
+        if self.imbalance_kind not in IMBALANCE_KINDS:
+            raise ValueError(f"imbalance_kind must be one of {', '.join(IMBALANCE_KINDS)}, got {self.imbalance_kind!r}")
+
+    def with_imbalance_kind(self, kind: ImbalanceKind) -> "Model":
+        """The same model with the imbalance read as ``kind`` ("moment" or "force"); a
+        new object (models are static arguments hashed by identity), ``self`` when
+        unchanged."""
+        if kind == self.imbalance_kind:
+            return self
+        return dataclasses.replace(self, imbalance_kind=kind)
 
     @property
     def name(self) -> str:
@@ -216,12 +244,15 @@ class Model:
     def __repr__(self) -> str:
         return (
             f"Model({self.name!r}, filaments={self.n_filaments}, dirs={self.n_dirs}, "
-            f"elements={self.n_elements}, n_dof={self.n_dof}, load={self.section.load!r})"
+            f"elements={self.n_elements}, n_dof={self.n_dof}, load={self.section.load!r}"
+            + (f", imbalance_kind={self.imbalance_kind!r})" if self.imbalance_kind != DEFAULT_IMBALANCE_KIND else ")")
         )
 
 
-def build_model(section: CrossSection, n_elements: int = 10, profiles: Profiles = Profiles()) -> Model:
-    """Discretise ``section`` with ``n_elements`` cubic Hermite elements per filament."""
+def build_model(section: CrossSection, n_elements: int = 10, profiles: Profiles = Profiles(),
+                imbalance_kind: ImbalanceKind = DEFAULT_IMBALANCE_KIND) -> Model:
+    """Discretise ``section`` with ``n_elements`` cubic Hermite elements per filament
+    (``imbalance_kind``: see :class:`Model`)."""
     mesh = make_mesh(n_elements)
     mats = filament_matrices(mesh, profiles)
     F, d = section.n_filaments, section.n_dirs
@@ -271,4 +302,5 @@ def build_model(section: CrossSection, n_elements: int = 10, profiles: Profiles 
         pair_follow=np.array(pair_follow).reshape(P, nfd, nfd),
         pair_sign=np.array(pair_sign).reshape(P, nfd),
         pair_group=np.array([a.group for a in section.active_pairs], dtype=int),
+        imbalance_kind=imbalance_kind,
     )

@@ -1,9 +1,13 @@
 """Limit cycles as first-class objects: periodic orbits of the nonlinear beat computed
 directly (harmonic balance and Newton), their Floquet multipliers, derivatives by the
-implicit function theorem, and their branch in p from the Hopf point."""
+implicit function theorem, their branch in p from the Hopf point, their waveform
+measures (:mod:`axojax.orbits.measures`) and waveform targets for fits
+(:mod:`axojax.orbits.targets`)."""
 
+from ._solve import solve_jit
 from .cycle import LimitCycle
 from .limit_cycle import limit_cycle
+from .measures import CycleMeasures, cycle_measures
 from .solvers import HarmonicBalance, OrbitSolver
 
-__all__ = ["HarmonicBalance", "LimitCycle", "OrbitSolver", "limit_cycle"]
+__all__ = ["CycleMeasures", "HarmonicBalance", "LimitCycle", "OrbitSolver", "cycle_measures", "limit_cycle", "solve_jit"]

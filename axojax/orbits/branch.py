@@ -31,7 +31,7 @@ from ..units import Units
 from .cycle import LimitCycle
 from .fourier import Problem
 from .guess import equilibrium
-from .limit_cycle import _impl_jit
+from ._solve import solve_jit
 from .solvers import OrbitSolver
 
 
@@ -75,7 +75,7 @@ def hopf_point(model: Model, params: Params, kappa: float, *, rtol: float = 1e-1
 
 
 def _solve(model, params, kappa, solver, start):
-    return _impl_jit(model, params, jnp.asarray(kappa, float), solver, start)
+    return solve_jit(model, params, jnp.asarray(kappa, float), solver, start)
 
 
 def _predict(prev: LimitCycle, prev2: LimitCycle | None, p_prev: float, p_prev2: float | None, p: float) -> LimitCycle:
@@ -203,7 +203,7 @@ def branch(model: Model, params: Params, kappa: float, p_values: Sequence[float]
     cycles = continue_to(model, params, kappa, solver, p_values, p_hopf=p_h, callback=callback)
     reports = [None if c is None else {"p": float(p), **c.report(units)} for p, c in zip(p_values, cycles)]
     meta = {
-        "model": model.name, "n_elements": model.n_elements, "cubic": float(kappa),
+        "model": model.name, "n_elements": model.n_elements, "imbalance_kind": model.imbalance_kind, "cubic": float(kappa),
         "params": {k: float(v) for k, v in params.as_dict().items() if k != "p"},
         "units": {"length_um": units.length_um, "ei_pn_um2": units.ei_pn_um2, "cn_pn_s_um2": units.cn_pn_s_um2, "tau_s": units.tau_s},
         "solver": repr(solver),

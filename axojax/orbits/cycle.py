@@ -13,6 +13,7 @@ from jaxtyping import Array, Complex, Float
 
 from ..eigen.metrics import wavenumber
 from ..models.section import Model
+from ..results import RESULTS
 from ..units import Units
 from ..waveform import FourierModes
 from ..waveform.shapes import centreline
@@ -43,6 +44,9 @@ class LimitCycle(eqx.Module):
         linear_eigenvalue: dominant eigenvalue of the equilibrium the orbit surrounds (bent
             by the static moment b where b != 0) at these parameters.
         phase_ref: (n,) the phase condition ``phase_ref . b_1 = 0``.
+        result: :class:`axojax.results.RESULTS` item: ``successful``, ``no_start``
+            (no start: ``started`` False) or ``nonlinear_max_steps_reached`` (Newton did
+            not converge).
     """
 
     model: Model = eqx.field(static=True)
@@ -58,6 +62,7 @@ class LimitCycle(eqx.Module):
     correction: Array
     linear_eigenvalue: Complex[Array, ""]
     phase_ref: Float[Array, " n"]
+    result: RESULTS = eqx.field(default_factory=lambda: RESULTS.successful)
 
     # -- physical units -------------------------------------------------------------
     @property

@@ -4,20 +4,13 @@ from __future__ import annotations
 
 import math
 
-import jax
-
 from ..dynamics.simulate import DEFAULT_CUBIC
 from ..models.section import Model
 from ..params import Params
+from ._solve import solve_jit
+from .branch import continue_to
 from .cycle import LimitCycle
 from .solvers import HarmonicBalance, OrbitSolver
-
-
-def _impl(model: Model, params: Params, kappa, solver: OrbitSolver, start: LimitCycle | None = None) -> LimitCycle:
-    return solver.solve(model, params, kappa, start)
-
-
-_impl_jit = jax.jit(_impl, static_argnums=(0, 3))
 
 
 def limit_cycle(
@@ -59,11 +52,9 @@ def limit_cycle(
         raise ValueError(f"model {model.name!r} has no links: the cubic link force cannot bound a beat (limit cycles need links)")
     if not isinstance(solver, OrbitSolver):
         raise ValueError(f"solver must be an axojax.orbits solver (e.g. HarmonicBalance()), got {solver!r}")
-    cycle = _impl_jit(model, params, kappa, solver, start)
+    cycle = solve_jit(model, params, kappa, solver, start)
     if not bool(cycle.converged) and start is None and complex(cycle.linear_eigenvalue).real > 0:
         # Far from the Hopf point the normal form is no start: continue from it instead.
-        from .branch import continue_to
-
         try:
             found = continue_to(model, params, kappa, solver, [float(params.p)])[0]
         except ValueError:

@@ -23,6 +23,7 @@ import jax.numpy as jnp
 from ..assembly import assemble
 from ..models.section import Model
 from ..params import Params
+from ..results import RESULTS
 from .cycle import LimitCycle, measures
 from .floquet import floquet_multipliers
 from .fourier import Problem, pad
@@ -104,6 +105,7 @@ class HarmonicBalance(OrbitSolver):
             model=model, coefficients=X, omega=omega, amplitude=amplitude, beat_angle=angle, wavenumber=k,
             floquet=rho, converged=info[0] > 0.5, started=jnp.all(jnp.isfinite(x0)), steps=info[1].astype(int), correction=info[2],
             linear_eigenvalue=lam, phase_ref=ref,
+            result=RESULTS.where(info[0] > 0.5, RESULTS.successful, RESULTS.where(jnp.all(jnp.isfinite(x0)), RESULTS.nonlinear_max_steps_reached, RESULTS.no_start)),
         )
 
 

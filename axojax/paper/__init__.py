@@ -12,6 +12,7 @@ In Python::
 Modules: :mod:`~axojax.paper.claims` (the paper's numbers, as data),
 :mod:`~axojax.paper.modes` (dominant-mode rows and elasticities),
 :mod:`~axojax.paper.survey` (map rows), :mod:`~axojax.paper.beat` (the time-domain rows),
+:mod:`~axojax.paper.inferred` (inferred parameter sets and their rows),
 :mod:`~axojax.paper.table` (markdown and files).
 """
 
@@ -23,6 +24,7 @@ from typing import Sequence
 from ..units import Units
 from .beat import FAST, FULL, BeatRun, BeatSettings, beat_measures, beat_rows, run_beat
 from .claims import CLAIMS, GROUPS, TOLERANCE, Claim, Row
+from .inferred import INFERRED, Inferred, inferred_json, inferred_rows
 from .modes import ELASTICITIES, evaluate, mode_rows
 from .survey import ks_scan, map_sweep, survey_rows
 from .table import group_table, markdown, replace_block, write
@@ -40,8 +42,8 @@ def compute_rows(
     """axojax's row for every claim, in ``claims`` order.
 
     Args:
-        beat: also run the time-domain rows (minutes at :data:`FULL`); without it they
-            are left out.
+        beat: also run the time-domain rows (minutes at :data:`FULL`) and the limit-cycle
+            rows with inferred parameters (seconds); without it they are left out.
         settings: how the beat is simulated (:data:`FULL` or :data:`FAST`).
         saved_beat: ``.npz`` path where the beat is saved, and reused from when it
             matches (:func:`run_beat`).
@@ -49,12 +51,13 @@ def compute_rows(
     rows = mode_rows(claims, scan=ks_scan, units=units) + survey_rows(claims)
     if beat:
         rows += beat_rows(claims, settings, units, progress, saved_beat)
+        rows += inferred_rows(claims, units)
     order = {c.key: k for k, c in enumerate(claims)}
     return sorted(rows, key=lambda r: order[r.claim.key])
 
 
 __all__ = [
-    "BeatRun", "BeatSettings", "CLAIMS", "Claim", "ELASTICITIES", "FAST", "FULL", "GROUPS", "Row", "TOLERANCE",
-    "beat_measures", "beat_rows", "compute_rows", "evaluate", "group_table", "ks_scan", "map_sweep",
+    "BeatRun", "BeatSettings", "CLAIMS", "Claim", "ELASTICITIES", "FAST", "FULL", "GROUPS", "INFERRED", "Inferred", "Row", "TOLERANCE",
+    "beat_measures", "beat_rows", "compute_rows", "evaluate", "group_table", "inferred_json", "inferred_rows", "ks_scan", "map_sweep",
     "markdown", "mode_rows", "replace_block", "run_beat", "survey_rows", "write",
 ]

@@ -1,4 +1,6 @@
-"""``python -m axojax.paper [--write] [--fast | --no-beat]``: the paper-vs-axojax table.
+"""``python -m axojax.paper [--write] [--fast | --no-beat]``: the paper-vs-axojax table;
+``python -m axojax.paper --inferred [--json]``: the parameters axojax infers for figures
+whose parameters the paper leaves unstated (:mod:`axojax.paper.inferred`).
 
 Prints the markdown on stdout; ``--write`` rewrites README.md's block and
 docs/paper_table.md instead (the full computation only: the time-domain rows take minutes).
@@ -26,7 +28,26 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--beat-npz", default=None, metavar="PATH", help="save the simulated beat here, and reuse it when its settings match")
     parser.add_argument("--readme", default=str(ROOT / "README.md"), metavar="PATH", help="README to update (default: the repository's)")
     parser.add_argument("--docs", default=str(ROOT / "docs" / "paper_table.md"), metavar="PATH", help="documentation page to write")
+    parser.add_argument("--inferred", action="store_true", help="print the inferred parameter sets (fig. 12) instead of the table")
+    parser.add_argument("--json", action="store_true", help="with --inferred: one JSON document on stdout")
     args = parser.parse_args(argv)
+    if args.inferred:
+        import json
+
+        from .inferred import inferred_json
+
+        doc = inferred_json()
+        if args.json:
+            json.dump(doc, sys.stdout, indent=2)
+            sys.stdout.write("\n")
+        else:
+            for fig, entry in doc.items():
+                print(f"{fig}: {entry['model']}, " + ", ".join(f"{k} = {v:.6g}" for k, v in entry["params"].items())
+                      + "".join(f", {k} = {entry[k]}" for k in ("imbalance", "imbalance_kind", "cubic", "elements") if k in entry))
+        return 0
+    if args.json:
+        print("python -m axojax.paper: error: --json goes with --inferred", file=sys.stderr)
+        return 2
     if args.write and (args.fast or args.no_beat):
         print("python -m axojax.paper: error: --write needs the full computation (drop --fast/--no-beat)", file=sys.stderr)
         return 2

@@ -38,6 +38,8 @@ class BeatSettings:
         t_end_s: simulated time (s).
         p_factor: p as a multiple of the Hopf point p_c of the imbalanced model.
         imbalance: force ratio of the two dynein groups (paper: about 5).
+        imbalance_kind: its reading, ``"moment"`` (the paper's: a static couple, forces
+            balanced) or ``"force"`` (group 1 carries p / imbalance); MODEL.md section 3.
         cubic: link stiffening kappa (1/L^2).
         perturbation_um: initial tip displacement (um).
     """
@@ -46,12 +48,13 @@ class BeatSettings:
     t_end_s: float = 0.6
     p_factor: float = 1.04
     imbalance: float = 5.0
+    imbalance_kind: str = "moment"
     cubic: float = DEFAULT_CUBIC
     perturbation_um: float = 3.0
 
     def describe(self, units: Units = Units()) -> str:
         return (
-            f"here p = {self.p_factor:g} p_c of the {self.imbalance:g}:1 model, a0 = {Params().a0 * units.length_um:g} um, "
+            f"here p = {self.p_factor:g} p_c of the {self.imbalance:g}:1 model ({self.imbalance_kind} reading), a0 = {Params().a0 * units.length_um:g} um, "
             f"cubic {self.cubic:g}, N_e = {self.n_elements}, {self.t_end_s:g} s"
         )
 
@@ -84,7 +87,7 @@ def run_beat(settings: BeatSettings = FULL, units: Units = Units(), progress: bo
     nonlinearity and duration is reused instead of simulated again, and a new one is saved
     there.
     """
-    model = preset_model("seven", settings.n_elements)
+    model = preset_model("seven", settings.n_elements).with_imbalance_kind(settings.imbalance_kind)
     base = Params(imbalance=settings.imbalance)
     crit = critical_force(model, base)
     p_c = float(crit.p)
@@ -105,6 +108,7 @@ def _load_matching(path: str | pathlib.Path, n_elements: int, params: Params, se
     m = sim.meta
     same = (
         m["model"] == "seven" and m["n_elements"] == n_elements and m["cubic"] == settings.cubic
+        and m.get("imbalance_kind", "force") == settings.imbalance_kind
         and m["t_end_s"] == settings.t_end_s and m["perturbation_um"] == settings.perturbation_um
         and all(np.isclose(m["params"][k], float(v), rtol=1e-9, atol=0.0) for k, v in params.as_dict().items())
     )
@@ -148,7 +152,7 @@ def beat_rows(claims: Sequence[Claim], settings: BeatSettings = FULL, units: Uni
         return []
     run = run_beat(settings, units, progress, saved)
     m = beat_measures(run.sim)
-    linear = evaluate(preset_model("seven", settings.n_elements), [run.params], units=units)
+    linear = evaluate(preset_model("seven", settings.n_elements).with_imbalance_kind(settings.imbalance_kind), [run.params], units=units)
     context = settings.describe(units)
     rows = []
     for c in claims:
@@ -170,7 +174,7 @@ def beat_rows(claims: Sequence[Claim], settings: BeatSettings = FULL, units: Uni
         if c.quantity == "wavelength_um":
             span = m["phase_span_rad"]
             note.append(
-                f"a near-standing wave: the phase of u_1 turns only {span:.1f} rad along the cilium, running "
+                ("a near-standing wave: " if span < np.pi else "") + f"the phase of u_1 turns {span:.1f} rad along the cilium, running "
                 f"{'base to tip' if m['direction'] > 0 else 'tip to base'} (L 2 pi / {span:.1f} = {units.length_um * 2 * np.pi / span:.1f} um)"
             )
         if c.quantity in ("dynamic_amplitude_rad", "static_curvature_rad_per_um"):

@@ -13,7 +13,7 @@ import dataclasses
 import math
 from typing import Literal, Mapping
 
-Kind = Literal["mode", "survey", "beat"]
+Kind = Literal["mode", "survey", "beat", "inferred"]
 Bound = Literal["value", "range", "below"]
 
 GROUPS = {
@@ -53,7 +53,8 @@ class Claim:
         paper: the stated value, or (low, high) for ``bound="range"``, or the upper bound
             for ``bound="below"``.
         kind: ``"mode"`` (dominant eigenmode at one point), ``"survey"`` (over a map of
-            points), ``"beat"`` (time-domain simulation).
+            points), ``"beat"`` (time-domain simulation), ``"inferred"`` (the limit cycle at
+            the parameters axojax infers for the figure, :mod:`axojax.paper.inferred`).
         bound: ``"value"``, ``"range"`` or ``"below"``.
         unstated: what the paper leaves unstated, and the choice axojax makes for it.
     """
@@ -78,6 +79,7 @@ class Claim:
 _KS_UNSTATED = "k_s not stated (asterisks of fig. 8d)"
 _MAP_UNSTATED = "the map's grid is not stated"
 _BEAT_UNSTATED = "p, dynein arm spacing and nonlinearity not stated"
+_INFERRED = "with inferred parameters"
 
 CLAIMS: tuple[Claim, ...] = (
     Claim("7a", "fig. 7", "fig. 7a", "one filament, p = 300", "single", {"p": 300.0}, "frequency_hz", 347.0),
@@ -96,6 +98,10 @@ CLAIMS: tuple[Claim, ...] = (
     Claim("12c", "fig. 12", "sec. 3.7.1, fig. 12b", "asymmetric beat (5:1): wavelength", "seven", {"imbalance": 5.0}, "wavelength_um", 17.0, "beat", unstated=_BEAT_UNSTATED),
     Claim("12d", "fig. 12", "sec. 3.7.1, fig. 12b", "asymmetric beat (5:1): dynamic amplitude", "seven", {"imbalance": 5.0}, "dynamic_amplitude_rad", 0.71, "beat", unstated=_BEAT_UNSTATED),
     Claim("12e", "fig. 12", "sec. 3.7.1, fig. 12b", "asymmetric beat (5:1): static curvature", "seven", {"imbalance": 5.0}, "static_curvature_rad_per_um", -0.044, "beat", unstated=_BEAT_UNSTATED),
+    Claim("12f", "fig. 12", "sec. 3.7.1, fig. 12b", f"asymmetric beat (5:1) {_INFERRED}: frequency", "seven", {"imbalance": 5.0}, "frequency_hz", 17.0, "inferred", unstated=_BEAT_UNSTATED),
+    Claim("12g", "fig. 12", "sec. 3.7.1, fig. 12b", f"asymmetric beat (5:1) {_INFERRED}: wavelength", "seven", {"imbalance": 5.0}, "wavelength_um", 17.0, "inferred", unstated=_BEAT_UNSTATED),
+    Claim("12h", "fig. 12", "sec. 3.7.1, fig. 12b", f"asymmetric beat (5:1) {_INFERRED}: dynamic amplitude", "seven", {"imbalance": 5.0}, "dynamic_amplitude_rad", 0.71, "inferred", unstated=_BEAT_UNSTATED),
+    Claim("12i", "fig. 12", "sec. 3.7.1, fig. 12b", f"asymmetric beat (5:1) {_INFERRED}: static curvature", "seven", {"imbalance": 5.0}, "static_curvature_rad_per_um", -0.044, "inferred", unstated=_BEAT_UNSTATED),
 )
 
 ELASTICITIES = ("p", "ks", "kl", "follower")

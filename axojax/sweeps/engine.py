@@ -10,8 +10,13 @@ points. Memory is bounded by the chunk; a chunk is padded to a multiple of the d
 count.
 
 With ``out=FILE.npz`` each finished chunk is written to ``FILE.npz.parts/``; an
-interrupted sweep rerun with the same arguments recomputes only the missing chunks,
-then writes ``FILE.npz`` and removes the parts. The chunk layout depends only on the
+interrupted sweep rerun with the same arguments recomputes only the missing chunks
+(and any chunk file it cannot read whole: a damaged or foreign file is recomputed, not
+trusted), then writes ``FILE.npz`` and removes the parts. Every file is written under a
+per-process temporary name and renamed (:mod:`axojax._io`), so a killed sweep leaves
+complete chunks only. A second sweep started on the same ``FILE.npz`` while one runs
+stops at once with :class:`axojax._io.OutputBusy` (a lock file ``FILE.npz.lock`` held
+by the first; the kernel releases it when that process ends, however it ends). The chunk layout depends only on the
 grid and ``chunk_size`` (not on the devices), so a sweep may be resumed on another
 machine or with another number of processes.
 
@@ -23,11 +28,14 @@ the same ``sweep`` call; process i of n computes chunks i, i + n, ... into the s
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import hashlib
 import json
 import pathlib
 import shutil
+import zipfile
+from collections.abc import Callable
 from typing import Any, Mapping
 
 import jax
@@ -36,7 +44,8 @@ import numpy as np
 from jax.sharding import Mesh, NamedSharding, PartitionSpec
 from tqdm.auto import tqdm
 
-from ..eigen.mode import DEFAULT_SOLVER, _dominant_mode_impl
+from .. import _io
+from ..eigen.mode import DEFAULT_SOLVER, dominant_mode_impl
 from ..eigen.solvers import EigenSolver
 from ..models.section import Model
 from ..params import PARAM_NAMES, Params
@@ -46,7 +55,7 @@ from .result import METRICS, SweepResult
 
 
 def _metrics(model: Model, params: Params, units: Units, solver: EigenSolver) -> dict[str, jax.Array]:
-    mode = _dominant_mode_impl(model, params, solver)
+    mode = dominant_mode_impl(model, params, solver)
     osc = mode.direction != 0
     nan = jnp.nan
     return {
@@ -71,7 +80,9 @@ def _compiled(model: Model, names: tuple[str, ...], tie: bool, units: Units, n_d
     TPUs), the devices in parallel (``shard_map`` over this process's first ``n_dev``
     local devices)."""
 
-    loop = jax.local_devices()[0].platform == "cpu"
+    # A solver with a batched path (ax.eigen.Arnoldi(batched=True): plain jnp block
+    # kernels) is vmapped on every platform.
+    loop = jax.local_devices()[0].platform == "cpu" and not getattr(getattr(solver, "options", None), "batched", False)
 
     def batched(params, ratio, rows):
         def one(row):
@@ -126,6 +137,7 @@ def sweep(
     progress: bool | None = None,
     devices: int | None = None,
     solver: EigenSolver = DEFAULT_SOLVER,
+    log: Callable[[str], None] | None = None,
 ) -> SweepResult:
     """Evaluate the dominant mode on the outer-product grid of ``axes``.
 
@@ -146,6 +158,11 @@ def sweep(
         solver: dominant-eigenpair solver (:mod:`axojax.eigen.solvers`); the result's
             ``certified`` array marks the points a structured solver certified (the
             others were recomputed densely) and ``meta["solver"]`` counts them.
+        log: called with one line when the sweep resumes from (or recomputes damaged)
+            chunks of an earlier run.
+
+    Raises:
+        axojax._io.OutputBusy: another process is sweeping into the same ``out``.
 
     Returns:
         :class:`SweepResult` with arrays of shape ``[len(v) for v in axes.values()]``
@@ -183,16 +200,41 @@ def sweep(
     padded = int(np.ceil(chunk / n_dev) * n_dev)
 
     parts = None
+    lock = contextlib.nullcontext()
     if out is not None:
         out = pathlib.Path(out)
         parts = out.with_name(out.name + ".parts")
+        if share.leader:
+            lock = _io.exclusive(out.with_name(out.name + ".lock"), str(out))
+    with lock:
+        results = _run_chunks(model, params, names, kl_ratio, units, n_dev, solver, grid, chunk, n_chunks, padded, share, parts, coords, progress, log)
+        return _merge(results, n_chunks, shape, coords, model, params, names, kl_ratio, units, solver, share, out, parts)
+
+
+def _read_chunk(path: pathlib.Path) -> dict[str, np.ndarray] | None:
+    """A chunk file's arrays, or None when it is damaged, truncated or not a chunk."""
+    try:
+        with np.load(path, allow_pickle=False) as f:
+            return {k: np.asarray(f[k]) for k in METRICS}
+    except (OSError, EOFError, KeyError, ValueError, zipfile.BadZipFile):
+        return None
+
+
+def _run_chunks(model, params, names, kl_ratio, units, n_dev, solver, grid, chunk, n_chunks, padded, share, parts, coords, progress, log):
+    """This process's chunks: read the finished ones, compute the others (each written
+    to ``parts`` whole, under a unique temporary name, when ``parts`` is set)."""
+    if parts is not None:
         key = _fingerprint(model, params, coords, kl_ratio, units, chunk, solver)
         manifest = parts / "manifest.json"
         if share.leader:
-            if parts.exists() and (not manifest.exists() or json.loads(manifest.read_text()).get("key") != key):
+            try:
+                old = json.loads(manifest.read_text()).get("key") if manifest.exists() else None
+            except (OSError, ValueError, AttributeError):
+                old = None
+            if parts.exists() and old != key:
                 shutil.rmtree(parts)  # left by a different sweep: start again
             parts.mkdir(parents=True, exist_ok=True)
-            manifest.write_text(json.dumps({"key": key, "n_chunks": n_chunks, "processes": share.count}))
+            _io.write_text(manifest, json.dumps({"key": key, "n_chunks": n_chunks, "processes": share.count}))
         barrier(share, "prepared")
         if not share.leader and json.loads(manifest.read_text()).get("key") != key:
             raise ValueError(f"process {share.index}: this sweep's arguments differ from process 0's (fingerprint of {manifest})")
@@ -203,10 +245,16 @@ def sweep(
     evaluate = None
     results: dict[int, dict[str, np.ndarray]] = {}
     mine = [c for c in range(n_chunks) if share.owns(c)]
+    resumed = damaged = 0
     for c in tqdm(mine, desc=f"sweep {model.name}", unit="chunk", disable=(None if progress is None else not progress)):
         part = part_path(c)
         if part is not None and part.exists():
-            continue  # resumed: loaded below
+            vals = _read_chunk(part)
+            if vals is not None and all(v.shape[0] == min(chunk, grid.shape[0] - c * chunk) for v in vals.values()):
+                results[c] = vals
+                resumed += 1
+                continue
+            damaged += 1  # recomputed below and written again
         rows = grid[c * chunk : (c + 1) * chunk]
         n = rows.shape[0]
         if n < padded:
@@ -215,18 +263,24 @@ def sweep(
             evaluate = _evaluator(model, params, names, kl_ratio, units, n_dev, solver)
         vals = {k: np.asarray(v)[:n] for k, v in evaluate(jnp.asarray(rows)).items()}
         if part is not None:
-            tmp = part.with_name(part.name + f".tmp{share.index}.npz")
-            np.savez(tmp, **vals)
-            tmp.replace(part)
+            with _io.atomic_path(part) as tmp:
+                np.savez(tmp, **vals)
         results[c] = vals
+    if log is not None and (resumed or damaged):
+        log(f"resumed {parts}: {resumed} of {len(mine)} chunks were done" + (f", {damaged} damaged chunk file(s) recomputed" if damaged else ""))
 
     if parts is not None:
         wait_for_files([part_path(c) for c in range(n_chunks)])  # the other processes' chunks
         for c in range(n_chunks):
             if c not in results:
-                with np.load(part_path(c)) as f:
-                    results[c] = {k: f[k] for k in METRICS}
+                vals = _read_chunk(part_path(c))
+                if vals is None:
+                    raise ValueError(f"chunk file {part_path(c)} written by another process cannot be read; rerun the sweep to recompute it")
+                results[c] = vals
+    return results
 
+
+def _merge(results, n_chunks, shape, coords, model, params, names, kl_ratio, units, solver, share, out, parts) -> SweepResult:
     data = {k: np.concatenate([results[c][k] for c in range(n_chunks)]).reshape(shape) for k in METRICS}
     fixed = {k: np.asarray(getattr(params, k)).tolist() for k in PARAM_NAMES if k not in names}
     if kl_ratio is not None:

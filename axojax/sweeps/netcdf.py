@@ -78,7 +78,7 @@ def to_xarray(result: "SweepResult") -> "xarray.Dataset":
 def to_netcdf(result: "SweepResult", path: str | pathlib.Path) -> None:
     """Write the sweep to a NetCDF file (xarray picks the engine: netCDF4, h5netcdf, or
     scipy's NetCDF3 writer, which the ``netcdf`` extra installs)."""
-    path = pathlib.Path(path)
-    tmp = path.with_name(path.name + ".tmp")
-    to_xarray(result).to_netcdf(tmp)
-    tmp.replace(path)
+    from .._io import atomic_path
+
+    with atomic_path(path) as tmp:
+        to_xarray(result).to_netcdf(tmp)

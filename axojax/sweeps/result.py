@@ -15,6 +15,8 @@ from typing import Any
 
 import numpy as np
 
+from .. import _io
+
 METRICS = (
     "eigenvalue_real",
     "eigenvalue_imag",
@@ -49,9 +51,8 @@ class SweepResult:
         path = pathlib.Path(path)
         arrays = {**{k: np.asarray(v) for k, v in self.coords.items()}, **self.data}
         arrays["meta"] = np.array(json.dumps(self.meta))
-        tmp = path.with_name(path.name + ".tmp.npz")
-        np.savez(tmp, **arrays)
-        tmp.replace(path)
+        with _io.atomic_path(path) as tmp:
+            np.savez(tmp, **arrays)
 
     def to_xarray(self):
         """The sweep as an ``xarray.Dataset`` (needs ``axojax[netcdf]``; see

@@ -1,0 +1,20 @@
+"""The jitted orbit solve shared by :func:`axojax.limit_cycle` and the branch
+continuation (:mod:`axojax.orbits.branch`): one compiled program per (model, solver)."""
+
+from __future__ import annotations
+
+import jax
+
+from ..models.section import Model
+from ..params import Params
+from .cycle import LimitCycle
+from .solvers import OrbitSolver
+
+
+def _solve(model: Model, params: Params, kappa, solver: OrbitSolver, start: LimitCycle | None = None) -> LimitCycle:
+    return solver.solve(model, params, kappa, start)
+
+
+solve_jit = jax.jit(_solve, static_argnums=(0, 3))
+"""``solve_jit(model, params, kappa, solver, start)``: ``solver.solve`` compiled, model and
+solver static."""

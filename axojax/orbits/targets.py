@@ -1,0 +1,135 @@
+"""Limit-cycle waveform targets: normalised residuals of a whole observed beat against
+the nonlinear orbit, for least squares and posteriors.
+
+An observed beat (``axojax data``, or :class:`axojax.fitting.targets.ShapeTarget` with
+``psi0``) gives psi_0(s) and psi_1(s) in absolute amplitude (rad) and scalar measures
+(:class:`CycleTarget`: frequency, static curvature, dynamic amplitude, wavelength, tip
+amplitude, out-of-plane measure). :func:`waveform_residuals` solves the orbit at the
+parameters (warm-started from ``start``, a nearby orbit: a fit passes the previous
+iterate's orbit, so each evaluation costs a few Newton steps) and returns::
+
+    [(psi0_model - psi0_obs) / sigma,                            (S,)   when psi0 is given
+     Re, Im of (e^{i phi} psi1_model - psi1_obs) / sigma,       (2 S,) when psi1 is given
+     (measure_model - value) / sigma for each scalar target]
+
+with ``e^{i phi}`` the best unit phase factor (the orbit's time origin is arbitrary; its
+amplitude is not, unlike a linear mode's). Pure and differentiable in ``params`` and
+``kappa`` (the orbit by the implicit function theorem, :mod:`axojax.orbits.newton`):
+``jax.jacfwd`` of it is the Jacobian a Levenberg-Marquardt step needs.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Sequence
+
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Float
+
+from ..fitting.targets import ShapeTarget, Target
+from ..models.section import Model
+from ..params import Params
+from ..units import Units
+from .cycle import LimitCycle
+from .measures import CycleMeasures, cycle_measures
+from .solvers import HarmonicBalance, OrbitSolver
+
+CYCLE_TARGETS = CycleMeasures.SCALARS
+ALIASES = {"amplitude_um": "tip_amplitude_um"}
+"""Names of :data:`axojax.fitting.targets.CYCLE_SCALARS` that differ from the measures'."""
+
+
+@dataclasses.dataclass(frozen=True)
+class CycleTarget:
+    """A scalar measure of the limit cycle (a name of :data:`CYCLE_TARGETS`, physical
+    units) observed as ``value +- sigma``."""
+
+    name: str
+    value: float
+    sigma: float
+
+    def __post_init__(self) -> None:
+        name = ALIASES.get(self.name, self.name)
+        object.__setattr__(self, "name", name)
+        if name not in CYCLE_TARGETS:
+            raise ValueError(f"unknown limit-cycle target {self.name!r}; choose from {', '.join(CYCLE_TARGETS)}")
+        if not math.isfinite(self.value):
+            raise ValueError(f"target {self.name} must be finite, got {self.value!r}")
+        if not (math.isfinite(self.sigma) and self.sigma > 0):
+            raise ValueError(f"uncertainty of target {self.name} must be > 0, got {self.sigma!r}")
+
+    @classmethod
+    def of(cls, target: CycleTarget | Target) -> CycleTarget:
+        """A :class:`CycleTarget` from itself or from a fitting ``Target`` with
+        ``source="limit_cycle"``."""
+        if isinstance(target, CycleTarget):
+            return target
+        if isinstance(target, Target) and target.source == "limit_cycle":
+            return cls(target.name, target.value, target.sigma)
+        raise ValueError(f"not a limit-cycle target: {target!r}")
+
+
+def shape_residuals(measures: CycleMeasures, shape: ShapeTarget) -> Float[Array, " r"]:
+    """psi_0 (when observed) and psi_1 residuals of ``measures`` (taken at ``shape.s_um``)."""
+    sigma = jnp.asarray(shape.sigma, dtype=float)
+    out = []
+    if shape.psi0 is not None:
+        out.append((measures.psi0 - jnp.asarray(shape.psi0, dtype=float)) / sigma)
+    obs = jnp.asarray(shape.psi1, dtype=complex)
+    w = 1.0 / sigma**2 * jnp.ones(obs.shape)
+    z = jnp.sum(w * jnp.conj(measures.psi1) * obs)
+    phase = z / jnp.maximum(jnp.abs(z), 1e-300)  # best unit factor: the orbit's time origin is arbitrary
+    d = (phase * measures.psi1 - obs) / sigma
+    out += [jnp.real(d), jnp.imag(d)]
+    return jnp.concatenate(out)
+
+
+def scalar_residuals(measures: CycleMeasures, scalars: Sequence[CycleTarget | Target]) -> Float[Array, " k"]:
+    """(measure - value) / sigma for each scalar target."""
+    ts = [CycleTarget.of(t) for t in scalars]
+    if not ts:
+        return jnp.zeros(0)
+    return jnp.stack([(getattr(measures, t.name) - t.value) / t.sigma for t in ts])
+
+
+def waveform_residuals(
+    model: Model,
+    params: Params,
+    kappa: Float[Array, ""] | float,
+    *,
+    shape: ShapeTarget | None = None,
+    scalars: Sequence[CycleTarget | Target] = (),
+    solver: OrbitSolver = HarmonicBalance(floquet=0),
+    start: LimitCycle | None = None,
+    units: Units = Units(),
+) -> Float[Array, " r"]:
+    """Normalised residuals of the limit cycle at (``params``, ``kappa``) against an
+    observed waveform (see the module docstring).
+
+    Args:
+        model: static; its ``imbalance_kind`` says how ``params.imbalance`` is read.
+        params: dimensionless parameters (may be traced: p, a0, imbalance, cubic... free).
+        kappa: cubic link stiffening (1/L^2), may be traced.
+        shape: observed psi_1 (and psi_0) at ``shape.s_um`` (um), absolute amplitude.
+        scalars: scalar targets (:class:`CycleTarget`, or fitting ``Target`` with
+            ``source="limit_cycle"``).
+        solver: the orbit solver (``floquet=0``: fits need no multipliers).
+        start: a nearby orbit (warm start; e.g. the previous iterate's); None starts
+            from the Hopf normal form.
+        units: physical units.
+
+    Returns:
+        (r,) residuals; where Newton fails they are those of the solver's finite
+        stand-in (with zero derivative), so a fit can step back.
+    """
+    cyc = solver.solve(model, params, kappa, start)
+    parts = []
+    if shape is not None:
+        parts.append(shape_residuals(cycle_measures(cyc, np.asarray(shape.s_um, dtype=float), units), shape))
+    if scalars:
+        parts.append(scalar_residuals(cycle_measures(cyc, None, units), scalars))
+    if not parts:
+        raise ValueError("waveform_residuals needs a shape or at least one scalar target")
+    return jnp.concatenate(parts)

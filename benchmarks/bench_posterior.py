@@ -1,0 +1,96 @@
+"""Speed of a NUTS posterior (issue 20's target: under 5 minutes on 2 cores).
+
+A 3-parameter posterior (p, ks, kl) of the seven-filament model (10 elements) from
+synthetic frequency, wavelength and psi_1(s) targets made from a known truth (the paper's
+fig. 7 point) with noise; 4 chains x 1000 draws after 500 warm-up steps each. Prints the
+total time (and its parts), the gradients spent, the time per gradient and per effective
+sample, and, as a load-independent ratio, the time per gradient inside the sampler over
+one jitted value-and-gradient call of the same log density timed here; then the
+posterior summary (truth, 90 % interval, R-hat, ESS).
+
+    python benchmarks/bench_posterior.py [--draws 1000] [--chains 4] [--warmup 500]
+        [--elements 10] [--solver arnoldi|dense|auto] [--sequential]
+"""
+
+import axojax as ax  # first: it sets the XLA flags before jax starts
+import argparse
+import os
+import time
+import warnings
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from axojax.fitting import ShapeTarget, Target
+from axojax.fitting.targets import model_psi1
+from axojax.inverse import Condition, Problem, posterior
+
+TRUTH = {"p": 300.0, "ks": 1e6, "kl": 1e3}
+BOUNDS = {"p": (50.0, 3000.0), "ks": (1e3, 1e9), "kl": (1e0, 1e6)}
+LENGTH_UM = 12.0
+
+
+def problem(n_elements: int, solver) -> Problem:
+    model = ax.models.seven(n_elements=n_elements)
+    truth = ax.Params().with_values(TRUTH)
+    mode = ax.dominant_mode(model, truth)
+    f, lam = float(mode.frequency_hz()), float(mode.wavelength_um())
+    rng = np.random.default_rng(0)
+    s_um = np.linspace(0.0, LENGTH_UM, 25)
+    psi1 = np.asarray(model_psi1(model, mode, s_um / LENGTH_UM))
+    psi1 = 0.8 * psi1 / np.abs(psi1).max()
+    sigma = 0.02
+    psi1 = psi1 + sigma * (rng.normal(size=s_um.size) + 1j * rng.normal(size=s_um.size))
+    targets = [
+        Target("frequency_hz", f * (1 + 0.02 * rng.normal()), 0.02 * f),
+        Target("wavelength_um", lam * (1 + 0.05 * rng.normal()), 0.05 * lam),
+    ]
+    print(f"truth {TRUTH}: frequency {f:.3f} Hz, wavelength {lam:.3f} um; psi_1 at {s_um.size} points, sigma {sigma} rad")
+    start = truth.with_values({"p": 400.0, "ks": 3e5, "kl": 3e3})
+    return Problem(model, [Condition({}, targets, ShapeTarget(s_um, psi1, sigma))], list(TRUTH), params=start, bounds=BOUNDS, solver=solver)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--draws", type=int, default=1000)
+    ap.add_argument("--chains", type=int, default=4)
+    ap.add_argument("--warmup", type=int, default=500)
+    ap.add_argument("--elements", type=int, default=10)
+    ap.add_argument("--solver", default="arnoldi", choices=("arnoldi", "dense", "auto"))
+    ap.add_argument("--sequential", action="store_true", help="chains one after another instead of vmapped")
+    args = ap.parse_args()
+    solver = {"arnoldi": ax.eigen.Arnoldi, "dense": ax.eigen.Dense, "auto": ax.eigen.Auto}[args.solver]()
+    print(f"{os.cpu_count()} cores, load average {os.getloadavg()}")
+    pb = problem(args.elements, solver)
+
+    # One value-and-gradient of the log density, alone: the unit cost.
+    z = jnp.asarray(pb.to_z(pb.u0))
+    vg = jax.jit(jax.value_and_grad(pb.log_density))
+    jax.block_until_ready(vg(z))
+    t0 = time.perf_counter()
+    for _ in range(20):
+        jax.block_until_ready(vg(z))
+    single = (time.perf_counter() - t0) / 20
+    print(f"one value-and-gradient of the log density: {1e3 * single:.2f} ms")
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        post = posterior(pb, draws=args.draws, chains=args.chains, warmup=args.warmup, seed=0, vectorize=not args.sequential, progress=True)
+    for w in caught:
+        print("warning:", w.message)
+    ess_min = min(post.ess.values())
+    print(f"\n{args.chains} chains x {args.draws} draws (+{args.warmup} warm-up), {'sequential' if args.sequential else 'vmapped'} chains, solver {args.solver}, N_e = {args.elements}")
+    print(f"total {post.seconds:.1f} s (target 300 s): compile {post.seconds_compile:.1f} s; starts {post.seconds_start:.1f} s, warm-up {post.seconds_warmup:.1f} s, sampling {post.seconds_sampling:.1f} s (each with its compilation)")
+    print(f"gradients {post.gradients} ({post.gradients / (args.chains * (args.draws + args.warmup)):.1f} per chain step), divergences {post.divergences}, acceptance {post.acceptance:.2f}, step sizes {np.round(post.step_size, 3)}")
+    print(f"time per gradient {1e3 * post.seconds_per_gradient:.2f} ms (x{post.seconds_per_gradient / single:.2f} one value-and-gradient alone)")
+    print(f"time per effective sample {post.seconds_per_ess:.3f} s (smallest bulk ESS {ess_min:.0f}); excluding compilation {(post.seconds - post.seconds_compile) / ess_min:.3f} s")
+    print(f"total / 5-minute target: {post.seconds / 300:.2f}")
+    print(f"\n{'name':>4} {'truth':>10} {'q05':>10} {'q50':>10} {'q95':>10} {'R-hat':>7} {'ESS':>7} {'ESS tail':>8}")
+    for n in post.names:
+        print(f"{n:>4} {TRUTH[n]:10.4g} {post.q05[n]:10.4g} {post.q50[n]:10.4g} {post.q95[n]:10.4g} {post.rhat[n]:7.4f} {post.ess[n]:7.0f} {post.ess_tail[n]:8.0f}")
+    print(f"load average at the end {os.getloadavg()}")
+
+
+if __name__ == "__main__":
+    main()
