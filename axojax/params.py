@@ -54,7 +54,9 @@ class Params(eqx.Module):
         ktheta: tangent-angle coupling, k_theta_dim L^2 / EI.
         out_of_plane: ratio of z- to y-bending stiffness (paper: 2).
         inactive_factor: stiffness factor of ring links that are not active pairs.
-        imbalance: force ratio of active group 0 to group 1 (group 1 carries p / imbalance).
+        imbalance: force ratio R of active group 0 to group 1, read as the model says
+            (:attr:`axojax.models.Model.imbalance_kind`: by default a static couple
+            p a0 (1 - 1/R) with balanced forces; "force": group 1 carries p / R).
         a0: dynein arm spacing / L, sets the static moment p a0 (only the load b).
     """
 
