@@ -15,9 +15,10 @@ Jacobians from 16 starts (the caption's set and a Sobol design). It reproduces a
 frequencies within 2 % (51.28, 17.08, 21.58, 66.77, 244.72 Hz), matching an earlier
 independent fit (MODEL.md section 7). What the five numbers determine (notebook): k_s
 to about 15 %, c_l to about 10 %, gamma to +-0.03 (anti-correlated with c_l); k_l is
-**not** determined (standard error a factor ~16): its value here is one point of a
-plateau, not a measurement. With c_l held at the caption's 1/200 no set comes within
-12 %.
+**not** determined (standard error a factor ~16; its profile is flat from 0.1 to 30 and
+bounds it only from above, near 100): its value here is one point of a plateau, not a
+measurement. With c_l held at the caption's 1/200 the best set (24 starts) misses panel g
+by 20 %, and its loss implies that no such set comes within about 10 % of all five.
 
 These are inferred values, shown beside the stated-parameter rows of the paper table,
 never instead of them. Keys are the command-line flags without dashes (``axojax modes
