@@ -28,7 +28,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--beat-npz", default=None, metavar="PATH", help="save the simulated beat here, and reuse it when its settings match")
     parser.add_argument("--readme", default=str(ROOT / "README.md"), metavar="PATH", help="README to update (default: the repository's)")
     parser.add_argument("--docs", default=str(ROOT / "docs" / "paper_table.md"), metavar="PATH", help="documentation page to write")
-    parser.add_argument("--inferred", action="store_true", help="print the inferred parameter sets (fig. 12) instead of the table")
+    parser.add_argument("--inferred", action="store_true", help="print the inferred parameter sets (figs. 7d-h and 12) instead of the table")
     parser.add_argument("--json", action="store_true", help="with --inferred: one JSON document on stdout")
     args = parser.parse_args(argv)
     if args.inferred:

@@ -2,7 +2,7 @@
 unstated, and the table rows "with inferred parameters" beside the stated ones.
 
 ``python -m axojax.paper --inferred --json`` prints :func:`inferred_json`:
-``{"fig12": {"params": {...}, "imbalance", "imbalance_kind", "cubic", "elements", ...}}``
+``{"fig7": {"params": {...}, "elements", ...}, "fig12": {"params": {...}, "imbalance", "imbalance_kind", "cubic", "elements", ...}}``
 (params keyed like the command-line flags without dashes; dimensionless). Each figure
 is one :class:`Inferred` entry of :data:`INFERRED`; add a figure by adding an entry.
 
@@ -30,6 +30,8 @@ from ..models import preset
 from ..params import Params
 from ..units import Units
 from .claims import Claim, Row
+from .inferred_fig7 import FITTED as FIG7_FITTED
+from .inferred_fig7 import INFERRED_FIG7
 
 
 @dataclasses.dataclass(frozen=True)
@@ -81,6 +83,14 @@ FIG12_TARGETS = {"wavelength_um": 17.0, "frequency_hz": 17.0, "dynamic_amplitude
 """Figure 12b's beat (paper, section 3.7.1)."""
 
 INFERRED: dict[str, Inferred] = {
+    "fig7": Inferred(
+        model=INFERRED_FIG7["model"],
+        params=dict(INFERRED_FIG7["params"]),
+        elements=INFERRED_FIG7["elements"],
+        how="one global fit over fig. 7d-h (p = 300, 150, 200, 400, 800 -> 51, 17, 22, 66, 245 Hz, 2 % sigma): "
+        "Levenberg-Marquardt over log ks, log kl, log cl, gamma from 16 starts (notebooks/gallery_fig07_global_fit.ipynb, "
+        f"{FIG7_FITTED}); kl is bounded only from above (see the notebook's profile)",
+    ),
     "fig12": Inferred(
         model="seven",
         params={"p": 307.72683875820366, "ks": 1e6, "kl": 1866.4863981078927, "cl": 1.5620572931203558, "a0": 0.021091102991552795},
@@ -93,7 +103,7 @@ INFERRED: dict[str, Inferred] = {
         "(Levenberg-Marquardt on relative errors over log p, a0, cubic, cl, kl; ks fixed at 1e6)",
     ),
 }
-"""The inferred sets, keyed by figure (``"fig12"``; another figure adds its own key)."""
+"""The inferred sets, keyed by figure (``"fig7"``: :mod:`.inferred_fig7`; ``"fig12"``; another figure adds its own key)."""
 
 
 def inferred_json() -> dict[str, dict[str, Any]]:
