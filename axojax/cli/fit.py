@@ -29,6 +29,7 @@ Exit status 0 when every target is reproduced, 1 (with the report) when not.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 import pathlib
 import sys
@@ -108,9 +109,8 @@ def _targets(args: argparse.Namespace) -> list[Target]:
         raise common.CLIError("--target-velocity: not a limit-cycle target (use --target-frequency and --target-wavelength)")
     elif args.marginal is not None:
         raise common.CLIError("--marginal: a limit cycle lives past the Hopf point; drop --marginal with --target limit-cycle")
-    elif args.observation is not None or args.data is not None:
-        flag = "--observation" if args.observation is not None else "--data"
-        raise common.CLIError(f"{flag}: fits the linear mode; with --target limit-cycle give --target-frequency/--target-wavelength/--target-amplitude")
+    elif args.observation is not None:
+        raise common.CLIError("--observation: fits the linear mode; with --target limit-cycle give --target-frequency/--target-wavelength/--target-amplitude or --data")
     spec = (
         ("frequency_hz", args.target_frequency, args.frequency_sigma, 0.05, "--target-frequency"),
         ("wavelength_um", args.target_wavelength, args.wavelength_sigma, 0.10, "--target-wavelength"),
@@ -257,6 +257,11 @@ def run(args: argparse.Namespace) -> dict:
                 raise common.CLIError(f"--length-um: {units.length_um:g} um conflicts with the data's length {length:g} um ({args.data})")
             units = Units(length, units.ei_pn_um2, units.cn_pn_s_um2)  # the data's length
         data_targets, shape = beat.targets()
+        if args.target == "limit-cycle":
+            # The whole waveform against the nonlinear beat: psi_0 and psi_1 in absolute
+            # amplitude, and the data's frequency as the limit cycle's.
+            data_targets = [Target(t.name, t.value, t.sigma, source="limit_cycle") for t in data_targets if t.name in ("frequency_hz", "wavelength_um")]
+            shape = None if shape is None else dataclasses.replace(shape, source="limit_cycle")
         targets += [t for t in data_targets if t.name not in {u.name for u in targets}]
     elif args.exclude_base_um:
         raise common.CLIError("--exclude-base-um: applies to a shape; give --data")

@@ -67,14 +67,20 @@ class ShapeTarget:
     psi_1(s) (rad, complex, (S,)) with the standard error ``sigma`` (rad) of each of its
     real and imaginary parts: a scalar, or one value per point (S,). ``psi0`` (rad, (S,))
     is the observed static mode, optional (limit-cycle waveform fits use it; linear-mode
-    fits ignore it)."""
+    fits ignore it). ``source``: ``"linear"`` matches psi_1 with the dominant linear
+    mode up to a complex scale; ``"limit_cycle"`` matches psi_0 and psi_1 in absolute
+    amplitude with the nonlinear beat (:mod:`axojax.orbits.targets`, up to the orbit's
+    arbitrary time origin)."""
 
     s_um: np.ndarray
     psi1: np.ndarray
     sigma: float | np.ndarray
     psi0: np.ndarray | None = None
+    source: str = "linear"
 
     def __post_init__(self) -> None:
+        if self.source not in SOURCES:
+            raise ValueError(f"unknown shape source {self.source!r}; choose from {', '.join(SOURCES)}")
         sigma = np.asarray(self.sigma, dtype=float)
         if not (np.all(np.isfinite(sigma)) and np.all(sigma > 0)):
             raise ValueError(f"shape uncertainty must be finite and > 0, got {self.sigma!r}")

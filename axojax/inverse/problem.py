@@ -44,6 +44,9 @@ from ..dynamics.simulate import DEFAULT_CUBIC
 from ..eigen.mode import DEFAULT_SOLVER, _dominant_mode_impl
 from ..eigen.solvers import EigenSolver
 from ..fitting.targets import SCALARS, ShapeTarget, cycle_value, scalar_value, shape_fit
+from ..orbits.measures import cycle_measures
+from ..orbits.targets import aligned_psi1
+from ..orbits.targets import shape_residuals as cycle_shape_residuals
 from ..models.section import Model
 from ..orbits.solvers import HarmonicBalance, OrbitSolver
 from ..params import PARAM_NAMES, Params
@@ -171,8 +174,9 @@ class Problem:
             self.shapes.append(None if c.shape is None else self._prepare_shape(c.shape, keep=True, label=c.label))
             self.shapes_excluded.append(None if c.shape is None else self._prepare_shape(c.shape, keep=False, label=c.label))
         self.scalar_targets = [list(c.targets) for c in conditions]
-        self.needs_mode = [any(t.source == "linear" for t in c.targets) or c.shape is not None for c in conditions]
-        self.needs_cycle = [any(t.source == "limit_cycle" for t in c.targets) for c in conditions]
+        cycle_shape = [c.shape is not None and c.shape.source == "limit_cycle" for c in conditions]
+        self.needs_mode = [any(t.source == "linear" for t in c.targets) or (c.shape is not None and not cs) for c, cs in zip(conditions, cycle_shape)]
+        self.needs_cycle = [any(t.source == "limit_cycle" for t in c.targets) or cs for c, cs in zip(conditions, cycle_shape)]
         if any(self.needs_cycle):
             if not (math.isfinite(cubic) and cubic > 0):
                 raise ValueError(f"cubic must be a finite number > 0 for limit-cycle targets, got {cubic!r}")
@@ -185,7 +189,8 @@ class Problem:
         layout, start = [], 0
         for i in range(len(conditions)):
             n_scalar = len(self.scalar_targets[i])
-            n_shape = 0 if self.shapes[i] is None else 2 * len(np.asarray(self.shapes[i].s_um))
+            sh = self.shapes[i]
+            n_shape = 0 if sh is None else (2 + (sh.source == "limit_cycle" and sh.psi0 is not None)) * len(np.asarray(sh.s_um))
             layout.append(_Layout(start, n_scalar, n_shape))
             start += n_scalar + n_shape
         self.layout, self.n_residuals = layout, start
@@ -211,7 +216,7 @@ class Problem:
         sigma = np.broadcast_to(np.asarray(shape.sigma, dtype=float), s.shape)
         sigma = np.sqrt(sigma**2 + self.shape_floor**2)[mask]
         psi0 = None if shape.psi0 is None else np.asarray(shape.psi0)[mask]
-        return ShapeTarget(s[mask], np.asarray(shape.psi1)[mask], sigma, psi0)
+        return ShapeTarget(s[mask], np.asarray(shape.psi1)[mask], sigma, psi0, shape.source)
 
     @property
     def n_conditions(self) -> int:
@@ -297,7 +302,11 @@ class Problem:
                 else:
                     parts.append(((scalar_value(mode, t.name, self.units) - t.value) / t.sigma)[None])
             shape = self.shapes[i]
-            if shape is not None:
+            if shape is not None and shape.source == "limit_cycle":
+                # The whole waveform against the orbit: psi_0, psi_1 in absolute amplitude.
+                measures = cycle_measures(cycle, np.asarray(shape.s_um, dtype=float), self.units)
+                parts.append(jnp.where(cycle.converged, cycle_shape_residuals(measures, shape), CYCLE_FAILED))
+            elif shape is not None:
                 fitted, _ = shape_fit(self.models[i], mode, shape, self.units)
                 r = (jnp.asarray(shape.psi1) - fitted) / jnp.asarray(shape.sigma)
                 parts.append(jnp.concatenate([jnp.real(r), jnp.imag(r)]))
@@ -338,6 +347,11 @@ class Problem:
             if cycles[i] is not None:
                 d["cycle"] = {k: cycle_value(cycles[i], k, self.units) for k in ("frequency_hz", "amplitude_um", "wavelength_um")}
                 d["cycle_converged"] = cycles[i].converged
+                shape = self.conditions[i].shape
+                if shape is not None and shape.source == "limit_cycle":
+                    every = cycle_measures(cycles[i], np.asarray(shape.s_um, dtype=float), self.units)
+                    kept = cycle_measures(cycles[i], np.asarray(self.shapes[i].s_um, dtype=float), self.units)
+                    d["psi1_fit"], d["psi0_fit"] = aligned_psi1(kept, self.shapes[i], at=every), every.psi0
             out.append(d)
         return out
 

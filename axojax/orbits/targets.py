@@ -78,12 +78,25 @@ def shape_residuals(measures: CycleMeasures, shape: ShapeTarget) -> Float[Array,
     if shape.psi0 is not None:
         out.append((measures.psi0 - jnp.asarray(shape.psi0, dtype=float)) / sigma)
     obs = jnp.asarray(shape.psi1, dtype=complex)
-    w = 1.0 / sigma**2 * jnp.ones(obs.shape)
-    z = jnp.sum(w * jnp.conj(measures.psi1) * obs)
-    phase = z / jnp.maximum(jnp.abs(z), 1e-300)  # best unit factor: the orbit's time origin is arbitrary
-    d = (phase * measures.psi1 - obs) / sigma
+    d = (_phase(measures, shape) * measures.psi1 - obs) / sigma
     out += [jnp.real(d), jnp.imag(d)]
     return jnp.concatenate(out)
+
+
+def _phase(measures: CycleMeasures, shape: ShapeTarget):
+    """Best unit factor e^{i phi} for the model's psi_1 (the orbit's time origin is
+    arbitrary), weighted by 1 / sigma^2 over the shape's points."""
+    obs = jnp.asarray(shape.psi1, dtype=complex)
+    w = 1.0 / jnp.asarray(shape.sigma, dtype=float) ** 2 * jnp.ones(obs.shape)
+    z = jnp.sum(w * jnp.conj(measures.psi1) * obs)
+    return z / jnp.maximum(jnp.abs(z), 1e-300)
+
+
+def aligned_psi1(measures: CycleMeasures, shape: ShapeTarget, at: CycleMeasures | None = None):
+    """The orbit's psi_1, turned by the unit phase that best fits ``shape``
+    (``measures`` taken at ``shape.s_um``): at ``measures``' points, or at ``at``'s (the
+    fitted psi_1 a report draws beside the observed, on every observed point)."""
+    return _phase(measures, shape) * (measures if at is None else at).psi1
 
 
 def scalar_residuals(measures: CycleMeasures, scalars: Sequence[CycleTarget | Target]) -> Float[Array, " k"]:

@@ -70,13 +70,20 @@ def plot_fit_report(report: dict | str | pathlib.Path) -> plt.Figure:
     a_amp.set(xlabel="s (um)", ylabel="|psi_1| (rad)", title="amplitude of psi_1")
     a_amp.legend(fontsize=8)
     shade(a_phase)
-    a_phase.plot(s, np.unwrap(np.angle(obs)), "o", ms=3, label="observed")
-    a_phase.plot(s, np.unwrap(np.angle(fit)), "-", label="fitted")  # the fitted complex scale aligns the phase
+    obs_phase = np.unwrap(np.angle(obs))
+    a_phase.plot(s, obs_phase, "o", ms=3, label="observed")
+    # The fitted phase drawn as its difference from the observed one (no unwrapping of
+    # the model's psi_1 from the clamped base, where |psi_1| = 0 makes its phase jump).
+    a_phase.plot(s, obs_phase + np.angle(fit * np.conj(obs)), "-", label="fitted")
     a_phase.set(xlabel="s (um)", ylabel="arg psi_1 (rad)", title="phase of psi_1")
     a_phase.legend(fontsize=8)
+    psi0_fit = None if sh.get("psi0_fit_rad") is None else _arr(sh["psi0_fit_rad"])
     if psi0 is not None:
-        a_psi0.plot(s, psi0, "o-", ms=3)
-        a_psi0.set(xlabel="s (um)", ylabel="psi_0 (rad)", title="observed static mode psi_0")
+        a_psi0.plot(s, psi0, "o", ms=3, label="observed")
+        if psi0_fit is not None:
+            a_psi0.plot(s, psi0_fit, "-", label="fitted (limit cycle)")
+            a_psi0.legend(fontsize=8)
+        a_psi0.set(xlabel="s (um)", ylabel="psi_0 (rad)", title="static mode psi_0")
     else:
         a_psi0.text(0.5, 0.5, "no psi_0 observed", ha="center", va="center", transform=a_psi0.transAxes)
         a_psi0.set_axis_off()
@@ -88,8 +95,8 @@ def plot_fit_report(report: dict | str | pathlib.Path) -> plt.Figure:
     a_res.set(xlabel="s (um)", ylabel="(observed - fitted) / sigma", title=f"normalised residuals (shape rms {c['shape_rms']:.2f})")
     a_res.legend(fontsize=8)
     base = np.zeros_like(s) if psi0 is None else psi0
-    for ax, psi1, name in ((a_obs, obs, "observed"), (a_fit, fit, "fitted")):
-        x, y = _centrelines(s, base, psi1)
+    for ax, psi1, name, b in ((a_obs, obs, "observed", base), (a_fit, fit, "fitted", base if psi0_fit is None else psi0_fit)):
+        x, y = _centrelines(s, b, psi1)
         colors = plt.cm.viridis(np.linspace(0, 1, len(x)))
         for xi, yi, col in zip(x, y, colors):
             ax.plot(xi, yi, color=col, lw=1.2)
