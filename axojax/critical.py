@@ -18,7 +18,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from .eigen.mode import DEFAULT_SOLVER
-from .eigen.solvers import EigenSolver
+from .eigen.solvers import AbstractEigenSolver
 from .models.section import Model
 from .params import Params, require_scalars, valid
 from .results import RESULTS
@@ -49,7 +49,7 @@ class Critical(eqx.Module):
         return jnp.abs(jnp.imag(self.eigenvalue)) / (2 * jnp.pi * units.tau_s)
 
 
-def _eig_at(model: Model, params: Params, p, solver: EigenSolver):
+def _eig_at(model: Model, params: Params, p, solver: AbstractEigenSolver):
     return solver.eigenpair(model, params.replace(p=p))[0]
 
 
@@ -102,7 +102,7 @@ def _critical_force_impl(
     p_max: float = 1e7,
     rtol: float = 1e-12,
     max_iter: int = 100,
-    solver: EigenSolver = DEFAULT_SOLVER,
+    solver: AbstractEigenSolver = DEFAULT_SOLVER,
     throw: bool = False,
 ) -> Critical:
     """The first p (from 0) at which the dominant eigenvalue's real part turns positive.

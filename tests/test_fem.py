@@ -43,7 +43,8 @@ def test_follower_matrices_identities():
     # G0 with weight (1 - x): symmetric, and G0 + int x phi'phi'^T = D0 (checked with an independent quadrature)
     x = np.linspace(0, 1, 20001)
     dphi = interpolation_matrix(6, x, 1)
-    wts = np.full_like(x, x[1]); wts[[0, -1]] /= 2
+    wts = np.full_like(x, x[1])
+    wts[[0, -1]] /= 2
     G_ref = np.einsum("q,qr,qs->rs", wts * (1 - x), dphi, dphi)
     np.testing.assert_allclose(mats.G0, G_ref, atol=1e-6)
     np.testing.assert_allclose(mats.G0, mats.G0.T, atol=1e-13)

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from .. import _io
-from ..eigen.solvers import SOLVERS, Auto, EigenSolver, solver_from_name
+from ..eigen.solvers import SOLVERS, Auto, AbstractEigenSolver, solver_from_name
 from ..models import IMBALANCE_KINDS, PRESETS, CrossSection, Model, build_model, load_section
 from ..models.presets import SECTIONS
 from ..params import PARAM_NAMES, Params
@@ -113,7 +113,7 @@ def add_solver_flag(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def solver_from_args(args: argparse.Namespace) -> EigenSolver:
+def solver_from_args(args: argparse.Namespace) -> AbstractEigenSolver:
     try:
         return solver_from_name(args.solver)
     except ValueError as err:

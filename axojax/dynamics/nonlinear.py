@@ -25,7 +25,7 @@ from jaxtyping import Array, Float
 from ..assembly import link_stiffness
 from ..linalg import BlockTridiagonal
 from ..fem import make_mesh
-from ..fem.filament import _evaluate
+from ..fem.filament import evaluate_profile
 from ..models.section import Model
 from ..params import Params
 
@@ -36,7 +36,7 @@ POINTS_PER_ELEMENT = 7
 def _rule(model: Model) -> tuple[np.ndarray, np.ndarray]:
     """(phi (Q, 2 N_e), weight * k-profile (Q,)) on the cubic-exact quadrature."""
     mesh = make_mesh(model.n_elements, POINTS_PER_ELEMENT)
-    return mesh.phi, mesh.weights * _evaluate(model.profiles.k, mesh.x, "k")
+    return mesh.phi, mesh.weights * evaluate_profile(model.profiles.k, mesh.x, "k")
 
 
 class CubicLinks(eqx.Module):

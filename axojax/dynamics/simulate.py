@@ -13,7 +13,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..assembly import assemble
-from ..eigen.mode import CLASSES, _dominant_mode_jit
+from ..eigen.mode import CLASSES, dominant_mode
 from ..models.section import Model
 from ..params import Params
 from ..units import Units
@@ -196,7 +196,7 @@ def simulate(
     params = params.validate()
     t_end_s, cubic, perturbation_um, rtol = check_inputs(model, t_end_s, cubic, perturbation_um, rtol)
     tau = units.tau_s
-    mode = _dominant_mode_jit(model, params)
+    mode = dominant_mode(model, params)
     linear = {
         "frequency_hz": float(mode.frequency_hz(units)),
         "growth_rate_per_s": float(mode.growth_rate_per_s(units)),

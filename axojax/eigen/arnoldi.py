@@ -70,7 +70,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, Complex, Float
 
 from ..linalg import BlockCholesky, BlockTridiagonal, arnoldi_steps, cholesky, lu_factor
-from .dominant import CLUSTER_RTOL, _normalise, dominant_eigenpair
+from .dominant import CLUSTER_RTOL, normalise, dominant_eigenpair
 
 
 TRIAL_POLES = 9
@@ -214,7 +214,7 @@ def _ritz(V, H, sigma, m, opts: ArnoldiOptions) -> _Primal:
     unresolved = jnp.where(converged | padding, 0.0, jnp.abs(theta))
     radius = 1.0 / jnp.maximum(jnp.max(unresolved), 1e-300)
     certified = jnp.any(converged) & (radius >= opts.certify_factor * jnp.abs(sigma - lam_r))
-    return _Primal(lam_c, _normalise(x), certified.astype(float))
+    return _Primal(lam_c, normalise(x), certified.astype(float))
 
 
 def _dense_primal(A: BlockTridiagonal, C: BlockTridiagonal) -> _Primal:

@@ -59,7 +59,7 @@ def _select(lam: Complex[Array, " n"]) -> tuple[Array, Array]:
     return order, mask
 
 
-def _normalise(v: Complex[Array, " n"]) -> Complex[Array, " n"]:
+def normalise(v: Complex[Array, " n"]) -> Complex[Array, " n"]:
     v = v / jnp.linalg.norm(v)
     big = v[jnp.argmax(jnp.abs(v))]
     return v * (jnp.conj(big) / jnp.abs(big))
@@ -70,7 +70,7 @@ def _primal(A, C, left: bool):
     order, mask = _select(lam)
     lam_c = jnp.sum(mask * lam[order]) / jnp.sum(mask)
     lam_c = jnp.where(jnp.imag(lam_c) < 0, jnp.conj(lam_c), lam_c)  # real clusters: drop the +-0i noise
-    Vc = jax.vmap(_normalise, in_axes=1, out_axes=1)(V[:, order])
+    Vc = jax.vmap(normalise, in_axes=1, out_axes=1)(V[:, order])
     Wc = None if W is None else W[:, order]
     return lam_c, Vc, Wc, mask
 
@@ -86,7 +86,7 @@ def _inverse_iteration(A, C, lam, steps: int = 2):
     for _ in range(steps):
         v = lu_solve(lu, C.astype(cdt) @ v)
         v = v / jnp.linalg.norm(v)
-    return _normalise(v)
+    return normalise(v)
 
 
 @jax.custom_jvp

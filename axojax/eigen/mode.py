@@ -17,7 +17,7 @@ from ..results import RESULTS
 from ..units import Units
 from . import pencil
 from .metrics import beat_plane, wavenumber
-from .solvers import Auto, EigenSolver
+from .solvers import Auto, AbstractEigenSolver
 
 STABLE, FLUTTER, DIVERGENCE = 0, 1, 2
 CLASSES = ("stable", "flutter", "divergence")
@@ -137,7 +137,7 @@ def mode_from_eigenpair(model: Model, lam: Complex[Array, ""], v: Complex[Array,
 DEFAULT_SOLVER = Auto()
 
 
-def dominant_mode_impl(model: Model, params: Params, solver: EigenSolver = DEFAULT_SOLVER) -> Mode:
+def dominant_mode_impl(model: Model, params: Params, solver: AbstractEigenSolver = DEFAULT_SOLVER) -> Mode:
     """:func:`dominant_mode` without its validation and its own ``jax.jit``: the entry
     point for code that traces it inside its own transformations (the sweep engine,
     fits). Parameters out of range give NaN numbers and ``result = invalid_params``
@@ -166,7 +166,7 @@ _dominant_mode_jit = jax.jit(dominant_mode_impl, static_argnums=(0, 2))
 _spectrum_jit = jax.jit(_spectrum_impl, static_argnums=(0, 2))
 
 
-def dominant_mode(model: Model, params: Params, solver: EigenSolver = DEFAULT_SOLVER, *, throw: bool = False) -> Mode:
+def dominant_mode(model: Model, params: Params, solver: AbstractEigenSolver = DEFAULT_SOLVER, *, throw: bool = False) -> Mode:
     """The dominant (largest real part) mode of ``model`` at ``params``.
 
     Jit-compiled per (model, solver), and composable: call it under ``jax.jit``,
@@ -179,7 +179,7 @@ def dominant_mode(model: Model, params: Params, solver: EigenSolver = DEFAULT_SO
     small models, certified Arnoldi for large). ``throw=True`` raises (at run time, also
     under ``jit``) when ``mode.result`` is not ``successful``.
     """
-    if not isinstance(solver, EigenSolver):
+    if not isinstance(solver, AbstractEigenSolver):
         raise TypeError(f"solver must be an axojax eigen-solver (ax.eigen.Dense(), ax.eigen.Arnoldi(), ...), got {solver!r}")
     require_scalars(params, "dominant_mode")
     mode = _dominant_mode_jit(model, params.validate(), solver)

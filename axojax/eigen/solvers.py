@@ -35,7 +35,7 @@ from .arnoldi import ArnoldiOptions, structured_dominant
 from .dominant import dominant_eigenpair
 
 
-class EigenSolver(eqx.Module):
+class AbstractEigenSolver(eqx.Module):
     """Finds the dominant eigenpair of ``(A + lambda C) v = 0`` for a model."""
 
     @abc.abstractmethod
@@ -43,13 +43,13 @@ class EigenSolver(eqx.Module):
         """(eigenvalue with Im >= 0, unit eigenvector in filament-major order, certified
         as 1.0/0.0). Differentiable in ``params``."""
 
-    def resolve(self, model: Model, n_points: int = 1) -> "EigenSolver":
+    def resolve(self, model: Model, n_points: int = 1) -> "AbstractEigenSolver":
         """The concrete solver for ``n_points`` points of ``model`` (itself, except for
         :class:`Auto`)."""
         return self
 
 
-class Dense(EigenSolver):
+class Dense(AbstractEigenSolver):
     """Dense eigen-decomposition of the whole pencil (see :mod:`axojax.eigen.dominant`)."""
 
     def eigenpair(self, model, params):
@@ -58,7 +58,7 @@ class Dense(EigenSolver):
         return lam, v, jnp.ones((), float)
 
 
-class Arnoldi(EigenSolver):
+class Arnoldi(AbstractEigenSolver):
     """Certified shift-invert Arnoldi on the block-tridiagonal pencil.
 
     Attributes:
@@ -105,7 +105,7 @@ class Arnoldi(EigenSolver):
         return lam, x[inverse], certified
 
 
-class Auto(EigenSolver):
+class Auto(AbstractEigenSolver):
     """:class:`Arnoldi` where it pays, :class:`Dense` elsewhere, chosen statically.
 
     The structured solver's cost per point grows linearly with the mesh and the dense
@@ -120,7 +120,7 @@ class Auto(EigenSolver):
     min_batch_dof: int = eqx.field(default=200, static=True)
     min_batch_points: int = eqx.field(default=64, static=True)
 
-    def resolve(self, model: Model, n_points: int = 1) -> EigenSolver:
+    def resolve(self, model: Model, n_points: int = 1) -> AbstractEigenSolver:
         n = model.n_dof
         large = n >= self.min_arnoldi_dof or (n >= self.min_batch_dof and n_points >= self.min_batch_points)
         return Arnoldi() if large else Dense()
@@ -132,9 +132,13 @@ class Auto(EigenSolver):
 SOLVERS = {"auto": Auto, "dense": Dense, "arnoldi": Arnoldi}
 
 
-def solver_from_name(name: str) -> EigenSolver:
+def solver_from_name(name: str) -> AbstractEigenSolver:
     """``auto``, ``dense`` or ``arnoldi`` -> a solver with default options."""
     try:
         return SOLVERS[name]()
     except KeyError:
         raise ValueError(f"unknown eigen-solver {name!r}; choose one of {', '.join(SOLVERS)}") from None
+
+
+EigenSolver = AbstractEigenSolver
+"""The former name of :class:`AbstractEigenSolver`, kept for existing code."""

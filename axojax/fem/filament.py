@@ -37,7 +37,7 @@ class Profiles:
     k: Optional[Profile] = None
 
 
-def _evaluate(profile: Optional[Profile], x: np.ndarray, name: str) -> np.ndarray:
+def evaluate_profile(profile: Optional[Profile], x: np.ndarray, name: str) -> np.ndarray:
     if profile is None:
         return np.ones_like(x)
     values = np.broadcast_to(np.asarray(profile(x), dtype=float), x.shape)
@@ -52,7 +52,7 @@ def _tail_integral(profile: Optional[Profile], x: np.ndarray) -> np.ndarray:
         return 1.0 - x
     g, w = np.polynomial.legendre.leggauss(20)
     s = x[:, None] + (g[None, :] + 1) / 2 * (1 - x[:, None])
-    vals = _evaluate(profile, s.ravel(), "p").reshape(s.shape)
+    vals = evaluate_profile(profile, s.ravel(), "p").reshape(s.shape)
     return (vals * w[None, :]).sum(axis=1) * (1 - x) / 2
 
 
@@ -79,18 +79,18 @@ def filament_matrices(mesh: Mesh, profiles: Profiles = Profiles()) -> FilamentMa
         return np.einsum("qr,qs,q->rs", a, b, w * weight)
 
     ones = np.ones_like(x)
-    pw = _evaluate(profiles.p, x, "p")
+    pw = evaluate_profile(profiles.p, x, "p")
     tip = np.zeros((mesh.n_dof, mesh.n_dof))
     tip_row = interpolation_matrix(mesh.n_elements, np.array([1.0]))[0]
     tip_slope = interpolation_matrix(mesh.n_elements, np.array([1.0]), derivative=1)[0]
     tip += np.outer(tip_row, tip_slope)
     return FilamentMatrices(
         M0=gram(phi, phi, ones),
-        K0=gram(ddphi, ddphi, _evaluate(profiles.ei, x, "ei")),
+        K0=gram(ddphi, ddphi, evaluate_profile(profiles.ei, x, "ei")),
         D0=gram(dphi, dphi, ones),
         G0=gram(dphi, dphi, _tail_integral(profiles.p, x)),
         F0=gram(phi, dphi, pw),
-        Mk=gram(phi, phi, _evaluate(profiles.k, x, "k")),
+        Mk=gram(phi, phi, evaluate_profile(profiles.k, x, "k")),
         f1=dphi.T @ (w * pw),
         tip=tip,
     )

@@ -16,14 +16,14 @@ from collections.abc import Sequence
 
 from ..dynamics.simulate import DEFAULT_CUBIC
 from ..eigen.mode import DEFAULT_SOLVER
-from ..eigen.solvers import EigenSolver
+from ..eigen.solvers import AbstractEigenSolver
 from ..inverse.conditions import Condition
 from ..inverse.least_squares import LeastSquaresSolver, least_squares, solver_from_name
 from ..inverse.parameters import DEFAULT_BOUNDS, LINEAR
 from ..inverse.problem import CYCLE_FAILED, SHAPE_FLOOR, Problem
 from ..inverse.report import IDENTIFIABLE_MAX_LOG_SE, SHAPE_RMS_OK, FitResult
 from ..models.section import Model
-from ..orbits.solvers import HarmonicBalance, OrbitSolver
+from ..orbits.solvers import HarmonicBalance, AbstractOrbitSolver
 from ..params import Params
 from ..units import Units
 from .targets import ShapeTarget, Target
@@ -46,9 +46,9 @@ def fit(
     max_steps: int | None = None,
     seed: int = 0,
     progress: bool = False,
-    solver: EigenSolver | LeastSquaresSolver = DEFAULT_SOLVER,
+    solver: AbstractEigenSolver | LeastSquaresSolver = DEFAULT_SOLVER,
     cubic: float = DEFAULT_CUBIC,
-    orbit_solver: OrbitSolver = HarmonicBalance(),  # noqa: B008
+    orbit_solver: AbstractOrbitSolver = HarmonicBalance(),  # noqa: B008
     per_condition: Sequence[str] = (),
     shape_floor: float = SHAPE_FLOOR,
     exclude_base_um: float = 0.0,
@@ -118,9 +118,9 @@ def build_problem(
     bounds: dict[str, tuple[float, float]] | None = None,
     kl_ratio: float | None = None,
     units: Units = Units(),
-    solver: EigenSolver = DEFAULT_SOLVER,
+    solver: AbstractEigenSolver = DEFAULT_SOLVER,
     cubic: float = DEFAULT_CUBIC,
-    orbit_solver: OrbitSolver = HarmonicBalance(),
+    orbit_solver: AbstractOrbitSolver = HarmonicBalance(),
     per_condition: Sequence[str] = (),
     shape_floor: float = SHAPE_FLOOR,
     exclude_base_um: float = 0.0,

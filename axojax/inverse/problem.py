@@ -41,14 +41,14 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from ..dynamics.simulate import DEFAULT_CUBIC
-from ..eigen.mode import DEFAULT_SOLVER, _dominant_mode_impl
-from ..eigen.solvers import EigenSolver
+from ..eigen.mode import DEFAULT_SOLVER, dominant_mode_impl
+from ..eigen.solvers import AbstractEigenSolver
 from ..fitting.targets import SCALARS, ShapeTarget, cycle_value, scalar_value, shape_fit
 from ..orbits.measures import cycle_measures
 from ..orbits.targets import aligned_psi1
 from ..orbits.targets import shape_residuals as cycle_shape_residuals
 from ..models.section import Model
-from ..orbits.solvers import HarmonicBalance, OrbitSolver
+from ..orbits.solvers import HarmonicBalance, AbstractOrbitSolver
 from ..params import PARAM_NAMES, Params
 from ..units import Units
 from .conditions import Condition
@@ -104,9 +104,9 @@ class Problem:
         bounds: dict[str, tuple[float, float]] | None = None,
         kl_ratio: float | None = None,
         units: Units = Units(),  # noqa: B008
-        solver: EigenSolver = DEFAULT_SOLVER,
+        solver: AbstractEigenSolver = DEFAULT_SOLVER,
         cubic: float = DEFAULT_CUBIC,
-        orbit_solver: OrbitSolver = HarmonicBalance(),  # noqa: B008
+        orbit_solver: AbstractOrbitSolver = HarmonicBalance(),  # noqa: B008
         shape_floor: float = SHAPE_FLOOR,
         exclude_base_um: float = 0.0,
         prior: Callable[[Array], Array] | None = None,
@@ -276,9 +276,9 @@ class Problem:
             solver = self._solvers[id(model)]
             prms = [self.condition_params(u, i) for i in group]
             if len(group) == 1:
-                out[group[0]] = _dominant_mode_impl(model, prms[0], solver)
+                out[group[0]] = dominant_mode_impl(model, prms[0], solver)
                 continue
-            batch = jax.vmap(lambda prm, model=model, solver=solver: _dominant_mode_impl(model, prm, solver))(_stack(prms))
+            batch = jax.vmap(lambda prm, model=model, solver=solver: dominant_mode_impl(model, prm, solver))(_stack(prms))
             for k, i in enumerate(group):
                 out[i] = jax.tree_util.tree_map(lambda x, k=k: x[k], batch)
         return out

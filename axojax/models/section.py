@@ -15,6 +15,7 @@ import math
 from typing import Literal, Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..fem import FilamentMatrices, Mesh, Profiles, filament_matrices, make_mesh
 
@@ -75,12 +76,12 @@ class CrossSection:
     """
 
     name: str
-    positions: np.ndarray
+    positions: ArrayLike
     links: tuple[Link, ...] = ()
     active_pairs: tuple[ActivePair, ...] = ()
     n_dirs: int = 2
-    ei: np.ndarray | None = None
-    drag: np.ndarray | None = None
+    ei: ArrayLike | None = None
+    drag: ArrayLike | None = None
     load: LoadKind = "pairs"
 
     def __post_init__(self) -> None:
@@ -143,7 +144,7 @@ class CrossSection:
         rot = np.array([[c, -s], [s, c]])
         return dataclasses.replace(self, positions=self.positions @ rot.T)
 
-    def relabelled(self, order: Sequence[int]) -> "CrossSection":
+    def relabelled(self, order: ArrayLike) -> "CrossSection":
         """The same cross-section with filament ``order[k]`` renamed ``k``."""
         order = list(order)
         new = {old: k for k, old in enumerate(order)}

@@ -8,10 +8,10 @@ import jax
 from ..models.section import Model
 from ..params import Params
 from .cycle import LimitCycle
-from .solvers import OrbitSolver
+from .solvers import AbstractOrbitSolver
 
 
-def _solve(model: Model, params: Params, kappa, solver: OrbitSolver, start: LimitCycle | None = None) -> LimitCycle:
+def _solve(model: Model, params: Params, kappa, solver: AbstractOrbitSolver, start: LimitCycle | None = None) -> LimitCycle:
     return solver.solve(model, params, kappa, start)
 
 

@@ -10,7 +10,7 @@ from ..params import Params
 from ._solve import solve_jit
 from .branch import continue_to
 from .cycle import LimitCycle
-from .solvers import HarmonicBalance, OrbitSolver
+from .solvers import HarmonicBalance, AbstractOrbitSolver
 
 
 def limit_cycle(
@@ -18,7 +18,7 @@ def limit_cycle(
     params: Params,
     kappa: float = DEFAULT_CUBIC,
     *,
-    solver: OrbitSolver = HarmonicBalance(),
+    solver: AbstractOrbitSolver = HarmonicBalance(),
     start: LimitCycle | None = None,
     throw: bool = True,
 ) -> LimitCycle:
@@ -31,7 +31,7 @@ def limit_cycle(
         model: e.g. ``ax.models.seven()``; needs links (the cubic force lives in them).
         params: dimensionless parameters, past the Hopf point (p > p_c).
         kappa: cubic link stiffening (1/L^2), > 0.
-        solver: an :class:`OrbitSolver` (default :class:`HarmonicBalance`).
+        solver: an :class:`AbstractOrbitSolver` (default :class:`HarmonicBalance`).
         start: a nearby :class:`LimitCycle` to start from (continuation).
         throw: raise ``ValueError`` (one line) when no orbit is found; with False the
             result carries ``converged = False``.
@@ -50,7 +50,7 @@ def limit_cycle(
         raise ValueError(f"kappa must be a finite number > 0 (the cubic stiffening that bounds the beat), got {kappa!r}")
     if model.link_B.shape[0] == 0:
         raise ValueError(f"model {model.name!r} has no links: the cubic link force cannot bound a beat (limit cycles need links)")
-    if not isinstance(solver, OrbitSolver):
+    if not isinstance(solver, AbstractOrbitSolver):
         raise ValueError(f"solver must be an axojax.orbits solver (e.g. HarmonicBalance()), got {solver!r}")
     cycle = solve_jit(model, params, kappa, solver, start)
     if not bool(cycle.converged) and start is None and complex(cycle.linear_eigenvalue).real > 0:

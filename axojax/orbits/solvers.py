@@ -32,7 +32,7 @@ from .linear import BorderedSolver
 from .newton import implicit_solve
 
 
-class OrbitSolver(eqx.Module):
+class AbstractOrbitSolver(eqx.Module):
     """Finds the periodic orbit of ``C dq/dt = -A q - f_nl(q) + b``."""
 
     @abc.abstractmethod
@@ -41,7 +41,7 @@ class OrbitSolver(eqx.Module):
         orbit (continuation). Differentiable in ``params`` and ``kappa``."""
 
 
-class HarmonicBalance(OrbitSolver):
+class HarmonicBalance(AbstractOrbitSolver):
     """Harmonic balance with H harmonics (see the module docstring).
 
     Attributes:
@@ -115,3 +115,7 @@ def resize(X, harmonics: int):
     if harmonics >= H:
         return pad(X, harmonics)
     return jnp.concatenate([X[: harmonics + 1], X[H + 1 : H + 1 + harmonics]], axis=0)
+
+
+OrbitSolver = AbstractOrbitSolver
+"""The former name of :class:`AbstractOrbitSolver`, kept for existing code."""

@@ -34,7 +34,7 @@ from ..params import Params
 from ..units import Units
 from .cycle import LimitCycle
 from .measures import CycleMeasures, cycle_measures
-from .solvers import HarmonicBalance, OrbitSolver
+from .solvers import HarmonicBalance, AbstractOrbitSolver
 
 CYCLE_TARGETS = CycleMeasures.SCALARS
 ALIASES = {"amplitude_um": "tip_amplitude_um"}
@@ -114,7 +114,7 @@ def waveform_residuals(
     *,
     shape: ShapeTarget | None = None,
     scalars: Sequence[CycleTarget | Target] = (),
-    solver: OrbitSolver = HarmonicBalance(floquet=0),
+    solver: AbstractOrbitSolver = HarmonicBalance(floquet=0),
     start: LimitCycle | None = None,
     units: Units = Units(),
 ) -> Float[Array, " r"]:

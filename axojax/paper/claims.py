@@ -13,6 +13,8 @@ import dataclasses
 import math
 from typing import Literal, Mapping
 
+from .inferred_fig7 import INFERRED_FIG7
+
 Kind = Literal["mode", "survey", "beat", "inferred"]
 Bound = Literal["value", "range", "below"]
 
@@ -90,6 +92,11 @@ CLAIMS: tuple[Claim, ...] = (
     Claim("7f", "fig. 7", "fig. 7f", "seven, p = 200", "seven", {"p": 200.0, **FIG7}, "frequency_hz", 22.0, unstated=_KS_UNSTATED),
     Claim("7g", "fig. 7", "fig. 7g", "seven, p = 400", "seven", {"p": 400.0, **FIG7}, "frequency_hz", 66.0, unstated=_KS_UNSTATED),
     Claim("7h", "fig. 7", "fig. 7h", "seven, p = 800", "seven", {"p": 800.0, **FIG7}, "frequency_hz", 245.0, unstated=_KS_UNSTATED),
+    *(
+        Claim(f"{k}i", "fig. 7", f"fig. {k}", f"seven, p = {pv:g} {_INFERRED}", "seven", {"p": pv, **INFERRED_FIG7["params"]}, "frequency_hz", hz, "inferred",
+              unstated="fitted: one set of ks, kl, cl, gamma over the five panels (axojax.paper.inferred_fig7)")
+        for k, pv, hz in (("7d", 300.0, 51.0), ("7e", 150.0, 17.0), ("7f", 200.0, 22.0), ("7g", 400.0, 66.0), ("7h", 800.0, 245.0))
+    ),
     Claim("11a", "fig. 11", "sec. 3.5, fig. 11a", "wavelength over the map", "seven", {}, "wavelength_um", (6.4, 50.0), "survey", "range", _MAP_UNSTATED),
     Claim("11b", "fig. 11", "sec. 3.5, fig. 11b", "velocity over the map", "seven", {}, "velocity_um_per_s", (50.0, 1350.0), "survey", "range", _MAP_UNSTATED),
     Claim("11c", "fig. 11", "sec. 3.5", "oscillating points that run base to tip", "seven", {}, "anterograde_fraction", 1.0, "survey", unstated=_MAP_UNSTATED),

@@ -122,12 +122,29 @@ def fig12_measures(units: Units = Units(), rotation_deg: float = 0.0):
     return cycle_measures(cyc, None, units), cyc
 
 
+def _fig7_rows(claims: Sequence[Claim], units: Units) -> list[Row]:
+    """Fig. 7d-h with the inferred set: the dominant mode's frequency at each panel's p."""
+    from ..eigen import dominant_mode
+
+    inf = INFERRED["fig7"]
+    model = preset(inf.model, n_elements=inf.elements)
+    context = "inferred: " + ", ".join(f"{k} = {v:.4g}" for k, v in inf.params.items()) + f", N_e = {inf.elements} (one set for all five panels)"
+    rows = []
+    for c in claims:
+        mode = dominant_mode(model, Params(**c.params))
+        value = float(mode.frequency_hz(units)) if int(mode.classification) == 1 else None
+        rows.append(Row(c, value, f"{value:.2f} Hz" if value is not None else "no flutter", None, context))
+    return rows
+
+
 def inferred_rows(claims: Sequence[Claim], units: Units = Units(), measured=None) -> list[Row]:
-    """Rows for the ``kind == "inferred"`` claims (fig. 12 with inferred parameters);
-    ``measured``: the result of :func:`fig12_measures` when already computed."""
+    """Rows for the ``kind == "inferred"`` claims (figs. 7d-h and 12 with inferred
+    parameters); ``measured``: the result of :func:`fig12_measures` when already computed."""
     claims = [c for c in claims if c.kind == "inferred"]
+    rows = _fig7_rows([c for c in claims if c.group == "fig. 7"], units)
+    claims = [c for c in claims if c.group == "fig. 12"]
     if not claims:
-        return []
+        return rows
     m, cyc = measured if measured is not None else fig12_measures(units)
     inf = INFERRED["fig12"]
     pr = inf.params
@@ -137,7 +154,6 @@ def inferred_rows(claims: Sequence[Claim], units: Units = Units(), measured=None
         f"N_e = {inf.elements}; limit cycle {'stable' if bool(cyc.stable) else 'unstable'}, out-of-plane "
         f"{float(m.out_of_plane):.3f} (minor/major axis of the tip trace)"
     )
-    rows = []
     for c in claims:
         value = float(getattr(m, c.quantity))
         digits = {"frequency_hz": 2, "wavelength_um": 1, "dynamic_amplitude_rad": 2, "static_curvature_rad_per_um": 3}[c.quantity]

@@ -46,7 +46,7 @@ from tqdm.auto import tqdm
 
 from .. import _io
 from ..eigen.mode import DEFAULT_SOLVER, dominant_mode_impl
-from ..eigen.solvers import EigenSolver
+from ..eigen.solvers import AbstractEigenSolver
 from ..models.section import Model
 from ..params import PARAM_NAMES, Params
 from ..units import Units
@@ -54,7 +54,7 @@ from .processes import Share, barrier, wait_for_files
 from .result import METRICS, SweepResult
 
 
-def _metrics(model: Model, params: Params, units: Units, solver: EigenSolver) -> dict[str, jax.Array]:
+def _metrics(model: Model, params: Params, units: Units, solver: AbstractEigenSolver) -> dict[str, jax.Array]:
     mode = dominant_mode_impl(model, params, solver)
     osc = mode.direction != 0
     nan = jnp.nan
@@ -73,7 +73,7 @@ def _metrics(model: Model, params: Params, units: Units, solver: EigenSolver) ->
 
 
 @functools.lru_cache(maxsize=32)
-def _compiled(model: Model, names: tuple[str, ...], tie: bool, units: Units, n_dev: int, solver: EigenSolver):
+def _compiled(model: Model, names: tuple[str, ...], tie: bool, units: Units, n_dev: int, solver: AbstractEigenSolver):
     """One jitted evaluator per (model, axes, tie, units, devices, solver); the fixed
     parameters and the kl ratio are traced arguments, so new values do not recompile.
     Points run one after another on each CPU device (``lax.map``; ``vmap`` on GPUs and
@@ -104,14 +104,14 @@ def _compiled(model: Model, names: tuple[str, ...], tie: bool, units: Units, n_d
     return jax.jit(batched)
 
 
-def _evaluator(model: Model, params: Params, names: tuple[str, ...], kl_ratio, units: Units, n_dev: int, solver: EigenSolver):
+def _evaluator(model: Model, params: Params, names: tuple[str, ...], kl_ratio, units: Units, n_dev: int, solver: AbstractEigenSolver):
     f = _compiled(model, names, kl_ratio is not None, units, n_dev, solver)
     fixed = params.broadcast(())
     ratio = jnp.asarray(1.0 if kl_ratio is None else kl_ratio, dtype=float)
     return lambda rows: f(fixed, ratio, rows)
 
 
-def _fingerprint(model: Model, params: Params, axes: Mapping[str, np.ndarray], kl_ratio, units: Units, chunk: int, solver: EigenSolver) -> str:
+def _fingerprint(model: Model, params: Params, axes: Mapping[str, np.ndarray], kl_ratio, units: Units, chunk: int, solver: AbstractEigenSolver) -> str:
     doc = {
         "model": repr(model),
         "positions": np.asarray(model.section.positions).round(12).tolist(),
@@ -136,7 +136,7 @@ def sweep(
     out: str | pathlib.Path | None = None,
     progress: bool | None = None,
     devices: int | None = None,
-    solver: EigenSolver = DEFAULT_SOLVER,
+    solver: AbstractEigenSolver = DEFAULT_SOLVER,
     log: Callable[[str], None] | None = None,
 ) -> SweepResult:
     """Evaluate the dominant mode on the outer-product grid of ``axes``.
