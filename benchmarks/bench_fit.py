@@ -15,12 +15,12 @@ start. Timings are for comparison on one machine, not assertions.
     python benchmarks/bench_fit.py [--starts 8] [--only fig7|data]
 """
 
-import axojax as ax  # first: it sets the XLA flags before jax starts
 import argparse
 import time
 
 import numpy as np
 
+import axojax as ax  # first: it sets the XLA flags before jax starts
 from axojax.fitting import Target
 from axojax.inverse import LBFGS, Condition, LevenbergMarquardt, Problem, least_squares
 

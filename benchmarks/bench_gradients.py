@@ -18,7 +18,6 @@ Targets (issue 22): value + gradient <= 1.3x value; a 4-point batch's value + gr
     python benchmarks/bench_gradients.py [--points 64] [--repeats 5] [--chains 4,8]
 """
 
-import axojax as ax  # first: it sets the XLA flags before jax starts
 import argparse
 import os
 import time
@@ -27,6 +26,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+import axojax as ax  # first: it sets the XLA flags before jax starts
 
 NAMES = ("p", "ks", "kl", "cl", "gamma")
 

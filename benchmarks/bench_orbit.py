@@ -12,9 +12,9 @@ simulation.
 import argparse
 import time
 
-import axojax as ax  # first: it sets the XLA flags before jax starts
-
 import jax
+
+import axojax as ax  # first: it sets the XLA flags before jax starts
 
 
 def orbit_times(elements: int = 10, harmonics: int = 8, cubic: float = 10.0) -> dict:

@@ -12,7 +12,6 @@ posterior summary (truth, 90 % interval, R-hat, ESS).
         [--elements 10] [--solver arnoldi|dense|auto] [--sequential]
 """
 
-import axojax as ax  # first: it sets the XLA flags before jax starts
 import argparse
 import os
 import time
@@ -22,6 +21,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+import axojax as ax  # first: it sets the XLA flags before jax starts
 from axojax.fitting import ShapeTarget, Target
 from axojax.fitting.targets import model_psi1
 from axojax.inverse import Condition, Problem, posterior

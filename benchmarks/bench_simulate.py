@@ -26,12 +26,11 @@ import os
 import sys
 import time
 
-import axojax as ax  # first: it sets the XLA flags before jax starts
-
 import jax
 import numpy as np
 import scipy.integrate
 
+import axojax as ax  # first: it sets the XLA flags before jax starts
 from axojax.assembly import assemble
 from axojax.dynamics.nonlinear import cubic_links
 from axojax.dynamics.simulate import tip_deflection

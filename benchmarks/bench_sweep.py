@@ -31,7 +31,6 @@ compilation <= 1.5 s.
     python benchmarks/bench_sweep.py [--p 100:900:20] [--ks log:1e2:1e7:20] [--large 80] [--skip-scaling]
 """
 
-import axojax as ax  # first: it sets the XLA flags before jax starts
 import argparse
 import json
 import os
@@ -47,6 +46,7 @@ import scipy.sparse
 import scipy.sparse.linalg
 from threadpoolctl import threadpool_limits
 
+import axojax as ax  # first: it sets the XLA flags before jax starts
 from axojax.assembly import node_major
 from axojax.cli.common import parse_axis
 from axojax.eigen import Arnoldi, Dense

@@ -14,10 +14,11 @@ from __future__ import annotations
 import pathlib
 import sys
 
-import axojax as ax  # before jax: sets XLA's CPU flags
 import jax
 import jax.numpy as jnp
 import matplotlib
+
+import axojax as ax  # before jax: sets XLA's CPU flags
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402

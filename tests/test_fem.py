@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from axojax.fem import filament_matrices, interpolation_matrix, make_mesh, Profiles
+from axojax.fem import Profiles, filament_matrices, interpolation_matrix, make_mesh
 
 
 def element_closed_forms(h):

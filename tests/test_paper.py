@@ -5,12 +5,12 @@ import pathlib
 
 import numpy as np
 import pytest
+from test_reference_numbers import agrees
 
 import axojax as ax
 from axojax import paper
 from axojax.paper import table
 from axojax.paper.__main__ import main
-from test_reference_numbers import agrees
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 

@@ -4,10 +4,10 @@ import numpy as np
 import pytest
 import scipy.linalg
 import scipy.optimize
+from conftest import scipy_dominant, scipy_max_real
 
 import axojax as ax
 from axojax.eigen.mode import dominant_mode
-from conftest import scipy_dominant, scipy_max_real
 
 
 def agrees(value, stated: str):

@@ -5,11 +5,11 @@ import json
 
 import numpy as np
 import pytest
+from test_invariants import assert_same_spectrum, sorted_spectrum
 
 import axojax as ax
 from axojax.cli.main import main
 from axojax.plotting import group_bending_directions, plot_section
-from test_invariants import assert_same_spectrum, sorted_spectrum
 
 
 def net_directions(section):

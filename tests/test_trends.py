@@ -3,9 +3,9 @@
 import jax
 import numpy as np
 import pytest
+from test_reference_numbers import agrees
 
 import axojax as ax
-from test_reference_numbers import agrees
 
 KS = np.array([1e2, 1e3, 1e4, 1e5, 1e6, 1e7])  # k_s = 1e2 .. 1e7 at k_s / k_l = 1e3, gamma = 0
 GAMMAS = np.array([-1.0, 0.5])  # at k_s = 1e6, k_l = 1e3

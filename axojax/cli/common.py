@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from .. import _io
-from ..eigen.solvers import SOLVERS, Auto, AbstractEigenSolver, solver_from_name
+from ..eigen.solvers import SOLVERS, AbstractEigenSolver, Auto, solver_from_name
 from ..models import IMBALANCE_KINDS, PRESETS, CrossSection, Model, build_model, load_section
 from ..models.presets import SECTIONS
 from ..params import PARAM_NAMES, Params

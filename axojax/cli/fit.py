@@ -33,19 +33,18 @@ import dataclasses
 import math
 import pathlib
 import sys
-import warnings
-
 import tomllib
+import warnings
 
 import numpy as np
 
+from .. import _io
 from ..dynamics.simulate import DEFAULT_CUBIC
 from ..fitting import OBSERVATIONS, Target, fit, observation_targets, read_beat
 from ..inverse import SHAPE_FLOOR, Condition
 from ..models import from_file, preset
 from ..params import PARAM_NAMES, Params
 from ..units import Units
-from .. import _io
 from . import common
 
 METHODS = ("lm", "lbfgs", "adam")

@@ -23,9 +23,9 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from ..assembly import link_stiffness
-from ..linalg import BlockTridiagonal
 from ..fem import make_mesh
 from ..fem.filament import evaluate_profile
+from ..linalg import BlockTridiagonal
 from ..models.section import Model
 from ..params import Params
 

@@ -70,8 +70,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, Complex, Float
 
 from ..linalg import BlockCholesky, BlockTridiagonal, arnoldi_steps, cholesky, lu_factor
-from .dominant import CLUSTER_RTOL, normalise, dominant_eigenpair
-
+from .dominant import CLUSTER_RTOL, dominant_eigenpair, normalise
 
 TRIAL_POLES = 9
 """Trial poles 8^k - 1, k < 9: numerical abscissae up to ~1.7e7 are bracketed."""

@@ -17,7 +17,7 @@ from ..results import RESULTS
 from ..units import Units
 from . import pencil
 from .metrics import beat_plane, wavenumber
-from .solvers import Auto, AbstractEigenSolver
+from .solvers import AbstractEigenSolver, Auto
 
 STABLE, FLUTTER, DIVERGENCE = 0, 1, 2
 CLASSES = ("stable", "flutter", "divergence")

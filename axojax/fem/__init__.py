@@ -5,8 +5,8 @@ and on optional x-profiles, never on traced parameters, and is computed once wit
 numpy when a model is built.
 """
 
-from .hermite import Mesh, interpolation_matrix, make_mesh
 from .filament import FilamentMatrices, Profiles, filament_matrices
+from .hermite import Mesh, interpolation_matrix, make_mesh
 
 __all__ = [
     "Mesh",

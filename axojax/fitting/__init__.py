@@ -9,12 +9,16 @@ that importing ``axojax.fitting.targets`` (as ``axojax.inverse`` does) never nee
 """
 
 import importlib
+from typing import TYPE_CHECKING
 
 from .data import BeatData, beat_from_kymograph, read_beat
 from .observations import OBSERVATIONS, observation_targets
 from .readers import BeatFileError
 from .reduction import Planarity
 from .targets import SCALARS, ShapeTarget, Target
+
+if TYPE_CHECKING:  # the same names for static tools (the API docs' griffe)
+    from .fit import DEFAULT_BOUNDS, FitResult, build_problem, fit
 
 _FROM_FIT = ("DEFAULT_BOUNDS", "FitResult", "build_problem", "fit")
 

@@ -261,12 +261,18 @@ def _from_modes(raw: RawBeat, length: float | None, notes: list) -> BeatData:
     return BeatData(s_um=s, modes=modes, psi1_sigma=sigma, frequency_hz=f, frequency_sigma_hz=fs, length_um=float(length), kind="fourier", source=raw.path, notes=tuple(notes), published_frequency_hz=raw.scalars.get("published_frequency_hz"))
 
 
+MIN_POINTS = 3
+"""Fewest arc-length points and frames a kymograph may have."""
+
+
 def beat_from_kymograph(t_s: np.ndarray, s_um: np.ndarray, psi_rad: np.ndarray, source: str = "data", extra: list | tuple = ()) -> BeatData:
     """Frequency, psi_0 and psi_1 (with uncertainties) of a kymograph ``psi_rad`` (T, S)
     sampled at times ``t_s`` (T,) and arc lengths ``s_um`` (S,); ``extra`` angle
     components (each (T, S)) share its beat phase (a 3D beat's out-of-plane angle)."""
     s = np.asarray(s_um, dtype=float)
     psi = np.asarray(psi_rad, dtype=float)
+    if psi.ndim != 2 or psi.shape[1] < MIN_POINTS or psi.shape[0] < MIN_POINTS:
+        fail(source, f"needs at least {MIN_POINTS} arc-length points and {MIN_POINTS} frames (a wavelength needs a phase gradient, a frequency a time series), got {psi.shape[1] if psi.ndim == 2 else 0} points x {psi.shape[0] if psi.ndim else 0} frames")
     red = reduction.reduce_frames(t_s, s, [psi, *extra], source=source)
     return BeatData(
         s_um=s, modes=red.modes[0], psi1_sigma=red.psi1_sigma[0], frequency_hz=red.frequency_hz, frequency_sigma_hz=red.frequency_sigma_hz,

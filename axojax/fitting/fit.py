@@ -23,7 +23,7 @@ from ..inverse.parameters import DEFAULT_BOUNDS, LINEAR
 from ..inverse.problem import CYCLE_FAILED, SHAPE_FLOOR, Problem
 from ..inverse.report import IDENTIFIABLE_MAX_LOG_SE, SHAPE_RMS_OK, FitResult
 from ..models.section import Model
-from ..orbits.solvers import HarmonicBalance, AbstractOrbitSolver
+from ..orbits.solvers import AbstractOrbitSolver, HarmonicBalance
 from ..params import Params
 from ..units import Units
 from .targets import ShapeTarget, Target

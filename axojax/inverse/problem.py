@@ -44,11 +44,11 @@ from ..dynamics.simulate import DEFAULT_CUBIC
 from ..eigen.mode import DEFAULT_SOLVER, dominant_mode_impl
 from ..eigen.solvers import AbstractEigenSolver
 from ..fitting.targets import SCALARS, ShapeTarget, cycle_value, scalar_value, shape_fit
+from ..models.section import Model
 from ..orbits.measures import cycle_measures
+from ..orbits.solvers import AbstractOrbitSolver, HarmonicBalance
 from ..orbits.targets import aligned_psi1
 from ..orbits.targets import shape_residuals as cycle_shape_residuals
-from ..models.section import Model
-from ..orbits.solvers import HarmonicBalance, AbstractOrbitSolver
 from ..params import PARAM_NAMES, Params
 from ..units import Units
 from .conditions import Condition

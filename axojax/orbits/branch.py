@@ -28,10 +28,10 @@ from ..eigen.dominant import dominant_eigenpair
 from ..models.section import Model
 from ..params import Params
 from ..units import Units
+from ._solve import solve_jit
 from .cycle import LimitCycle
 from .fourier import Problem
 from .guess import equilibrium
-from ._solve import solve_jit
 from .solvers import AbstractOrbitSolver
 
 

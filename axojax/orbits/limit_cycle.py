@@ -10,7 +10,7 @@ from ..params import Params
 from ._solve import solve_jit
 from .branch import continue_to
 from .cycle import LimitCycle
-from .solvers import HarmonicBalance, AbstractOrbitSolver
+from .solvers import AbstractOrbitSolver, HarmonicBalance
 
 
 def limit_cycle(

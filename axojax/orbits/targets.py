@@ -34,7 +34,7 @@ from ..params import Params
 from ..units import Units
 from .cycle import LimitCycle
 from .measures import CycleMeasures, cycle_measures
-from .solvers import HarmonicBalance, AbstractOrbitSolver
+from .solvers import AbstractOrbitSolver, HarmonicBalance
 
 CYCLE_TARGETS = CycleMeasures.SCALARS
 ALIASES = {"amplitude_um": "tip_amplitude_um"}

@@ -1,0 +1,41 @@
+"""``axojax fit --posterior DRAWS [--chains C]`` (INTERFACE.md): NUTS from the fit's
+optimum on the same problem; the report's "posterior" block, the draws file beside
+--out, its corner plot, and one-line errors for bad values. One parameter of a small
+model: the posterior of p given one frequency is narrow and single-peaked, so its mean
+must sit within a few standard deviations of the least-squares optimum (the two are
+computed by different algorithms: Levenberg-Marquardt and NUTS)."""
+
+import json
+
+import pytest
+
+from axojax.cli.main import main
+
+
+def test_fit_posterior_report_file_and_corner_plot(tmp_path, capsys):
+    out = tmp_path / "fit.json"
+    rc = main(["fit", "--model", "seven", "--elements", "4", "--free", "p", "--target-frequency", "30", "--posterior", "40", "--chains", "2", "--out", str(out), "--json"])
+    assert rc == 0
+    doc = json.loads(capsys.readouterr().out)
+    post = doc["posterior"]
+    assert {"draws", "chains", "mean", "sd", "q05", "q95", "rhat", "ess", "seconds"} <= set(post)
+    assert post["draws"] == 40 and post["chains"] == 2
+    p_fit, mean, sd = doc["params"]["p"], post["mean"]["p"], post["sd"]["p"]
+    assert 0 < sd < 0.1 * p_fit
+    assert abs(mean - p_fit) < 3 * sd
+    assert post["q05"]["p"] < p_fit < post["q95"]["p"]
+    draws = tmp_path / "fit.posterior.npz"
+    assert post["file"] == str(draws) and draws.is_file()
+    assert main(["plot", str(draws), "--out", str(tmp_path / "corner.png")]) == 0
+    assert (tmp_path / "corner.png").stat().st_size > 10_000
+
+
+@pytest.mark.parametrize(("argv", "flag"), [
+    (["--posterior", "2"], "--posterior"),
+    (["--posterior", "20", "--chains", "0"], "--chains"),
+    (["--chains", "3"], "--chains"),
+])
+def test_bad_posterior_flags_are_one_line(argv, flag, capsys):
+    rc = main(["fit", "--model", "seven", "--elements", "4", "--free", "p", "--target-frequency", "30", *argv])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 2 and len(err) == 1 and flag in err[0]
