@@ -74,7 +74,7 @@ def plot_fit_report(report: dict | str | pathlib.Path) -> plt.Figure:
     a_phase.plot(s, obs_phase, "o", ms=3, label="observed")
     # The fitted phase drawn as its difference from the observed one (no unwrapping of
     # the model's psi_1 from the clamped base, where |psi_1| = 0 makes its phase jump).
-    a_phase.plot(s, obs_phase + np.angle(fit * np.conj(obs)), "-", label="fitted")
+    a_phase.plot(s, obs_phase + np.unwrap(np.angle(fit * np.conj(obs))), "-", label="fitted")
     a_phase.set(xlabel="s (um)", ylabel="arg psi_1 (rad)", title="phase of psi_1")
     a_phase.legend(fontsize=8)
     psi0_fit = None if sh.get("psi0_fit_rad") is None else _arr(sh["psi0_fit_rad"])
