@@ -94,8 +94,10 @@ def plot_corner(
                     ax.plot(optimum[nj], optimum[ni], "x", color=START, ms=8)
                 if post.log_coordinate.get(ni, False):
                     ax.set_yscale("log")
+                    _readable_log_ticks(ax.yaxis)
             if log_x:
                 ax.set_xscale("log")
+                _readable_log_ticks(ax.xaxis)
             if i == k - 1:
                 ax.set_xlabel(nj)
             else:
@@ -111,3 +113,15 @@ def plot_corner(
     if out is not None:
         fig.savefig(out, dpi=130)
     return fig
+
+
+def _readable_log_ticks(axis) -> None:
+    """A log axis over less than a decade gets three plain tick labels (matplotlib would
+    label its minor ticks in scientific notation, on top of each other)."""
+    from matplotlib.ticker import FormatStrFormatter, MaxNLocator, NullFormatter
+
+    low, high = axis.get_view_interval()
+    if low > 0 and high / low < 10:
+        axis.set_major_locator(MaxNLocator(3))
+        axis.set_major_formatter(FormatStrFormatter("%.3g"))
+        axis.set_minor_formatter(NullFormatter())
