@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import math
 
+from .. import _io
 from ..fitting.data import read_beat
 from ..fitting.reduction import PLANARITY_THRESHOLD
 from . import common
@@ -38,6 +39,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> dict:
+    common.check_output("--plot", args.plot, common.FIGURE_SUFFIXES)  # before any work, as every command
     for flag, value in (("--length-um", args.length_um), ("--frame-rate-hz", args.frame_rate_hz), ("--planarity-threshold", args.planarity_threshold)):
         if value is not None and not value > 0:
             raise common.CLIError(f"{flag}: must be > 0, got {value:g}")
@@ -55,7 +57,8 @@ def run(args: argparse.Namespace) -> dict:
 
         fig = plot_beat_data(beat)
         try:
-            fig.savefig(args.plot, dpi=110)
+            with _io.atomic_path(args.plot) as tmp:
+                fig.savefig(tmp, dpi=110)
         except (OSError, ValueError) as err:
             raise common.CLIError(f"--plot: cannot write {args.plot!r} ({err})") from None
         doc["plot"] = args.plot
