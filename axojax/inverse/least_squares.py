@@ -21,6 +21,7 @@ from __future__ import annotations
 import abc
 import math
 import time
+from collections.abc import Callable
 from typing import ClassVar
 
 import equinox as eqx
@@ -29,6 +30,7 @@ import jax.numpy as jnp
 import numpy as np
 import optax
 import optimistix as optx
+from jaxtyping import Array, PyTree
 from tqdm.auto import tqdm
 
 from .problem import Problem
@@ -53,26 +55,123 @@ class LevenbergMarquardt(LeastSquaresSolver):
             change in the residuals are both below ``atol + rtol * size`` (defaults: far
             below any standard error these fits can have).
         max_steps: iterations per start.
+        warm_start: for problems with limit-cycle targets, start each evaluation's
+            orbits from those of the last accepted iterate (:func:`warm_least_squares`)
+            instead of the Hopf normal form; the same iterates up to the orbit
+            solver's tolerance, fewer Newton steps. False: every orbit cold.
     """
 
     rtol: float = 1e-5
     atol: float = 1e-6
     max_steps: int = 100
+    warm_start: bool = True
     name: ClassVar[str] = "lm"
 
     def compile(self, problem: Problem):
         solver = optx.LevenbergMarquardt(rtol=self.rtol, atol=self.atol)
 
-        def fn(z, _):
-            return problem.residuals(problem.to_u(z))
+        def fn(z, starts):
+            return problem.residuals(problem.to_u(z), starts)
+
+        def finish(z, steps, starts=None):
+            loss, grad = jax.value_and_grad(lambda z: 0.5 * jnp.sum(fn(z, starts) ** 2))(z)
+            return z, loss, steps, jnp.linalg.norm(grad)
+
+        if self.warm_start and any(problem.needs_cycle):
+
+            def warm_fn(z, _, starts):
+                return problem.residuals_and_cycles(problem.to_u(z), starts)
+
+            def run(z0):
+                sol = warm_least_squares(warm_fn, solver, z0, max_steps=self.max_steps)
+                return finish(sol.value, sol.num_steps, sol.starts)
+
+            return jax.jit(run)
 
         def run(z0):
             sol = optx.least_squares(fn, solver, z0, max_steps=self.max_steps, throw=False)
-            z = sol.value
-            loss, grad = jax.value_and_grad(lambda z: 0.5 * jnp.sum(fn(z, None) ** 2))(z)
-            return z, loss, sol.stats["num_steps"], jnp.linalg.norm(grad)
+            return finish(sol.value, sol.stats["num_steps"])
 
         return jax.jit(run)
+
+
+class WarmSolution(eqx.Module):
+    """What :func:`warm_least_squares` returns.
+
+    Attributes:
+        value: the solution y.
+        starts: the orbits (or other warm-start data) at ``value``'s evaluation: the
+            starts of a neighbouring solve (continuation, profiles).
+        num_steps: iterations taken.
+        result: ``optimistix.RESULTS`` item.
+    """
+
+    value: PyTree
+    starts: PyTree
+    num_steps: Array
+    result: optx.RESULTS
+
+
+def warm_least_squares(
+    fn: Callable[[PyTree, PyTree, PyTree], tuple[PyTree, PyTree]],
+    solver: optx.AbstractLeastSquaresSolver,
+    y0: PyTree,
+    args: PyTree = None,
+    starts: PyTree | None = None,
+    *,
+    max_steps: int = 100,
+) -> WarmSolution:
+    """``optimistix.least_squares`` of ``fn`` with warm-start data refreshed between steps.
+
+    ``fn(y, args, starts) -> (residuals, new_starts)``: ``starts`` is where an inner
+    iterative solve begins (the orbits of :meth:`Problem.residuals_and_cycles`); it
+    changes the cost of an evaluation, not its value (to the inner solver's
+    tolerance). The solve runs optimistix's step-by-step interface (``solver.init``,
+    ``solver.step``, ``solver.terminate``) in a ``lax.while_loop`` whose carry holds the
+    starts; after each step they become the ``new_starts`` of the last accepted iterate
+    (optimistix keeps its aux). So each evaluation starts from the last accepted
+    point's orbits; the iterates are those of ``optimistix.least_squares`` on
+    ``fn(y, args, None)`` with the same solver. Pure and jit-able; not differentiable
+    (the starts are data).
+
+    Args:
+        fn: residual function with warm-start data (see above).
+        solver: an optimistix least-squares solver (e.g. ``optx.LevenbergMarquardt``).
+        y0: the start.
+        args: fixed data of ``fn``.
+        starts: initial warm-start data (e.g. the previous profile point's
+            ``WarmSolution.starts``); None: the unconverged zero pytree of
+            ``fn``'s second output (orbits from the Hopf normal form).
+        max_steps: iterations.
+    """
+    y0 = jax.tree_util.tree_map(lambda x: jnp.asarray(x, dtype=float), y0)
+    if starts is None:
+        _, starts_struct = jax.eval_shape(lambda y: fn(y, args, None), y0)
+        starts = jax.tree_util.tree_map(lambda s: jnp.zeros(s.shape, s.dtype), starts_struct)
+
+    def f(y, a):  # optimistix's fn(y, args) -> (residuals, aux)
+        return fn(y, a[0], a[1])
+
+    options, tags = {}, frozenset()
+    f_struct, aux_struct = jax.eval_shape(f, y0, (args, starts))
+    state = solver.init(f, y0, (args, starts), options, f_struct, aux_struct, tags)
+    dynamic, static = eqx.partition(state, eqx.is_array)
+
+    def cond(carry):
+        y, dynamic, starts, k = carry
+        terminate, result = solver.terminate(f, y, (args, starts), options, eqx.combine(dynamic, static), tags)
+        ok = (result == optx.RESULTS.successful) & jnp.all(jnp.array([jnp.all(jnp.isfinite(x)) for x in jax.tree_util.tree_leaves(y)]))
+        return ~terminate & ok & (k < max_steps)
+
+    def body(carry):
+        y, dynamic, starts, k = carry
+        y, state, _ = solver.step(f, y, (args, starts), options, eqx.combine(dynamic, static), tags)
+        return y, eqx.partition(state, eqx.is_array)[0], jax.lax.stop_gradient(state.aux), k + 1
+
+    y, dynamic, starts, k = jax.lax.while_loop(cond, body, (y0, dynamic, starts, jnp.array(0)))
+    terminate, result = solver.terminate(f, y, (args, starts), options, eqx.combine(dynamic, static), tags)
+    result = optx.RESULTS.where((result == optx.RESULTS.successful) & ~terminate, optx.RESULTS.nonlinear_max_steps_reached, result)
+    return WarmSolution(value=y, starts=starts, num_steps=k, result=result)
 
 
 class LBFGS(LeastSquaresSolver):

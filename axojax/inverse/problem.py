@@ -35,6 +35,7 @@ import math
 from collections.abc import Callable, Sequence
 from typing import Any
 
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -45,6 +46,7 @@ from ..eigen.mode import DEFAULT_SOLVER, dominant_mode_impl
 from ..eigen.solvers import AbstractEigenSolver
 from ..fitting.targets import SCALARS, ShapeTarget, cycle_value, scalar_value, shape_fit
 from ..models.section import Model
+from ..orbits.cycle import LimitCycle
 from ..orbits.measures import cycle_measures
 from ..orbits.solvers import AbstractOrbitSolver, HarmonicBalance
 from ..orbits.targets import aligned_psi1
@@ -57,6 +59,7 @@ from .parameters import DEFAULT_BOUNDS, FreeParameter, coordinate_bounds
 SHAPE_FLOOR = 0.05  # rad: model-discrepancy floor of psi_1 (module docstring)
 CYCLE_FAILED = 1e3  # normalised residual of a limit-cycle target where no orbit is found
 EDGE = 1e-9  # starts are kept this fraction of the range inside the bounds
+WARM_STEPS = 10  # Newton iterations a warm-started orbit gets before the Hopf guess takes over
 
 
 def _stack(params: Sequence[Params]) -> Params:
@@ -283,15 +286,54 @@ class Problem:
                 out[i] = jax.tree_util.tree_map(lambda x, k=k: x[k], batch)
         return out
 
-    def cycles(self, u) -> list:
-        """Limit cycle of every condition with limit-cycle targets (None elsewhere)."""
-        return [self.orbit_solver.solve(self.models[i], self.condition_params(u, i), self.cubic) if need else None for i, need in enumerate(self.needs_cycle)]
+    def cycles(self, u, starts: Sequence[LimitCycle | None] | None = None) -> list:
+        """Limit cycle of every condition with limit-cycle targets (None elsewhere).
 
-    def residuals(self, u: Float[Array, " k"]) -> Float[Array, " m"]:
+        Args:
+            u: (k,) fitted coordinates (may be traced).
+            starts: per condition, a nearby orbit to start Newton from (warm start: a
+                fit passes the orbits of its last accepted iterate) or None; None for
+                all: every orbit from the Hopf normal form (the cold path). Starts are
+                data: never differentiated (the orbit's derivative is the implicit
+                function theorem's at the solution, whatever the start). An unconverged
+                start is no start (the solver takes the Hopf guess); where Newton fails
+                within ``WARM_STEPS`` iterations, the orbit is solved again from the Hopf
+                normal form with the solver's full budget, so a warm-started evaluation
+                returns the cold one's orbit (up to the solver's tolerance and the
+                arbitrary time origin). ``steps`` then counts both attempts.
+        """
+        starts = [None] * self.n_conditions if starts is None else list(starts)
+        if len(starts) != self.n_conditions:
+            raise ValueError(f"starts: one per condition ({self.n_conditions}), got {len(starts)}")
+        return [self._cycle(i, self.condition_params(u, i), starts[i]) if need else None for i, need in enumerate(self.needs_cycle)]
+
+    def _cycle(self, i: int, prm: Params, start: LimitCycle | None) -> LimitCycle:
+        model, solver = self.models[i], self.orbit_solver
+        if start is None:
+            return solver.solve(model, prm, self.cubic)
+        if hasattr(solver, "max_steps"):
+            solver = dataclasses.replace(solver, max_steps=min(int(solver.max_steps), WARM_STEPS))
+        start = jax.lax.stop_gradient(start)
+        warm = solver.solve(model, prm, self.cubic, start)
+
+        def cold():  # the warm start failed: the Hopf guess (its Newton steps counted too)
+            c = self.orbit_solver.solve(model, prm, self.cubic)
+            return eqx.tree_at(lambda c: c.steps, c, c.steps + warm.steps)
+
+        # retry from the Hopf guess with the full step budget where the capped attempt failed
+        return jax.lax.cond(warm.started & ~warm.converged, cold, lambda: warm)
+
+    def residuals(self, u: Float[Array, " k"], starts: Sequence[LimitCycle | None] | None = None) -> Float[Array, " m"]:
         """Normalised residuals (model - observed) / sigma of every target of every
-        condition, in condition order: scalar targets, then Re and Im of the shape."""
+        condition, in condition order: scalar targets, then Re and Im of the shape.
+        ``starts``: warm starts of the limit cycles (:meth:`cycles`; None: cold)."""
+        return self.residuals_and_cycles(u, starts)[0]
+
+    def residuals_and_cycles(self, u: Float[Array, " k"], starts: Sequence[LimitCycle | None] | None = None) -> tuple[Float[Array, " m"], list]:
+        """(:meth:`residuals`, :meth:`cycles`) at ``u``: the orbits are those a fit
+        passes back as the next evaluation's ``starts``."""
         u = jnp.asarray(u)
-        modes, cycles = self.modes(u), self.cycles(u)
+        modes, cycles = self.modes(u), self.cycles(u, starts)
         parts = []
         for i in range(self.n_conditions):
             mode, cycle = modes[i], cycles[i]
@@ -310,7 +352,7 @@ class Problem:
                 fitted, _ = shape_fit(self.models[i], mode, shape, self.units)
                 r = (jnp.asarray(shape.psi1) - fitted) / jnp.asarray(shape.sigma)
                 parts.append(jnp.concatenate([jnp.real(r), jnp.imag(r)]))
-        return jnp.concatenate(parts)
+        return jnp.concatenate(parts), cycles
 
     def loss(self, u) -> Float[Array, ""]:
         """0.5 |residuals(u)|^2."""

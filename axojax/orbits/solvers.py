@@ -37,8 +37,10 @@ class AbstractOrbitSolver(eqx.Module):
 
     @abc.abstractmethod
     def solve(self, model: Model, params: Params, kappa, start: LimitCycle | None = None) -> LimitCycle:
-        """The orbit, started from the Hopf normal form (``start=None``) or from a nearby
-        orbit (continuation). Differentiable in ``params`` and ``kappa``."""
+        """The orbit, started from the Hopf normal form (``start=None``, or a ``start``
+        that did not converge) or from a nearby orbit (continuation; where Newton fails
+        from it, the returned stand-in is the start itself). Differentiable in ``params``
+        and ``kappa``; the start is data, never differentiated."""
 
 
 class HarmonicBalance(AbstractOrbitSolver):
@@ -86,11 +88,13 @@ class HarmonicBalance(AbstractOrbitSolver):
         fixed = make(jax.lax.stop_gradient(theta))  # the start and the multipliers are not differentiated
         x_hopf, ref, lam, fallback = hopf_guess(fixed)
         x0 = x_hopf
-        if start is not None:
+        if start is not None:  # an unconverged (or non-finite) start is no start: the Hopf guess
             X0 = resize(start.coefficients, H)
-            x0 = jnp.concatenate([jnp.ravel(X0), jnp.reshape(start.omega, (1,))])
-            ref = start.phase_ref
-            fallback = jnp.where(start.converged, x0, fallback)
+            x_warm = jnp.concatenate([jnp.ravel(X0), jnp.reshape(start.omega, (1,))])
+            warm = start.converged & jnp.all(jnp.isfinite(x_warm))
+            x0 = jnp.where(warm, x_warm, x_hopf)
+            ref = jnp.where(warm, start.phase_ref, ref)
+            fallback = jnp.where(warm, x_warm, fallback)
         x, info = implicit_solve(make, BorderedSolver, theta, x0, ref, rtol=self.rtol, max_steps=self.max_steps, fallback=fallback)
         X, omega = prob.split(x)
         # Newton may also land on the equilibrium (zero amplitude, any omega): not an orbit.
