@@ -4,18 +4,39 @@ cycle inside ax.inverse.Problem, so ``ax.fit`` (and ``axojax fit --target limit-
 --data FILE``) recovers the parameters of a known orbit. The truth is an orbit computed
 here by ax.limit_cycle and measured by axojax.orbits.measures (the same measures
 ``axojax data`` applies to a beat file); its gradient path is checked against finite
-differences in tests/test_cycle_targets.py."""
+differences in tests/test_cycle_targets.py.
+
+Warm starts (issue 20): the default Levenberg-Marquardt starts each evaluation's orbit
+from the last accepted iterate's; the cold path (``LevenbergMarquardt(warm_start=False)``,
+every orbit from the Hopf normal form) must reach the same optimum, and the warm one with
+fewer Newton steps per evaluation. The steps are counted by an orbit solver that records
+every solve it makes (a count, not a time)."""
 
 import warnings
 
+import jax
 import numpy as np
 import pytest
 
 import axojax as ax
 from axojax.fitting.targets import ShapeTarget, Target
+from axojax.inverse import LevenbergMarquardt
 from axojax.orbits.measures import cycle_measures
 
-SOLVER = ax.orbits.HarmonicBalance(harmonics=4, floquet=0, rtol=1e-11)
+NEWTON_STEPS: list[int] = []  # Newton iterations of every orbit solved by CountingSolver
+
+
+class CountingSolver(ax.orbits.HarmonicBalance):
+    """HarmonicBalance that records the Newton steps of each orbit it solves (a host
+    callback: one entry per evaluation, also inside the fit's jit and Jacobians)."""
+
+    def solve(self, model, params, kappa, start=None):
+        cycle = super().solve(model, params, kappa, start)
+        jax.debug.callback(lambda k: NEWTON_STEPS.append(int(k)), cycle.steps)
+        return cycle
+
+
+SOLVER = CountingSolver(harmonics=4, floquet=0, rtol=1e-11)
 S_UM = np.linspace(0.0, 12.0, 21)
 CUBIC = 6.0
 
@@ -38,12 +59,25 @@ def observed():
     return model, base, truth, shape, freq
 
 
-def test_waveform_fit_recovers_the_orbit(observed):
+@pytest.fixture(scope="module")
+def fits(observed):
+    """The same fit warm-started (the default) and cold; each with the Newton steps of
+    the orbits it solved (second run of the compiled fit: compilation traces once more)."""
     model, base, truth, shape, freq = observed
     start = base.replace(p=truth["p"] * 1.01, a0=truth["a0"] * 1.15)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        result = ax.fit(model, start, [freq], ["p", "a0"], shape=shape, cubic=CUBIC, orbit_solver=SOLVER, shape_floor=0.0, starts=1)
+    out = {}
+    for label, method in (("warm", LevenbergMarquardt()), ("cold", LevenbergMarquardt(warm_start=False))):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            NEWTON_STEPS.clear()
+            result = ax.fit(model, start, [freq], ["p", "a0"], shape=shape, cubic=CUBIC, orbit_solver=SOLVER, shape_floor=0.0, starts=1, method=method)
+        out[label] = (result, list(NEWTON_STEPS))
+    return out
+
+
+def test_waveform_fit_recovers_the_orbit(observed, fits):
+    model, base, truth, shape, freq = observed
+    result, _ = fits["warm"]
     assert result.converged, result.message
     for name, want in truth.items():
         assert abs(result.params[name] - want) <= 2 * result.stderr[name] + 1e-9 * want, (name, result.params[name], want, result.stderr[name])
@@ -52,3 +86,20 @@ def test_waveform_fit_recovers_the_orbit(observed):
     assert shape_report["source"] == "limit_cycle" and shape_report["psi0_fit_rad"] is not None
     # The fitted psi_0 is the orbit's in absolute amplitude: it matches the observed to the noise.
     assert np.max(np.abs(np.asarray(shape_report["psi0_fit_rad"]) - shape.psi0)) < 5 * 0.002
+
+
+def test_warm_started_fit_matches_the_cold_one_in_fewer_newton_steps(fits):
+    (warm, warm_steps), (cold, cold_steps) = fits["warm"], fits["cold"]
+    assert warm.converged and cold.converged
+    assert warm.iterations == cold.iterations  # the same Levenberg-Marquardt path
+    for name in ("p", "a0"):
+        assert abs(warm.params[name] / cold.params[name] - 1) < 1e-7, (name, warm.params[name], cold.params[name])
+    assert abs(warm.loss - cold.loss) < 1e-6 * cold.loss
+    # The orbits are counted in order: one per Levenberg-Marquardt step and one for the
+    # final gradient (the fit), then the report's (cold in both). The warm fit's
+    # evaluations cost fewer Newton steps each; the report's the same.
+    n = warm.iterations[0] + 1
+    assert len(warm_steps) == len(cold_steps) > n and all(k > 0 for k in warm_steps + cold_steps)
+    assert warm_steps[n:] == cold_steps[n:]
+    assert np.mean(warm_steps[:n]) < 0.85 * np.mean(cold_steps[:n]), (warm_steps, cold_steps)
+    assert warm_steps[n - 1] <= 2  # the final gradient starts from the optimum's own orbit
