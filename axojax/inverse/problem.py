@@ -35,7 +35,6 @@ import math
 from collections.abc import Callable, Sequence
 from typing import Any
 
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -48,7 +47,7 @@ from ..fitting.targets import SCALARS, ShapeTarget, cycle_value, scalar_value, s
 from ..models.section import Model
 from ..orbits.cycle import LimitCycle
 from ..orbits.measures import cycle_measures
-from ..orbits.solvers import AbstractOrbitSolver, HarmonicBalance
+from ..orbits.solvers import AbstractOrbitSolver, HarmonicBalance, WarmStart
 from ..orbits.targets import aligned_psi1
 from ..orbits.targets import shape_residuals as cycle_shape_residuals
 from ..params import PARAM_NAMES, Params
@@ -295,12 +294,12 @@ class Problem:
                 fit passes the orbits of its last accepted iterate) or None; None for
                 all: every orbit from the Hopf normal form (the cold path). Starts are
                 data: never differentiated (the orbit's derivative is the implicit
-                function theorem's at the solution, whatever the start). An unconverged
-                start is no start (the solver takes the Hopf guess); where Newton fails
-                within ``WARM_STEPS`` iterations, the orbit is solved again from the Hopf
-                normal form with the solver's full budget, so a warm-started evaluation
-                returns the cold one's orbit (up to the solver's tolerance and the
-                arbitrary time origin). ``steps`` then counts both attempts.
+                function theorem's at the solution, whatever the start). Solved by
+                :class:`~axojax.orbits.solvers.WarmStart` around the orbit solver: an
+                unconverged start is no start; where Newton fails within ``WARM_STEPS``
+                iterations, the orbit is solved again from the Hopf normal form, so a
+                warm-started evaluation returns the cold one's orbit (up to the solver's
+                tolerance and the arbitrary time origin).
         """
         starts = [None] * self.n_conditions if starts is None else list(starts)
         if len(starts) != self.n_conditions:
@@ -308,20 +307,9 @@ class Problem:
         return [self._cycle(i, self.condition_params(u, i), starts[i]) if need else None for i, need in enumerate(self.needs_cycle)]
 
     def _cycle(self, i: int, prm: Params, start: LimitCycle | None) -> LimitCycle:
-        model, solver = self.models[i], self.orbit_solver
         if start is None:
-            return solver.solve(model, prm, self.cubic)
-        if hasattr(solver, "max_steps"):
-            solver = dataclasses.replace(solver, max_steps=min(int(solver.max_steps), WARM_STEPS))
-        start = jax.lax.stop_gradient(start)
-        warm = solver.solve(model, prm, self.cubic, start)
-
-        def cold():  # the warm start failed: the Hopf guess (its Newton steps counted too)
-            c = self.orbit_solver.solve(model, prm, self.cubic)
-            return eqx.tree_at(lambda c: c.steps, c, c.steps + warm.steps)
-
-        # retry from the Hopf guess with the full step budget where the capped attempt failed
-        return jax.lax.cond(warm.started & ~warm.converged, cold, lambda: warm)
+            return self.orbit_solver.solve(self.models[i], prm, self.cubic)
+        return WarmStart(self.orbit_solver, WARM_STEPS).solve(self.models[i], prm, self.cubic, start)
 
     def residuals(self, u: Float[Array, " k"], starts: Sequence[LimitCycle | None] | None = None) -> Float[Array, " m"]:
         """Normalised residuals (model - observed) / sigma of every target of every

@@ -4,6 +4,8 @@
 only static options (hashable: a static argument of ``jax.jit``) and turns
 (model, params, kappa, start) into a :class:`~axojax.orbits.LimitCycle`.
 
+- :class:`WarmStart`: another solver started from a nearby orbit (a fit's last
+  iterate), falling back to the Hopf normal form.
 - :class:`HarmonicBalance`: Fourier-Galerkin (trigonometric) collocation with exact
   alternating frequency-time projection of the cubic force
   (:mod:`axojax.orbits.fourier`), damped Newton with the exact Jacobian and the
@@ -15,6 +17,7 @@ only static options (hashable: a static argument of ``jax.jit``) and turns
 from __future__ import annotations
 
 import abc
+import dataclasses
 
 import equinox as eqx
 import jax
@@ -38,8 +41,9 @@ class AbstractOrbitSolver(eqx.Module):
     @abc.abstractmethod
     def solve(self, model: Model, params: Params, kappa, start: LimitCycle | None = None) -> LimitCycle:
         """The orbit, started from the Hopf normal form (``start=None``, or a ``start``
-        that did not converge) or from a nearby orbit (continuation; where Newton fails
-        from it, the returned stand-in is the start itself). Differentiable in ``params``
+        that did not converge, or parameters before the Hopf point) or from a nearby orbit
+        (continuation; where Newton fails from it, the returned stand-in is the start
+        itself). Differentiable in ``params``
         and ``kappa``; the start is data, never differentiated."""
 
 
@@ -88,10 +92,14 @@ class HarmonicBalance(AbstractOrbitSolver):
         fixed = make(jax.lax.stop_gradient(theta))  # the start and the multipliers are not differentiated
         x_hopf, ref, lam, fallback = hopf_guess(fixed)
         x0 = x_hopf
-        if start is not None:  # an unconverged (or non-finite) start is no start: the Hopf guess
+        if start is not None:
+            # An unconverged (or non-finite) start is no start: the Hopf guess. Nor is any
+            # start before the Hopf point (a stable equilibrium, Re lambda <= 0): there
+            # is no orbit of the supercritical branch to continue to (a fit's trial step
+            # there fails at once, as from the Hopf guess, instead of after max_steps).
             X0 = resize(start.coefficients, H)
             x_warm = jnp.concatenate([jnp.ravel(X0), jnp.reshape(start.omega, (1,))])
-            warm = start.converged & jnp.all(jnp.isfinite(x_warm))
+            warm = start.converged & jnp.all(jnp.isfinite(x_warm)) & (jnp.real(lam) > 0)
             x0 = jnp.where(warm, x_warm, x_hopf)
             ref = jnp.where(warm, start.phase_ref, ref)
             fallback = jnp.where(warm, x_warm, fallback)
@@ -111,6 +119,45 @@ class HarmonicBalance(AbstractOrbitSolver):
             linear_eigenvalue=lam, phase_ref=ref,
             result=RESULTS.where(info[0] > 0.5, RESULTS.successful, RESULTS.where(jnp.all(jnp.isfinite(x0)), RESULTS.nonlinear_max_steps_reached, RESULTS.no_start)),
         )
+
+
+class WarmStart(AbstractOrbitSolver):
+    """Another solver, started from a nearby orbit where one is given, with the Hopf
+    normal form as the fallback: for fits, profiles and continuation, where each orbit
+    is near the last one solved.
+
+    With ``start``: Newton from it for at most ``warm_steps`` iterations (the inner
+    solver's ``max_steps`` capped); where that fails, the inner solver again from the
+    Hopf normal form with its full budget. So the orbit is the cold one (up to the
+    solver's tolerance and the arbitrary time origin) at a few Newton steps when the
+    start is near. The returned ``steps`` count both attempts. Without ``start``: the
+    inner solver. The start is data, never differentiated. Both attempts are traced
+    (a ``lax.cond``): compilation takes longer than the inner solver's.
+
+    Attributes:
+        solver: the inner solver (e.g. :class:`HarmonicBalance` with ``floquet=0``).
+        warm_steps: Newton iterations the warm attempt gets.
+    """
+
+    solver: AbstractOrbitSolver = HarmonicBalance(floquet=0)
+    warm_steps: int = 10
+
+    def solve(self, model, params, kappa, start=None):
+        inner = self.solver
+        if start is None:
+            return inner.solve(model, params, kappa)
+        capped = inner
+        if hasattr(inner, "max_steps"):
+            capped = dataclasses.replace(inner, max_steps=min(int(inner.max_steps), int(self.warm_steps)))
+        warm = capped.solve(model, params, kappa, jax.lax.stop_gradient(start))
+
+        def cold():
+            cycle = inner.solve(model, params, kappa)
+            return eqx.tree_at(lambda c: c.steps, cycle, cycle.steps + warm.steps)
+
+        # (an unconverged start is no start: the warm attempt then began at the Hopf
+        # guess, and a failure within the cap is retried with the full budget too)
+        return jax.lax.cond(warm.started & ~warm.converged, cold, lambda: warm)
 
 
 def resize(X, harmonics: int):
