@@ -8,21 +8,35 @@
    installed): free p, ks, cl on the seven-filament model at the data's length, its
    frequency and in-plane psi_1 shape as targets.
 
+3. Warm against cold starts of a limit-cycle waveform fit (issue 20): the orbit of the
+   inferred fig. 12 parameters (seven filaments, 10 elements, 5:1 moment imbalance,
+   harmonic balance with ``--harmonics``) observed as psi_0, psi_1 on 13 points and its
+   frequency; free p, a0, cl from 3 % off. The default Levenberg-Marquardt starts each
+   evaluation's orbit from the last accepted iterate's
+   (``LevenbergMarquardt(warm_start=True)``); the cold one from the Hopf normal form.
+   Prints, for each, LM steps, orbits solved, Newton steps per orbit (counted by a
+   recording orbit solver), the wall time of the compiled fit and the compilation, the
+   fitted values, then the warm/cold ratios measured in this one run.
+
 Prints per solver: iterations per start, wall time (compilation included, then per
 start), the best loss and, for fig. 7, the worst relative frequency error of the best
 start. Timings are for comparison on one machine, not assertions.
 
-    python benchmarks/bench_fit.py [--starts 8] [--only fig7|data]
+    python benchmarks/bench_fit.py [--starts 8] [--only fig7|data|cycle] [--harmonics 4]
 """
 
 import argparse
 import time
 
+import jax
+import jax.numpy as jnp
 import numpy as np
 
 import axojax as ax  # first: it sets the XLA flags before jax starts
-from axojax.fitting import Target
+from axojax import paper
+from axojax.fitting import ShapeTarget, Target
 from axojax.inverse import LBFGS, Condition, LevenbergMarquardt, Problem, least_squares
+from axojax.orbits.measures import cycle_measures
 
 FIG7 = {300: 51.0, 150: 17.0, 200: 22.0, 400: 66.0, 800: 245.0}
 
@@ -68,16 +82,65 @@ def human_sperm(starts: int) -> None:
     compare(problem, starts, f"human sperm ({beat.length_um:.3g} um, {beat.frequency_hz:.3g} Hz)", lambda r: f"chi2/dof {r.chi2_per_dof:.3g}; at bound {r.at_bound}")
 
 
+NEWTON_STEPS: list[int] = []
+
+
+class CountingSolver(ax.orbits.HarmonicBalance):
+    """HarmonicBalance recording the Newton steps of every orbit it solves."""
+
+    def solve(self, model, params, kappa, start=None):
+        cycle = super().solve(model, params, kappa, start)
+        jax.debug.callback(lambda k: NEWTON_STEPS.append(int(k)), cycle.steps)
+        return cycle
+
+
+def cycle_fit(harmonics: int) -> None:
+    inf = paper.INFERRED["fig12"]
+    model, truth = inf.build()
+    solver = CountingSolver(harmonics=harmonics, floquet=0, rtol=1e-10)
+    s_um = np.linspace(0.0, 12.0, 13)
+    m = cycle_measures(ax.limit_cycle(model, truth, inf.cubic, solver=solver), s_um)
+    shape = ShapeTarget(s_um, np.asarray(m.psi1), 0.01, psi0=np.asarray(m.psi0), source="limit_cycle")
+    freq = Target("frequency_hz", float(m.frequency_hz), 0.1, source="limit_cycle")
+    free = ("p", "a0", "cl")
+    start = truth.replace(**{k: 1.03 * float(getattr(truth, k)) for k in free})
+    problem = Problem(model, [Condition(targets=[freq], shape=shape)], free, params=start, cubic=inf.cubic, orbit_solver=solver, shape_floor=0.0)
+    z0 = problem.to_z(jnp.asarray(problem.u0))
+    print(f"\n== limit-cycle waveform fit, fig. 12 orbit (seven filaments, {model.n_dof} dof, {harmonics} harmonics): free {', '.join(free)} from 3 % off")
+    print(f"{'start':>6s}  {'LM steps':>8s}  {'orbits':>6s}  {'Newton/orbit':>12s}  {'fit s':>6s}  {'compile s':>9s}  fitted")
+    rows = {}
+    for label, lm in (("cold", LevenbergMarquardt(warm_start=False)), ("warm", LevenbergMarquardt())):
+        run = lm.compile(problem)
+        t = time.perf_counter()
+        jax.block_until_ready(run(z0))
+        first = time.perf_counter() - t
+        NEWTON_STEPS.clear()
+        t = time.perf_counter()
+        z, loss, steps, _ = jax.block_until_ready(run(z0))
+        wall = time.perf_counter() - t
+        counts = list(NEWTON_STEPS)
+        fitted = problem.values(np.asarray(problem.to_u(z)))
+        rows[label] = (np.mean(counts), wall, fitted)
+        vals = ", ".join(f"{k} {v / float(getattr(truth, k)) - 1:+.1e}" for k, v in fitted.items())
+        print(f"{label:>6s}  {int(steps):8d}  {len(counts):6d}  {np.mean(counts):12.2f}  {wall:6.1f}  {first - wall:9.1f}  relative to the truth: {vals}")
+    (nc, wc, fc), (nw, ww, fw) = rows["cold"], rows["warm"]
+    agree = max(abs(fw[k] / fc[k] - 1) for k in fc)
+    print(f"warm/cold: Newton steps per orbit {nw / nc:.2f}, fit wall time {ww / wc:.2f}; fitted values agree to {agree:.1e}")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--starts", type=int, default=8)
-    ap.add_argument("--only", choices=("fig7", "data"), default=None, help="run one of the two comparisons")
+    ap.add_argument("--only", choices=("fig7", "data", "cycle"), default=None, help="run one of the three comparisons")
+    ap.add_argument("--harmonics", type=int, default=4, help="harmonics of the limit-cycle fit")
     args = ap.parse_args()
     np.set_printoptions(precision=3)
-    if args.only != "data":
+    if args.only in (None, "fig7"):
         fig7(args.starts)
-    if args.only != "fig7":
+    if args.only in (None, "data"):
         human_sperm(args.starts)
+    if args.only in (None, "cycle"):
+        cycle_fit(args.harmonics)
 
 
 if __name__ == "__main__":

@@ -7,7 +7,10 @@ Each solver minimises ``0.5 |residuals(u(z))|^2`` over the unconstrained coordin
   ``optimistix.LevenbergMarquardt``; the Jacobian is exact (forward mode through the
   dominant eigenpair's derivative rule). These problems have a handful of unknowns and
   residuals, so a damped Gauss-Newton step converges in a few iterations where a
-  first-order method needs many.
+  first-order method needs many. With limit-cycle targets each evaluation's orbit is
+  warm-started from the last accepted iterate's (:func:`warm_least_squares`:
+  optimistix's step-by-step interface in a ``lax.while_loop`` that carries the orbits);
+  ``warm_start=False`` starts every orbit from the Hopf normal form.
 - :class:`LBFGS`: ``optax.lbfgs`` with a zoom line search on the loss.
 - :class:`Adam`: ``optax.adam`` for a fixed number of steps (robust, slow).
 
@@ -100,6 +103,7 @@ class WarmSolution(eqx.Module):
 
     Attributes:
         value: the solution y.
+        residuals: ``fn``'s residuals at ``value``.
         starts: the orbits (or other warm-start data) at ``value``'s evaluation: the
             starts of a neighbouring solve (continuation, profiles).
         num_steps: iterations taken.
@@ -107,6 +111,7 @@ class WarmSolution(eqx.Module):
     """
 
     value: PyTree
+    residuals: PyTree
     starts: PyTree
     num_steps: Array
     result: optx.RESULTS
@@ -136,7 +141,9 @@ def warm_least_squares(
 
     Args:
         fn: residual function with warm-start data (see above).
-        solver: an optimistix least-squares solver (e.g. ``optx.LevenbergMarquardt``).
+        solver: an optimistix Gauss-Newton-type solver (``optx.LevenbergMarquardt``,
+            ``optx.Dogleg``, ``optx.GaussNewton``: their state keeps the last accepted
+            iterate's aux and residuals).
         y0: the start.
         args: fixed data of ``fn``.
         starts: initial warm-start data (e.g. the previous profile point's
@@ -171,7 +178,8 @@ def warm_least_squares(
     y, dynamic, starts, k = jax.lax.while_loop(cond, body, (y0, dynamic, starts, jnp.array(0)))
     terminate, result = solver.terminate(f, y, (args, starts), options, eqx.combine(dynamic, static), tags)
     result = optx.RESULTS.where((result == optx.RESULTS.successful) & ~terminate, optx.RESULTS.nonlinear_max_steps_reached, result)
-    return WarmSolution(value=y, starts=starts, num_steps=k, result=result)
+    residuals = eqx.combine(dynamic, static).f_info.residual
+    return WarmSolution(value=y, residuals=residuals, starts=starts, num_steps=k, result=result)
 
 
 class LBFGS(LeastSquaresSolver):
