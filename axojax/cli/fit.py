@@ -5,6 +5,8 @@ The spec file (INTERFACE.md)::
 
     model = "seven"            # or model_file = "section.toml" (relative to the spec)
     elements = 10              # optional
+    imbalance_kind = "moment"  # optional: how imbalance R is read ("moment" or "force";
+                               # default --imbalance-kind, itself "moment")
     kl_ratio = 1000            # optional: kl = ks / kl_ratio
     length_um = 12             # optional
     free = ["ks", "kl", "cl", "gamma"]     # shared by all conditions
@@ -50,7 +52,7 @@ from . import common
 METHODS = ("lm", "lbfgs", "adam")
 MAX_DRAWS = 100_000  # draws per chain of --posterior (a 3-parameter posterior needs ~1000)
 MAX_CHAINS = 64
-SPEC_TOP = {"model", "model_file", "elements", "kl_ratio", "length_um", "free", "free_per_condition", "params", "condition", "bounds"}
+SPEC_TOP = {"model", "model_file", "elements", "imbalance_kind", "kl_ratio", "length_um", "free", "free_per_condition", "params", "condition", "bounds"}
 SPEC_TARGETS = {
     # key: (target name, sigma key, default relative sigma)
     "frequency_hz": ("frequency_hz", "frequency_sigma_hz", 0.05),
@@ -335,11 +337,16 @@ def _run_spec(args: argparse.Namespace) -> dict:
         _spec_error(path, f"elements must be an integer >= 1, got {elements!r}")
     if "model" in spec and "model_file" in spec:
         _spec_error(path, "give model or model_file, not both")
+    kind = spec.get("imbalance_kind", args.imbalance_kind)
+    if kind not in common.IMBALANCE_KINDS:
+        _spec_error(path, f"imbalance_kind must be one of {', '.join(common.IMBALANCE_KINDS)}, got {kind!r}")
+    if "imbalance_kind" in spec and args.imbalance_kind != common.IMBALANCE_KINDS[0] and args.imbalance_kind != kind:
+        raise common.CLIError(f"--imbalance-kind: {args.imbalance_kind} conflicts with the spec's imbalance_kind = {kind!r} ({path})")
     try:
         if "model_file" in spec:
-            model = from_file(here / str(spec["model_file"]), n_elements=elements)
+            model = from_file(here / str(spec["model_file"]), n_elements=elements, imbalance_kind=kind)
         else:
-            model = preset(str(spec.get("model", "seven")), n_elements=elements)
+            model = preset(str(spec.get("model", "seven")), n_elements=elements, imbalance_kind=kind)
     except (ValueError, OSError) as err:
         _spec_error(path, f"model: {err}")
     length = _number(path, "length_um", spec["length_um"]) if "length_um" in spec else args.length_um
