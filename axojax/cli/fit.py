@@ -63,7 +63,7 @@ SPEC_TARGETS = {
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     common.add_model_flags(parser)
-    parser.add_argument("--free", default=None, metavar="NAMES", help="comma-separated parameters to fit, e.g. p,ks (or free = [...] in --spec)")
+    parser.add_argument("--free", default=None, metavar="NAMES", help="comma-separated parameters to fit, e.g. p,ks; cubic (the stiffening, --cubic its start) with --target limit-cycle (or free = [...] in --spec)")
     parser.add_argument("--spec", default=None, metavar="FIT.toml", help="fit several conditions at once (global fit): model, free parameters and [[condition]] tables (see the module docs)")
     common.add_solver_flag(parser)
     parser.add_argument("--target-frequency", type=common.finite_float, default=None, metavar="HZ", help="observed beat frequency (Hz)")
@@ -246,7 +246,7 @@ def run(args: argparse.Namespace) -> dict:
     model = common.model_from_args(args)
     params = common.params_from_args(args)
     units = common.units_from_args(args)
-    free = common.parse_names(args.free, "--free")
+    free = _free_names(args.free)
     options = _fit_options(args)
     targets = _targets(args)
     shape, extra = None, {}
@@ -278,6 +278,15 @@ def run(args: argparse.Namespace) -> dict:
     flag = "--exclude-base-um" if args.exclude_base_um else "--free"
     result, post = _run_fit(args, model, params, targets, free, shape=shape, kl_ratio=common.kl_ratio(args), units=units, flag=flag, **options)
     return _finish(args, result, extra, post)
+
+
+def _free_names(text: str) -> list[str]:
+    """--free: parameter flags, and ``cubic`` (the limit cycle's stiffening; with --target limit-cycle)."""
+    names = [t.strip() for t in text.split(",")]
+    if "cubic" not in names:
+        return common.parse_names(text, "--free")
+    rest = [n for n in names if n and n != "cubic"]
+    return (common.parse_names(",".join(rest), "--free") if rest else []) + ["cubic"]
 
 
 # -- --spec: several conditions ----------------------------------------------------------

@@ -217,7 +217,7 @@ def build_report(problem: Problem, u, *, method: str = "", loss: float | None = 
                 off.append(f"{t.key}{suffix} {a:.4g} vs {t.value:.4g} +- {t.sigma:.3g} ({rv:+.1f} sigma)")
         entry: dict[str, Any] = {
             "label": label,
-            "params": {f: float(np.asarray(getattr(full, f))) for f in PARAM_NAMES},
+            "params": {f: float(np.asarray(getattr(full, f))) for f in PARAM_NAMES} | ({"cubic": float(np.asarray(problem.condition_cubic(u, i)))} if problem.needs_cycle[i] else {}),
             "fixed": dict(cond.params),
             "source": cond.source,
             "achieved": achieved,
