@@ -130,3 +130,11 @@ def test_cli_spec_reads_the_imbalance_kind(tmp_path, capsys):
     assert code == 2 and "--imbalance-kind" in err and len(err.strip().splitlines()) == 1
     code, _, err = spec_fit('imbalance_kind = "torque"\n')
     assert code == 2 and "imbalance_kind" in err and len(err.strip().splitlines()) == 1
+
+
+def test_sweep_records_the_imbalance_kind(seven):
+    """A map's meta names how its imbalance was read (two maps of the same flags differ by it)."""
+    axes = {"p": [250.0, 300.0]}
+    for kind in ("moment", "force"):
+        res = ax.sweep(seven.with_imbalance_kind(kind), ax.Params(imbalance=5.0), axes, progress=False)
+        assert res.meta["imbalance_kind"] == kind
