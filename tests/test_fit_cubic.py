@@ -71,3 +71,15 @@ def test_cubic_needs_a_limit_cycle_target(observed, capsys):
     assert main(["fit", "--model", "two", "--elements", "4", "--free", "p,cubic", "--target-frequency", "50", "--json"]) == 2
     err = capsys.readouterr().err
     assert "--free" in err and "cubic" in err and len(err.strip().splitlines()) == 1
+
+
+def test_no_orbit_at_the_start_is_said(observed):
+    """Started where the straight state does not beat (p = 0.5 p_c), the fit cannot move
+    (no orbit, no gradient): the report says so and what to do, not only "no information"."""
+    model, base, truth, shape, freq = observed
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = ax.fit(model, base.replace(p=0.5 * truth["p"] / 1.06, a0=truth["a0"]), [freq], ["p"], shape=shape, cubic=TRUTH_CUBIC,
+                        orbit_solver=SOLVER, starts=1, max_steps=3)
+    assert not result.converged
+    assert "no limit cycle found" in result.message and "axojax critical" in result.message
