@@ -99,3 +99,42 @@ def test_cli_imbalance_kind(capsys):
     assert main(["modes", "--imbalance-kind", "torque", "--json"]) == 2
     err = capsys.readouterr()[1].strip()
     assert "--imbalance-kind" in err and len(err.splitlines()) == 1
+
+
+def test_cli_spec_reads_the_imbalance_kind(tmp_path, capsys):
+    """A global-fit spec says how its imbalance is read (``imbalance_kind``, default
+    ``--imbalance-kind``): fitting p to the force reading's own frequency at p = 300
+    (computed here by ``ax.dominant_mode``) recovers p = 300 only when the spec says
+    "force"; a conflicting flag is refused in one line."""
+    truth = ax.Params(p=300.0, imbalance=5.0)
+    model = ax.models.seven(n_elements=6)
+    f_force = float(ax.dominant_mode(model.with_imbalance_kind("force"), truth).frequency_hz())
+    f_moment = float(ax.dominant_mode(model, truth).frequency_hz())
+    assert abs(f_force - f_moment) > 0.03 * f_moment  # the readings differ at this point
+
+    def spec_fit(kind_line, *flags):
+        path = tmp_path / "fit.toml"
+        path.write_text(f'model = "seven"\nelements = 6\n{kind_line}free = ["p"]\n[params]\np = 280\nimbalance = 5\n'
+                        f'[[condition]]\nfrequency_hz = {f_force}\nfrequency_sigma_hz = {0.001 * f_force}\n')
+        code = main(["fit", "--spec", str(path), "--starts", "1", "--json", *flags])
+        out, err = capsys.readouterr()
+        return code, (json.loads(out) if out else None), err
+
+    code, doc, _ = spec_fit('imbalance_kind = "force"\n')
+    assert code == 0 and doc["params"]["p"] == pytest.approx(300.0, rel=1e-3)
+    code, doc, _ = spec_fit("", "--imbalance-kind", "force")
+    assert code == 0 and doc["params"]["p"] == pytest.approx(300.0, rel=1e-3)
+    code, doc, _ = spec_fit("")  # moment: the same frequency at another p
+    assert doc["params"]["p"] != pytest.approx(300.0, rel=1e-2)
+    code, _, err = spec_fit('imbalance_kind = "moment"\n', "--imbalance-kind", "force")
+    assert code == 2 and "--imbalance-kind" in err and len(err.strip().splitlines()) == 1
+    code, _, err = spec_fit('imbalance_kind = "torque"\n')
+    assert code == 2 and "imbalance_kind" in err and len(err.strip().splitlines()) == 1
+
+
+def test_sweep_records_the_imbalance_kind(seven):
+    """A map's meta names how its imbalance was read (two maps of the same flags differ by it)."""
+    axes = {"p": [250.0, 300.0]}
+    for kind in ("moment", "force"):
+        res = ax.sweep(seven.with_imbalance_kind(kind), ax.Params(imbalance=5.0), axes, progress=False)
+        assert res.meta["imbalance_kind"] == kind

@@ -5,6 +5,8 @@ The spec file (INTERFACE.md)::
 
     model = "seven"            # or model_file = "section.toml" (relative to the spec)
     elements = 10              # optional
+    imbalance_kind = "moment"  # optional: how imbalance R is read ("moment" or "force";
+                               # default --imbalance-kind, itself "moment")
     kl_ratio = 1000            # optional: kl = ks / kl_ratio
     length_um = 12             # optional
     free = ["ks", "kl", "cl", "gamma"]     # shared by all conditions
@@ -50,7 +52,7 @@ from . import common
 METHODS = ("lm", "lbfgs", "adam")
 MAX_DRAWS = 100_000  # draws per chain of --posterior (a 3-parameter posterior needs ~1000)
 MAX_CHAINS = 64
-SPEC_TOP = {"model", "model_file", "elements", "kl_ratio", "length_um", "free", "free_per_condition", "params", "condition", "bounds"}
+SPEC_TOP = {"model", "model_file", "elements", "imbalance_kind", "kl_ratio", "length_um", "free", "free_per_condition", "params", "condition", "bounds"}
 SPEC_TARGETS = {
     # key: (target name, sigma key, default relative sigma)
     "frequency_hz": ("frequency_hz", "frequency_sigma_hz", 0.05),
@@ -61,7 +63,7 @@ SPEC_TARGETS = {
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     common.add_model_flags(parser)
-    parser.add_argument("--free", default=None, metavar="NAMES", help="comma-separated parameters to fit, e.g. p,ks (or free = [...] in --spec)")
+    parser.add_argument("--free", default=None, metavar="NAMES", help="comma-separated parameters to fit, e.g. p,ks; cubic (the stiffening, --cubic its start) with --target limit-cycle (or free = [...] in --spec)")
     parser.add_argument("--spec", default=None, metavar="FIT.toml", help="fit several conditions at once (global fit): model, free parameters and [[condition]] tables (see the module docs)")
     common.add_solver_flag(parser)
     parser.add_argument("--target-frequency", type=common.finite_float, default=None, metavar="HZ", help="observed beat frequency (Hz)")
@@ -244,7 +246,7 @@ def run(args: argparse.Namespace) -> dict:
     model = common.model_from_args(args)
     params = common.params_from_args(args)
     units = common.units_from_args(args)
-    free = common.parse_names(args.free, "--free")
+    free = _free_names(args.free)
     options = _fit_options(args)
     targets = _targets(args)
     shape, extra = None, {}
@@ -276,6 +278,15 @@ def run(args: argparse.Namespace) -> dict:
     flag = "--exclude-base-um" if args.exclude_base_um else "--free"
     result, post = _run_fit(args, model, params, targets, free, shape=shape, kl_ratio=common.kl_ratio(args), units=units, flag=flag, **options)
     return _finish(args, result, extra, post)
+
+
+def _free_names(text: str) -> list[str]:
+    """--free: parameter flags, and ``cubic`` (the limit cycle's stiffening; with --target limit-cycle)."""
+    names = [t.strip() for t in text.split(",")]
+    if "cubic" not in names:
+        return common.parse_names(text, "--free")
+    rest = [n for n in names if n and n != "cubic"]
+    return (common.parse_names(",".join(rest), "--free") if rest else []) + ["cubic"]
 
 
 # -- --spec: several conditions ----------------------------------------------------------
@@ -335,11 +346,16 @@ def _run_spec(args: argparse.Namespace) -> dict:
         _spec_error(path, f"elements must be an integer >= 1, got {elements!r}")
     if "model" in spec and "model_file" in spec:
         _spec_error(path, "give model or model_file, not both")
+    kind = spec.get("imbalance_kind", args.imbalance_kind)
+    if kind not in common.IMBALANCE_KINDS:
+        _spec_error(path, f"imbalance_kind must be one of {', '.join(common.IMBALANCE_KINDS)}, got {kind!r}")
+    if "imbalance_kind" in spec and args.imbalance_kind != common.IMBALANCE_KINDS[0] and args.imbalance_kind != kind:
+        raise common.CLIError(f"--imbalance-kind: {args.imbalance_kind} conflicts with the spec's imbalance_kind = {kind!r} ({path})")
     try:
         if "model_file" in spec:
-            model = from_file(here / str(spec["model_file"]), n_elements=elements)
+            model = from_file(here / str(spec["model_file"]), n_elements=elements, imbalance_kind=kind)
         else:
-            model = preset(str(spec.get("model", "seven")), n_elements=elements)
+            model = preset(str(spec.get("model", "seven")), n_elements=elements, imbalance_kind=kind)
     except (ValueError, OSError) as err:
         _spec_error(path, f"model: {err}")
     length = _number(path, "length_um", spec["length_um"]) if "length_um" in spec else args.length_um

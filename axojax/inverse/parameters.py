@@ -27,7 +27,12 @@ DEFAULT_BOUNDS = {
     "inactive_factor": (0.1, 1e3),
     "imbalance": (0.1, 10.0),
     "a0": (1e-4, 1.0),
+    "cubic": (1e-3, 1e4),
 }
+ORBIT_FIELDS = frozenset({"cubic"})
+"""Free parameters that are not :class:`~axojax.Params` fields but options of the limit
+cycle: ``cubic``, the link stiffening kappa (1/L^2) of ``C dq/dt = -A q - f_nl(q) + b``
+(only limit-cycle targets depend on it)."""
 LINEAR = frozenset({"gamma"})
 
 
@@ -37,7 +42,8 @@ class FreeParameter:
 
     Attributes:
         name: its label in results (``"ks"`` or ``"p@150"``).
-        field: the :class:`~axojax.Params` field it sets.
+        field: the :class:`~axojax.Params` field it sets, or ``"cubic"`` (the limit
+            cycle's link stiffening, :data:`ORBIT_FIELDS`).
         condition: index of the condition it belongs to, or None when shared.
         log: fitted in log space (positive quantities) or linearly (gamma).
         lower, upper: bounds in the fitted coordinate u.

@@ -53,7 +53,7 @@ from ..orbits.targets import shape_residuals as cycle_shape_residuals
 from ..params import PARAM_NAMES, Params
 from ..units import Units
 from .conditions import Condition
-from .parameters import DEFAULT_BOUNDS, FreeParameter, coordinate_bounds
+from .parameters import DEFAULT_BOUNDS, ORBIT_FIELDS, FreeParameter, coordinate_bounds
 
 SHAPE_FLOOR = 0.05  # rad: model-discrepancy floor of psi_1 (module docstring)
 CYCLE_FAILED = 1e3  # normalised residual of a limit-cycle target where no orbit is found
@@ -80,7 +80,8 @@ class Problem:
     Args:
         model: the model (a condition may carry its own, ``Condition.model``).
         conditions: a sequence of :class:`~axojax.inverse.Condition`.
-        free: parameters shared by all conditions (``Params`` fields).
+        free: parameters shared by all conditions (``Params`` fields, and ``"cubic"``,
+            the limit cycle's link stiffening, when limit-cycle targets are given).
         per_condition: parameters fitted separately in every condition (named
             ``"<field>@<label>"``).
         params: base values of every parameter (each condition's ``params`` override
@@ -89,7 +90,8 @@ class Problem:
         kl_ratio: tie ``kl = ks / kl_ratio`` in every condition (fit ks, not kl).
         units: physical units of the targets.
         solver: dominant-eigenpair solver.
-        cubic, orbit_solver: limit-cycle setup for targets with ``source="limit_cycle"``.
+        cubic, orbit_solver: limit-cycle setup for targets with ``source="limit_cycle"``
+            (``cubic``: kappa, 1/L^2; the start when it is free).
         shape_floor: model-discrepancy floor (rad) added in quadrature to psi_1's sigma.
         exclude_base_um: drop observed shape points with s < this (um).
         prior: optional ``log_prior(u) -> scalar``; default 0 (uniform in u).
@@ -123,8 +125,8 @@ class Problem:
         if not free and not per_condition:
             raise ValueError("free: name at least one parameter to fit")
         for name in free + per_condition:
-            if name not in PARAM_NAMES:
-                raise ValueError(f"free: unknown parameter {name!r}; choose from {', '.join(PARAM_NAMES)}")
+            if name not in PARAM_NAMES and name not in ORBIT_FIELDS:
+                raise ValueError(f"free: unknown parameter {name!r}; choose from {', '.join((*PARAM_NAMES, *sorted(ORBIT_FIELDS)))}")
         both = set(free) & set(per_condition)
         if both or len(set(free)) < len(free) or len(set(per_condition)) < len(per_condition):
             raise ValueError(f"free: each parameter once, shared or per condition (repeated: {', '.join(sorted(both)) or 'a name'})")
@@ -149,17 +151,18 @@ class Problem:
         self.base = [params.with_values(c.params).validate() for c in conditions]
         self.models = [c.model if c.model is not None else model for c in conditions]
 
-        # Free parameters and the start.
+        # Free parameters and the start (cubic starts at ``cubic``).
+        start_of = lambda prm, name: float(cubic) if name in ORBIT_FIELDS else float(getattr(prm, name))  # noqa: E731
         out, u0 = [], []
         for name in free:
             log, lo, hi = coordinate_bounds(name, self.bounds)
             out.append(FreeParameter(name, name, None, log, lo, hi))
-            u0.append(float(getattr(params, name)))
+            u0.append(start_of(params, name))
         for name in per_condition:
             log, lo, hi = coordinate_bounds(name, self.bounds)
             for i, lab in enumerate(labels):
                 out.append(FreeParameter(f"{name}@{lab}", name, i, log, lo, hi))
-                u0.append(float(getattr(self.base[i], name)))
+                u0.append(start_of(self.base[i], name))
         self.parameters: tuple[FreeParameter, ...] = tuple(out)
         self.names: tuple[str, ...] = tuple(p.name for p in out)
         self.lower = np.array([p.lower for p in out])
@@ -187,6 +190,8 @@ class Problem:
                     raise ValueError(f"limit-cycle targets need a model with links; {m.name!r} has none")
             if getattr(orbit_solver, "floquet", 0):
                 orbit_solver = dataclasses.replace(orbit_solver, floquet=0)  # stability is not fitted: skip it
+        elif set(free + per_condition) & ORBIT_FIELDS:
+            raise ValueError("free: cubic is the limit cycle's stiffening; only limit-cycle targets (source='limit_cycle') depend on it")
         self.cubic, self.orbit_solver = cubic, orbit_solver
         layout, start = [], 0
         for i in range(len(conditions)):
@@ -265,9 +270,17 @@ class Problem:
         """The complete :class:`Params` of condition ``i`` at ``u`` (traceable)."""
         values = {}
         for j, p in enumerate(self.parameters):
-            if p.condition is None or p.condition == i:
+            if (p.condition is None or p.condition == i) and p.field not in ORBIT_FIELDS:
                 values[p.field] = p.to_value(u[j])
         return self.base[i].with_values(values, self.kl_ratio)
+
+    def condition_cubic(self, u, i: int):
+        """The limit cycle's link stiffening kappa (1/L^2) in condition ``i`` at ``u``:
+        fitted when ``"cubic"`` is free, else the problem's ``cubic`` (traceable)."""
+        for j, p in enumerate(self.parameters):
+            if p.field == "cubic" and (p.condition is None or p.condition == i):
+                return p.to_value(u[j])
+        return self.cubic
 
     # -- the model's predictions -----------------------------------------------------
     def modes(self, u) -> list:
@@ -304,12 +317,13 @@ class Problem:
         starts = [None] * self.n_conditions if starts is None else list(starts)
         if len(starts) != self.n_conditions:
             raise ValueError(f"starts: one per condition ({self.n_conditions}), got {len(starts)}")
-        return [self._cycle(i, self.condition_params(u, i), starts[i]) if need else None for i, need in enumerate(self.needs_cycle)]
+        return [self._cycle(i, u, starts[i]) if need else None for i, need in enumerate(self.needs_cycle)]
 
-    def _cycle(self, i: int, prm: Params, start: LimitCycle | None) -> LimitCycle:
+    def _cycle(self, i: int, u, start: LimitCycle | None) -> LimitCycle:
+        prm, kappa = self.condition_params(u, i), self.condition_cubic(u, i)
         if start is None:
-            return self.orbit_solver.solve(self.models[i], prm, self.cubic)
-        return WarmStart(self.orbit_solver, WARM_STEPS).solve(self.models[i], prm, self.cubic, start)
+            return self.orbit_solver.solve(self.models[i], prm, kappa)
+        return WarmStart(self.orbit_solver, WARM_STEPS).solve(self.models[i], prm, kappa, start)
 
     def residuals(self, u: Float[Array, " k"], starts: Sequence[LimitCycle | None] | None = None) -> Float[Array, " m"]:
         """Normalised residuals (model - observed) / sigma of every target of every

@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 
 from ..params import PARAM_NAMES, Params
-from .problem import Problem
+from .problem import CYCLE_FAILED, Problem
 
 IDENTIFIABLE_MAX_LOG_SE = 1.0
 IDENTIFIABLE_MAX_LINEAR_FRACTION = 0.05
@@ -217,7 +217,7 @@ def build_report(problem: Problem, u, *, method: str = "", loss: float | None = 
                 off.append(f"{t.key}{suffix} {a:.4g} vs {t.value:.4g} +- {t.sigma:.3g} ({rv:+.1f} sigma)")
         entry: dict[str, Any] = {
             "label": label,
-            "params": {f: float(np.asarray(getattr(full, f))) for f in PARAM_NAMES},
+            "params": {f: float(np.asarray(getattr(full, f))) for f in PARAM_NAMES} | ({"cubic": float(np.asarray(problem.condition_cubic(u, i)))} if problem.needs_cycle[i] else {}),
             "fixed": dict(cond.params),
             "source": cond.source,
             "achieved": achieved,
@@ -252,6 +252,13 @@ def build_report(problem: Problem, u, *, method: str = "", loss: float | None = 
         head = f"targets reproduced (loss {loss:.3g}" + (f", chi2/dof {chi2:.3g}" if chi2 is not None else "") + ")"
     else:
         head = "targets not reproduced within their uncertainty (infeasible for this model and bounds?): " + "; ".join(off)
+    failed = [problem.labels[i] for i, pred in enumerate(ev["conditions"]) if "cycle" in pred and not bool(pred["cycle_converged"])]
+    if failed:
+        notes.insert(0,
+            f"no limit cycle found{' in condition(s) ' + ', '.join(failed) if multi else ''} at these parameters (Newton from the Hopf normal form "
+            f"did not converge, or the straight state does not beat there): its targets count {CYCLE_FAILED:g} sigma and give no gradient, so the fit "
+            "could not move; start nearer a beating state (p a little above the Hopf point of `axojax critical`), or follow the branch with `axojax orbit --p a:b:n`"
+        )
     for c in conditions:
         ex = c["excluded_base"]
         if ex is not None:

@@ -290,6 +290,7 @@ def _merge(results, n_chunks, shape, coords, model, params, names, kl_ratio, uni
         "model": model.name,
         "n_elements": model.n_elements,
         "n_dof": model.n_dof,
+        "imbalance_kind": model.imbalance_kind,
         "axes": list(names),
         "fixed": fixed,
         "kl_ratio": kl_ratio,
