@@ -14,8 +14,10 @@ from .least_squares import (
     Adam,
     LeastSquaresSolver,
     LevenbergMarquardt,
+    WarmSolution,
     least_squares,
     solver_from_name,
+    warm_least_squares,
 )
 from .parameters import DEFAULT_BOUNDS, LINEAR, FreeParameter
 from .posterior import (
@@ -46,10 +48,12 @@ __all__ = [
     "NormalPrior",
     "Posterior",
     "Problem",
+    "WarmSolution",
     "build_report",
     "diagnostics",
     "least_squares",
     "normal_prior",
     "posterior",
     "solver_from_name",
+    "warm_least_squares",
 ]
