@@ -25,6 +25,7 @@ from axojax.inverse import (
     InverseProblem,
     Posterior,
     Problem,
+    ScaledSigmas,
     diagnostics,
     posterior,
 )
@@ -211,6 +212,25 @@ def test_a_normal_prior_replaces_the_uniform_one():
     post = posterior(problem, seed=2, prior={"b": (0.5, 0.3)}, **SMALL)  # normal in u = log b
     assert abs(post.mean_u["b"] - 0.5) < mc_tol(post, "b")
     assert post.sd_u["b"] == pytest.approx(0.3, rel=0.1)
+
+
+def test_scaled_sigmas_widen_the_posterior_by_their_factor():
+    """Every sigma times 2: the exact normal posterior's covariance times 4, same mean."""
+    problem = linear_problem(0)
+    post = posterior(ScaledSigmas(problem, 2.0), seed=0, **SMALL)
+    mean, C = problem.exact()
+    for i, n in enumerate(problem.names):
+        assert abs(post.mean_u[n] - mean[i]) < mc_tol(post, n)
+        assert post.sd_u[n] == pytest.approx(2.0 * np.sqrt(C[i, i]), rel=0.1)
+        assert post.rhat[n] < 1.01
+    z = jnp.array([0.1, -0.3])
+    scaled = ScaledSigmas(problem, 3.0)
+    u = problem.to_u(z)
+    # The log density in z: the likelihood term over 9, prior and log-Jacobian as before.
+    chi2 = float(jnp.sum(problem.residuals(u) ** 2))
+    assert float(scaled.log_density(z)) == pytest.approx(float(problem.log_density(z)) + 0.5 * chi2 * (1 - 1 / 9), rel=1e-12)
+    with pytest.raises(ValueError, match="factor"):
+        ScaledSigmas(problem, 0.0)
 
 
 def test_starts_settings_and_errors():

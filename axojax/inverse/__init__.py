@@ -23,6 +23,7 @@ from .posterior import (
     InverseProblem,
     NormalPrior,
     Posterior,
+    ScaledSigmas,
     normal_prior,
     posterior,
 )
@@ -46,6 +47,7 @@ __all__ = [
     "NormalPrior",
     "Posterior",
     "Problem",
+    "ScaledSigmas",
     "build_report",
     "diagnostics",
     "least_squares",
