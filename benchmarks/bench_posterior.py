@@ -24,7 +24,7 @@ import numpy as np
 import axojax as ax  # first: it sets the XLA flags before jax starts
 from axojax.fitting import ShapeTarget, Target
 from axojax.fitting.targets import model_psi1
-from axojax.inverse import Condition, Problem, posterior
+from axojax.inverse import NUTS, Condition, Problem, posterior
 
 TRUTH = {"p": 300.0, "ks": 1e6, "kl": 1e3}
 BOUNDS = {"p": (50.0, 3000.0), "ks": (1e3, 1e9), "kl": (1e0, 1e6)}
@@ -59,6 +59,8 @@ def main() -> None:
     ap.add_argument("--elements", type=int, default=10)
     ap.add_argument("--solver", default="arnoldi", choices=("arnoldi", "dense", "auto"))
     ap.add_argument("--sequential", action="store_true", help="chains one after another instead of vmapped")
+    ap.add_argument("--no-whiten", action="store_true", help="NUTS in z (the logistic coordinates) instead of whitened by the Laplace approximation")
+    ap.add_argument("--max-doublings", type=int, default=8, help="NUTS tree depth limit")
     args = ap.parse_args()
     solver = {"arnoldi": ax.eigen.Arnoldi, "dense": ax.eigen.Dense, "auto": ax.eigen.Auto}[args.solver]()
     print(f"{os.cpu_count()} cores, load average {os.getloadavg()}")
@@ -76,16 +78,17 @@ def main() -> None:
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        post = posterior(pb, draws=args.draws, chains=args.chains, warmup=args.warmup, seed=0, vectorize=not args.sequential, progress=True)
+        sampler = NUTS(whiten=not args.no_whiten, max_num_doublings=args.max_doublings)
+        post = posterior(pb, draws=args.draws, chains=args.chains, warmup=args.warmup, seed=0, sampler=sampler, vectorize=not args.sequential, progress=True)
     for w in caught:
         print("warning:", w.message)
     ess_min = min(post.ess.values())
-    print(f"\n{args.chains} chains x {args.draws} draws (+{args.warmup} warm-up), {'sequential' if args.sequential else 'vmapped'} chains, solver {args.solver}, N_e = {args.elements}")
+    print(f"\n{args.chains} chains x {args.draws} draws (+{args.warmup} warm-up), {'sequential' if args.sequential else 'vmapped'} chains, solver {args.solver}, N_e = {args.elements}, {sampler}")
     print(f"total {post.seconds:.1f} s (target 300 s): compile {post.seconds_compile:.1f} s; starts {post.seconds_start:.1f} s, warm-up {post.seconds_warmup:.1f} s, sampling {post.seconds_sampling:.1f} s (each with its compilation)")
     print(f"gradients {post.gradients} ({post.gradients / (args.chains * (args.draws + args.warmup)):.1f} per chain step), divergences {post.divergences}, acceptance {post.acceptance:.2f}, step sizes {np.round(post.step_size, 3)}")
     print(f"time per gradient {1e3 * post.seconds_per_gradient:.2f} ms (x{post.seconds_per_gradient / single:.2f} one value-and-gradient alone)")
     print(f"time per effective sample {post.seconds_per_ess:.3f} s (smallest bulk ESS {ess_min:.0f}); excluding compilation {(post.seconds - post.seconds_compile) / ess_min:.3f} s")
-    print(f"total / 5-minute target: {post.seconds / 300:.2f}")
+    print(f"total / 5-minute target: {post.seconds / 300:.2f}; gradients per effective sample {post.gradients / ess_min:.0f}")
     print(f"\n{'name':>4} {'truth':>10} {'q05':>10} {'q50':>10} {'q95':>10} {'R-hat':>7} {'ESS':>7} {'ESS tail':>8}")
     for n in post.names:
         print(f"{n:>4} {TRUTH[n]:10.4g} {post.q05[n]:10.4g} {post.q50[n]:10.4g} {post.q95[n]:10.4g} {post.rhat[n]:7.4f} {post.ess[n]:7.0f} {post.ess_tail[n]:8.0f}")

@@ -677,9 +677,7 @@ def _centre(settings, target, z0):
         return jnp.all(jnp.isfinite(z_new)) & (target(z_new) >= target(z_old))
 
     if optimise:
-        lm = optx.least_squares(
-            lambda z, _: jnp.concatenate([r(z), _logistic_residuals(z)]), optx.LevenbergMarquardt(rtol=1e-8, atol=1e-8), z0, max_steps=200, throw=False
-        )
+        lm = optx.least_squares(lambda z, _: jnp.concatenate([r(z), _logistic_residuals(z)]), optx.LevenbergMarquardt(rtol=1e-8, atol=1e-8), z0, max_steps=200, throw=False)
         z0 = jnp.where(better(lm.value, z0), lm.value, z0)
 
         def newton(_, z):
