@@ -9,7 +9,40 @@ one jitted value-and-gradient call of the same log density timed here; then the
 posterior summary (truth, 90 % interval, R-hat, ESS).
 
     python benchmarks/bench_posterior.py [--draws 1000] [--chains 4] [--warmup 500]
-        [--elements 10] [--solver arnoldi|dense|auto] [--sequential]
+        [--elements 10] [--solver arnoldi|dense|auto] [--sequential] [--no-whiten]
+        [--max-doublings 8]
+
+Result (2026-12-01, the 2-core machine shared with four other jobs: load average 12-16
+throughout, so the seconds below are inflated about 3x; the ratios are what carry):
+**the 5-minute target is not met.**
+
+- Per gradient: one value-and-gradient of the log density costs 4.7 ms with Arnoldi and
+  34 ms with the dense solver (measured at load ~2, N_e = 10, n = 280): Arnoldi is the
+  solver here. Four of them vmapped cost 22 ms (no batching gain on CPU: Arnoldi maps
+  points one after another there).
+- The start: BFGS in z stalled at the benchmark's starting point (p 406, ks 3.5e5, kl
+  3.9e3 after 200 steps; the truth is 300, 1e6, 1e3); Levenberg-Marquardt on the
+  residuals and the logistic pseudo-residuals reaches the mode in 29 steps. The Laplace
+  precision there has eigenvalues 0.6, 136 and 2.7e5 (sds 1.3 to 0.002 in z): blackjax's
+  covariance shrinkage towards 1e-3 I is larger than the stiffest variance.
+- Same short run (2 chains x 100 draws after 150 warm-up steps, vmapped), whitened
+  (default) vs ``--no-whiten``: 21.3 vs 28.2 gradients per chain step, acceptance 0.73 vs
+  0.63, smallest bulk ESS 26 vs 5, **405 vs 3106 gradients per effective sample** (about
+  8x fewer; short runs, so a rough factor), R-hat up to 1.08 vs 1.40.
+- What remains: the posterior is not Gaussian in any linear coordinates. ks runs from
+  ~8e5 up towards its upper bound (90 % interval 8.5e5-4.3e8: not identified above the
+  truth), along a ridge that bends, and the density has a cliff (a drop of ~1100 in log
+  density within one Laplace sd of the mode along the sloppy direction; presumably the
+  dominant mode changing branch, not checked): 15 % of the transitions diverge
+  (where, not checked). NUTS still needs
+  ~21 gradients per draw.
+- Compilation: 187 s of the 285 s run at load 13 (the Arnoldi solver's programs: the
+  mode and Laplace precision, the warm-up, the sampler), about a minute on a quiet machine.
+- Projection for the target (4 chains x 1000 draws + 500 warm-up, whitened):
+  6000 chain steps x ~21 gradients x 4.7 ms = ~600 s of gradients plus ~1 min of
+  compilation on a quiet machine: about 2.3x the target. Fewer warm-up steps (250) and
+  ``--sequential`` chains (a vmapped step costs the longest of the chains' trees) are the
+  next levers, worth perhaps 1.5x together: not measured to completion here.
 """
 
 import argparse
