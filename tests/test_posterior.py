@@ -14,6 +14,7 @@ import jax.numpy as jnp
 import matplotlib
 import numpy as np
 import pytest
+import scipy.optimize
 import scipy.special
 import scipy.stats
 
@@ -25,6 +26,7 @@ from axojax.inverse import (
     InverseProblem,
     Posterior,
     Problem,
+    ScaledSigmas,
     diagnostics,
     posterior,
 )
@@ -213,6 +215,43 @@ def test_a_normal_prior_replaces_the_uniform_one():
     assert post.sd_u["b"] == pytest.approx(0.3, rel=0.1)
 
 
+def test_scaled_sigmas_widen_the_posterior_by_their_factor():
+    """Every sigma times 2: the exact normal posterior's covariance times 4, same mean."""
+    problem = linear_problem(0)
+    post = posterior(ScaledSigmas(problem, 2.0), seed=0, **SMALL)
+    mean, C = problem.exact()
+    for i, n in enumerate(problem.names):
+        assert abs(post.mean_u[n] - mean[i]) < mc_tol(post, n)
+        assert post.sd_u[n] == pytest.approx(2.0 * np.sqrt(C[i, i]), rel=0.1)
+        assert post.rhat[n] < 1.01
+    z = jnp.array([0.1, -0.3])
+    scaled = ScaledSigmas(problem, 3.0)
+    u = problem.to_u(z)
+    # The log density in z: the likelihood term over 9, prior and log-Jacobian as before.
+    chi2 = float(jnp.sum(problem.residuals(u) ** 2))
+    assert float(scaled.log_density(z)) == pytest.approx(float(problem.log_density(z)) + 0.5 * chi2 * (1 - 1 / 9), rel=1e-12)
+    with pytest.raises(ValueError, match="factor"):
+        ScaledSigmas(problem, 0.0)
+
+
+def test_start_is_the_mode_of_the_density_in_z():
+    """The chains' centre (Levenberg-Marquardt on the residuals and the logistic map's
+    pseudo-residuals) against scipy's BFGS maximum of the same log density in z."""
+    from axojax.inverse.posterior import _logistic_residuals
+
+    z = jnp.linspace(-30.0, 30.0, 13)
+    exact = jax.nn.log_sigmoid(z) + jax.nn.log_sigmoid(-z) + np.log(4.0)
+    np.testing.assert_allclose(-0.5 * _logistic_residuals(z) ** 2, exact, rtol=1e-12, atol=1e-12)
+    problem = linear_problem(5)
+    problem = LinearGaussian(problem.A, problem.y, problem.sigma, [-1.0, -1.0], [1.0, 1.0], ["a", "b"])  # bounds close: the Jacobian term moves the mode
+    f = jax.jit(lambda z: -problem.log_density(z))
+    ref = scipy.optimize.minimize(lambda z: float(f(jnp.asarray(z))), np.zeros(2), jac=lambda z: np.asarray(jax.grad(f)(jnp.asarray(z))), method="BFGS", options={"gtol": 1e-10})
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        post = posterior(problem, draws=20, chains=2, warmup=0, seed=0)
+    np.testing.assert_allclose(post.start_u, np.asarray(problem.to_u(jnp.asarray(ref.x))), atol=1e-6)
+
+
 def test_starts_settings_and_errors():
     problem = linear_problem(0)
     starts = np.array([[0.2, -0.1], [0.4, -0.3], [0.3, 0.0], [0.1, -0.2]])
@@ -220,6 +259,10 @@ def test_starts_settings_and_errors():
     mean, _ = problem.exact()
     assert abs(post.mean_u["a"] - mean[0]) < mc_tol(post, "a")
     np.testing.assert_allclose(post.start_u, starts.mean(axis=0))
+    # Sampling in z itself (no whitening by the Laplace approximation): the same posterior.
+    post = posterior(problem, seed=0, sampler=NUTS(whiten=False), **SMALL)
+    for i, n in enumerate(problem.names):
+        assert abs(post.mean_u[n] - mean[i]) < mc_tol(post, n)
     # A least-squares result (params by name, coordinate per name) as the centre.
     fitted = type("Fit", (), {"params": {"a": float(np.exp(mean[0])), "b": float(np.exp(mean[1]))}, "coordinate": {"a": "log", "b": "log"}})()
     post = posterior(problem, init=fitted, seed=0, **SMALL)

@@ -25,6 +25,7 @@ from .posterior import (
     InverseProblem,
     NormalPrior,
     Posterior,
+    ScaledSigmas,
     normal_prior,
     posterior,
 )
@@ -48,6 +49,7 @@ __all__ = [
     "NormalPrior",
     "Posterior",
     "Problem",
+    "ScaledSigmas",
     "WarmSolution",
     "build_report",
     "diagnostics",
