@@ -10,8 +10,10 @@ Algorithm (per parameter point, fixed shapes: jit/vmap-able):
 1. **Pole to the right of the spectrum.** Every eigenvalue satisfies
    ``Re lambda <= omega``, the numerical abscissa: the largest eigenvalue of the
    symmetric pencil ``(-(A + A^T)/2, C)`` (field of values). A block Cholesky of
-   ``s C + (A + A^T)/2`` succeeds exactly when ``s > omega``: trial values s = 0, 7,
-   63, 511, ... (until one passes) find one within a factor ~8 above omega;
+   ``s C + (A + A^T)/2`` succeeds exactly when ``s > omega``: the smallest passing one
+   of the trial values s = 0, 7, 63, 511, ... (found by a search that starts at
+   :data:`FIRST_TRIAL`: two factorisations at the usual abscissae) lies within a
+   factor ~8 above omega;
    shift-invert Lanczos (``lanczos_dim`` steps, C inner product) at that s estimates it
    from below (Ritz values never exceed the extreme eigenvalue), and the pole ``sigma``
    is the first of ``omega_est + 1e-6 |omega_est|`` and ``omega_est + (s - omega_est)
@@ -29,9 +31,11 @@ Algorithm (per parameter point, fixed shapes: jit/vmap-able):
    the spectrum (|lambda| up to ~1e8 from the links) maps to theta ~ 0, so the eigenvalues
    near sigma converge in a few dozen steps. A Ritz pair has converged when its residual
    bound ``|h_{m+1,m} y_m| / |theta|^2 <= tol (1 + |lambda|)``. The Krylov space grows
-   in stages (``krylov_dims``, default 16, 32, 48 vectors) until the certificate
-   holds. Per-point path (the CPU default): under ``jax.vmap`` the points run one after
-   another, so that no point pays for another's stages, with LAPACK's small kernels.
+   in stages (``krylov_dims``, default 12, 16, 24, 32, 48 vectors) until the
+   certificate holds. Per-point path (the CPU default): under ``jax.vmap`` the points
+   run one after another, so that no point pays for another's stages, with LAPACK's
+   small kernels; each stage's projected eigen-problem has its own size (each stage
+   adds ~0.2 s of compilation: more stages were measured to cost more than they save).
    Batched path (``ArnoldiOptions.batched``, the default on accelerators): one
    ``vmap`` over the chunk, the block factorisations in plain jnp
    (:mod:`axojax.linalg.small`, no LAPACK custom calls), every point running its
@@ -51,7 +55,9 @@ Algorithm (per parameter point, fixed shapes: jit/vmap-able):
    Points that no stage certifies are solved by the dense solver (only those points) and
    report ``certified = 0``.
 4. **Derivatives** (custom JVP, no eigen-decomposition): one complex block LU of
-   ``A + lambda C`` gives the left eigenvector w by inverse iteration;
+   ``A + lambda C`` gives the left eigenvector w by inverse iteration (two transposed
+   solves; on the per-point path the factorisation and every solve of the rule also run
+   point by point under ``vmap``);
    ``dlambda = -w^H (dA + lambda dC) v / (w^H C v)``, and dv solves
    ``(A + lambda C) dv = -(dA + lambda dC) v - dlambda C v`` with ``v^H dv = 0`` (the
    right-hand side lies in the range; the near-singular factor's component along v is
@@ -75,6 +81,11 @@ from .dominant import CLUSTER_RTOL, dominant_eigenpair, normalise
 TRIAL_POLES = 9
 """Trial poles 8^k - 1, k < 9: numerical abscissae up to ~1.7e7 are bracketed."""
 
+FIRST_TRIAL = 5
+"""The trial pole tried first (8^5 - 1 = 32767): the numerical abscissa of the
+seven-filament model lies between 4095 and 2.6e5 on most of the paper's parameter range
+(any value gives the same pole; a good guess saves factorisations)."""
+
 
 POLE_FRACTIONS = (0.0, 8.0**-4, 8.0**-3, 8.0**-2, 8.0**-1)
 """Where between the Lanczos estimate of the abscissa (0) and the bracketing trial pole
@@ -84,7 +95,7 @@ POLE_FRACTIONS = (0.0, 8.0**-4, 8.0**-3, 8.0**-2, 8.0**-1)
 class ArnoldiOptions(NamedTuple):
     """Static options of :func:`structured_dominant` (see :class:`axojax.eigen.Arnoldi`)."""
 
-    krylov_dims: tuple[int, ...] = (16, 32, 48)
+    krylov_dims: tuple[int, ...] = (12, 16, 24, 32, 48)
     lanczos_dim: int = 12
     certify_factor: float = 2.0
     tol: float = 1e-10
@@ -110,22 +121,35 @@ def pole(A: BlockTridiagonal, C: BlockTridiagonal, lanczos_dim: int, kernels: st
     def factor(s):
         return cholesky(C.scale(s) - G, kernels)
 
-    # Trial poles 0, 7, 63, 511, ... (ratio 8): the first that passes lies within a
-    # factor ~8 above omega when omega > 0; s = 0 passes when every mode is damped.
+    # Trial poles s_k = 8^k - 1, k = 0, ..., TRIAL_POLES - 1 (0, 7, 63, 511, ...): the
+    # smallest that passes lies within a factor ~8 above omega when omega > 0; s = 0
+    # passes when every mode is damped. Passing is monotone in s (s C - G is positive
+    # definite exactly for s > omega), so the smallest passing trial is found by search:
+    # first FIRST_TRIAL, then its neighbour, then bisection (2 factorisations at the
+    # usual abscissae, at most ~5), instead of trying every trial from k = 0 upwards.
+    # Invariant: trial lo fails (or lo = -1), trial hi passes (or hi = TRIAL_POLES: none
+    # known to pass); ``chol`` is the factor of trial hi.
+    def next_trial(lo, hi, count):
+        neighbour = jnp.where(hi == FIRST_TRIAL, hi - 1, lo + 1)
+        return jnp.where(count == 0, FIRST_TRIAL, jnp.where(count == 1, neighbour, (lo + hi) // 2))
+
     def cond(state):
-        k, chol = state
-        return (~chol.ok) & (k < TRIAL_POLES)
+        lo, hi, _, _ = state
+        return hi - lo > 1
 
     def body(state):
-        k, _ = state
-        return k + 1, factor(8.0**k - 1.0)
+        lo, hi, count, chol = state
+        k = next_trial(lo, hi, count)
+        trial = factor(8.0**k - 1.0)
+        chol = jax.tree.map(lambda new, old: jnp.where(trial.ok, new, old), trial, chol)
+        return jnp.where(trial.ok, lo, k), jnp.where(trial.ok, k, hi), count + 1, chol
 
-    # s_k = 8^k - 1 from k = 0 (s = 0); the loop starts from a failed stand-in so that
-    # one compiled factorisation serves every trial.
+    # The loop starts from a failed stand-in so that one compiled factorisation serves
+    # every trial.
     N, b = C.diag.shape[0], C.diag.shape[-1]
-    failed = BlockCholesky(jnp.zeros((N, b, b)), jnp.zeros((N - 1, b, b)), jnp.zeros((), bool))
-    k, chol = jax.lax.while_loop(cond, body, (0, failed))
-    s = 8.0 ** (k - 1) - 1.0
+    failed = BlockCholesky(jnp.full((N, b, b), jnp.nan), jnp.full((N - 1, b, b), jnp.nan), jnp.zeros((), bool))
+    _, k, _, chol = jax.lax.while_loop(cond, body, (-1, TRIAL_POLES, 0, failed))
+    s = 8.0 ** jnp.minimum(k, TRIAL_POLES - 1) - 1.0
     found = chol.ok
     # Shift-invert Lanczos on T = (s C - G)^{-1} C, self-adjoint in the C inner product.
     n = A.shape[0]
@@ -183,21 +207,29 @@ class _Primal(NamedTuple):
     certified: Float[Array, ""]
 
 
-def _ritz(V, H, sigma, m, opts: ArnoldiOptions) -> _Primal:
+def _ritz(V, H, sigma, m, opts: ArnoldiOptions, padded: bool = False) -> _Primal:
     """Rightmost converged Ritz pair of the first m Arnoldi steps and its certificate.
 
-    ``m`` may be traced: the leading m x m block of H is embedded in a zero matrix of
-    the full size (one compiled eigen-solve serves every stage); the padding gives
-    theta = 0 with zero residual, i.e. lambda at minus infinity, which never competes.
-    (LAPACK's balancing isolates the zero rows and columns at once, so the padding costs
-    next to nothing: a switch to each stage's own size was measured slower.)"""
-    m_max = H.shape[1]
-    k = jnp.arange(m_max)
-    Hm = jnp.where((k[:, None] < m) & (k[None, :] < m), H[:m_max, :m_max], 0.0)
+    ``padded`` off: ``m`` is static, and the eigen-problem is the leading m x m block of
+    H (the per-point path compiles one per stage, each of its own size: LAPACK's
+    Hessenberg QR costs ~m^3, and a zero-padded matrix of the largest stage's size cost
+    up to several times more). On (the batched path, where a ``switch`` between stages
+    would run every branch): ``m`` may be traced, the leading m x m block is embedded in
+    a zero matrix of the full size, one compiled eigen-solve serving every stage; the
+    padding gives theta = 0 with zero residual, i.e. lambda at minus infinity, which
+    never competes."""
+    if padded:
+        m_max = H.shape[1]
+        k = jnp.arange(m_max)
+        Hm = jnp.where((k[:, None] < m) & (k[None, :] < m), H[:m_max, :m_max], 0.0)
+        basis = V[:m_max]
+    else:
+        Hm = H[:m, :m]
+        basis = V[:m]
     theta, Y = jnp.linalg.eig(Hm)
     Y = Y / jnp.linalg.norm(Y, axis=0)
     residual = jnp.abs(H[m, m - 1] * Y[m - 1])
-    padding = theta == 0
+    padding = theta == 0  # a breakdown of the Arnoldi process leaves zero rows
     safe_theta = jnp.where(padding, 1.0, theta)
     lam = jnp.where(padding, -jnp.inf, sigma - 1.0 / safe_theta)
     converged = (residual / jnp.abs(safe_theta) ** 2 <= opts.tol * (1.0 + jnp.abs(lam))) & jnp.isfinite(lam)
@@ -208,7 +240,7 @@ def _ritz(V, H, sigma, m, opts: ArnoldiOptions) -> _Primal:
     lam_c = jnp.sum(jnp.where(near, lam, 0.0)) / jnp.maximum(jnp.sum(near), 1)
     flip = jnp.imag(lam_c) < 0
     lam_c = jnp.where(flip, jnp.conj(lam_c), lam_c)
-    x = V[:m_max].T.astype(Y.dtype) @ Y[:, i]
+    x = basis.T.astype(Y.dtype) @ Y[:, i]
     x = jnp.where(flip, jnp.conj(x), x)
     unresolved = jnp.where(converged | padding, 0.0, jnp.abs(theta))
     radius = 1.0 / jnp.maximum(jnp.max(unresolved), 1e-300)
@@ -257,7 +289,11 @@ def _arnoldi_point(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOption
     def body(state):
         stage, V, H, _ = state
         V, H = arnoldi_steps(shift_invert, V, H, starts[stage], ends[stage])
-        return stage + 1, V, H, _ritz(V, H, sigma, ends[stage], opts)
+        if batched:
+            result = _ritz(V, H, sigma, ends[stage], opts, padded=True)
+        else:
+            result = jax.lax.switch(stage, [functools.partial(_ritz, m=m, opts=opts) for m in dims], V, H, sigma)
+        return stage + 1, V, H, result
 
     empty = _Primal(jnp.zeros((), complex), jnp.zeros((n,), complex), jnp.zeros(()))
     _, _, _, result = jax.lax.while_loop(cond, body, (0, V, H, empty))
@@ -319,22 +355,54 @@ def structured_dominant(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiO
     return tuple(_batched(opts)(A, C))
 
 
+def _left_factor(A: BlockTridiagonal, C: BlockTridiagonal, lam: Complex[Array, ""], kernels: str):
+    """(LU of ``A + shift C``, unit left eigenvector w) for the derivative rule: the
+    complex block LU at a shift just off lambda (nearly singular on purpose: inverse
+    iteration), and ``(A^T + conj(lambda) C) w = 0`` by two steps of inverse iteration
+    with its transpose (from a generic start the first already leaves a component of
+    relative size ~1e-10 / gap outside the eigenvector, the second squares it)."""
+    cdt = jnp.result_type(lam, jnp.complex64)
+    shift = lam + 1e-10 * (1.0 + jnp.abs(lam))
+    lu = lu_factor(A.astype(cdt) + C.astype(cdt).scale(shift), kernels)
+    w = _start_vector(A.shape[0], cdt)
+    for _ in range(2):
+        w = jnp.conj(lu.solve_transpose(jnp.conj(C.matvec(w))))
+        w = w / jnp.linalg.norm(w)
+    return lu, w
+
+
+def _solve(lu, b):
+    return lu.solve(b)
+
+
+def _solve_transpose(lu, b):
+    return lu.solve_transpose(b)
+
+
+# The per-point path: under vmap, the derivative rule's factorisation and solves run
+# point by point too (LAPACK's kernels one matrix at a time, like the primal), where a
+# vmapped complex LU and its scans were measured ~1.5x slower on CPU.
+_left_factor_seq = jax.custom_batching.sequential_vmap(functools.partial(_left_factor, kernels="lapack"))
+_solve_seq = jax.custom_batching.sequential_vmap(_solve)
+_solve_transpose_seq = jax.custom_batching.sequential_vmap(_solve_transpose)
+
+
 @structured_dominant.defjvp
 def _structured_jvp(opts, primals, tangents):
     A, C = primals
     dA, dC = tangents
     lam, x, certified = structured_dominant(A, C, opts)
     cdt = x.dtype
+    if opts.batched:
+        lu, w = _left_factor(A, C, lam, "jnp")
+        solve_, solve_t = _solve, _solve_transpose
+    else:
+        lu, w = _left_factor_seq(A, C, lam)
+        solve_, solve_t = _solve_seq, _solve_transpose_seq
     # Nearly singular on purpose (inverse iteration); the component of a solution along
     # x that the tiny offset amplifies is projected out below.
-    shift = lam + 1e-10 * (1.0 + jnp.abs(lam))
-    K = A.astype(cdt) + C.astype(cdt).scale(shift)
-    lu = lu_factor(K, "jnp" if opts.batched else "lapack")
+    K_matvec = lambda y: A.astype(cdt).matvec(y) + C.astype(cdt).scale(lam + 1e-10 * (1.0 + jnp.abs(lam))).matvec(y)
     Cx = C.matvec(x.astype(cdt))
-    w = _start_vector(x.shape[0], cdt)
-    for _ in range(3):  # left eigenvector: (A^T + conj(lambda) C) w = 0
-        w = jnp.conj(lu.solve_transpose(jnp.conj(C.matvec(w))))
-        w = w / jnp.linalg.norm(w)
     dKx = dA.astype(cdt).matvec(x) + lam * dC.astype(cdt).matvec(x)
     dlam = -jnp.vdot(w, dKx) / jnp.vdot(w, Cx)
     dlam = jnp.where(jnp.imag(lam) == 0, jnp.real(dlam).astype(cdt), dlam)
@@ -347,7 +415,7 @@ def _structured_jvp(opts, primals, tangents):
     def solve(r):
         # Linear in r with a known transpose: reverse mode transposes through the same
         # factorisation (lu.solve_transpose) instead of through the scans.
-        return jax.lax.custom_linear_solve(K.matvec, r, lambda _, b: lu.solve(b), lambda _, b: lu.solve_transpose(b))
+        return jax.lax.custom_linear_solve(K_matvec, r, lambda _, b: solve_(lu, b), lambda _, b: solve_t(lu, b))
 
     dx = project(solve(rhs))
     dx = dx + project(solve(rhs - exact.matvec(dx)))  # one step of iterative refinement

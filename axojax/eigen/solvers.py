@@ -78,7 +78,7 @@ class Arnoldi(AbstractEigenSolver):
             answers, certificates and fallbacks either way.
     """
 
-    krylov_dims: tuple[int, ...] = eqx.field(default=(16, 32, 48), static=True)
+    krylov_dims: tuple[int, ...] = eqx.field(default=(12, 16, 24, 32, 48), static=True)
     lanczos_dim: int = eqx.field(default=12, static=True)
     certify_factor: float = eqx.field(default=2.0, static=True)
     tol: float = eqx.field(default=1e-10, static=True)
