@@ -228,12 +228,12 @@ class Problem:
         return self.n_residuals - len(self.names)
 
     # -- coordinates -----------------------------------------------------------------
-    def to_u(self, z: Float[Array, " k"]) -> Float[Array, " k"]:
+    def to_u(self, z: Float[Array | np.ndarray, " k"]) -> Float[Array, " k"]:
         """Unconstrained z in R^k -> u inside the bounds (logistic)."""
         lo, hi = jnp.asarray(self.lower), jnp.asarray(self.upper)
         return lo + (hi - lo) * jax.nn.sigmoid(z)
 
-    def to_z(self, u: Float[Array, " k"]) -> Float[Array, " k"]:
+    def to_z(self, u: Float[Array | np.ndarray, " k"]) -> Float[Array, " k"]:
         """u strictly inside the bounds -> z (inverse of :meth:`to_u`)."""
         lo, hi = jnp.asarray(self.lower), jnp.asarray(self.upper)
         frac = (jnp.asarray(u) - lo) / (hi - lo)
