@@ -239,16 +239,16 @@ class Problem:
         frac = (jnp.asarray(u) - lo) / (hi - lo)
         return jnp.log(frac) - jnp.log1p(-frac)
 
-    def log_jacobian(self, z: Float[Array, " k"]) -> Float[Array, ""]:
+    def log_jacobian(self, z: Float[Array | np.ndarray, " k"]) -> Float[Array, ""]:
         """log |du/dz| of the logistic map."""
         lo, hi = jnp.asarray(self.lower), jnp.asarray(self.upper)
         return jnp.sum(jnp.log(hi - lo) + jax.nn.log_sigmoid(z) + jax.nn.log_sigmoid(-z))
 
-    def log_prior(self, u: Float[Array, " k"]) -> Float[Array, ""]:
+    def log_prior(self, u: Float[Array | np.ndarray, " k"]) -> Float[Array, ""]:
         """log prior density in u (0: uniform in the fitted coordinate within the bounds)."""
         return jnp.zeros(()) if self.prior is None else jnp.asarray(self.prior(u))
 
-    def log_density(self, z: Float[Array, " k"]) -> Float[Array, ""]:
+    def log_density(self, z: Float[Array | np.ndarray, " k"]) -> Float[Array, ""]:
         """Unnormalised log posterior density in z: -|r(u)|^2 / 2 + log prior(u) + log|du/dz|."""
         u = self.to_u(z)
         r = self.residuals(u)
@@ -287,7 +287,7 @@ class Problem:
         """Limit cycle of every condition with limit-cycle targets (None elsewhere)."""
         return [self.orbit_solver.solve(self.models[i], self.condition_params(u, i), self.cubic) if need else None for i, need in enumerate(self.needs_cycle)]
 
-    def residuals(self, u: Float[Array, " k"]) -> Float[Array, " m"]:
+    def residuals(self, u: Float[Array | np.ndarray, " k"]) -> Float[Array, " m"]:
         """Normalised residuals (model - observed) / sigma of every target of every
         condition, in condition order: scalar targets, then Re and Im of the shape."""
         u = jnp.asarray(u)
