@@ -44,7 +44,7 @@ class Critical(eqx.Module):
     found: Array
     result: RESULTS = eqx.field(default_factory=lambda: RESULTS.successful)
 
-    def frequency_hz(self, units: Units = Units()) -> Float[Array, ""]:
+    def frequency_hz(self, units: Units = Units()) -> Float[Array, "..."]:
         """Onset frequency |Im lambda| / (2 pi tau)."""
         return jnp.abs(jnp.imag(self.eigenvalue)) / (2 * jnp.pi * units.tau_s)
 

@@ -29,7 +29,7 @@ are validated first and raise a one-line ``ValueError`` (:meth:`axojax.Params.va
 from __future__ import annotations
 
 import diffrax
-import equinox as eqx
+import optimistix as optx
 
 
 class RESULTS(diffrax.RESULTS):
@@ -41,8 +41,9 @@ class RESULTS(diffrax.RESULTS):
     no_start = "No limit cycle: the Hopf normal form has no small orbit here (subcritical, or not past the Hopf point); start from a nearby orbit."
 
 
-def message(result: eqx.Enumeration) -> str:
-    """The message of a concrete result item, on one line ("successful" for success)."""
+def message(result: RESULTS | diffrax.RESULTS | optx.RESULTS) -> str:
+    """The message of a concrete result item (of :class:`RESULTS` or of an enumeration it
+    extends), on one line ("successful" for success)."""
     text = RESULTS.promote(result) if not isinstance(result, RESULTS) else result
     line = " ".join(RESULTS[text].split())
     return line or "successful"

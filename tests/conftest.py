@@ -1,10 +1,15 @@
 import os
+import pathlib
+import tempfile
 
 import numpy as np
 import pytest
 import scipy.linalg
 
 import axojax as ax
+from axojax.cache import CACHE_ENV
+
+_OLD_CACHE_ENV = pytest.StashKey["str | None"]()
 
 
 def scipy_dominant(model, params):
@@ -27,14 +32,29 @@ def seven():
     return ax.models.seven()
 
 
-@pytest.fixture(scope="session", autouse=True)
-def command_cache(tmp_path_factory):
-    """`axojax` commands run by the tests as processes keep their compiled programs
-    (axojax/cache.py) in a temporary directory, not in the user's cache."""
-    old = os.environ.get("AXOJAX_CACHE_DIR")
-    os.environ["AXOJAX_CACHE_DIR"] = str(tmp_path_factory.mktemp("compilation-cache"))
-    yield
+def pytest_configure(config):
+    """One persistent cache of compiled programs (axojax/cache.py) for the test process,
+    the `axojax` commands the tests run as processes and the notebooks' kernels
+    (tests/test_notebooks.py), kept in pytest's cache directory
+    (``.pytest_cache/d/jax-compilation-cache``; a temporary directory under
+    ``-p no:cacheprovider``), not in the user's cache. Set here, before collection, so
+    that no program is compiled before it.
+
+    Much of the suite's time is compilation, and much of that is the same program compiled
+    again: a model is a static argument hashed by identity, so every test that builds its
+    own ``ax.models.seven()`` compiles ``dominant_mode`` anew, and every command and
+    notebook starts from nothing. A cached program is the same program (results are
+    identical; tests/test_cache.py), so every test checks what it checked before."""
+    cache = getattr(config, "cache", None)
+    path = cache.mkdir("jax-compilation-cache") if cache is not None else pathlib.Path(tempfile.mkdtemp(prefix="axojax-test-cache-"))
+    config.stash[_OLD_CACHE_ENV] = os.environ.get(CACHE_ENV)
+    os.environ[CACHE_ENV] = str(path)
+    ax.enable_compilation_cache(path)
+
+
+def pytest_unconfigure(config):
+    old = config.stash.get(_OLD_CACHE_ENV, None)
     if old is None:
-        os.environ.pop("AXOJAX_CACHE_DIR")
+        os.environ.pop(CACHE_ENV, None)
     else:
-        os.environ["AXOJAX_CACHE_DIR"] = old
+        os.environ[CACHE_ENV] = old

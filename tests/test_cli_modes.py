@@ -29,9 +29,9 @@ def test_modes_single(capsys):
     assert d["out_of_plane_ratio"] == 0.0
 
 
-def test_modes_units_and_tie(capsys):
+def test_modes_units_and_tie(capsys, seven):
     doc = modes_json(["--model", "seven", "--p", "300", "--ks", "1e4", "--kl-ratio", "1000", "--length-um", "10", "--cn", "0.002"], capsys)
-    mode = ax.dominant_mode(ax.models.seven(), ax.Params(p=300.0, ks=1e4, kl=10.0))
+    mode = ax.dominant_mode(seven, ax.Params(p=300.0, ks=1e4, kl=10.0))
     units = ax.Units(length_um=10.0, cn_pn_s_um2=0.002)
     assert doc["dominant"]["frequency_hz"] == pytest.approx(float(mode.frequency_hz(units)), rel=1e-10)
     assert doc["dominant"]["wavelength_um"] == pytest.approx(float(mode.wavelength_um(units)), rel=1e-10)

@@ -30,8 +30,8 @@ def bisect(model, params, lo, hi, rtol=1e-12):
 
 
 @pytest.mark.parametrize("ks", [1e3, 1e5, 1e6])
-def test_seven_boundary_matches_bisection(ks):
-    model = ax.models.seven()
+def test_seven_boundary_matches_bisection(ks, seven):
+    model = seven  # the session's model: critical_force compiles once for all three
     params = ax.Params(ks=ks, kl=ks / 1e3)
     c = ax.critical_force(model, params)
     ref = bisect(model, params, 0.9 * float(c.p), 1.1 * float(c.p))
@@ -41,8 +41,8 @@ def test_seven_boundary_matches_bisection(ks):
         assert scipy_max_real(model, params.replace(p=p)).real <= 0
 
 
-def test_boundary_along_ks_vmapped_and_differentiable():
-    model = ax.models.seven()
+def test_boundary_along_ks_vmapped_and_differentiable(seven):
+    model = seven
     f = jax.jit(jax.vmap(lambda ks: ax.critical_force(model, ax.Params(ks=ks, kl=ks / 1e3)).p))
     values = jnp.array([1e3, 1e4])
     batched = np.asarray(f(values))
@@ -56,7 +56,7 @@ def test_boundary_along_ks_vmapped_and_differentiable():
     assert g == pytest.approx(fd, rel=1e-6)
 
 
-def test_cli_critical_json(capsys):
+def test_cli_critical_json(capsys, seven):
     import json
 
     assert main(["critical", "--model", "seven", "--along", "ks", "--values", "1e3,1e5", "--kl-ratio", "1000", "--json"]) == 0
@@ -64,6 +64,6 @@ def test_cli_critical_json(capsys):
     rows = doc["critical"]
     assert [r["ks"] for r in rows] == [1e3, 1e5]
     for r in rows:
-        c = ax.critical_force(ax.models.seven(), ax.Params(ks=r["ks"], kl=r["ks"] / 1e3))
+        c = ax.critical_force(seven, ax.Params(ks=r["ks"], kl=r["ks"] / 1e3))
         assert r["p"] == pytest.approx(float(c.p), rel=1e-10)
         assert r["frequency_hz"] == pytest.approx(float(c.frequency_hz()), rel=1e-8)

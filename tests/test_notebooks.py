@@ -8,11 +8,14 @@ asymmetric beat (about 10 s since the simulation's exact block Jacobian) and ass
 limit cycle, and figure 8's three small maps take about 20 s.
 """
 
+import os
 import pathlib
 
 import nbformat
 import pytest
 from nbclient import NotebookClient
+
+from axojax.cache import CACHE_ENV, MIN_COMPILE_SECONDS
 
 NOTEBOOKS = sorted((pathlib.Path(__file__).parent.parent / "notebooks").glob("*.ipynb"))
 NOT_IN_SUITE: dict[str, str] = {}  # notebook stem -> why it is not executed here
@@ -28,6 +31,10 @@ def test_notebook_executes(path, monkeypatch, tmp_path):
         pytest.skip(NOT_IN_SUITE[path.stem])
     monkeypatch.setenv("AXOJAX_FAST", "1")
     monkeypatch.setenv("MPLBACKEND", "Agg")
+    # The kernel keeps its compiled programs in the suite's cache (tests/conftest.py), as
+    # `axojax.enable_compilation_cache` would: the notebooks share many programs.
+    monkeypatch.setenv("JAX_COMPILATION_CACHE_DIR", os.environ[CACHE_ENV])
+    monkeypatch.setenv("JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS", str(MIN_COMPILE_SECONDS))
     nb = nbformat.read(path, as_version=4)
     NotebookClient(nb, timeout=600, kernel_name="python3", resources={"metadata": {"path": str(tmp_path)}}).execute()
     outputs = [o for c in nb.cells if c.cell_type == "code" for o in c.get("outputs", [])]

@@ -12,8 +12,8 @@ GAMMAS = np.array([-1.0, 0.5])  # at k_s = 1e6, k_l = 1e3
 
 
 @pytest.fixture(scope="module")
-def model():
-    return ax.models.seven()
+def model(seven):
+    return seven  # the session's (tests/conftest.py): programs compiled for it are reused
 
 
 @pytest.fixture(scope="module")

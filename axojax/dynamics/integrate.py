@@ -31,7 +31,7 @@ import equinox as eqx
 import jax.numpy as jnp
 import jax.scipy.linalg as jsl
 import optimistix as optx
-from jaxtyping import Array, Float
+from jaxtyping import Array, ArrayLike, Float, Real
 
 from ..assembly import assemble, assemble_blocks, node_major
 from ..linalg import lu_factor
@@ -75,7 +75,7 @@ def result_message(code) -> str:
     return line.split(". ")[0].rstrip(".") if line else "successful"
 
 
-def mass_system(model: Model, params: Params, kappa: Float[Array, ""]) -> MassSystem:
+def mass_system(model: Model, params: Params, kappa: Real[ArrayLike, ""]) -> MassSystem:
     """The ODE ``C dq/dt = b - A q - f_nl(q)`` at ``params`` as a :class:`MassSystem`
     (``C^{-1} A``, ``C^{-1} b`` and the block LU of ``C`` formed once)."""
     s = assemble(model, params)
@@ -96,7 +96,7 @@ def mass_system(model: Model, params: Params, kappa: Float[Array, ""]) -> MassSy
     )
 
 
-def vector_field(model: Model, params: Params, kappa: Float[Array, ""]):
+def vector_field(model: Model, params: Params, kappa: Real[ArrayLike, ""]):
     """dq/dt as a diffrax-style ``f(t, q, args)`` (``args`` unused)."""
     system = mass_system(model, params, kappa)
     return lambda t, q, args: mass_vector_field(t, q, system)
@@ -112,7 +112,7 @@ def stiff_solver(rtol: float = 1e-6, root_atol: float = 1e-6) -> diffrax.Kvaerno
 def integrate(
     model: Model,
     params: Params,
-    kappa: Float[Array, ""],
+    kappa: Real[ArrayLike, ""],
     q0: Float[Array, " n"],
     t: Float[Array, " T"],
     *,

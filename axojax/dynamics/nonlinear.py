@@ -20,7 +20,7 @@ import functools
 import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array, Float
+from jaxtyping import Array, ArrayLike, Float, Inexact, Real
 
 from ..assembly import link_stiffness
 from ..fem import make_mesh
@@ -55,14 +55,14 @@ class CubicLinks(eqx.Module):
     weight: Float[Array, "E Q"]
     n_fd: int = eqx.field(static=True)
 
-    def _stretch(self, q: Float[Array, " n"]) -> Float[Array, "E Q"]:
+    def _stretch(self, q: Inexact[Array, " n"]) -> Inexact[Array, "E Q"]:
         return self.B @ (jnp.reshape(q, (self.n_fd, self.phi.shape[1])) @ self.phi.T)  # delta_a_e(x_q)
 
-    def force(self, q: Float[Array, " n"]) -> Float[Array, " n"]:
+    def force(self, q: Inexact[Array, " n"]) -> Inexact[Array, " n"]:
         """f_nl(q), shape (n,)."""
         return jnp.ravel(self.B.T @ (self.weight * self._stretch(q) ** 3) @ self.phi)
 
-    def tangent(self, q: Float[Array, " n"]) -> Float[Array, "n n"]:
+    def tangent(self, q: Inexact[Array, " n"]) -> Inexact[Array, "n n"]:
         """d f_nl / dq at ``q``, shape (n, n): the exact tangent stiffness::
 
             sum_e sum_quad 3 kappa k_e w k(x) delta_a_e(x)^2 (B_e (x) phi)(B_e (x) phi)^T
@@ -75,7 +75,7 @@ class CubicLinks(eqx.Module):
         Me = jnp.einsum("qr,eq,qs->ers", self.phi, 3.0 * self.weight * self._stretch(q) ** 2, self.phi)
         return jnp.einsum("ei,ej,ers->irjs", self.B, self.B, Me).reshape(n, n)
 
-    def tangent_blocks(self, q: Float[Array, " n"]) -> BlockTridiagonal:
+    def tangent_blocks(self, q: Inexact[Array, " n"]) -> BlockTridiagonal:
         """:meth:`tangent` as node blocks (node-major, the layout of
         :func:`axojax.assembly.assemble_blocks`): each link's filament-level matrix
         ``M_e`` is cut into its 2 x 2 node blocks and Kronecker-multiplied by
@@ -92,7 +92,7 @@ class CubicLinks(eqx.Module):
         return BlockTridiagonal(out[: N - 1], out[N - 1 : 2 * N - 1], out[2 * N - 1 :])
 
 
-def cubic_links(model: Model, params: Params, kappa: Float[Array, ""]) -> CubicLinks:
+def cubic_links(model: Model, params: Params, kappa: Real[ArrayLike, ""]) -> CubicLinks:
     """:class:`CubicLinks` of ``model`` at ``params`` (a model without links gets one
     zero-stiffness placeholder link, so that force and tangent are zero)."""
     phi, wk = (jnp.asarray(a) for a in _rule(model))
@@ -102,11 +102,11 @@ def cubic_links(model: Model, params: Params, kappa: Float[Array, ""]) -> CubicL
     return CubicLinks(B=jnp.asarray(model.link_B, dtype=float), phi=phi, weight=k[:, None] * wk[None, :], n_fd=model.n_fd)
 
 
-def cubic_link_force(model: Model, params: Params, kappa: Float[Array, ""], q: Float[Array, " n"]) -> Float[Array, " n"]:
+def cubic_link_force(model: Model, params: Params, kappa: Real[ArrayLike, ""], q: Inexact[Array, " n"]) -> Inexact[Array, " n"]:
     """f_nl(q), shape (n,), dimensionless force (EI/L^2 per unit L); zero without links."""
     return cubic_links(model, params, kappa).force(q)
 
 
-def cubic_link_tangent(model: Model, params: Params, kappa: Float[Array, ""], q: Float[Array, " n"]) -> Float[Array, "n n"]:
+def cubic_link_tangent(model: Model, params: Params, kappa: Real[ArrayLike, ""], q: Inexact[Array, " n"]) -> Inexact[Array, "n n"]:
     """d f_nl / dq at ``q``, shape (n, n) (:meth:`CubicLinks.tangent`)."""
     return cubic_links(model, params, kappa).tangent(q)

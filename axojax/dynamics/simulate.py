@@ -11,6 +11,7 @@ from typing import Any
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jaxtyping import ArrayLike, Float
 
 from ..assembly import assemble
 from ..eigen.mode import CLASSES, dominant_mode
@@ -125,7 +126,7 @@ class Simulation:
         return cls(**arrays, beat_angle_rad=angle, state=state, limit_cycle=lc, linear=lin, meta=meta)
 
 
-def _along(v: np.ndarray, angle: float) -> np.ndarray:
+def _along(v: Float[np.ndarray, "*shape d"], angle: float) -> Float[ArrayLike, "*shape"]:
     """Component of a (..., d) displacement along the beat direction."""
     if v.shape[-1] == 1:
         return v[..., 0]

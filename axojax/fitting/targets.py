@@ -20,7 +20,7 @@ import math
 
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array, Float
+from jaxtyping import Array, Complex, Float
 
 from ..eigen.metrics import beat_plane
 from ..eigen.mode import Mode
@@ -107,7 +107,7 @@ def scalar_value(mode: Mode, name: str, units: Units) -> Float[Array, ""]:
     return {"frequency_hz": mode.frequency_hz, "growth_rate_per_s": mode.growth_rate_per_s}[name](units)
 
 
-def model_psi1(model: Model, mode: Mode, s: Float[Array, " S"]) -> Array:
+def model_psi1(model: Model, mode: Mode, s: Float[np.ndarray, " S"]) -> Complex[Array, " S"]:
     """The model's complex psi_1 at ``s`` (units of L) in its beat plane (up to scale)."""
     dphi = jnp.asarray(interpolation_matrix(model.n_elements, np.asarray(s), 1))
     q = jnp.reshape(mode.eigenvector, (model.n_filaments, model.n_dirs, model.mesh.n_dof)).mean(axis=0)

@@ -235,27 +235,27 @@ class Problem:
         return self.n_residuals - len(self.names)
 
     # -- coordinates -----------------------------------------------------------------
-    def to_u(self, z: Float[Array, " k"]) -> Float[Array, " k"]:
+    def to_u(self, z: Float[Array | np.ndarray, " k"]) -> Float[Array, " k"]:
         """Unconstrained z in R^k -> u inside the bounds (logistic)."""
         lo, hi = jnp.asarray(self.lower), jnp.asarray(self.upper)
         return lo + (hi - lo) * jax.nn.sigmoid(z)
 
-    def to_z(self, u: Float[Array, " k"]) -> Float[Array, " k"]:
+    def to_z(self, u: Float[Array | np.ndarray, " k"]) -> Float[Array, " k"]:
         """u strictly inside the bounds -> z (inverse of :meth:`to_u`)."""
         lo, hi = jnp.asarray(self.lower), jnp.asarray(self.upper)
         frac = (jnp.asarray(u) - lo) / (hi - lo)
         return jnp.log(frac) - jnp.log1p(-frac)
 
-    def log_jacobian(self, z: Float[Array, " k"]) -> Float[Array, ""]:
+    def log_jacobian(self, z: Float[Array | np.ndarray, " k"]) -> Float[Array, ""]:
         """log |du/dz| of the logistic map."""
         lo, hi = jnp.asarray(self.lower), jnp.asarray(self.upper)
         return jnp.sum(jnp.log(hi - lo) + jax.nn.log_sigmoid(z) + jax.nn.log_sigmoid(-z))
 
-    def log_prior(self, u: Float[Array, " k"]) -> Float[Array, ""]:
+    def log_prior(self, u: Float[Array | np.ndarray, " k"]) -> Float[Array, ""]:
         """log prior density in u (0: uniform in the fitted coordinate within the bounds)."""
         return jnp.zeros(()) if self.prior is None else jnp.asarray(self.prior(u))
 
-    def log_density(self, z: Float[Array, " k"]) -> Float[Array, ""]:
+    def log_density(self, z: Float[Array | np.ndarray, " k"]) -> Float[Array, ""]:
         """Unnormalised log posterior density in z: -|r(u)|^2 / 2 + log prior(u) + log|du/dz|."""
         u = self.to_u(z)
         r = self.residuals(u)
@@ -325,13 +325,13 @@ class Problem:
             return self.orbit_solver.solve(self.models[i], prm, kappa)
         return WarmStart(self.orbit_solver, WARM_STEPS).solve(self.models[i], prm, kappa, start)
 
-    def residuals(self, u: Float[Array, " k"], starts: Sequence[LimitCycle | None] | None = None) -> Float[Array, " m"]:
+    def residuals(self, u: Float[Array | np.ndarray, " k"], starts: Sequence[LimitCycle | None] | None = None) -> Float[Array, " m"]:
         """Normalised residuals (model - observed) / sigma of every target of every
         condition, in condition order: scalar targets, then Re and Im of the shape.
         ``starts``: warm starts of the limit cycles (:meth:`cycles`; None: cold)."""
         return self.residuals_and_cycles(u, starts)[0]
 
-    def residuals_and_cycles(self, u: Float[Array, " k"], starts: Sequence[LimitCycle | None] | None = None) -> tuple[Float[Array, " m"], list]:
+    def residuals_and_cycles(self, u: Float[Array | np.ndarray, " k"], starts: Sequence[LimitCycle | None] | None = None) -> tuple[Float[Array, " m"], list]:
         """(:meth:`residuals`, :meth:`cycles`) at ``u``: the orbits are those a fit
         passes back as the next evaluation's ``starts``."""
         u = jnp.asarray(u)

@@ -20,6 +20,8 @@ grad-able, real or complex. The factorisations take ``kernels="lapack"`` (defaul
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -103,13 +105,21 @@ class BlockTridiagonal(eqx.Module):
         return M.reshape(N * b, N * b)
 
 
-def _padded(M: BlockTridiagonal) -> BlockTridiagonal:
-    """M with one extra identity block appended (decoupled from the rest), so that every
-    elimination step below has the same shapes."""
+class _Padded(NamedTuple):
+    """M's blocks with one extra identity block appended (decoupled from the rest), so
+    that every elimination step of :func:`lu_factor` has the same shapes. Not a
+    :class:`BlockTridiagonal`: ``upper`` has two padding blocks (step k reads block
+    (k+1, k+2), up to (N, N+1)), one more than ``lower``."""
+
+    lower: Inexact[Array, "N b b"]
+    diag: Inexact[Array, "Np1 b b"]
+    upper: Inexact[Array, "Np1 b b"]
+
+
+def _padded(M: BlockTridiagonal) -> _Padded:
     b, dt = M.block_size, M.diag.dtype
     zero = jnp.zeros((1, b, b), dt)
-    # upper gets two padding blocks: step k reads block (k+1, k+2), up to (N, N+1).
-    return BlockTridiagonal(
+    return _Padded(
         jnp.concatenate([M.lower, zero]),
         jnp.concatenate([M.diag, jnp.eye(b, dtype=dt)[None]]),
         jnp.concatenate([M.upper, zero, zero]),

@@ -203,13 +203,13 @@ class Model:
     pair_follow: np.ndarray
     pair_sign: np.ndarray
     pair_group: np.ndarray
-    imbalance_kind: ImbalanceKind = DEFAULT_IMBALANCE_KIND
+    imbalance_kind: str = DEFAULT_IMBALANCE_KIND  # an ImbalanceKind; any other string is a ValueError (__post_init__)
 
     def __post_init__(self) -> None:
         if self.imbalance_kind not in IMBALANCE_KINDS:
             raise ValueError(f"imbalance_kind must be one of {', '.join(IMBALANCE_KINDS)}, got {self.imbalance_kind!r}")
 
-    def with_imbalance_kind(self, kind: ImbalanceKind) -> "Model":
+    def with_imbalance_kind(self, kind: str) -> "Model":
         """The same model with the imbalance read as ``kind`` ("moment" or "force"); a
         new object (models are static arguments hashed by identity), ``self`` when
         unchanged."""
@@ -251,7 +251,7 @@ class Model:
 
 
 def build_model(section: CrossSection, n_elements: int = 10, profiles: Profiles = Profiles(),
-                imbalance_kind: ImbalanceKind = DEFAULT_IMBALANCE_KIND) -> Model:
+                imbalance_kind: str = DEFAULT_IMBALANCE_KIND) -> Model:
     """Discretise ``section`` with ``n_elements`` cubic Hermite elements per filament
     (``imbalance_kind``: see :class:`Model`)."""
     mesh = make_mesh(n_elements)

@@ -88,7 +88,7 @@ def _predict(prev: LimitCycle, prev2: LimitCycle | None, p_prev: float, p_prev2:
     return eqx.tree_at(lambda c: (c.coefficients, c.omega), prev, (X, w))
 
 
-def continue_to(model: Model, params: Params, kappa: float, solver: AbstractOrbitSolver, p_targets: Sequence[float], *,
+def continue_to(model: Model, params: Params, kappa: float, solver: AbstractOrbitSolver, p_targets: Sequence[float] | np.ndarray, *,
                 p_hopf: float | None = None, max_halvings: int = 8, callback: Callable | None = None) -> list[LimitCycle | None]:
     """Limit cycles at the increasing forces ``p_targets`` (None where there is none),
     continued from the Hopf point; intermediate points are inserted where a step fails."""
@@ -195,7 +195,7 @@ class Branch:
             return {k: f[k] for k in f.files if k != "meta"}, meta
 
 
-def branch(model: Model, params: Params, kappa: float, p_values: Sequence[float], *, solver: AbstractOrbitSolver,
+def branch(model: Model, params: Params, kappa: float, p_values: Sequence[float] | np.ndarray, *, solver: AbstractOrbitSolver,
            units: Units = Units(), callback: Callable | None = None) -> Branch:
     """Continue the limit cycle over ``p_values`` (sorted ascending) from the Hopf point."""
     p_values = np.sort(np.asarray(p_values, dtype=float))

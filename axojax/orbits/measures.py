@@ -29,7 +29,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array, Complex, Float
+from jaxtyping import Array, ArrayLike, Complex, Float
 
 from ..units import Units
 from ..waveform.shapes import centreline
@@ -43,7 +43,7 @@ def _xp(*arrays):
     return jnp if any(isinstance(a, jax.Array) for a in arrays) else np
 
 
-def ls_slope(s: Float[Array, " S"], y: Float[Array, " S"], weight: Float[Array, " S"] | None = None) -> Float[Array, ""]:
+def ls_slope(s: Float[Array | np.ndarray, " S"], y: Float[Array | np.ndarray, " S"], weight: Float[Array | np.ndarray, " S"] | None = None) -> Float[ArrayLike, ""]:
     """(Weighted) least-squares slope of y(s), shape ()."""
     xp = _xp(s, y, weight)
     w = xp.ones_like(s) if weight is None else weight
@@ -52,12 +52,12 @@ def ls_slope(s: Float[Array, " S"], y: Float[Array, " S"], weight: Float[Array, 
     return xp.sum(w * (s - sb) * (y - yb)) / xp.sum(w * (s - sb) ** 2)
 
 
-def static_curvature(s_um: Float[Array, " S"], psi0: Float[Array, " S"]) -> Float[Array, ""]:
+def static_curvature(s_um: Float[Array | np.ndarray, " S"], psi0: Float[Array | np.ndarray, " S"]) -> Float[ArrayLike, ""]:
     """Least-squares slope of psi_0(s), rad per unit of s (rad/um for s in um)."""
     return ls_slope(s_um, psi0)
 
 
-def dynamic_amplitude(psi1: Complex[Array, " S"]) -> Float[Array, ""]:
+def dynamic_amplitude(psi1: Complex[Array | np.ndarray, " S"]) -> Float[ArrayLike, ""]:
     """Arc-length mean of |psi_1| (rad) on a uniform grid."""
     xp = _xp(psi1)
     return xp.mean(xp.abs(psi1))
@@ -70,7 +70,7 @@ def _safe_angle(z, xp):
     return xp.where(ok, xp.arctan2(xp.imag(zs), xp.real(zs)), 0.0)
 
 
-def unwrapped_phase(psi1: Complex[Array, " S"]) -> tuple[Float[Array, " S"], Float[Array, " S"]]:
+def unwrapped_phase(psi1: Complex[Array | np.ndarray, " S"]) -> tuple[Float[Array | np.ndarray, " S"], Float[Array | np.ndarray, " S"]]:
     """(phase (S,), weight (S,)): the phase of psi_1 unwrapped as the cumulative sum of
     the angles between neighbours (0 at the first point with psi_1 != 0), and a 0/1
     weight that drops points where psi_1 = 0 exactly (the clamped base of a model),
@@ -88,20 +88,20 @@ def unwrapped_phase(psi1: Complex[Array, " S"]) -> tuple[Float[Array, " S"], Flo
     return phase, live.astype(float)
 
 
-def phase_slope(s: Float[Array, " S"], psi1: Complex[Array, " S"]) -> Float[Array, ""]:
+def phase_slope(s: Float[Array | np.ndarray, " S"], psi1: Complex[Array | np.ndarray, " S"]) -> Float[ArrayLike, ""]:
     """Least-squares slope of the unwrapped phase of psi_1 (rad per unit of s; negative
     for a wave travelling towards larger s with psi ~ Re(psi_1 e^{i omega t}))."""
     phase, w = unwrapped_phase(psi1)
     return ls_slope(s, phase, w)
 
 
-def phase_wavelength(s_um: Float[Array, " S"], psi1: Complex[Array, " S"]) -> Float[Array, ""]:
+def phase_wavelength(s_um: Float[Array | np.ndarray, " S"], psi1: Complex[Array | np.ndarray, " S"]) -> Float[ArrayLike, ""]:
     """2 pi / |least-squares slope of the unwrapped phase of psi_1(s)| (units of s)."""
     xp = _xp(s_um, psi1)
     return 2 * xp.pi / xp.abs(phase_slope(s_um, psi1))
 
 
-def tangent_modes(cycle: LimitCycle, s_um: Float[Array, " S"] | None = None, units: Units = Units()) -> tuple[Array, Array, Array]:
+def tangent_modes(cycle: LimitCycle, s_um: Float[ArrayLike, " S"] | None = None, units: Units = Units()) -> tuple[Float[Array, " S"], Float[Array, " S"], Complex[Array, " S"]]:
     """(s_um (S,), psi_0 (S,) rad, psi_1 (S,) complex rad) of the orbit along its beat
     direction at the concrete arc lengths ``s_um`` (um, in [0, L]; default 41 uniform points)
     psi = psi_0 + Re(psi_1 e^{i theta}) + higher harmonics, theta = omega t
@@ -166,7 +166,7 @@ class CycleMeasures(eqx.Module):
         return {k: float(getattr(self, k)) for k in self.SCALARS}
 
 
-def cycle_measures(cycle: LimitCycle, s_um: Float[Array, " S"] | None = None, units: Units = Units()) -> CycleMeasures:
+def cycle_measures(cycle: LimitCycle, s_um: Float[ArrayLike, " S"] | None = None, units: Units = Units()) -> CycleMeasures:
     """All measures of ``cycle`` at arc lengths ``s_um`` (default: 41 uniform points on
     [0, L], as ``axojax data``). Jit-able and differentiable (see the module docstring)."""
     s, psi0, psi1 = tangent_modes(cycle, s_um, units)

@@ -42,7 +42,7 @@ def ks_scan(p: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return MAP_KS, r.data["frequency_hz"][i], r.data["classification"][i] == 1
 
 
-def _where(r: SweepResult, values: np.ndarray, flat: int) -> str:
+def _where(r: SweepResult, values: np.ndarray, flat: int | np.integer) -> str:
     i, j = np.unravel_index(flat, values.shape)
     return f"(p, k_s) = ({r.coords['p'][i]:g}, {sci(r.coords['ks'][j])})"
 

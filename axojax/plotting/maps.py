@@ -20,7 +20,7 @@ LABELS = {
 }
 
 
-def _spaced(name: str, values: np.ndarray) -> bool:
+def _spaced(name: str, values: np.ndarray) -> bool | np.bool_:
     return name in LOG_AXES and np.all(values > 0) and values.max() / values.min() > 50
 
 

@@ -5,12 +5,13 @@ from __future__ import annotations
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jaxtyping import Array, ArrayLike, Float, Inexact
 
 from ..fem import interpolation_matrix
 from ..models.section import Model
 
 
-def centreline(model: Model, q: np.ndarray, x: np.ndarray, derivative: int = 0) -> np.ndarray:
+def centreline(model: Model, q: Inexact[Array | np.ndarray, "*batch n"], x: Float[ArrayLike, " S"], derivative: int = 0) -> Inexact[Array | np.ndarray, "*batch d S"]:
     """Centreline (mean over filaments) displacement, or its x-derivative, at points x.
 
     Args:
