@@ -268,19 +268,17 @@ class Problem:
 
     def condition_params(self, u, i: int) -> Params:
         """The complete :class:`Params` of condition ``i`` at ``u`` (traceable)."""
-        values = {}
-        for j, p in enumerate(self.parameters):
-            if (p.condition is None or p.condition == i) and p.field not in ORBIT_FIELDS:
-                values[p.field] = p.to_value(u[j])
+        values = {f: v for f, v in self._fitted_values(u, i).items() if f not in ORBIT_FIELDS}
         return self.base[i].with_values(values, self.kl_ratio)
 
     def condition_cubic(self, u, i: int):
         """The limit cycle's link stiffening kappa (1/L^2) in condition ``i`` at ``u``:
         fitted when ``"cubic"`` is free, else the problem's ``cubic`` (traceable)."""
-        for j, p in enumerate(self.parameters):
-            if p.field == "cubic" and (p.condition is None or p.condition == i):
-                return p.to_value(u[j])
-        return self.cubic
+        return self._fitted_values(u, i).get("cubic", self.cubic)
+
+    def _fitted_values(self, u, i: int) -> dict:
+        """{field: value} of the free parameters that act in condition ``i`` at ``u``."""
+        return {p.field: p.to_value(u[j]) for j, p in enumerate(self.parameters) if p.condition is None or p.condition == i}
 
     # -- the model's predictions -----------------------------------------------------
     def modes(self, u) -> list:
