@@ -9,6 +9,19 @@ import scipy.linalg
 import axojax as ax
 from axojax.cache import CACHE_ENV
 
+# The suite compiles with XLA's CPU backend at optimisation level 0. XLA reads XLA_FLAGS
+# when its backend starts, at the first computation, which comes after this module is
+# imported; the commands and notebook kernels the tests start inherit the setting. Most of
+# the suite's time is compilation and its programs run briefly, so less optimised machine
+# code makes it faster (tests/test_solvers.py's gradient test: 38 s -> 24 s cold). The
+# level changes how the machine code is optimised, so results can differ in the last bits
+# (an iterative solve may stop one step apart), not in what is computed:
+# tests/test_compile_flags.py checks eigenvalues and gradients against a fully optimised
+# process's to 1e-12. Opt out with AXOJAX_TEST_FULL_OPTIMISATION=1; benchmarks/ never set it.
+SUITE_XLA_FLAGS = "--xla_backend_optimization_level=0"
+if not os.environ.get("AXOJAX_TEST_FULL_OPTIMISATION") and "xla_backend_optimization_level" not in os.environ.get("XLA_FLAGS", ""):
+    os.environ["XLA_FLAGS"] = (os.environ.get("XLA_FLAGS", "") + " " + SUITE_XLA_FLAGS).strip()
+
 _OLD_CACHE_ENV = pytest.StashKey["str | None"]()
 
 
@@ -58,3 +71,16 @@ def pytest_unconfigure(config):
         os.environ.pop(CACHE_ENV, None)
     else:
         os.environ[CACHE_ENV] = old
+
+
+@pytest.hookimpl(tryfirst=True)  # before xdist's own, which reads the marks
+def pytest_collection_modifyitems(config, items):
+    """Under pytest-xdist (``-n``, README), one test module runs on one worker, so a
+    module's fixtures are computed once (``--dist loadgroup`` with one group per module);
+    the notebooks are the exception: each is its own group, being long and independent."""
+    for item in items:
+        if item.get_closest_marker("xdist_group") is None:
+            name = item.module.__name__
+            if name.endswith("test_notebooks"):
+                name = item.nodeid
+            item.add_marker(pytest.mark.xdist_group(name))

@@ -64,10 +64,19 @@ def test_gradients_match_finite_differences(setup):
     f = jax.jit(values)
     J = np.asarray(jax.jit(jax.jacfwd(values))(theta))
     rel = np.array([1e-5, 1e-4, 1e-4, 1e-5])
-    fd = np.stack([(np.asarray(f(theta.at[i].mul(1 + rel[i]))) - np.asarray(f(theta.at[i].mul(1 - rel[i])))) / (2 * rel[i] * float(theta[i])) for i in range(4)], axis=1)
+
+    def central(step):
+        return np.stack([(np.asarray(f(theta.at[i].mul(1 + step[i]))) - np.asarray(f(theta.at[i].mul(1 - step[i])))) / (2 * step[i] * float(theta[i])) for i in range(4)], axis=1)
+
+    fd, fd2 = central(rel), central(2 * rel)
     scale = np.abs(fd).max(axis=1, keepdims=True)
     assert np.all(scale > 0)
-    np.testing.assert_allclose(J / scale, fd / scale, atol=2e-5)
+    # The differences' own error (truncation, and the orbit solved to 1e-12 differing
+    # with the Newton steps taken: ~1e-5 of the small out-of-plane ratio's derivative)
+    # is estimated by the same difference at twice the step.
+    fd_error = np.abs(fd - fd2) / scale
+    assert np.max(fd_error) < 1e-3  # the differences themselves are meaningful
+    assert np.all(np.abs(J - fd) / scale <= 2e-5 + 2 * fd_error), np.max(np.abs(J - fd) / scale - 2 * fd_error)
     # reverse mode (the transposed implicit solve) gives the same
     g = np.asarray(jax.jit(jax.grad(lambda th: values(th)[4]))(theta))
     np.testing.assert_allclose(g, J[4], rtol=1e-8, atol=1e-12 * np.abs(J[4]).max())
