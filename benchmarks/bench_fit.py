@@ -92,9 +92,15 @@ class CountingSolver(ax.orbits.HarmonicBalance):
     """HarmonicBalance recording the Newton steps of every orbit it solves."""
 
     def solve(self, model, params, kappa, start=None):
-        cycle = super().solve(model, params, kappa, start)
-        jax.debug.callback(lambda k: NEWTON_STEPS.append(int(k)), cycle.steps)
-        return cycle
+        return _counted(super().solve(model, params, kappa, start))
+
+    def solve_from(self, model, params, kappa, start, warm_steps):  # a warm start (WarmStart) and its fallback
+        return _counted(super().solve_from(model, params, kappa, start, warm_steps))
+
+
+def _counted(cycle):
+    jax.debug.callback(lambda k: NEWTON_STEPS.append(int(k)), cycle.steps)
+    return cycle
 
 
 def _warm_cold(problem: Problem, truth: ax.Params, label: str, repeats: int = 3) -> None:

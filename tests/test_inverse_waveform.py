@@ -31,9 +31,15 @@ class CountingSolver(ax.orbits.HarmonicBalance):
     callback: one entry per evaluation, also inside the fit's jit and Jacobians)."""
 
     def solve(self, model, params, kappa, start=None):
-        cycle = super().solve(model, params, kappa, start)
-        jax.debug.callback(lambda k: NEWTON_STEPS.append(int(k)), cycle.steps)
-        return cycle
+        return _counted(super().solve(model, params, kappa, start))
+
+    def solve_from(self, model, params, kappa, start, warm_steps):  # a warm start (WarmStart) and its fallback
+        return _counted(super().solve_from(model, params, kappa, start, warm_steps))
+
+
+def _counted(cycle):
+    jax.debug.callback(lambda k: NEWTON_STEPS.append(int(k)), cycle.steps)
+    return cycle
 
 
 SOLVER = CountingSolver(harmonics=4, floquet=0, rtol=1e-11)

@@ -170,3 +170,22 @@ def test_bad_input_one_line(two4, p_hopf, capsys):
         assert main(argv) == 2
         err = capsys.readouterr().err.strip()
         assert err.startswith(f"axojax: error: {flag}") and "\n" not in err
+
+
+def test_warm_start_and_its_fallback_in_one_newton_loop(two4):
+    """WarmStart: from a nearby orbit, fewer Newton steps to the same orbit; where the
+    start cannot converge within warm_steps (here 1), the Hopf-guess solve follows in the
+    same loop and its answer and steps are exactly the cold solve's, plus the one."""
+    solver = HarmonicBalance(harmonics=6, floquet=0)
+    prm = ax.Params(p=160.0)
+    near = ax.limit_cycle(two4, ax.Params(p=160.3), KAPPA, solver=solver)
+    cold = solver.solve(two4, prm, KAPPA)
+    warm = ax.orbits.WarmStart(solver, warm_steps=10).solve(two4, prm, KAPPA, near)
+    fell_back = ax.orbits.WarmStart(solver, warm_steps=1).solve(two4, prm, KAPPA, near)
+    assert bool(cold.converged) and bool(warm.converged) and bool(fell_back.converged)
+    assert int(warm.steps) < int(cold.steps)
+    assert float(warm.frequency_hz()) == pytest.approx(float(cold.frequency_hz()), rel=1e-9)
+    assert float(warm.amplitude_um()) == pytest.approx(float(cold.amplitude_um()), rel=1e-8)
+    assert int(fell_back.steps) == int(cold.steps) + 1
+    assert float(fell_back.frequency_hz()) == pytest.approx(float(cold.frequency_hz()), rel=1e-12)
+    np.testing.assert_allclose(np.asarray(fell_back.phase_ref), np.asarray(cold.phase_ref))  # the Hopf guess's phase condition

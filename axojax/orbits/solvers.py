@@ -32,7 +32,7 @@ from .floquet import floquet_multipliers
 from .fourier import Problem, pad
 from .guess import hopf_guess
 from .linear import BorderedSolver
-from .newton import implicit_solve
+from .newton import Restart, implicit_solve
 
 
 class AbstractOrbitSolver(eqx.Module):
@@ -45,6 +45,24 @@ class AbstractOrbitSolver(eqx.Module):
         (continuation; where Newton fails from it, the returned stand-in is the start
         itself). Differentiable in ``params``
         and ``kappa``; the start is data, never differentiated."""
+
+    def solve_from(self, model: Model, params: Params, kappa, start: LimitCycle, warm_steps: int) -> LimitCycle:
+        """The orbit from ``start`` within ``warm_steps`` Newton iterations; where that
+        fails, :meth:`solve` from the Hopf normal form with the full budget (``steps``
+        counts both attempts). This default traces both attempts (a ``lax.cond``);
+        :class:`HarmonicBalance` does both in one Newton loop."""
+        capped = self
+        if hasattr(self, "max_steps"):
+            capped = dataclasses.replace(self, max_steps=min(int(self.max_steps), int(warm_steps)))
+        warm = capped.solve(model, params, kappa, start)
+
+        def cold():
+            cycle = self.solve(model, params, kappa)
+            return eqx.tree_at(lambda c: c.steps, cycle, cycle.steps + warm.steps)
+
+        # (an unconverged start is no start: the warm attempt then began at the Hopf
+        # guess, and a failure within the cap is retried with the full budget too)
+        return jax.lax.cond(warm.started & ~warm.converged, cold, lambda: warm)
 
 
 class HarmonicBalance(AbstractOrbitSolver):
@@ -85,13 +103,21 @@ class HarmonicBalance(AbstractOrbitSolver):
         return make
 
     def solve(self, model, params, kappa, start=None):
+        return self._solve(model, params, kappa, start, None)
+
+    def solve_from(self, model, params, kappa, start, warm_steps):
+        """As :meth:`AbstractOrbitSolver.solve_from`, in one Newton loop
+        (:class:`~axojax.orbits.newton.Restart`): one traced iteration, not two."""
+        return self._solve(model, params, kappa, start, int(warm_steps))
+
+    def _solve(self, model, params, kappa, start, warm_steps):
         H = int(self.harmonics)
         theta = (params, jnp.asarray(kappa, dtype=float))
         make = self._problem(model, H)
         prob = make(theta)
         fixed = make(jax.lax.stop_gradient(theta))  # the start and the multipliers are not differentiated
-        x_hopf, ref, lam, fallback = hopf_guess(fixed)
-        x0 = x_hopf
+        x_hopf, ref_hopf, lam, fallback_hopf = hopf_guess(fixed)
+        x0, ref, fallback, restart, accept = x_hopf, ref_hopf, fallback_hopf, None, None
         if start is not None:
             # An unconverged (or non-finite) start is no start: the Hopf guess. Nor is any
             # start before the Hopf point (a stable equilibrium, Re lambda <= 0): there
@@ -101,13 +127,17 @@ class HarmonicBalance(AbstractOrbitSolver):
             x_warm = jnp.concatenate([jnp.ravel(X0), jnp.reshape(start.omega, (1,))])
             warm = start.converged & jnp.all(jnp.isfinite(x_warm)) & (jnp.real(lam) > 0)
             x0 = jnp.where(warm, x_warm, x_hopf)
-            ref = jnp.where(warm, start.phase_ref, ref)
-            fallback = jnp.where(warm, x_warm, fallback)
-        x, info = implicit_solve(make, BorderedSolver, theta, x0, ref, rtol=self.rtol, max_steps=self.max_steps, fallback=fallback)
+            ref = jnp.where(warm, start.phase_ref, ref_hopf)
+            fallback = jnp.where(warm, x_warm, fallback_hopf)
+            if warm_steps is not None:  # where the start fails: the Hopf guess, full budget
+                restart = Restart(x_hopf, ref_hopf, fallback_hopf, warm_steps)
+                accept = lambda p, x: _nontrivial(p.split(x)[0])
+        x, info, ref = implicit_solve(make, BorderedSolver, theta, x0, ref, rtol=self.rtol, max_steps=self.max_steps, fallback=fallback,
+                                      restart=restart, accept=accept)
         X, omega = prob.split(x)
         # Newton may also land on the equilibrium (zero amplitude, any omega): not an orbit.
-        nontrivial = jnp.linalg.norm(X[1:]) > 1e-9 * jnp.maximum(1.0, jnp.linalg.norm(X[0]))
-        info = info.at[0].set(jnp.where(nontrivial, info[0], 0.0))
+        info = info.at[0].set(jnp.where(_nontrivial(X), info[0], 0.0))
+        started = jnp.where(info[3] > 0.5, jnp.all(jnp.isfinite(x_hopf)), jnp.all(jnp.isfinite(x0)))
         amplitude, angle, k = measures(model, X)
         if self.floquet > 0:
             rho = floquet_multipliers(fixed, jax.lax.stop_gradient(X), jax.lax.stop_gradient(omega), count=self.floquet, krylov=self.krylov)
@@ -115,10 +145,15 @@ class HarmonicBalance(AbstractOrbitSolver):
             rho = jnp.full((0,), jnp.nan + 0j)
         return LimitCycle(
             model=model, coefficients=X, omega=omega, amplitude=amplitude, beat_angle=angle, wavenumber=k,
-            floquet=rho, converged=info[0] > 0.5, started=jnp.all(jnp.isfinite(x0)), steps=info[1].astype(int), correction=info[2],
+            floquet=rho, converged=info[0] > 0.5, started=started, steps=info[1].astype(int), correction=info[2],
             linear_eigenvalue=lam, phase_ref=ref,
-            result=RESULTS.where(info[0] > 0.5, RESULTS.successful, RESULTS.where(jnp.all(jnp.isfinite(x0)), RESULTS.nonlinear_max_steps_reached, RESULTS.no_start)),
+            result=RESULTS.where(info[0] > 0.5, RESULTS.successful, RESULTS.where(started, RESULTS.nonlinear_max_steps_reached, RESULTS.no_start)),
         )
+
+
+def _nontrivial(X):
+    """Whether harmonic coefficients (2H+1, n) are an orbit, not the equilibrium."""
+    return jnp.linalg.norm(X[1:]) > 1e-9 * jnp.maximum(1.0, jnp.linalg.norm(X[0]))
 
 
 class WarmStart(AbstractOrbitSolver):
@@ -128,11 +163,13 @@ class WarmStart(AbstractOrbitSolver):
 
     With ``start``: Newton from it for at most ``warm_steps`` iterations (the inner
     solver's ``max_steps`` capped); where that fails, the inner solver again from the
-    Hopf normal form with its full budget. So the orbit is the cold one (up to the
+    Hopf normal form with its full budget (the inner solver's
+    :meth:`~AbstractOrbitSolver.solve_from`). So the orbit is the cold one (up to the
     solver's tolerance and the arbitrary time origin) at a few Newton steps when the
     start is near. The returned ``steps`` count both attempts. Without ``start``: the
-    inner solver. The start is data, never differentiated. Both attempts are traced
-    (a ``lax.cond``): compilation takes longer than the inner solver's.
+    inner solver. The start is data, never differentiated. :class:`HarmonicBalance`
+    makes both attempts in one Newton loop, so compilation costs little more than the
+    inner solver's; other solvers trace both (a ``lax.cond``).
 
     Attributes:
         solver: the inner solver (e.g. :class:`HarmonicBalance` with ``floquet=0``).
@@ -143,21 +180,9 @@ class WarmStart(AbstractOrbitSolver):
     warm_steps: int = 10
 
     def solve(self, model, params, kappa, start=None):
-        inner = self.solver
         if start is None:
-            return inner.solve(model, params, kappa)
-        capped = inner
-        if hasattr(inner, "max_steps"):
-            capped = dataclasses.replace(inner, max_steps=min(int(inner.max_steps), int(self.warm_steps)))
-        warm = capped.solve(model, params, kappa, jax.lax.stop_gradient(start))
-
-        def cold():
-            cycle = inner.solve(model, params, kappa)
-            return eqx.tree_at(lambda c: c.steps, cycle, cycle.steps + warm.steps)
-
-        # (an unconverged start is no start: the warm attempt then began at the Hopf
-        # guess, and a failure within the cap is retried with the full budget too)
-        return jax.lax.cond(warm.started & ~warm.converged, cold, lambda: warm)
+            return self.solver.solve(model, params, kappa)
+        return self.solver.solve_from(model, params, kappa, jax.lax.stop_gradient(start), int(self.warm_steps))
 
 
 def resize(X, harmonics: int):
