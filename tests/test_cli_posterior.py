@@ -14,7 +14,7 @@ from axojax.cli.main import main
 
 def test_fit_posterior_report_file_and_corner_plot(tmp_path, capsys):
     out = tmp_path / "fit.json"
-    rc = main(["fit", "--model", "seven", "--elements", "4", "--free", "p", "--target-frequency", "30", "--posterior", "40", "--chains", "2", "--out", str(out), "--json"])
+    rc = main(["fit", "--model", "two", "--elements", "4", "--free", "p", "--target-frequency", "30", "--posterior", "40", "--chains", "2", "--out", str(out), "--json"])
     assert rc == 0
     doc = json.loads(capsys.readouterr().out)
     post = doc["posterior"]

@@ -173,17 +173,17 @@ def test_bad_input_one_line(two4, p_hopf, capsys):
 
 
 def test_warm_start_and_its_fallback_in_one_newton_loop(two4):
-    """WarmStart: from a nearby orbit, fewer Newton steps to the same orbit; where the
-    start cannot converge within warm_steps (here 1), the Hopf-guess solve follows in the
-    same loop and its answer and steps are exactly the cold solve's, plus the one."""
+    """WarmStart (one compiled program, warm_steps=1): from the orbit itself, one Newton
+    step; from a nearby orbit that one step cannot finish, the Hopf-guess solve follows
+    in the same loop, and its answer and steps are exactly the cold solve's, plus one."""
     solver = HarmonicBalance(harmonics=6, floquet=0)
     prm = ax.Params(p=160.0)
+    cold = ax.limit_cycle(two4, prm, KAPPA, solver=solver)
     near = ax.limit_cycle(two4, ax.Params(p=160.3), KAPPA, solver=solver)
-    cold = solver.solve(two4, prm, KAPPA)
-    warm = ax.orbits.WarmStart(solver, warm_steps=10).solve(two4, prm, KAPPA, near)
-    fell_back = ax.orbits.WarmStart(solver, warm_steps=1).solve(two4, prm, KAPPA, near)
+    warm_solve = jax.jit(lambda params, start: ax.orbits.WarmStart(solver, warm_steps=1).solve(two4, params, KAPPA, start))
+    warm, fell_back = warm_solve(prm, cold), warm_solve(prm, near)
     assert bool(cold.converged) and bool(warm.converged) and bool(fell_back.converged)
-    assert int(warm.steps) < int(cold.steps)
+    assert int(warm.steps) == 1 < int(cold.steps)
     assert float(warm.frequency_hz()) == pytest.approx(float(cold.frequency_hz()), rel=1e-9)
     assert float(warm.amplitude_um()) == pytest.approx(float(cold.amplitude_um()), rel=1e-8)
     assert int(fell_back.steps) == int(cold.steps) + 1
