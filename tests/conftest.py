@@ -78,7 +78,7 @@ def pytest_collection_modifyitems(config, items):
     """Under pytest-xdist (``-n``, README), one test module runs on one worker, so a
     module's fixtures are computed once (``--dist loadgroup`` with one group per module);
     the notebooks are the exception: each is its own group, being long and independent.
-    The notebooks run first: with ``--no-loadscopereorder`` (addopts; xdist would otherwise
+    The notebooks run first: with ``--no-loadscope-reorder`` (addopts; xdist would otherwise
     put groups with many tests first, and the one-test notebook groups last) workers take
     groups in collection order, so the long ones start early and the short modules fill
     the end instead of one worker finishing alone."""
