@@ -82,10 +82,10 @@ def pytest_collection_modifyitems(config, items):
     put groups with many tests first, and the one-test notebook groups last) workers take
     groups in collection order, so the long ones start early and the short modules fill
     the end instead of one worker finishing alone."""
+    def notebook(item):
+        return item.module.__name__.endswith("test_notebooks")
+
     for item in items:
         if item.get_closest_marker("xdist_group") is None:
-            name = item.module.__name__
-            if name.endswith("test_notebooks"):
-                name = item.nodeid
-            item.add_marker(pytest.mark.xdist_group(name))
-    items.sort(key=lambda item: not item.module.__name__.endswith("test_notebooks"))  # stable: modules stay contiguous
+            item.add_marker(pytest.mark.xdist_group(item.nodeid if notebook(item) else item.module.__name__))
+    items.sort(key=lambda item: not notebook(item))  # stable: modules stay contiguous

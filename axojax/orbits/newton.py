@@ -52,13 +52,11 @@ def newton(residual: Callable, factor: Callable, x0, aux=None, *, rtol: float, m
 
     Returns (x, aux, converged (bool), steps of both attempts (int), last scaled
     correction, restarted (bool)); ``aux`` is the one x solves with."""
-    if restart is None:
-        restarted0, stop0 = jnp.array(True), max_steps  # no second attempt: one budget
-        x_r, aux_r = x0, aux
+    if restart is None:  # one attempt, one budget: the switch below is not traced
+        restarted0, stop0 = jnp.array(True), max_steps
     else:
-        restarted0 = ~jnp.all(jnp.isfinite(restart.x))
+        restarted0 = ~jnp.all(jnp.isfinite(restart.x))  # a non-finite second start is none
         stop0 = min(int(restart.after), max_steps)
-        x_r, aux_r = restart.x, restart.aux
 
     def cond(state):
         x, a, k, done, err, restarted, stop = state
@@ -66,11 +64,12 @@ def newton(residual: Callable, factor: Callable, x0, aux=None, *, rtol: float, m
 
     def body(state):
         x, a, k, _, err, restarted, stop = state
-        switch = ~restarted & ((k >= stop) | ~jnp.isfinite(err))  # the first attempt failed: start again
-        x = jnp.where(switch, x_r, x)
-        a = jax.tree_util.tree_map(lambda u, v: jnp.where(switch, u, v), aux_r, a)
-        stop = jnp.where(switch, k + max_steps, stop)
-        restarted = restarted | switch
+        if restart is not None:
+            switch = ~restarted & ((k >= stop) | ~jnp.isfinite(err))  # the first attempt failed: start again
+            x = jnp.where(switch, restart.x, x)
+            a = jax.tree_util.tree_map(lambda u, v: jnp.where(switch, u, v), restart.aux, a)
+            stop = jnp.where(switch, k + max_steps, stop)
+            restarted = restarted | switch
         lu = factor(x, a)
         dx = lu.solve(residual(x, a))
         err = _scaled(dx, x)
@@ -94,7 +93,7 @@ def newton(residual: Callable, factor: Callable, x0, aux=None, *, rtol: float, m
         lam, _ = jax.lax.while_loop(ls_cond, ls_body, (1.0, small | _monotone(1.0)))
         x = x - lam * dx
         done = (err < rtol) & (lam == 1.0)
-        if accept is not None:  # a refused point of the first attempt: start again (err NaN)
+        if restart is not None and accept is not None:  # a refused point of the first attempt: start again (err NaN)
             refused = done & ~restarted & ~accept(x)
             done, err = done & ~refused, jnp.where(refused, jnp.nan, err)
         return x, a, k + 1, done, err, restarted, stop
