@@ -70,3 +70,28 @@ def test_interpolation_reproduces_cubic():
     x = np.linspace(0, 1, 37)
     np.testing.assert_allclose(interpolation_matrix(ne, x) @ q, x**2 - x**3 / 3, atol=1e-13)
     np.testing.assert_allclose(interpolation_matrix(ne, x, 1) @ q, 2 * x - x**2, atol=1e-12)
+
+
+def test_models_built_alike_are_equal_and_share_compiled_programs():
+    """A model is a static argument of jax.jit, compared by value: two calls of a preset
+    give equal models (one compiled program between them); any difference of structure,
+    mesh, imbalance reading or profile makes them unequal."""
+    import jax
+
+    import axojax as ax
+    from axojax.eigen.mode import dominant_mode_impl
+
+    a, b = ax.models.two(n_elements=2), ax.models.two(n_elements=2)
+    assert a is not b and a == b and hash(a) == hash(b)
+    ramp = lambda x: 1.0 + x  # noqa: E731
+    others = [ax.models.two(n_elements=3), ax.models.single(n_elements=2), a.with_imbalance_kind("force"),
+              ax.models.seven(n_elements=2), ax.models.seven(n_elements=2, rotation_deg=10.0), ax.models.two(n_elements=2, profiles=Profiles(ei=ramp))]
+    for other in others:
+        assert a != other
+    assert others[3] != others[4]
+    assert ax.models.two(n_elements=2, profiles=Profiles(ei=ramp)) == ax.models.two(n_elements=2, profiles=Profiles(ei=ramp))
+    f = jax.jit(lambda model, p: dominant_mode_impl(model, ax.Params(p=p), ax.eigen.Dense()).eigenvalue, static_argnums=0)
+    assert complex(f(a, 300.0)) == complex(f(b, 300.0))
+    assert f._cache_size() == 1
+    f(others[0], 300.0)
+    assert f._cache_size() == 2

@@ -3,9 +3,10 @@ gallery's notebooks assert their key numbers against the paper inside (a failed 
 failed cell) and end in a paper-vs-axojax table.
 
 The stored outputs (scripts/run_notebooks.py, full size) are not touched: each test runs a
-copy and discards it. Every notebook runs here; figure 12's fast run simulates the full
-asymmetric beat (about 10 s since the simulation's exact block Jacobian) and asserts its
-limit cycle, and figure 8's three small maps take about 20 s.
+copy and discards it. Every notebook runs here. Fast runs skip what another test already
+checks at full size and would only repeat at length: figure 12 simulates its beats on the
+coarse paper.FAST mesh (the full beat is tests/test_imbalance.py's) and the human sperm
+notebook samples one posterior (the second is the same compiled sampler at other sigmas).
 """
 
 import os

@@ -201,13 +201,13 @@ class Problem:
             layout.append(_Layout(start, n_scalar, n_shape))
             start += n_scalar + n_shape
         self.layout, self.n_residuals = layout, start
-        # Mode groups: conditions sharing a model (by identity) are vmapped together.
-        groups: dict[int, list[int]] = {}
+        # Mode groups: conditions sharing a model (equal models: built alike) are vmapped together.
+        groups: dict[Model, list[int]] = {}
         for i, m in enumerate(self.models):
             if self.needs_mode[i]:
-                groups.setdefault(id(m), []).append(i)
+                groups.setdefault(m, []).append(i)
         self._groups = list(groups.values())
-        self._solvers = {id(self.models[g[0]]): solver.resolve(self.models[g[0]], len(g)) for g in self._groups}
+        self._solvers = {self.models[g[0]]: solver.resolve(self.models[g[0]], len(g)) for g in self._groups}
         self._jit_residuals = jax.jit(self.residuals)
         self._jit_jacobian = jax.jit(jax.jacfwd(self.residuals))
         self._jit_evaluate = None
@@ -286,7 +286,7 @@ class Problem:
         out: list = [None] * self.n_conditions
         for group in self._groups:
             model = self.models[group[0]]
-            solver = self._solvers[id(model)]
+            solver = self._solvers[model]
             prms = [self.condition_params(u, i) for i in group]
             if len(group) == 1:
                 out[group[0]] = dominant_mode_impl(model, prms[0], solver)

@@ -4,13 +4,16 @@ A :class:`CrossSection` says where the filaments sit, how they are linked and wh
 pairs carry dynein. A :class:`Model` adds the mesh and the filament-level matrices, and
 precomputes the small "truss" matrices over (filament, direction) pairs that the
 assembly Kronecker-multiplies with filament-level matrices (MODEL.md sections 2-3).
-Nothing here is traced: a model is built once with numpy and hashed by identity, so it
-can be a static argument of ``jax.jit``.
+Nothing here is traced: a model is built once with numpy and is hashed by value (its
+arrays' bytes, see :meth:`Model.__hash__`), so it can be a static argument of
+``jax.jit``, and two models built alike (``ax.models.seven()`` called twice) share their
+compiled programs.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import math
 from typing import Literal
 
@@ -209,10 +212,32 @@ class Model:
         if self.imbalance_kind not in IMBALANCE_KINDS:
             raise ValueError(f"imbalance_kind must be one of {', '.join(IMBALANCE_KINDS)}, got {self.imbalance_kind!r}")
 
+    def _value_key(self) -> tuple:
+        """What the model is, as a hashable tuple (computed once): every field, numpy
+        arrays by shape, dtype and a digest of their bytes; callables (profiles) by
+        identity."""
+        key = self.__dict__.get("_key")
+        if key is None:
+            key = _key_of(self)
+            object.__setattr__(self, "_key", key)
+        return key
+
+    def __hash__(self) -> int:
+        return hash(self._value_key())
+
+    def __eq__(self, other) -> bool:
+        """Equal when built alike (same section, mesh, matrices, profiles and imbalance
+        reading): a model is a static argument of ``jax.jit``, and equal models share
+        compiled programs."""
+        if self is other:
+            return True
+        if not isinstance(other, Model):
+            return NotImplemented
+        return self._value_key() == other._value_key()
+
     def with_imbalance_kind(self, kind: str) -> "Model":
         """The same model with the imbalance read as ``kind`` ("moment" or "force"); a
-        new object (models are static arguments hashed by identity), ``self`` when
-        unchanged."""
+        new model (unequal to ``self``), ``self`` when unchanged."""
         if kind == self.imbalance_kind:
             return self
         return dataclasses.replace(self, imbalance_kind=kind)
@@ -248,6 +273,20 @@ class Model:
             f"elements={self.n_elements}, n_dof={self.n_dof}, load={self.section.load!r}"
             + (f", imbalance_kind={self.imbalance_kind!r})" if self.imbalance_kind != DEFAULT_IMBALANCE_KIND else ")")
         )
+
+
+def _key_of(obj) -> object:
+    """A hashable stand-in for ``obj`` that is equal exactly when ``obj``'s values are
+    (see :meth:`Model._value_key`)."""
+    if isinstance(obj, np.ndarray):
+        return ("array", obj.shape, obj.dtype.str, hashlib.blake2b(np.ascontiguousarray(obj).tobytes(), digest_size=16).digest())
+    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+        return (type(obj).__qualname__,) + tuple((f.name, _key_of(getattr(obj, f.name))) for f in dataclasses.fields(obj))
+    if isinstance(obj, (tuple, list)):
+        return (type(obj).__name__,) + tuple(_key_of(x) for x in obj)
+    if obj is None or isinstance(obj, (str, int, float, bool, complex, np.generic)):
+        return obj
+    return ("id", id(obj))  # a profile function: by identity (the model keeps it alive)
 
 
 def build_model(section: CrossSection, n_elements: int = 10, profiles: Profiles = Profiles(),
