@@ -1,4 +1,4 @@
-"""The suite compiles with XLA's backend optimisation level 0 (tests/conftest.py), which
+"""The suite compiles with XLA's backend optimisation level 0 and the older fusion emitters (tests/conftest.py), which
 makes it faster but is not what users run. This checks that the level changes how the
 machine code is made, not what it computes: the dominant eigenvalue and its gradient in
 p and k_s, computed in a process with the default (fully optimised) XLA flags, equal this

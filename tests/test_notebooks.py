@@ -14,7 +14,7 @@ import pathlib
 
 import nbformat
 import pytest
-from conftest import SUITE_XLA_FLAGS
+from conftest import LEVEL_FLAG
 from nbclient import NotebookClient
 
 from axojax.cache import CACHE_ENV, MIN_COMPILE_SECONDS
@@ -44,7 +44,7 @@ def test_notebook_executes(path, monkeypatch, tmp_path):
     monkeypatch.setenv("JAX_COMPILATION_CACHE_DIR", os.environ[CACHE_ENV])
     monkeypatch.setenv("JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS", str(MIN_COMPILE_SECONDS))
     if path.stem in RUN_BOUND:
-        flags = os.environ.get("XLA_FLAGS", "").replace(SUITE_XLA_FLAGS, "").strip()
+        flags = os.environ.get("XLA_FLAGS", "").replace(LEVEL_FLAG, "").strip()  # the emitter flag stays: it only saves compilation
         monkeypatch.setenv("XLA_FLAGS", flags)
     nb = nbformat.read(path, as_version=4)
     NotebookClient(nb, timeout=600, kernel_name="python3", resources={"metadata": {"path": str(tmp_path)}}).execute()
