@@ -23,6 +23,15 @@
    (``ax.eigen.Arnoldi(batched=True)``), whose block factorisations are plain jnp and
    whose only library calls are the small projected eigen-problems. jaxlib 0.9.x has no such path and 0.11.1+ runs the
    batch inline.
+4. jaxlib 0.10.x only (where it was measured): ``--xla_cpu_use_fusion_emitters=false``,
+   XLA's older (non-MLIR) code generator for fused CPU kernels. axojax's programs are
+   many small loops (block factorisations, Arnoldi stages, Newton steps), and the newer
+   emitters spend most of their compilation on them: the 64-point seven-filament Arnoldi
+   sweep program compiled in 7.3 s of CPU with them and 4.5 s without (its gradient 9.9
+   and 6.3 s), running as fast (``benchmarks/bench_sweep.py`` prints the compilation
+   time). Same results to the last bits (tests/test_compile_flags.py compares a process
+   without these settings). Other versions are left alone: XLA aborts on a flag it does
+   not know.
 """
 
 from __future__ import annotations
@@ -37,20 +46,43 @@ def enabled() -> bool:
     return os.environ.get(OPT_OUT) != "1"
 
 
+EMITTER_FLAG = "--xla_cpu_use_fusion_emitters=false"
+
+
 def set_xla_flags() -> None:
-    """Before ``import jax``: single-threaded Eigen inside XLA's CPU executables (and, on
-    jaxlib 0.10.x/0.11.0, a wider intra-op pool: :func:`widen_intra_op_pool`)."""
+    """Before ``import jax``: single-threaded Eigen inside XLA's CPU executables, on
+    jaxlib 0.10.x the older fusion emitters (item 4 of the module docstring), and, on
+    jaxlib 0.10.x/0.11.0, a wider intra-op pool (:func:`widen_intra_op_pool`). A flag
+    already in ``XLA_FLAGS`` is left as it is."""
+    if not enabled():
+        return
     flags = os.environ.get("XLA_FLAGS", "")
-    if enabled() and "xla_cpu_multi_thread_eigen" not in flags:
-        os.environ["XLA_FLAGS"] = (flags + " --xla_cpu_multi_thread_eigen=false").strip()
+    if "xla_cpu_multi_thread_eigen" not in flags:
+        flags = (flags + " --xla_cpu_multi_thread_eigen=false").strip()
+    if "xla_cpu_use_fusion_emitters" not in flags and _version(_jaxlib_version())[:2] == [0, 10]:
+        flags = (flags + " " + EMITTER_FLAG).strip()
+    os.environ["XLA_FLAGS"] = flags
     widen_intra_op_pool()
+
+
+def _jaxlib_version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("jaxlib")
+    except PackageNotFoundError:
+        return ""
+
+
+def _version(text: str) -> list[int]:
+    parts = [int(x) if x.isdigit() else -1 for x in text.split("+")[0].split(".")[:3]]
+    return parts + [0] * (3 - len(parts))
 
 
 def blocking_batched_lapack(jaxlib_version: str) -> bool:
     """Whether this jaxlib runs batched CPU LAPACK calls on the intra-op pool and blocks
     on it (0.10.x and 0.11.0; see the module docstring)."""
-    parts = [int(x) if x.isdigit() else -1 for x in jaxlib_version.split("+")[0].split(".")[:3]]
-    parts += [0] * (3 - len(parts))
+    parts = _version(jaxlib_version)
     return parts[:2] == [0, 10] or parts == [0, 11, 0]
 
 
@@ -59,13 +91,8 @@ def widen_intra_op_pool() -> None:
     versions of :func:`blocking_batched_lapack` (only where NPROC is not set)."""
     if not enabled() or "NPROC" in os.environ:
         return
-    from importlib.metadata import PackageNotFoundError, version
-
-    try:
-        jaxlib_version = version("jaxlib")
-    except PackageNotFoundError:
-        return
-    if blocking_batched_lapack(jaxlib_version) and (os.cpu_count() or 1) < MIN_INTRA_OP_THREADS:
+    jaxlib_version = _jaxlib_version()
+    if jaxlib_version and blocking_batched_lapack(jaxlib_version) and (os.cpu_count() or 1) < MIN_INTRA_OP_THREADS:
         os.environ["NPROC"] = str(MIN_INTRA_OP_THREADS)
 
 

@@ -1,8 +1,9 @@
-"""The suite compiles with XLA's backend optimisation level 0 and the older fusion emitters (tests/conftest.py), which
-makes it faster but is not what users run. This checks that the level changes how the
-machine code is made, not what it computes: the dominant eigenvalue and its gradient in
-p and k_s, computed in a process with the default (fully optimised) XLA flags, equal this
-process's to 1e-12 relative."""
+"""The suite compiles with XLA's backend optimisation level 0 and the older fusion emitters
+(tests/conftest.py; axojax itself sets the latter on jaxlib 0.10, axojax/_runtime.py),
+which makes it faster. This checks that the flags change how the machine code is made,
+not what it computes: the dominant eigenvalue and its gradient in p and k_l, computed in a
+process with XLA's default flags (fully optimised, newer emitters, none of axojax's
+runtime settings), equal this process's to 1e-12 relative."""
 
 import json
 import os
@@ -34,7 +35,9 @@ print(json.dumps(out))
 
 
 def _run(xla_flags: str) -> dict:
-    env = {**os.environ, "PYTHONPATH": ROOT, "XLA_FLAGS": xla_flags, "AXOJAX_TEST_FULL_OPTIMISATION": "1"}
+    # AXOJAX_KEEP_XLA_FLAGS: XLA's own defaults, without the flags axojax itself sets at
+    # import (axojax/_runtime.py: the older fusion emitters on jaxlib 0.10, one Eigen thread).
+    env = {**os.environ, "PYTHONPATH": ROOT, "XLA_FLAGS": xla_flags, "AXOJAX_TEST_FULL_OPTIMISATION": "1", "AXOJAX_KEEP_XLA_FLAGS": "1"}
     env.pop("AXOJAX_CACHE_DIR", None)  # no cached program from the suite's flags
     done = subprocess.run([sys.executable, "-c", COMPUTE], env=env, capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr[-2000:]
@@ -50,3 +53,27 @@ def test_suite_flags_do_not_change_results():
         here = np.array([float(v), float(g[0]), float(g[1])])
         np.testing.assert_allclose(here, optimised[name], rtol=1e-12, atol=1e-12 * np.abs(here).max())
         assert np.all(np.abs(here[1:]) > 0)  # gradients that are there to compare
+
+
+def test_older_fusion_emitters_only_on_jaxlib_0_10(monkeypatch):
+    """axojax/_runtime.py adds --xla_cpu_use_fusion_emitters=false on jaxlib 0.10 only
+    (where it was measured; XLA aborts on a flag it does not know), never over the
+    user's own setting, and nothing under AXOJAX_KEEP_XLA_FLAGS=1."""
+    from axojax import _runtime
+
+    def flags_for(version, start="", keep=False):
+        monkeypatch.setattr(_runtime, "_jaxlib_version", lambda: version)
+        monkeypatch.setenv("XLA_FLAGS", start)
+        monkeypatch.setenv("NPROC", "2")  # leave the intra-op pool alone here
+        if keep:
+            monkeypatch.setenv(_runtime.OPT_OUT, "1")
+        else:
+            monkeypatch.delenv(_runtime.OPT_OUT, raising=False)
+        _runtime.set_xla_flags()
+        return os.environ["XLA_FLAGS"].split()
+
+    assert _runtime.EMITTER_FLAG in flags_for("0.10.2")
+    for version in ("0.9.2", "0.11.1", "1.0.0", ""):
+        assert _runtime.EMITTER_FLAG not in flags_for(version), version
+    assert flags_for("0.10.2", "--xla_cpu_use_fusion_emitters=true") == ["--xla_cpu_use_fusion_emitters=true", "--xla_cpu_multi_thread_eigen=false"]
+    assert flags_for("0.10.2", "--foo", keep=True) == ["--foo"]
