@@ -36,6 +36,7 @@
 
 from __future__ import annotations
 
+import functools
 import os
 
 OPT_OUT = "AXOJAX_KEEP_XLA_FLAGS"
@@ -65,6 +66,7 @@ def set_xla_flags() -> None:
     widen_intra_op_pool()
 
 
+@functools.lru_cache(maxsize=1)
 def _jaxlib_version() -> str:
     from importlib.metadata import PackageNotFoundError, version
 
