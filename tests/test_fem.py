@@ -95,3 +95,14 @@ def test_models_built_alike_are_equal_and_share_compiled_programs():
     assert f._cache_size() == 1
     f(others[0], 300.0)
     assert f._cache_size() == 2
+
+
+def test_a_models_arrays_cannot_be_edited_in_place():
+    """Compiled programs hold a model's values (it is a static argument, compared by value
+    once): an edit in place would silently not reach them, so it is refused."""
+    import axojax as ax
+
+    model = ax.models.two(n_elements=2)
+    for arr in (model.link_B, model.matrices.K0, model.mesh.phi, model.section.positions):
+        with pytest.raises(ValueError, match="read-only"):
+            arr[...] = 0.0

@@ -211,6 +211,7 @@ class Model:
     def __post_init__(self) -> None:
         if self.imbalance_kind not in IMBALANCE_KINDS:
             raise ValueError(f"imbalance_kind must be one of {', '.join(IMBALANCE_KINDS)}, got {self.imbalance_kind!r}")
+        _freeze(self)  # compiled programs hold these values: an edit in place would not reach them
 
     def _value_key(self) -> tuple:
         """What the model is, as a hashable tuple (computed once): every field, numpy
@@ -273,6 +274,18 @@ class Model:
             f"elements={self.n_elements}, n_dof={self.n_dof}, load={self.section.load!r}"
             + (f", imbalance_kind={self.imbalance_kind!r})" if self.imbalance_kind != DEFAULT_IMBALANCE_KIND else ")")
         )
+
+
+def _freeze(obj) -> None:
+    """Make every numpy array of a model (and of its section, mesh and matrices) read-only."""
+    if isinstance(obj, np.ndarray):
+        obj.flags.writeable = False
+    elif dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+        for f in dataclasses.fields(obj):
+            _freeze(getattr(obj, f.name))
+    elif isinstance(obj, (tuple, list)):
+        for x in obj:
+            _freeze(x)
 
 
 def _key_of(obj) -> object:
