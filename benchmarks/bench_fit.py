@@ -88,19 +88,9 @@ def human_sperm(starts: int) -> None:
 NEWTON_STEPS: list[int] = []
 
 
-class CountingSolver(ax.orbits.HarmonicBalance):
-    """HarmonicBalance recording the Newton steps of every orbit it solves."""
-
-    def solve(self, model, params, kappa, start=None):
-        return _counted(super().solve(model, params, kappa, start))
-
-    def solve_from(self, model, params, kappa, start, warm_steps):  # a warm start (WarmStart) and its fallback
-        return _counted(super().solve_from(model, params, kappa, start, warm_steps))
-
-
-def _counted(cycle):
-    jax.debug.callback(lambda k: NEWTON_STEPS.append(int(k)), cycle.steps)
-    return cycle
+def counting_solver(**options) -> ax.orbits.Recording:
+    """HarmonicBalance(**options) recording the Newton steps of every orbit it solves."""
+    return ax.orbits.Recording(ax.orbits.HarmonicBalance(**options), lambda k: NEWTON_STEPS.append(int(k)))
 
 
 def _warm_cold(problem: Problem, truth: ax.Params, label: str, repeats: int = 3) -> None:
@@ -141,7 +131,7 @@ def cycle_fit(harmonics: int) -> None:
     model = ax.models.two(n_elements=4)
     base = ax.Params(p=160.0)
     truth = base.replace(p=1.06 * float(ax.critical_force(model, base).p), a0=0.3 / 12)
-    solver = CountingSolver(harmonics=4, floquet=0, rtol=1e-11)
+    solver = counting_solver(harmonics=4, floquet=0, rtol=1e-11)
     s_um = np.linspace(0.0, 12.0, 21)
     m = cycle_measures(ax.limit_cycle(model, truth, 6.0, solver=solver), s_um)
     shape = ShapeTarget(s_um, np.asarray(m.psi1), 0.002, psi0=np.asarray(m.psi0), source="limit_cycle")
@@ -152,7 +142,7 @@ def cycle_fit(harmonics: int) -> None:
     # 2. The inferred fig. 12 orbit: seven filaments, close to its Hopf point.
     inf = paper.INFERRED["fig12"]
     model, truth = inf.build()
-    solver = CountingSolver(harmonics=harmonics, floquet=0, rtol=1e-10)
+    solver = counting_solver(harmonics=harmonics, floquet=0, rtol=1e-10)
     s_um = np.linspace(0.0, 12.0, 13)
     m = cycle_measures(ax.limit_cycle(model, truth, inf.cubic, solver=solver), s_um)
     shape = ShapeTarget(s_um, np.asarray(m.psi1), 0.01, psi0=np.asarray(m.psi0), source="limit_cycle")

@@ -9,12 +9,11 @@ differences in tests/test_cycle_targets.py.
 Warm starts (issue 20): the default Levenberg-Marquardt starts each evaluation's orbit
 from the last accepted iterate's; the cold path (``LevenbergMarquardt(warm_start=False)``,
 every orbit from the Hopf normal form) must reach the same optimum, and the warm one with
-fewer Newton steps per evaluation. The steps are counted by an orbit solver that records
-every solve it makes (a count, not a time)."""
+fewer Newton steps per evaluation. The steps are counted by ``ax.orbits.Recording``, which
+reports every orbit its inner solver solves (a count, not a time)."""
 
 import warnings
 
-import jax
 import numpy as np
 import pytest
 
@@ -23,26 +22,8 @@ from axojax.fitting.targets import ShapeTarget, Target
 from axojax.inverse import LevenbergMarquardt
 from axojax.orbits.measures import cycle_measures
 
-NEWTON_STEPS: list[int] = []  # Newton iterations of every orbit solved by CountingSolver
-
-
-class CountingSolver(ax.orbits.HarmonicBalance):
-    """HarmonicBalance that records the Newton steps of each orbit it solves (a host
-    callback: one entry per evaluation, also inside the fit's jit and Jacobians)."""
-
-    def solve(self, model, params, kappa, start=None):
-        return _counted(super().solve(model, params, kappa, start))
-
-    def solve_from(self, model, params, kappa, start, warm_steps):  # a warm start (WarmStart) and its fallback
-        return _counted(super().solve_from(model, params, kappa, start, warm_steps))
-
-
-def _counted(cycle):
-    jax.debug.callback(lambda k: NEWTON_STEPS.append(int(k)), cycle.steps)
-    return cycle
-
-
-SOLVER = CountingSolver(harmonics=4, floquet=0, rtol=1e-11)
+NEWTON_STEPS: list[int] = []  # Newton iterations of every orbit solved by SOLVER, in order
+SOLVER = ax.orbits.Recording(ax.orbits.HarmonicBalance(harmonics=4, floquet=0, rtol=1e-11), lambda k: NEWTON_STEPS.append(int(k)))
 S_UM = np.linspace(0.0, 12.0, 21)
 CUBIC = 6.0
 

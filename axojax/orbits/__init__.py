@@ -8,6 +8,6 @@ from ._solve import solve_jit
 from .cycle import LimitCycle
 from .limit_cycle import limit_cycle
 from .measures import CycleMeasures, cycle_measures
-from .solvers import AbstractOrbitSolver, HarmonicBalance, OrbitSolver, WarmStart
+from .solvers import AbstractOrbitSolver, HarmonicBalance, OrbitSolver, Recording, WarmStart
 
-__all__ = ["AbstractOrbitSolver", "CycleMeasures", "HarmonicBalance", "LimitCycle", "OrbitSolver", "WarmStart", "cycle_measures", "limit_cycle", "solve_jit"]
+__all__ = ["AbstractOrbitSolver", "CycleMeasures", "HarmonicBalance", "LimitCycle", "OrbitSolver", "Recording", "WarmStart", "cycle_measures", "limit_cycle", "solve_jit"]

@@ -6,6 +6,8 @@ only static options (hashable: a static argument of ``jax.jit``) and turns
 
 - :class:`WarmStart`: another solver started from a nearby orbit (a fit's last
   iterate), falling back to the Hopf normal form.
+- :class:`Recording`: another solver that reports the Newton iterations of every orbit
+  it solves to a host function (diagnostics: what warm starts save).
 - :class:`HarmonicBalance`: Fourier-Galerkin (trigonometric) collocation with exact
   alternating frequency-time projection of the cubic force
   (:mod:`axojax.orbits.fourier`), damped Newton with the exact Jacobian and the
@@ -18,6 +20,7 @@ from __future__ import annotations
 
 import abc
 import dataclasses
+from collections.abc import Callable
 
 import equinox as eqx
 import jax
@@ -183,6 +186,38 @@ class WarmStart(AbstractOrbitSolver):
         if start is None:
             return self.solver.solve(model, params, kappa)
         return self.solver.solve_from(model, params, kappa, jax.lax.stop_gradient(start), int(self.warm_steps))
+
+
+class Recording(AbstractOrbitSolver):
+    """Another solver, reporting the Newton iterations of every orbit it solves.
+
+    ``callback(steps)`` runs on the host (``jax.debug.callback``) with the orbit's
+    ``LimitCycle.steps`` as a numpy array (a scalar for one orbit; batched under
+    ``vmap``), also inside ``jax.jit`` and a fit's compiled loop: one call per orbit
+    solved, in order. Warm starts (:meth:`solve_from`) go to the inner solver's own,
+    so a wrapped :class:`HarmonicBalance` keeps its one-loop warm start. For
+    diagnostics and tests (e.g. how many Newton steps a warm-started fit saves)::
+
+        steps = []
+        solver = ax.orbits.Recording(ax.orbits.HarmonicBalance(floquet=0), lambda k: steps.append(int(k)))
+
+    Attributes:
+        solver: the inner solver.
+        callback: the host function.
+    """
+
+    solver: AbstractOrbitSolver
+    callback: Callable = eqx.field(static=True)
+
+    def solve(self, model, params, kappa, start=None):
+        return self._record(self.solver.solve(model, params, kappa, start))
+
+    def solve_from(self, model, params, kappa, start, warm_steps):
+        return self._record(self.solver.solve_from(model, params, kappa, start, warm_steps))
+
+    def _record(self, cycle: LimitCycle) -> LimitCycle:
+        jax.debug.callback(self.callback, cycle.steps)
+        return cycle
 
 
 def resize(X, harmonics: int):
