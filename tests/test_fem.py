@@ -106,3 +106,23 @@ def test_a_models_arrays_cannot_be_edited_in_place():
     for arr in (model.link_B, model.matrices.K0, model.mesh.phi, model.section.positions):
         with pytest.raises(ValueError, match="read-only"):
             arr[...] = 0.0
+
+
+def test_models_copy_their_inputs_and_pickle_without_their_key():
+    """The model freezes its own copies, not the caller's arrays; a pickled or copied model
+    is frozen again and keyed anew."""
+    import copy
+    import pickle
+
+    from axojax.models.section import ActivePair, CrossSection, Link, build_model
+
+    pos, ei = np.array([[0.0, 0.0], [1.0, 0.0]]), np.array([1.0, 2.0])
+    model = build_model(CrossSection("u", pos, links=(Link(0, 1),), active_pairs=(ActivePair(0, 1),), ei=ei), 2)
+    pos[0, 0], ei[0] = 0.5, 3.0  # the caller's arrays stay the caller's
+    assert model.section.positions[0, 0] == 0.0 and model.section.ei[0] == 1.0
+    hash(model)
+    for twin in (pickle.loads(pickle.dumps(model)), copy.deepcopy(model)):
+        assert "_key" not in vars(twin)  # keyed anew, from its own arrays
+        assert twin == model and hash(twin) == hash(model)
+        with pytest.raises(ValueError, match="read-only"):
+            twin.link_B[...] = 0.0

@@ -74,6 +74,17 @@ class _Layout:
     n_shape: int
 
 
+def _without_floquet(solver: AbstractOrbitSolver) -> AbstractOrbitSolver:
+    """``solver`` with its Floquet multipliers switched off, also inside wrappers that hold
+    another solver (``WarmStart``, ``Recording``: their ``solver`` field)."""
+    if getattr(solver, "floquet", 0):
+        return dataclasses.replace(solver, floquet=0)
+    inner = getattr(solver, "solver", None)
+    if isinstance(inner, AbstractOrbitSolver):
+        return dataclasses.replace(solver, solver=_without_floquet(inner))
+    return solver
+
+
 class Problem:
     """An inverse problem over one or several conditions.
 
@@ -188,8 +199,7 @@ class Problem:
             for m, need in zip(self.models, self.needs_cycle):
                 if need and m.link_B.shape[0] == 0:
                     raise ValueError(f"limit-cycle targets need a model with links; {m.name!r} has none")
-            if getattr(orbit_solver, "floquet", 0):
-                orbit_solver = dataclasses.replace(orbit_solver, floquet=0)  # stability is not fitted: skip it
+            orbit_solver = _without_floquet(orbit_solver)  # stability is not fitted: skip it
         elif set(free + per_condition) & ORBIT_FIELDS:
             raise ValueError("free: cubic is the limit cycle's stiffening; only limit-cycle targets (source='limit_cycle') depend on it")
         self.cubic, self.orbit_solver = cubic, orbit_solver

@@ -88,7 +88,7 @@ class CrossSection:
     load: LoadKind = "pairs"
 
     def __post_init__(self) -> None:
-        pos = np.asarray(self.positions, dtype=float)
+        pos = np.array(self.positions, dtype=float)  # a copy: the model freezes its arrays (Model.__post_init__)
         if pos.ndim == 1:
             pos = np.stack([pos, np.zeros_like(pos)], axis=1)
         if pos.ndim != 2 or pos.shape[1] != 2 or pos.shape[0] < 1:
@@ -99,7 +99,7 @@ class CrossSection:
         object.__setattr__(self, "positions", pos)
         for field, default in (("ei", 1.0), ("drag", 1.0)):
             val = getattr(self, field)
-            arr = np.full(n, default) if val is None else np.asarray(val, dtype=float).reshape(-1)
+            arr = np.full(n, default) if val is None else np.array(val, dtype=float).reshape(-1)  # a copy, as positions
             if arr.shape != (n,):
                 raise ValueError(f"{field} must have one value per filament ({n}), got {arr.shape[0]}")
             if not np.all(np.isfinite(arr)) or np.any(arr <= 0):
@@ -225,6 +225,17 @@ class Model:
 
     def __hash__(self) -> int:
         return hash(self._value_key())
+
+    def __getstate__(self) -> dict:
+        """Pickled and copied without the cached key (a copy may be edited before it is
+        frozen again; profile functions' identities differ in another process)."""
+        state = dict(self.__dict__)
+        state.pop("_key", None)
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        _freeze(self)
 
     def __eq__(self, other) -> bool:
         """Equal when built alike (same section, mesh, matrices, profiles and imbalance

@@ -192,9 +192,8 @@ class Recording(AbstractOrbitSolver):
     """Another solver, reporting the Newton iterations of every orbit it solves.
 
     ``callback(steps)`` runs on the host (``jax.debug.callback``) with the orbit's
-    ``LimitCycle.steps`` as a numpy array (a scalar for one orbit; batched under
-    ``vmap``), also inside ``jax.jit`` and a fit's compiled loop: one call per orbit
-    solved, in order. Warm starts (:meth:`solve_from`) go to the inner solver's own,
+    ``LimitCycle.steps`` as a 0-d numpy array, also inside ``jax.jit`` and a fit's
+    compiled loop, and once per orbit under ``vmap``: one call per orbit solved. Warm starts (:meth:`solve_from`) go to the inner solver's own,
     so a wrapped :class:`HarmonicBalance` keeps its one-loop warm start. For
     diagnostics and tests (e.g. how many Newton steps a warm-started fit saves)::
 
