@@ -27,9 +27,9 @@
    XLA's older (non-MLIR) code generator for fused CPU kernels. axojax's programs are
    many small loops (block factorisations, Arnoldi stages, Newton steps), and the newer
    emitters spend most of their compilation on them: the 64-point seven-filament Arnoldi
-   sweep program compiled in 7.3 s of CPU with them and 4.5 s without (its gradient 9.9
-   and 6.3 s), running as fast (``benchmarks/bench_sweep.py`` prints the compilation
-   time). Same results to the last bits (tests/test_compile_flags.py compares a process
+   program compiles ~1.7x faster without them, its gradient too, running as fast
+   (``benchmarks/bench_compile.py`` compares the two in alternating fresh processes).
+   Same results to the last bits (tests/test_compile_flags.py compares a process
    without these settings). Other versions are left alone: XLA aborts on a flag it does
    not know.
 """

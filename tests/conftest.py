@@ -9,37 +9,19 @@ import scipy.linalg
 import axojax as ax
 from axojax.cache import CACHE_ENV
 
-# The suite compiles with XLA's CPU backend at optimisation level 0, and with XLA's older
-# (non-MLIR) fusion code generator. XLA reads XLA_FLAGS when its backend starts, at the
-# first computation, which comes after this module is imported; the commands and notebook
-# kernels the tests start inherit the setting. Most of the suite's time is compilation and
-# its programs run briefly, so less optimised machine code, made faster, makes it faster:
-# the seven-filament Arnoldi program (5 elements) compiles in 3.7 s at level 0 with the
-# default emitters, 0.9 s with both flags (3 s by default). The flags change how machine code
-# is made, so results can differ in the last bits (an iterative solve may stop one step
-# apart), not in what is computed: tests/test_compile_flags.py checks eigenvalues and
-# gradients against a default-flag process's to 1e-12. Opt out with
-# AXOJAX_TEST_FULL_OPTIMISATION=1; benchmarks/ never set them.
+# The suite compiles with XLA's CPU backend at optimisation level 0. XLA reads XLA_FLAGS
+# when its backend starts, at the first computation, which comes after this module is
+# imported; the commands and notebook kernels the tests start inherit the setting. Most of
+# the suite's time is compilation and its programs run briefly, so less optimised machine
+# code makes it faster. (`import axojax` above has already chosen XLA's older CPU fusion
+# emitters where that pays, axojax/_runtime.py; the suite keeps that choice.) The level
+# changes how the machine code is optimised, so results can differ in the last bits (an
+# iterative solve may stop one step apart), not in what is computed:
+# tests/test_compile_flags.py checks eigenvalues and gradients against a process with
+# XLA's default flags to 1e-12. Opt out with AXOJAX_TEST_FULL_OPTIMISATION=1; benchmarks/
+# never set it.
 LEVEL_FLAG = "--xla_backend_optimization_level=0"
-EMITTER_FLAG = "--xla_cpu_use_fusion_emitters=false"
-
-
-def _xla_knows(flag: str) -> bool:
-    """Whether this jaxlib's XLA registers ``flag`` (XLA aborts the process on an unknown
-    one): its name in the shared library's strings."""
-    import mmap
-
-    import jaxlib
-
-    name = flag.lstrip("-").split("=")[0].encode()
-    for lib in pathlib.Path(jaxlib.__file__).parent.glob("*.so"):
-        with open(lib, "rb") as f, mmap.mmap(f.fileno(), 0, access=mmap.ACCESS_READ) as m:
-            if m.find(name) >= 0:
-                return True
-    return False
-
-
-SUITE_XLA_FLAGS = " ".join([LEVEL_FLAG] + ([EMITTER_FLAG] if _xla_knows(EMITTER_FLAG) else []))
+SUITE_XLA_FLAGS = LEVEL_FLAG
 if not os.environ.get("AXOJAX_TEST_FULL_OPTIMISATION") and "xla_backend_optimization_level" not in os.environ.get("XLA_FLAGS", ""):
     os.environ["XLA_FLAGS"] = (os.environ.get("XLA_FLAGS", "") + " " + SUITE_XLA_FLAGS).strip()
 

@@ -1,6 +1,6 @@
-"""The suite compiles with XLA's backend optimisation level 0 and the older fusion emitters
-(tests/conftest.py; axojax itself sets the latter on jaxlib 0.10, axojax/_runtime.py),
-which makes it faster. This checks that the flags change how the machine code is made,
+"""The suite compiles with XLA's backend optimisation level 0 (tests/conftest.py), and
+axojax itself selects XLA's older CPU fusion emitters on jaxlib 0.10 (axojax/_runtime.py);
+both make compilation faster. This checks that the flags change how the machine code is made,
 not what it computes: the dominant eigenvalue and its gradient in p and k_l, computed in a
 process with XLA's default flags (fully optimised, newer emitters, none of axojax's
 runtime settings), equal this process's to 1e-12 relative."""

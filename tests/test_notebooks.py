@@ -44,7 +44,7 @@ def test_notebook_executes(path, monkeypatch, tmp_path):
     monkeypatch.setenv("JAX_COMPILATION_CACHE_DIR", os.environ[CACHE_ENV])
     monkeypatch.setenv("JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS", str(MIN_COMPILE_SECONDS))
     if path.stem in RUN_BOUND:
-        flags = os.environ.get("XLA_FLAGS", "").replace(LEVEL_FLAG, "").strip()  # the emitter flag stays: it only saves compilation
+        flags = os.environ.get("XLA_FLAGS", "").replace(LEVEL_FLAG, "").strip()  # axojax's own flags stay
         monkeypatch.setenv("XLA_FLAGS", flags)
     nb = nbformat.read(path, as_version=4)
     NotebookClient(nb, timeout=600, kernel_name="python3", resources={"metadata": {"path": str(tmp_path)}}).execute()

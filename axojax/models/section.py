@@ -303,7 +303,7 @@ def _key_of(obj) -> object:
     """A hashable stand-in for ``obj`` that is equal exactly when ``obj``'s values are
     (see :meth:`Model._value_key`)."""
     if isinstance(obj, np.ndarray):
-        return ("array", obj.shape, obj.dtype.str, hashlib.blake2b(np.ascontiguousarray(obj).tobytes(), digest_size=16).digest())
+        return ("array", obj.shape, obj.dtype.str, hashlib.blake2b(obj.tobytes(), digest_size=16).digest())
     if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
         return (type(obj).__qualname__,) + tuple((f.name, _key_of(getattr(obj, f.name))) for f in dataclasses.fields(obj))
     if isinstance(obj, (tuple, list)):

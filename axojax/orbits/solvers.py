@@ -193,9 +193,10 @@ class Recording(AbstractOrbitSolver):
 
     ``callback(steps)`` runs on the host (``jax.debug.callback``) with the orbit's
     ``LimitCycle.steps`` as a 0-d numpy array, also inside ``jax.jit`` and a fit's
-    compiled loop, and once per orbit under ``vmap``: one call per orbit solved. Warm starts (:meth:`solve_from`) go to the inner solver's own,
-    so a wrapped :class:`HarmonicBalance` keeps its one-loop warm start. For
-    diagnostics and tests (e.g. how many Newton steps a warm-started fit saves)::
+    compiled loop, and once per orbit under ``vmap``: one call per orbit solved. Warm
+    starts (:meth:`solve_from`) go to the inner solver's own, so a wrapped
+    :class:`HarmonicBalance` keeps its one-loop warm start. For diagnostics and tests
+    (e.g. how many Newton steps a warm-started fit saves)::
 
         steps = []
         solver = ax.orbits.Recording(ax.orbits.HarmonicBalance(floquet=0), lambda k: steps.append(int(k)))
