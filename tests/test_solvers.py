@@ -16,7 +16,7 @@ import axojax as ax
 from axojax.assembly import assemble_blocks, node_major
 from axojax.cli.main import main
 from axojax.eigen import Arnoldi, Dense
-from axojax.linalg import BlockTridiagonal, cholesky, lu_factor, small
+from axojax.linalg import BlockTridiagonal, arnoldi_steps, cholesky, lu_factor, small
 
 RTOL = 1e-9
 PATHS = [Arnoldi(batched=False), Arnoldi(batched=True)]
@@ -87,6 +87,31 @@ def test_small_jnp_kernels_against_numpy_and_scipy():
         jax.tree.map(lambda x: jnp.stack([x, x]), random_blocks(rng, 3, 4))
     ).as_text()
     assert "custom_call" not in hlo
+
+
+def test_arnoldi_steps_in_stages_with_windows():
+    """Arnoldi grown in stages, orthogonalising against a window of rows per stage: the
+    Arnoldi relation op V[:m] = V[:m+1] H and orthonormality hold (numpy), and V and H
+    equal those of Gram-Schmidt against every row."""
+    rng = np.random.default_rng(3)
+    n, dims = 30, (4, 7, 12)
+    S = rng.normal(size=(n, n))
+    v0 = rng.normal(size=n)
+    V0 = jnp.zeros((dims[-1] + 1, n)).at[0].set(v0 / np.linalg.norm(v0))
+    H0 = jnp.zeros((dims[-1] + 1, dims[-1]))
+    op = lambda v: jnp.asarray(S) @ v
+    out = {}
+    for windows in ((), dims):
+        V, H = V0, H0
+        for start, stop in zip((0,) + dims[:-1], dims):
+            V, H = jax.jit(arnoldi_steps, static_argnums=(0, 5))(op, V, H, start, stop, windows)
+        out[windows] = np.asarray(V), np.asarray(H)
+    V, H = out[dims]
+    m = dims[-1]
+    np.testing.assert_allclose(S @ V[:m].T, V.T @ H, atol=1e-12)
+    np.testing.assert_allclose(V @ V.T, np.eye(m + 1), atol=1e-12)
+    np.testing.assert_allclose(V, out[()][0], atol=1e-12)
+    np.testing.assert_allclose(H, out[()][1], atol=1e-12)
 
 
 @pytest.mark.parametrize("name", ["single", "beck", "two", "four", "seven", "nine"])

@@ -34,8 +34,10 @@ Algorithm (per parameter point, fixed shapes: jit/vmap-able):
    in stages (``krylov_dims``, default 12, 16, 24, 32, 48 vectors) until the
    certificate holds. Per-point path (the CPU default): under ``jax.vmap`` the points
    run one after another, so that no point pays for another's stages, with LAPACK's
-   small kernels; each stage's projected eigen-problem has its own size (each stage
-   adds ~0.2 s of compilation: more stages were measured to cost more than they save).
+   small kernels; each step orthogonalises against its stage's rows only (measured
+   1.0-1.15x faster at 10-80 elements than against all 49 rows), and each stage's projected
+   eigen-problem has its own size (each stage adds ~0.2 s of compilation: more stages
+   were measured to cost more than they save).
    Batched path (``ArnoldiOptions.batched``, the default on accelerators): one
    ``vmap`` over the chunk, the block factorisations in plain jnp
    (:mod:`axojax.linalg.small`, no LAPACK custom calls), every point running its
@@ -288,7 +290,9 @@ def _arnoldi_point(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOption
 
     def body(state):
         stage, V, H, _ = state
-        V, H = arnoldi_steps(shift_invert, V, H, starts[stage], ends[stage])
+        # Per point, each stage orthogonalises against its own rows only; vmapped (the
+        # batched path), a switch on the step would run every window.
+        V, H = arnoldi_steps(shift_invert, V, H, starts[stage], ends[stage], windows=() if batched else dims)
         if batched:
             result = _ritz(V, H, sigma, ends[stage], opts, padded=True)
         else:

@@ -3,6 +3,7 @@ Floquet multipliers of periodic orbits (:mod:`axojax.orbits.floquet`)."""
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 
 import jax
@@ -16,6 +17,7 @@ def arnoldi_steps(
     H: Float[Array, "k1 k"],
     start,
     stop,
+    windows: tuple[int, ...] = (),
 ) -> tuple[Float[Array, "k1 N"], Float[Array, "k1 k"]]:
     """Arnoldi steps j = start, ..., stop - 1 extending ``op V[:j] = V[:j+1] H[:j+1, :j]``.
 
@@ -23,15 +25,32 @@ def arnoldi_steps(
     zero (start from ``V = zeros.at[0].set(unit start vector)``, ``H = zeros``). A
     breakdown (a zero new vector) leaves a zero row. ``start``/``stop`` may be traced, so
     that the space can grow in stages. Real arithmetic.
+
+    ``windows``: static row counts (increasing, the last at most ``V.shape[0]``); step j
+    orthogonalises against the first rows of the smallest window above j only (rows
+    beyond j are zero), so that a space grown in stages costs in proportion to its
+    size, not to V's. Empty: against every row.
     """
+    windows = tuple(windows) or (V.shape[0],)
+    bounds = jnp.asarray(windows)
+
+    def orthogonalise(r, V, w):
+        Vr = V[:r]
+        h = jnp.zeros(r, w.dtype)
+        for _ in range(2):
+            c = Vr @ w
+            w = w - Vr.T @ c
+            h = h + c
+        return w, jnp.zeros(V.shape[0], w.dtype).at[:r].set(h)
+
+    branches = [functools.partial(orthogonalise, r) for r in windows]
 
     def step(j, carry):
         V, H = carry
         w = op(V[j])
-        for _ in range(2):
-            h = V @ w
-            w = w - V.T @ h
-            H = H.at[:, j].add(h)
+        which = jnp.minimum(jnp.searchsorted(bounds, j, side="right"), len(windows) - 1)
+        w, h = jax.lax.switch(which, branches, V, w)
+        H = H.at[:, j].add(h)
         beta = jnp.linalg.norm(w)
         H = H.at[j + 1, j].set(beta)
         V = V.at[j + 1].set(w / jnp.where(beta > 0, beta, 1.0))
