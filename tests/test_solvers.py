@@ -112,6 +112,8 @@ def test_arnoldi_steps_in_stages_with_windows():
     np.testing.assert_allclose(V @ V.T, np.eye(m + 1), atol=1e-12)
     np.testing.assert_allclose(V, out[()][0], atol=1e-12)
     np.testing.assert_allclose(H, out[()][1], atol=1e-12)
+    with pytest.raises(ValueError, match="windows must be row counts in 1..13"):
+        arnoldi_steps(op, V0, H0, 0, 1, windows=(4, 14))
 
 
 @pytest.mark.parametrize("name", ["single", "beck", "two", "four", "seven", "nine"])

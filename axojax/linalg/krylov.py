@@ -21,17 +21,19 @@ def arnoldi_steps(
 ) -> tuple[Float[Array, "k1 N"], Float[Array, "k1 k"]]:
     """Arnoldi steps j = start, ..., stop - 1 extending ``op V[:j] = V[:j+1] H[:j+1, :j]``.
 
-    Classical Gram-Schmidt, twice, against every row of V: rows not yet reached must be
-    zero (start from ``V = zeros.at[0].set(unit start vector)``, ``H = zeros``). A
-    breakdown (a zero new vector) leaves a zero row. ``start``/``stop`` may be traced, so
-    that the space can grow in stages. Real arithmetic.
+    Classical Gram-Schmidt, twice, against the rows of V reached so far: rows not yet
+    reached must be zero (start from ``V = zeros.at[0].set(unit start vector)``,
+    ``H = zeros``). A breakdown (a zero new vector) leaves a zero row. ``start``/``stop``
+    may be traced, so that the space can grow in stages. Real arithmetic.
 
-    ``windows``: static row counts (increasing, the last at most ``V.shape[0]``); step j
-    orthogonalises against the first rows of the smallest window above j only (rows
-    beyond j are zero), so that a space grown in stages costs in proportion to its
-    size, not to V's. Empty: against every row.
+    ``windows``: static row counts; step j orthogonalises against the first rows of the
+    smallest window above j (rows beyond j are zero), so that a space grown in stages
+    costs in proportion to its size, not to V's. ``V.shape[0]`` is always a window (by
+    default the only one: every row).
     """
-    windows = tuple(windows) or (V.shape[0],)
+    if any(not 0 < r <= V.shape[0] for r in windows):
+        raise ValueError(f"windows must be row counts in 1..{V.shape[0]}, got {windows}")
+    windows = tuple(sorted(set(windows) | {V.shape[0]}))
     bounds = jnp.asarray(windows)
 
     def orthogonalise(r, V, w):
