@@ -30,8 +30,9 @@ class OutputBusy(RuntimeError):
 
 
 def _tmp_name(path: pathlib.Path) -> pathlib.Path:
-    # the real suffix last: numpy appends ".npz" and matplotlib picks its writer by it
-    return path.with_name(f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}{TMP_MARK}{path.suffix}")
+    # the real suffix last, in lower case: numpy appends ".npz" to a name not ending in
+    # exactly that (so "x.NPZ" would be written elsewhere), matplotlib picks its writer by it
+    return path.with_name(f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}{TMP_MARK}{path.suffix.lower()}")
 
 
 def _pid_alive(pid: int) -> bool:
@@ -49,7 +50,7 @@ def remove_stale_temporaries(path: str | os.PathLike) -> list[pathlib.Path]:
     ``kill -9`` during a write). Returns what was removed."""
     path = pathlib.Path(path)
     removed = []
-    for tmp in path.parent.glob(f".{path.name}.*{TMP_MARK}{path.suffix}"):
+    for tmp in path.parent.glob(f".{path.name}.*{TMP_MARK}{path.suffix.lower()}"):
         parts = tmp.name[len(path.name) + 2 :].split(".")
         if len(parts) >= 2 and parts[0].isdigit() and not _pid_alive(int(parts[0])):
             with contextlib.suppress(OSError):

@@ -75,6 +75,42 @@ def test_cli_bad_model_file_link(tmp_path, capsys):
     assert code == 2 and "--model-file" in err and "filament 3" in err and len(err.strip().splitlines()) == 1
 
 
+TWO = {"filaments": [{"position": [0, 1]}, {"position": [0, -1]}], "links": [{"between": [0, 1]}], "active_pairs": [{"between": [0, 1]}]}
+
+
+@pytest.mark.parametrize(
+    "text,match",
+    [
+        (json.dumps({**TWO, "dimensions": 2.0}), "must be the integer 1 or 2, got 2.0"),
+        (json.dumps({**TWO, "links": 5}), "'links' must be a list of tables, got 5"),
+        (json.dumps({**TWO, "active_pairs": [{"between": [0, 1], "group": 1.0}]}), "group 1.0"),
+        (json.dumps({**TWO, "filaments": [{"position": [0, 1e308]}, {"position": [0, -1]}]}), "magnitude <= 1e\\+06"),
+        ("[" * 100000, "nested too deeply"),
+    ],
+    ids=["float-dimensions", "links-not-a-list", "float-group", "overflowing-position", "deep-nesting"],
+)
+def test_cli_malformed_model_file_one_line(tmp_path, capsys, text, match):
+    f = tmp_path / "m.json"
+    f.write_text(text)
+    code, out, err = run_cli(["modes", "--model-file", str(f)], capsys)
+    assert code == 2 and out == "" and len(err.strip().splitlines()) == 1, err
+    assert "--model-file" in err and __import__("re").search(match, err), err
+
+
+def test_upper_case_npz_suffix_is_written_whole(tmp_path, capsys):
+    """numpy appends ".npz" to a name not ending in exactly that: an output named x.NPZ
+    is still written whole, with no temporary file left; another suffix is refused
+    before any work in Python too."""
+    out = tmp_path / "x.NPZ"
+    code, _, err = run_cli(["sweep", "--model", "two", "--elements", "3", "--p", "1:900:3", "--out", str(out)], capsys)
+    assert code == 0, err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["x.NPZ"]
+    assert np.load(out)["p"].shape == (3,)
+    with pytest.raises(ValueError, match="out: expected a .npz path, got '.*x.txt'"):
+        ax.sweep(ax.models.two(n_elements=3), ax.Params(), {"p": [1.0, 2.0]}, out=tmp_path / "x.txt", progress=False)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["x.NPZ"]
+
+
 def test_console_script_exit_status():
     proc = subprocess.run([sys.executable, "-m", "axojax.cli.main", "modes", "--ks", "-5"], capture_output=True, text=True)
     assert proc.returncode == 2

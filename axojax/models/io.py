@@ -27,7 +27,11 @@ import pathlib
 import tomllib
 from typing import Any
 
-from .section import ActivePair, CrossSection, Link
+from .section import ActivePair, CrossSection, Link, _is_int
+
+MAX_COORDINATE = 1e6
+"""Largest magnitude of a filament coordinate in a model file (a bound against overflow
+in the geometry, far beyond any cross-section)."""
 
 
 def _pair(entry: Any, where: str) -> tuple[int, int]:
@@ -53,12 +57,20 @@ def section_from_dict(data: dict, default_name: str = "custom") -> CrossSection:
         pos = f["position"]
         if not isinstance(pos, list) or len(pos) not in (1, 2) or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in pos):
             raise ValueError(f"filament {k}: position must be [y, z] numbers, got {pos!r}")
+        if not all(abs(v) <= MAX_COORDINATE for v in pos):
+            raise ValueError(f"filament {k}: position must be finite numbers of magnitude <= {MAX_COORDINATE:g}, got {pos!r}")
         positions.append([float(pos[0]), float(pos[1]) if len(pos) == 2 else 0.0])
         for key, store in (("ei", ei), ("drag", drag)):
             v = f.get(key, 1.0)
             if not isinstance(v, (int, float)) or isinstance(v, bool):
                 raise ValueError(f"filament {k}: {key} must be a number, got {v!r}")
             store.append(float(v))
+    for key, kind in (("links", list), ("active_pairs", list), ("name", str), ("load", str)):
+        if key in data and not isinstance(data[key], kind):
+            raise ValueError(f"model file: {key!r} must be a {'list of tables' if kind is list else 'string'}, got {data[key]!r}")
+    dims = data.get("dimensions", 2)
+    if not _is_int(dims) or dims not in (1, 2):
+        raise ValueError(f"model file: 'dimensions' must be the integer 1 or 2, got {dims!r}")
     links = []
     for k, l in enumerate(data.get("links", [])):
         i, j = _pair(l, f"link {k}")
@@ -66,7 +78,10 @@ def section_from_dict(data: dict, default_name: str = "custom") -> CrossSection:
     pairs = []
     for k, a in enumerate(data.get("active_pairs", [])):
         i, j = _pair(a, f"active pair {k}")
-        pairs.append(ActivePair(i, j, a.get("group", 0)))
+        group = a.get("group", 0)
+        if not _is_int(group) or group not in (0, 1):
+            raise ValueError(f"active pair {k}: group must be 0 or 1, got group {group!r}")
+        pairs.append(ActivePair(i, j, group))
     known = {"name", "dimensions", "load", "filaments", "links", "active_pairs"}
     extra = set(data) - known
     if extra:
@@ -76,7 +91,7 @@ def section_from_dict(data: dict, default_name: str = "custom") -> CrossSection:
         positions=positions,
         links=tuple(links),
         active_pairs=tuple(pairs),
-        n_dirs=data.get("dimensions", 2),
+        n_dirs=dims,
         ei=ei,
         drag=drag,
         load=data.get("load", "pairs"),
@@ -98,4 +113,6 @@ def load_section(path: str | pathlib.Path) -> CrossSection:
             raise ValueError(f"model file {str(path)!r} must end in .toml or .json")
     except (json.JSONDecodeError, tomllib.TOMLDecodeError) as err:
         raise ValueError(f"model file {str(path)!r} is malformed: {err}") from None
+    except RecursionError:
+        raise ValueError(f"model file {str(path)!r} is malformed: nested too deeply") from None
     return section_from_dict(data, default_name=path.stem)

@@ -105,8 +105,8 @@ class CrossSection:
             if not np.all(np.isfinite(arr)) or np.any(arr <= 0):
                 raise ValueError(f"{field} must be finite and positive, got {arr.tolist()}")
             object.__setattr__(self, field, arr)
-        if self.n_dirs not in (1, 2):
-            raise ValueError(f"n_dirs must be 1 or 2, got {self.n_dirs!r}")
+        if not _is_int(self.n_dirs) or self.n_dirs not in (1, 2):
+            raise ValueError(f"n_dirs (a model file's 'dimensions') must be the integer 1 or 2, got {self.n_dirs!r}")
         if self.load not in LOADS:
             raise ValueError(f"load must be one of {LOADS}, got {self.load!r}")
         links = tuple(l if isinstance(l, Link) else Link(*l) for l in self.links)
@@ -129,7 +129,7 @@ class CrossSection:
             if l.kind not in KINDS:
                 raise ValueError(f"link ({l.i}, {l.j}) has kind {l.kind!r}; expected one of {KINDS}")
         for a in pairs:
-            if a.group not in (0, 1):
+            if not _is_int(a.group) or a.group not in (0, 1):
                 raise ValueError(f"active pair ({a.i}, {a.j}) has group {a.group!r}; expected 0 or 1")
         if self.load == "pairs" and self.n_dirs == 1:
             ys = pos[:, 0]
@@ -159,6 +159,10 @@ class CrossSection:
             links=tuple(Link(new[l.i], new[l.j], l.kind) for l in self.links),
             active_pairs=tuple(ActivePair(new[a.i], new[a.j], a.group) for a in self.active_pairs),
         )
+
+
+def _is_int(x) -> bool:
+    return isinstance(x, (int, np.integer)) and not isinstance(x, bool)
 
 
 def _unit(v: np.ndarray, n_dirs: int) -> np.ndarray:

@@ -202,7 +202,10 @@ def sweep(
     parts = None
     lock = contextlib.nullcontext()
     if out is not None:
-        out = pathlib.Path(out)
+        try:
+            out = _io.check_output_path(out, (".npz",))
+        except ValueError as err:
+            raise ValueError(f"out: {err}") from None
         parts = out.with_name(out.name + ".parts")
         if share.leader:
             lock = _io.exclusive(out.with_name(out.name + ".lock"), str(out))

@@ -48,7 +48,11 @@ class SweepResult:
         return tuple(len(v) for v in self.coords.values())
 
     def save(self, path: str | pathlib.Path) -> None:
+        """Write the sweep to ``path`` (``.npz``, any case; written whole, see
+        :mod:`axojax._io`). Raises ``ValueError`` for another suffix."""
         path = pathlib.Path(path)
+        if path.suffix.lower() != ".npz":
+            raise ValueError(f"a sweep is saved as .npz, got {str(path)!r}")
         arrays = {**{k: np.asarray(v) for k, v in self.coords.items()}, **self.data}
         arrays["meta"] = np.array(json.dumps(self.meta))
         with _io.atomic_path(path) as tmp:
