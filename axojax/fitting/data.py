@@ -155,14 +155,25 @@ class BeatData:
         }
 
 
+PHYSICAL_RANGES = {"frame_rate_hz": (1e-2, 1e7), "length_um": (1e-3, 1e5)}
+"""Accepted ranges of a beat's frame rate (Hz) and length (um), from the file or a flag:
+far beyond any microscope and flagellum, and bounded so that the sigmas derived from
+them stay finite (a frame rate of 1e308 overflowed)."""
+
+
 def _physical(raw: RawBeat, name: str, given: float | None, flag: str) -> float | None:
     have = raw.scalars.get(name)
+    lo, hi = PHYSICAL_RANGES.get(name, (0.0, np.inf))
     if given is not None:
         if not (np.isfinite(given) and given > 0):
             raise ValueError(f"{flag}: must be a finite number > 0, got {given!r}")
+        if not lo <= given <= hi:
+            raise ValueError(f"{flag}: must be in [{lo:g}, {hi:g}], got {given!r}")
         if have is not None and abs(have - given) > 1e-9 * max(abs(have), abs(given)):
             fail(raw.path, f"{name} = {have:g} in the file conflicts with {flag} {given:g}; drop {flag} or fix the file")
         return float(given)
+    if have is not None and not lo <= have <= hi:
+        fail(raw.path, f"{name} = {have:g} in the file is outside [{lo:g}, {hi:g}]")
     return have
 
 

@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import dataclasses
 import pathlib
+import zipfile
 
 import numpy as np
 
@@ -92,10 +93,14 @@ def _finish(path, arrays: dict, scalars: dict) -> RawBeat:
     kind = _kind(arrays, path)
     out = {}
     for k, a in arrays.items():
+        if np.iscomplexobj(a):
+            fail(path, f"{k} is complex; give real values")
         try:
             a = np.asarray(a, dtype=float)
         except (TypeError, ValueError):
             fail(path, f"{k} is not numeric")
+        if a.size == 0:
+            fail(path, f"{k} is empty (shape {a.shape})")
         if not np.all(np.isfinite(a)):
             fail(path, f"{k} contains NaN or infinite values")
         out[k] = a
@@ -147,7 +152,7 @@ def read_npz(path: pathlib.Path, variables: dict | None = None) -> RawBeat:
     try:
         with np.load(path, allow_pickle=False) as f:
             raw = {k: f[k] for k in f.files}
-    except (OSError, ValueError) as err:
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as err:
         fail(path, f"cannot read as .npz ({err})")
     return _split(path, _rename(path, raw, variables))
 
