@@ -58,9 +58,15 @@ def run_cli(args, capsys):
         (["modes", "--cn", "-3"], "--cn"),
         (["modes", "--kl-ratio", "0"], "--kl-ratio"),
         (["modes", "--grad", "p,stiffness"], "--grad"),
+        (["fit", "--spec", "SPEC:free = ['p']\nbounds = 5\n[[condition]]\nfrequency_hz = 40\n"], "[bounds] must be a table"),
+        (["fit", "--spec", "SPEC:free = ['p']\ncondition = [5]\n"], "each [[condition]] must be a table"),
     ],
 )
-def test_cli_errors_one_line(args, flag, capsys):
+def test_cli_errors_one_line(args, flag, capsys, tmp_path):
+    if args[-1].startswith("SPEC:"):  # a spec file's text
+        spec = tmp_path / "fit.toml"
+        spec.write_text(args[-1][5:])
+        args = args[:-1] + [str(spec)]
     code, out, err = run_cli(args, capsys)
     assert code != 0
     assert out == ""

@@ -62,10 +62,17 @@ def test_sizes_refused_with_the_estimate(tmp_path, capsys):
         (["sweep", "--p", "0:1:100000", "--ks", "0:1:100000", "--out", str(tmp_path / "h.npz")], "--p"),
         (["sweep", "--p", "0:1:100000000000", "--out", str(tmp_path / "h.npz")], "--p"),
         (["orbit", "--elements", "40", "--harmonics", "99"], "--harmonics"),
+        # the full spectrum's dense matrices are checked before the model is built (a
+        # 1000-element model took minutes to build before the refusal)
+        (["modes", "--elements", "1000"], "--elements"),
+        (["fit", "--model", "two", "--elements", "3", "--free", "p", "--target-frequency", "40", "--starts", "100000000000"], "--starts"),
     ]
+    spec = tmp_path / "big.toml"
+    spec.write_text('elements = 100000\nfree = ["p"]\n[[condition]]\nfrequency_hz = 40\n')
+    cases.append((["fit", "--spec", str(spec)], "--spec"))
     for argv, flag in cases:
         line = one_line(argv, capsys, flag)
-        assert any(s in line for s in ("GiB", "more than", "1..100000")), line
+        assert any(s in line for s in ("GiB", "more than", "1..100000", "1..10000,")), line
     assert not list(tmp_path.glob("h.npz*"))
 
 

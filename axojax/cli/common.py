@@ -51,6 +51,9 @@ earlier); refused before anything is built."""
 MEMORY_FRACTION = 0.75
 """A model or grid whose estimated memory exceeds this share of the machine's physical
 memory is refused before any work, with the estimate (:func:`check_memory`)."""
+DENSE_SPECTRUM_BYTES = 96.0
+"""Bytes per entry of an n x n matrix that the full dense spectrum of n unknowns needs
+(pencil, reduced matrix, complex eigen-decomposition)."""
 MAX_AXIS = 10_000_000
 """Most values on one axis (``a:b:n``)."""
 FIGURE_SUFFIXES = (".png", ".pdf", ".svg", ".eps", ".jpg", ".jpeg")
@@ -175,9 +178,10 @@ def dense_unknowns(section: CrossSection, n_elements: int) -> int:
     return section.n_filaments * section.n_dirs * 2 * n_elements
 
 
-def model_from_args(args: argparse.Namespace) -> Model:
+def model_from_args(args: argparse.Namespace, dense_spectrum: bool = False) -> Model:
     """The model of ``--model``/``--model-file``/``--elements``/``--rotation-deg``; its
-    size is checked (:func:`check_memory`) before it is built."""
+    size is checked (:func:`check_memory`) before it is built, with ``dense_spectrum``
+    also the dense matrices of its full spectrum (``axojax modes`` lists it)."""
     try:
         n = int(str(args.elements))
     except ValueError:
@@ -207,6 +211,8 @@ def model_from_args(args: argparse.Namespace) -> Model:
     # blame --elements when the cross-section itself would fit at the default mesh
     flag = "--elements" if model_bytes(section, 10) <= MEMORY_FRACTION * physical_memory() else source
     check_memory(need, flag, f"the {section.name!r} model with {n} elements per filament ({dense_unknowns(section, n)} unknowns)")
+    if dense_spectrum:
+        check_memory(DENSE_SPECTRUM_BYTES * dense_unknowns(section, n) ** 2, "--elements", f"the full spectrum of {dense_unknowns(section, n)} unknowns (dense matrices)")
     try:
         return build_model(section, n, imbalance_kind=getattr(args, "imbalance_kind", IMBALANCE_KINDS[0]))
     except ValueError as err:

@@ -44,7 +44,7 @@ from .. import _io
 from ..dynamics.simulate import DEFAULT_CUBIC
 from ..fitting import OBSERVATIONS, Target, fit, observation_targets, read_beat
 from ..inverse import SHAPE_FLOOR, Condition
-from ..models import from_file, preset
+from ..models import build_model, load_section
 from ..params import PARAM_NAMES, Params
 from ..units import Units
 from . import common
@@ -52,6 +52,8 @@ from . import common
 METHODS = ("lm", "lbfgs", "adam")
 MAX_DRAWS = 100_000  # draws per chain of --posterior (a 3-parameter posterior needs ~1000)
 MAX_CHAINS = 64
+MAX_STARTS = 10_000
+"""Most starts of a multi-start fit (each is a full local fit; 1e11 asked for 745 GiB)."""
 SPEC_TOP = {"model", "model_file", "elements", "imbalance_kind", "kl_ratio", "length_um", "free", "free_per_condition", "params", "condition", "bounds"}
 SPEC_TARGETS = {
     # key: (target name, sigma key, default relative sigma)
@@ -169,8 +171,8 @@ def _check_posterior(args: argparse.Namespace) -> None:
 
 
 def _fit_options(args: argparse.Namespace) -> dict:
-    if args.starts < 1:
-        raise common.CLIError(f"--starts: expected an integer >= 1, got {args.starts}")
+    if not 1 <= args.starts <= MAX_STARTS:
+        raise common.CLIError(f"--starts: expected an integer in 1..{MAX_STARTS}, got {args.starts}")
     if args.shape_floor < 0:
         raise common.CLIError(f"--shape-floor: must be >= 0 rad, got {args.shape_floor:g}")
     if args.exclude_base_um < 0:
@@ -342,8 +344,8 @@ def _run_spec(args: argparse.Namespace) -> dict:
     here = path.parent
     # Model.
     elements = spec.get("elements", 10)
-    if isinstance(elements, bool) or not isinstance(elements, int) or elements < 1:
-        _spec_error(path, f"elements must be an integer >= 1, got {elements!r}")
+    if isinstance(elements, bool) or not isinstance(elements, int) or not 1 <= elements <= common.MAX_ELEMENTS:
+        _spec_error(path, f"elements must be an integer in 1..{common.MAX_ELEMENTS}, got {elements!r}")
     if "model" in spec and "model_file" in spec:
         _spec_error(path, "give model or model_file, not both")
     kind = spec.get("imbalance_kind", args.imbalance_kind)
@@ -353,10 +355,19 @@ def _run_spec(args: argparse.Namespace) -> dict:
         raise common.CLIError(f"--imbalance-kind: {args.imbalance_kind} conflicts with the spec's imbalance_kind = {kind!r} ({path})")
     try:
         if "model_file" in spec:
-            model = from_file(here / str(spec["model_file"]), n_elements=elements, imbalance_kind=kind)
+            section = load_section(here / str(spec["model_file"]))
         else:
-            model = preset(str(spec.get("model", "seven")), n_elements=elements, imbalance_kind=kind)
+            name = str(spec.get("model", "seven"))
+            if name not in common.SECTIONS:
+                raise ValueError(f"unknown model {name!r}; choose one of {', '.join(common.PRESETS)}")
+            section = common.SECTIONS[name](0.0)
     except (ValueError, OSError) as err:
+        _spec_error(path, f"model: {err}")
+    # the size check of --elements, before anything is built
+    common.check_memory(common.model_bytes(section, elements), f"--spec: {path}: elements", f"the {section.name!r} model with {elements} elements per filament")
+    try:
+        model = build_model(section, elements, imbalance_kind=kind)
+    except ValueError as err:
         _spec_error(path, f"model: {err}")
     length = _number(path, "length_um", spec["length_um"]) if "length_um" in spec else args.length_um
     try:
@@ -378,6 +389,8 @@ def _run_spec(args: argparse.Namespace) -> dict:
     except ValueError as err:
         _spec_error(path, f"params: {err}")
     bounds = {}
+    if not isinstance(spec.get("bounds", {}), dict):
+        _spec_error(path, f"[bounds] must be a table of [low, high] pairs, got {spec['bounds']!r}")
     for k, v in spec.get("bounds", {}).items():
         field = _names(path, "bounds", [k])[0]
         if not isinstance(v, list) or len(v) != 2:
@@ -391,6 +404,8 @@ def _run_spec(args: argparse.Namespace) -> dict:
     conditions, data_docs = [], []
     for i, table in enumerate(tables):
         where = f"condition {i + 1}"
+        if not isinstance(table, dict):
+            _spec_error(path, f"{where}: each [[condition]] must be a table, got {table!r}")
         label = str(table.get("label", i))
         fixed, targets, shape, src = {}, [], None, None
         sigma_keys = {s for _, s, _ in SPEC_TARGETS.values()}
