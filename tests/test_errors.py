@@ -117,6 +117,33 @@ def test_upper_case_npz_suffix_is_written_whole(tmp_path, capsys):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["x.NPZ"]
 
 
+def test_empty_and_infinite_values_are_refused(tmp_path, capsys):
+    """An empty entry of a list axis, an infinite end, an empty --model or --grad: one
+    line each, not a silently shorter axis, a numpy warning or the default."""
+    out = str(tmp_path / "s.npz")
+    for args, line in [
+        (["sweep", "--p", "1,2,,3", "--out", out], "--p: an empty value in the list '1,2,,3'"),
+        (["sweep", "--p", "100:inf:3", "--out", out], "--p: expected finite ends"),
+        (["sweep", "--ks", "log:1:1e400:3", "--out", out], "--ks: expected finite ends"),
+        (["modes", "--model", ""], "--model: unknown model ''"),
+        (["modes", "--grad", ""], "--grad: expected comma-separated parameter names"),
+    ]:
+        code, stdout, err = run_cli(args, capsys)
+        lines = err.strip().splitlines()
+        assert code == 2 and stdout == "" and len(lines) == 1 and line in lines[0], err
+    assert not list(tmp_path.iterdir())
+
+
+def test_mat_file_with_structs_names_the_file(tmp_path, capsys):
+    import scipy.io
+
+    path = tmp_path / "beat.mat"
+    scipy.io.savemat(path, {"X": {"a": np.ones(3), "b": np.ones((2, 2))}, "Y": {"b": np.ones(4)}, "frame_rate_hz": 100.0})
+    code, out, err = run_cli(["data", str(path)], capsys)
+    assert code == 2 and out == "" and len(err.strip().splitlines()) == 1, err
+    assert "beat.mat: unexpected contents" in err, err
+
+
 def test_console_script_exit_status():
     proc = subprocess.run([sys.executable, "-m", "axojax.cli.main", "modes", "--ks", "-5"], capture_output=True, text=True)
     assert proc.returncode == 2

@@ -196,7 +196,7 @@ def model_from_args(args: argparse.Namespace, dense_spectrum: bool = False) -> M
             raise CLIError("--rotation-deg: applies to presets; a --model-file gives its positions itself")
     else:
         source = "--model"
-        name = args.model or "seven"
+        name = "seven" if args.model is None else args.model
         if name not in SECTIONS:
             raise CLIError(f"--model: unknown model {name!r}; choose one of {', '.join(PRESETS)}")
     try:
@@ -332,7 +332,10 @@ def parse_axis(text: str, flag: str) -> np.ndarray:
     """``a:b:n`` (linear), ``log:a:b:n`` (log-spaced) or ``v1,v2,...`` (explicit) -> values."""
     try:
         if "," in text or ":" not in text:
-            values = np.array([float(t) for t in text.split(",") if t.strip()])
+            items = text.split(",")
+            if len(items) > 1 and not all(t.strip() for t in items):
+                raise CLIError(f"{flag}: an empty value in the list {text!r}")
+            values = np.array([float(t) for t in items if t.strip()])
         else:
             parts = text.split(":")
             log = parts[0] == "log"
@@ -343,6 +346,8 @@ def parse_axis(text: str, flag: str) -> np.ndarray:
             a, b, n = float(parts[0]), float(parts[1]), int(parts[2])
             if n < 1:
                 raise ValueError
+            if not (np.isfinite(a) and np.isfinite(b)):
+                raise CLIError(f"{flag}: expected finite ends, got {text!r}")
             if n > MAX_AXIS:
                 raise CLIError(f"{flag}: an axis of {n} values is more than {MAX_AXIS} (split the sweep), got {text!r}")
             if log:

@@ -43,7 +43,7 @@ def run(args: argparse.Namespace) -> dict:
     units = common.units_from_args(args)
     if args.top < 1:
         raise common.CLIError(f"--top: expected an integer >= 1, got {args.top}")
-    names = common.parse_names(args.grad, "--grad") if args.grad else []
+    names = common.parse_names(args.grad, "--grad") if args.grad is not None else []
     # the spectrum is the dense pencil's, whatever --solver finds the dominant mode with
     # (its memory was checked with the model's, before the model was built)
     lam = np.asarray(spectrum(model, params, min(args.top, model.n_dof)))

@@ -185,13 +185,18 @@ def read_mat(path: pathlib.Path, variables: dict | None = None, cell: int | None
         fail(path, "MATLAB v7.3 (HDF5) file: save it with -v7 or read it with h5py and pass arrays to beat_from_kymograph")
     except (scipy.io.matlab.MatReadError, OSError, ValueError, TypeError, KeyError, EOFError) as err:
         fail(path, f"cannot read as a MATLAB .mat file ({err})")
-    raw = {k: _pick_cell(path, k, v, cell) for k, v in raw.items()}
-    raw = {k: np.squeeze(v) if k in VECTORS or (variables and k in {variables.get(n) for n in VECTORS}) else v for k, v in raw.items()}
-    renamed = set((variables or {}).values())
-    for theirs, ours in MATLAB_XYZ.items():  # MATLAB-style (points, frames) columns
-        if theirs in raw and ours not in raw and theirs not in renamed:
-            raw[ours] = np.asarray(raw.pop(theirs), dtype=float).T
-    return _split(path, _rename(path, raw, variables))
+    try:
+        raw = {k: _pick_cell(path, k, v, cell) for k, v in raw.items()}
+        raw = {k: np.squeeze(v) if k in VECTORS or (variables and k in {variables.get(n) for n in VECTORS}) else v for k, v in raw.items()}
+        renamed = set((variables or {}).values())
+        for theirs, ours in MATLAB_XYZ.items():  # MATLAB-style (points, frames) columns
+            if theirs in raw and ours not in raw and theirs not in renamed:
+                raw[ours] = np.asarray(raw.pop(theirs), dtype=float).T
+        return _split(path, _rename(path, raw, variables))
+    except BeatFileError:
+        raise
+    except (ValueError, TypeError) as err:
+        fail(path, f"unexpected contents (structs or nested cells?): {err}")
 
 
 def _pick_cell(path, name: str, value, cell: int | None):
