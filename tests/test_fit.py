@@ -184,3 +184,20 @@ def test_cli_spec_errors_name_the_problem(tmp_path, capsys, spec, problem):
     assert main(["fit", "--spec", str(path), "--json"]) == 2
     err = capsys.readouterr().err
     assert "--spec" in err and problem in err and len(err.strip().splitlines()) == 1
+
+
+def test_achieved_wavelength_of_a_standing_mode_is_none_as_in_modes(capsys):
+    """A fit ending at a mode that does not travel (here a real eigenvalue: frequency 0)
+    reports no wavelength or velocity, as ``axojax modes`` does, not the objective's
+    floored 2 pi / K_FLOOR (6e17 um)."""
+    from axojax.cli.main import main
+
+    base = ["--model", "two", "--elements", "3"]
+    assert main(["modes", *base, "--p", "300", "--json"]) == 0
+    mode = json.loads(capsys.readouterr().out)["dominant"]
+    assert mode["frequency_hz"] == 0 and mode["wavelength_um"] is None
+    assert main(["fit", *base, "--free", "p", "--target-frequency", "40", "--starts", "1", "--json"]) in (0, 1)
+    doc = json.loads(capsys.readouterr().out)
+    achieved = doc["conditions"][0]["achieved"]
+    assert achieved["frequency_hz"] == 0  # still a standing mode where the fit ended
+    assert achieved["wavelength_um"] is None and achieved["velocity_um_per_s"] is None

@@ -454,7 +454,8 @@ def render(doc: dict) -> str:
         a = c["achieved"]
         head = f"[{c['label']}] " if len(doc["conditions"]) > 1 else ""
         if "frequency_hz" in a:
-            lines.append(f"{head}achieved: {a['frequency_hz']:.3f} Hz, wavelength {a['wavelength_um']:.3f} um, growth {a['growth_rate_per_s']:.3f} /s")
+            wl = "none (no travelling wave)" if a["wavelength_um"] is None else f"{a['wavelength_um']:.3f} um"
+            lines.append(f"{head}achieved: {a['frequency_hz']:.3f} Hz, wavelength {wl}, growth {a['growth_rate_per_s']:.3f} /s")
         if "limit_cycle_frequency_hz" in a:
             f, amp, wl = (a.get(f"limit_cycle_{k}") for k in ("frequency_hz", "amplitude_um", "wavelength_um"))
             lines.append(f"{head}limit cycle: " + (f"{f:.3f} Hz, tip amplitude {amp:.3f} um, wavelength {wl:.3f} um" if f is not None else "no orbit found"))
