@@ -190,6 +190,18 @@ def test_bad_simulation_input_is_one_line_error(seven6):
         ax.simulate(seven6, ax.Params(), -1.0)
     with pytest.raises(ValueError, match="cubic"):
         ax.simulate(ax.models.single(), ax.Params(), 0.1, cubic=1.0)
+    # refused before any work (found by a probe: these ran 10-20k steps or raised from
+    # numpy/diffrax)
+    for kwargs, match in [
+        (dict(atol=float("nan")), "atol must be a finite number > 0, got nan"),
+        (dict(rtol=1e-300), "rtol must be in \\[1e-12, 0.1\\]"),
+        (dict(n_points=0), "n_points must be an integer >= 2"),
+        (dict(max_steps=0), "max_steps must be an integer >= 1"),
+    ]:
+        with pytest.raises(ValueError, match=match):
+            ax.simulate(seven6, ax.Params(), 0.01, **kwargs)
+    with pytest.raises(ValueError, match="t_end_s must be at least 1e-09 s"):
+        ax.simulate(seven6, ax.Params(), 1e-300)
 
 
 def test_cli_simulate_json_file_and_plot(tmp_path, hopf6, capsys):

@@ -133,6 +133,12 @@ def _along(v: Float[np.ndarray, "*shape d"], angle: float) -> Float[ArrayLike, "
     return math.cos(angle) * v[..., 0] + math.sin(angle) * v[..., 1]
 
 
+RTOL_RANGE = (1e-12, 1e-1)
+"""Accepted relative tolerances of the time integration."""
+MIN_T_END_S = 1e-9
+"""Shortest simulated duration (s)."""
+
+
 def check_inputs(model: Model, t_end_s: float, cubic: float, perturbation_um: float, rtol: float, names: dict[str, str] | None = None) -> tuple[float, float, float, float]:
     """Validate :func:`simulate`'s scalar inputs; returns them as floats.
 
@@ -149,6 +155,12 @@ def check_inputs(model: Model, t_end_s: float, cubic: float, perturbation_um: fl
 
     t_end_s, cubic = check("t_end_s", t_end_s), check("cubic", cubic, positive=False)
     perturbation_um, rtol = check("perturbation_um", perturbation_um), check("rtol", rtol)
+    # a step-size controller cannot go below ~1e-13 relative in float64, and a duration of
+    # 1e-300 s spent every step without advancing
+    if not RTOL_RANGE[0] <= rtol <= RTOL_RANGE[1]:
+        raise ValueError(f"{names.get('rtol', 'rtol')} must be in [{RTOL_RANGE[0]:g}, {RTOL_RANGE[1]:g}], got {rtol!r}")
+    if t_end_s < MIN_T_END_S:
+        raise ValueError(f"{names.get('t_end_s', 't_end_s')} must be at least {MIN_T_END_S:g} s, got {t_end_s!r}")
     if model.link_B.shape[0] == 0 and cubic > 0:
         raise ValueError(f"{names.get('cubic', 'cubic')} = {cubic:g} needs a model with links; {model.name!r} has none (use 0)")
     return t_end_s, cubic, perturbation_um, rtol
@@ -196,6 +208,11 @@ def simulate(
     """
     params = params.validate()
     t_end_s, cubic, perturbation_um, rtol = check_inputs(model, t_end_s, cubic, perturbation_um, rtol)
+    if not (math.isfinite(atol) and atol > 0):
+        raise ValueError(f"atol must be a finite number > 0, got {atol!r}")
+    for name, value, low in (("n_points", n_points, 2), ("samples_per_period", samples_per_period, 2), ("max_steps", 1 if max_steps is None else max_steps, 1)):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
+            raise ValueError(f"{name} must be an integer >= {low}, got {value!r}")
     tau = units.tau_s
     mode = dominant_mode(model, params)
     linear = {
