@@ -257,6 +257,7 @@ def test_plot(tmp_path, capsys):
         ("odd.csv", "# length_um = 3\nfoo,bar\n1,2\n", "missing column"),
         ("nan.csv", "# length_um = 3\ns_um,psi0_rad,psi1_re_rad,psi1_im_rad\n0,0,nan,0\n1,0,0.1,0\n", "NaN"),
         ("empty.npz", "", "cannot read"),
+        ("dup.csv", "# length_um = 3\ns_um,psi0_rad,psi1_re_rad,psi1_im_rad,psi1_im_rad\n0,0,0.1,0,1\n1,0,0.1,0,1\n", "psi1_im_rad appear more than once"),
         ("frames.npz", lambda p: np.savez(p, x_um=np.zeros((0, 8)), y_um=np.zeros((0, 8)), frame_rate_hz=100.0), "x_um is empty"),
         ("complex.npz", lambda p: np.savez(p, x_um=np.ones((5, 8)) + 1j, y_um=np.ones((5, 8)), frame_rate_hz=100.0), "x_um is complex"),
         ("rate.csv", "# frame_rate_hz = 1e308\nframe,x_um,y_um\n" + "".join(f"{f},{k},{0.1 * f * k}\n" for f in range(3) for k in range(5)), "outside"),

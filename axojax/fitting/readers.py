@@ -121,6 +121,9 @@ def read_csv(path: pathlib.Path) -> RawBeat:
     if not body:
         fail(path, "no data rows")
     cols = [c.strip() for c in body[0].split(",")]
+    repeated = sorted({c for c in cols if cols.count(c) > 1})
+    if repeated:
+        fail(path, f"column(s) {', '.join(repeated)} appear more than once in the header")
     try:
         table = np.array([[float(v) for v in ln.split(",")] for ln in body[1:]])
     except ValueError:
