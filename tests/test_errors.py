@@ -21,6 +21,13 @@ def test_python_bad_params(change, match):
         ax.dominant_mode(ax.models.two(), ax.Params().replace(**change))
 
 
+def test_python_wrong_types_name_the_argument():
+    with pytest.raises(TypeError, match="params must be an ax.Params, got None"):
+        ax.dominant_mode(ax.models.two(), None)
+    with pytest.raises(TypeError, match="model must be an axojax model .* got 'seven'"):
+        ax.dominant_mode("seven", ax.Params())
+
+
 def test_python_bad_models(tmp_path):
     with pytest.raises(ValueError, match="n_elements must be an integer >= 1"):
         ax.models.seven(n_elements=0)

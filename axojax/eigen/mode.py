@@ -181,6 +181,10 @@ def dominant_mode(model: Model, params: Params, solver: AbstractEigenSolver = DE
     """
     if not isinstance(solver, AbstractEigenSolver):
         raise TypeError(f"solver must be an axojax eigen-solver (ax.eigen.Dense(), ax.eigen.Arnoldi(), ...), got {solver!r}")
+    if not isinstance(model, Model):
+        raise TypeError(f"model must be an axojax model (ax.models.seven(), ax.models.from_file(...), ...), got {model!r}")
+    if not isinstance(params, Params):
+        raise TypeError(f"params must be an ax.Params, got {params!r}")
     require_scalars(params, "dominant_mode")
     mode = _dominant_mode_jit(model, params.validate(), solver)
     if throw:
