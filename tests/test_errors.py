@@ -22,10 +22,15 @@ def test_python_bad_params(change, match):
 
 
 def test_python_wrong_types_name_the_argument():
-    with pytest.raises(TypeError, match="params must be an ax.Params, got None"):
+    # under the suite's run-time type checker (pyproject.toml) its TypeError comes first;
+    # either names the argument
+    with pytest.raises(TypeError, match="params"):
         ax.dominant_mode(ax.models.two(), None)
-    with pytest.raises(TypeError, match="model must be an axojax model .* got 'seven'"):
+    with pytest.raises(TypeError, match="model"):
         ax.dominant_mode("seven", ax.Params())
+    code = "import axojax as ax\ntry:\n    ax.dominant_mode(ax.models.two(), None)\nexcept TypeError as e:\n    print(e)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300).stdout
+    assert out.strip() == "params must be an ax.Params, got None", out
 
 
 def test_python_bad_models(tmp_path):
