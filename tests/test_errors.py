@@ -36,6 +36,8 @@ def test_python_wrong_types_name_the_argument():
 def test_python_bad_models(tmp_path):
     with pytest.raises(ValueError, match="n_elements must be an integer >= 1"):
         ax.models.seven(n_elements=0)
+    with pytest.raises(ValueError, match="n_elements must be at most 100000"):
+        ax.models.seven(n_elements=10**9)
     with pytest.raises(ValueError, match="unknown model 'eleven'"):
         ax.models.preset("eleven")
     with pytest.raises(ValueError, match="names filament 5, but filaments are 0..1"):

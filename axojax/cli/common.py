@@ -17,6 +17,7 @@ import numpy as np
 
 from .. import _io
 from ..eigen.solvers import SOLVERS, AbstractEigenSolver, Auto, solver_from_name
+from ..fem import hermite
 from ..models import IMBALANCE_KINDS, PRESETS, CrossSection, Model, build_model, load_section
 from ..models.presets import SECTIONS
 from ..params import PARAM_NAMES, Params
@@ -45,7 +46,7 @@ FIELD_FLAGS = {v: k for k, v in PARAM_FLAGS.items()}
 
 MAX_ROTATION_DEG = 360.0
 """``--rotation-deg`` beyond one turn is refused (a huge angle is all rounding error)."""
-MAX_ELEMENTS = 100_000
+MAX_ELEMENTS = hermite.MAX_ELEMENTS
 """Elements per filament beyond any use (the memory check below refuses most models far
 earlier); refused before anything is built."""
 MEMORY_FRACTION = 0.75

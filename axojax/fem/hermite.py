@@ -75,12 +75,19 @@ def _global_rows(n_elements: int, x: np.ndarray) -> tuple[np.ndarray, np.ndarray
     return out[0], out[1], out[2]
 
 
+MAX_ELEMENTS = 100_000
+"""Most elements per filament (the command line's ``--elements`` limit too): beyond it the
+mesh's dense shape-function tables alone exceed any memory (10^9 raised MemoryError)."""
+
+
 def make_mesh(n_elements: int, points_per_element: int = 5) -> Mesh:
     """Uniform mesh with Gauss-Legendre quadrature (``points_per_element`` >= 4 is exact
     for every product of cubic shape functions and derivatives, including the (1 - x)
     weight of G0)."""
     if isinstance(n_elements, bool) or not isinstance(n_elements, (int, np.integer)) or n_elements < 1:
         raise ValueError(f"n_elements must be an integer >= 1, got {n_elements!r}")
+    if n_elements > MAX_ELEMENTS:
+        raise ValueError(f"n_elements must be at most {MAX_ELEMENTS} (the mesh's dense tables grow as its square), got {n_elements!r}")
     if points_per_element < 4:
         raise ValueError(f"points_per_element must be >= 4 for exact quadrature, got {points_per_element}")
     g, w = np.polynomial.legendre.leggauss(points_per_element)
