@@ -19,7 +19,7 @@ from .. import _io
 from ..eigen.solvers import SOLVERS, AbstractEigenSolver, Auto, solver_from_name
 from ..fem import hermite
 from ..models import IMBALANCE_KINDS, PRESETS, CrossSection, Model, build_model, load_section
-from ..models.presets import SECTIONS
+from ..models.presets import preset_section
 from ..params import PARAM_NAMES, Params
 from ..units import Units
 
@@ -179,6 +179,13 @@ def dense_unknowns(section: CrossSection, n_elements: int) -> int:
     return section.n_filaments * section.n_dirs * 2 * n_elements
 
 
+def check_model_size(section: CrossSection, n_elements: int, flag: str) -> None:
+    """Refuse (one line naming ``flag``) a model whose estimated memory
+    (:func:`model_bytes`) exceeds the machine's, before it is built."""
+    what = f"the {section.name!r} model with {n_elements} elements per filament ({dense_unknowns(section, n_elements)} unknowns)"
+    check_memory(model_bytes(section, n_elements), flag, what)
+
+
 def model_from_args(args: argparse.Namespace, dense_spectrum: bool = False) -> Model:
     """The model of ``--model``/``--model-file``/``--elements``/``--rotation-deg``; its
     size is checked (:func:`check_memory`) before it is built, with ``dense_spectrum``
@@ -197,21 +204,16 @@ def model_from_args(args: argparse.Namespace, dense_spectrum: bool = False) -> M
             raise CLIError("--rotation-deg: applies to presets; a --model-file gives its positions itself")
     else:
         source = "--model"
-        name = "seven" if args.model is None else args.model
-        if name not in SECTIONS:
-            raise CLIError(f"--model: unknown model {name!r}; choose one of {', '.join(PRESETS)}")
     try:
         if args.model_file is not None:
             section = load_section(args.model_file)
         else:
-            section = SECTIONS[name](args.rotation_deg)
+            section = preset_section("seven" if args.model is None else args.model, args.rotation_deg)
     except ValueError as err:
         flag = "--rotation-deg" if (source == "--model" and "rotation_deg" in str(err)) else source
         raise CLIError(f"{flag}: {err}") from None
-    need = model_bytes(section, n)
     # blame --elements when the cross-section itself would fit at the default mesh
-    flag = "--elements" if model_bytes(section, 10) <= MEMORY_FRACTION * physical_memory() else source
-    check_memory(need, flag, f"the {section.name!r} model with {n} elements per filament ({dense_unknowns(section, n)} unknowns)")
+    check_model_size(section, n, "--elements" if model_bytes(section, 10) <= MEMORY_FRACTION * physical_memory() else source)
     if dense_spectrum:
         check_memory(DENSE_SPECTRUM_BYTES * dense_unknowns(section, n) ** 2, "--elements", f"the full spectrum of {dense_unknowns(section, n)} unknowns (dense matrices)")
     try:

@@ -45,6 +45,7 @@ from ..dynamics.simulate import DEFAULT_CUBIC
 from ..fitting import OBSERVATIONS, Target, fit, observation_targets, read_beat
 from ..inverse import SHAPE_FLOOR, Condition
 from ..models import build_model, load_section
+from ..models.presets import preset_section
 from ..params import PARAM_NAMES, Params
 from ..units import Units
 from . import common
@@ -357,14 +358,10 @@ def _run_spec(args: argparse.Namespace) -> dict:
         if "model_file" in spec:
             section = load_section(here / str(spec["model_file"]))
         else:
-            name = str(spec.get("model", "seven"))
-            if name not in common.SECTIONS:
-                raise ValueError(f"unknown model {name!r}; choose one of {', '.join(common.PRESETS)}")
-            section = common.SECTIONS[name](0.0)
+            section = preset_section(str(spec.get("model", "seven")))
     except (ValueError, OSError) as err:
         _spec_error(path, f"model: {err}")
-    # the size check of --elements, before anything is built
-    common.check_memory(common.model_bytes(section, elements), f"--spec: {path}: elements", f"the {section.name!r} model with {elements} elements per filament")
+    common.check_model_size(section, elements, f"--spec: {path}: elements")  # as --elements, before anything is built
     try:
         model = build_model(section, elements, imbalance_kind=kind)
     except ValueError as err:

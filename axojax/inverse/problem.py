@@ -391,8 +391,11 @@ class Problem:
         for i in range(self.n_conditions):
             d: dict[str, Any] = {}
             if modes[i] is not None:
+                achieved = {k: scalar_value(modes[i], k, self.units) for k in SCALARS}
                 travels = modes[i].direction != 0  # else no wavelength, as `axojax modes` says (NaN -> null)
-                d["achieved"] = {k: jnp.where(travels, v, jnp.nan) if k in ("wavelength_um", "velocity_um_per_s") else v for k, v in ((k, scalar_value(modes[i], k, self.units)) for k in SCALARS)}
+                for k in ("wavelength_um", "velocity_um_per_s"):
+                    achieved[k] = jnp.where(travels, achieved[k], jnp.nan)
+                d["achieved"] = achieved
                 shape = self.conditions[i].shape
                 if shape is not None:
                     fitted, alpha = shape_fit(self.models[i], modes[i], self.shapes[i], self.units, at_um=np.asarray(shape.s_um))

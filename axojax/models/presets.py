@@ -120,13 +120,19 @@ seven = _preset("seven")
 nine = _preset("nine")
 
 
-def preset(name: str, n_elements: int = 10, profiles: Profiles = Profiles(), rotation_deg: float = 0.0,
-           imbalance_kind: str = DEFAULT_IMBALANCE_KIND) -> Model:
-    """Build a preset by name; unknown names (or a rotation of a planar preset) raise a
-    one-line ``ValueError``."""
+def preset_section(name: str, rotation_deg: float = 0.0) -> CrossSection:
+    """A preset's cross-section by name (before a mesh is built on it); unknown names (or
+    a rotation of a planar preset) raise a one-line ``ValueError``."""
     if name not in SECTIONS:
         raise ValueError(f"unknown model {name!r}; choose one of {', '.join(PRESETS)}")
     rotation_deg = float(rotation_deg)
     if not np.isfinite(rotation_deg):
         raise ValueError(f"rotation_deg must be finite, got {rotation_deg!r}")
-    return build_model(SECTIONS[name](rotation_deg), n_elements, profiles, imbalance_kind)
+    return SECTIONS[name](rotation_deg)
+
+
+def preset(name: str, n_elements: int = 10, profiles: Profiles = Profiles(), rotation_deg: float = 0.0,
+           imbalance_kind: str = DEFAULT_IMBALANCE_KIND) -> Model:
+    """Build a preset by name; unknown names (or a rotation of a planar preset) raise a
+    one-line ``ValueError``."""
+    return build_model(preset_section(name, rotation_deg), n_elements, profiles, imbalance_kind)

@@ -49,10 +49,9 @@ class SweepResult:
 
     def save(self, path: str | pathlib.Path) -> None:
         """Write the sweep to ``path`` (``.npz``, any case; written whole, see
-        :mod:`axojax._io`). Raises ``ValueError`` for another suffix."""
-        path = pathlib.Path(path)
-        if path.suffix.lower() != ".npz":
-            raise ValueError(f"a sweep is saved as .npz, got {str(path)!r}")
+        :mod:`axojax._io`). Raises ``ValueError`` for another suffix or a directory that
+        does not take the file (:func:`axojax._io.check_output_path`)."""
+        path = _io.check_output_path(path, (".npz",))
         arrays = {**{k: np.asarray(v) for k, v in self.coords.items()}, **self.data}
         arrays["meta"] = np.array(json.dumps(self.meta))
         with _io.atomic_path(path) as tmp:
