@@ -60,7 +60,18 @@ _LAZY = {
 __all__ = sorted(_LAZY)  # noqa: PLE0605
 
 # Subpackages that an eager import used to bind as attributes too (``ax.dynamics``, ...).
-_SUBMODULES = ("assembly", "cache", "critical", "dynamics", "fem", "fitting", "params", "sweeps", "units", "waveform")
+_SUBMODULES = (
+    "assembly",
+    "cache",
+    "critical",
+    "dynamics",
+    "fem",
+    "fitting",
+    "params",
+    "sweeps",
+    "units",
+    "waveform",
+)
 
 if TYPE_CHECKING:  # the same names for static tools (type checkers, the API docs' griffe)
     from . import datasets, eigen, inverse, linalg, models, orbits

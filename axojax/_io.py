@@ -32,7 +32,9 @@ class OutputBusy(RuntimeError):
 def _tmp_name(path: pathlib.Path) -> pathlib.Path:
     # the real suffix last, in lower case: numpy appends ".npz" to a name not ending in
     # exactly that (so "x.NPZ" would be written elsewhere), matplotlib picks its writer by it
-    return path.with_name(f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}{TMP_MARK}{path.suffix.lower()}")
+    return path.with_name(
+        f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}{TMP_MARK}{path.suffix.lower()}"
+    )
 
 
 def _pid_alive(pid: int) -> bool:
@@ -95,14 +97,18 @@ def check_output_path(path: str | os.PathLike, suffixes: tuple[str, ...]) -> pat
         raise ValueError(f"{str(path)!r} is a directory")
     parent = p.parent if str(p.parent) else pathlib.Path(".")
     if not parent.exists():
-        raise ValueError(f"directory {str(parent)!r} of {str(path)!r} does not exist (it is not created)")
+        raise ValueError(
+            f"directory {str(parent)!r} of {str(path)!r} does not exist (it is not created)"
+        )
     if not parent.is_dir():
         raise ValueError(f"{str(parent)!r} in {str(path)!r} is not a directory")
     probe = parent / f".{p.name}.{os.getpid()}.{secrets.token_hex(4)}.probe"
     try:
         fd = os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
     except OSError as err:
-        raise ValueError(f"cannot write in directory {str(parent)!r} ({err.strerror or err})") from None
+        raise ValueError(
+            f"cannot write in directory {str(parent)!r} ({err.strerror or err})"
+        ) from None
     os.close(fd)
     with contextlib.suppress(OSError):
         probe.unlink()
@@ -123,7 +129,9 @@ def exclusive(lock: str | os.PathLike, what: str) -> Iterator[None]:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
             os.close(fd)
-            raise OutputBusy(f"another process is writing {what} (lock {str(lock)!r} is held); wait for it, or choose another path") from None
+            raise OutputBusy(
+                f"another process is writing {what} (lock {str(lock)!r} is held); wait for it, or choose another path"
+            ) from None
         # the holder before us may have removed the file after we opened it: retry then
         try:
             same = os.fstat(fd).st_ino == os.stat(lock).st_ino

@@ -94,7 +94,11 @@ def widen_intra_op_pool() -> None:
     if not enabled() or "NPROC" in os.environ:
         return
     jaxlib_version = _jaxlib_version()
-    if jaxlib_version and blocking_batched_lapack(jaxlib_version) and (os.cpu_count() or 1) < MIN_INTRA_OP_THREADS:
+    if (
+        jaxlib_version
+        and blocking_batched_lapack(jaxlib_version)
+        and (os.cpu_count() or 1) < MIN_INTRA_OP_THREADS
+    ):
         os.environ["NPROC"] = str(MIN_INTRA_OP_THREADS)
 
 
@@ -116,7 +120,11 @@ def limit_scipy_blas_threads(threads: int = 1) -> int:
     from threadpoolctl import ThreadpoolController
 
     controller = ThreadpoolController()
-    scipy_libs = [lib for lib in controller.lib_controllers if lib.user_api == "blas" and os.sep + "scipy" in lib.filepath]
+    scipy_libs = [
+        lib
+        for lib in controller.lib_controllers
+        if lib.user_api == "blas" and os.sep + "scipy" in lib.filepath
+    ]
     for lib in scipy_libs:
         lib.set_num_threads(threads)
     return len(scipy_libs)

@@ -46,7 +46,9 @@ def imbalanced_forces(model: Model, params: Params) -> Float[Array, " P"]:
     """p_a of an R : 1 force ratio (R = ``params.imbalance``): p for group 0, p / R for
     group 1. Its moments give the static load b in both readings of the imbalance."""
     p = jnp.asarray(params.p, dtype=float)
-    scale = jnp.where(jnp.asarray(model.pair_group) == 0, 1.0, 1.0 / jnp.asarray(params.imbalance, dtype=float))
+    scale = jnp.where(
+        jnp.asarray(model.pair_group) == 0, 1.0, 1.0 / jnp.asarray(params.imbalance, dtype=float)
+    )
     return p * scale
 
 
@@ -65,7 +67,9 @@ def static_couple(model: Model, params: Params) -> Float[Array, " n_fd"]:
     ``a0 sum_a p_a w_a`` with the R : 1 forces of :func:`imbalanced_forces` (both readings):
     zero for balanced presets at R = 1; at R != 1 the net couple p a0 (1 - 1/R) of group 0's
     pairs (MODEL.md section 3, asymmetric beats)."""
-    return params.a0 * jnp.einsum("a,ai->i", imbalanced_forces(model, params), jnp.asarray(model.pair_w))
+    return params.a0 * jnp.einsum(
+        "a,ai->i", imbalanced_forces(model, params), jnp.asarray(model.pair_w)
+    )
 
 
 def link_stiffness(model: Model, params: Params) -> Float[Array, " E"]:
@@ -76,7 +80,10 @@ def link_stiffness(model: Model, params: Params) -> Float[Array, " E"]:
 
 def bending_rigidity(model: Model, params: Params) -> Float[Array, " n_fd"]:
     """EI_{f,a}: filament rigidity, times ``out_of_plane`` in the z direction."""
-    per_dir = jnp.array([1.0, 0.0])[: model.n_dirs] + jnp.array([0.0, 1.0])[: model.n_dirs] * params.out_of_plane
+    per_dir = (
+        jnp.array([1.0, 0.0])[: model.n_dirs]
+        + jnp.array([0.0, 1.0])[: model.n_dirs] * params.out_of_plane
+    )
     return (jnp.asarray(model.section.ei)[:, None] * per_dir[None, :]).ravel()
 
 
@@ -125,7 +132,9 @@ def terms(model: Model, params: Params) -> tuple[list[Term], list[Term], Float[A
         pa = pair_forces(model, params)
         nu = jnp.einsum("a,ai->i", pa, jnp.asarray(model.pair_sign))
         follow = jnp.einsum("a,aij->ij", pa, jnp.asarray(model.pair_follow))
-        gain = params.gamma * jnp.einsum("a,ai,aj->ij", pa, jnp.asarray(model.pair_w), jnp.asarray(model.pair_B))
+        gain = params.gamma * jnp.einsum(
+            "a,ai,aj->ij", pa, jnp.asarray(model.pair_w), jnp.asarray(model.pair_B)
+        )
         A_terms += [(jnp.diag(nu), "G0"), (-follow, "F0"), (-gain, "F0T")]
         b = jnp.kron(static_couple(model, params), jnp.asarray(m.f1))
     return A_terms, C_terms, b
@@ -185,8 +194,10 @@ def node_major(model: Model) -> np.ndarray:
     """Permutation ``perm`` with ``q_node_major = q[perm]``: node k, then filament and
     direction (f, a), then (u, u') — the order of :class:`BlockSystem`."""
     N, nfd = model.n_elements, model.n_fd
-    fd, node, r = np.meshgrid(np.arange(nfd), np.arange(N), np.arange(2), indexing="ij")  # filament-major shape
-    index = (fd * 2 * N + node * 2 + r)  # (nfd, N, 2): filament-major flat index
+    fd, node, r = np.meshgrid(
+        np.arange(nfd), np.arange(N), np.arange(2), indexing="ij"
+    )  # filament-major shape
+    index = fd * 2 * N + node * 2 + r  # (nfd, N, 2): filament-major flat index
     return np.ascontiguousarray(index.transpose(1, 0, 2).reshape(-1))
 
 

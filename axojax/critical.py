@@ -130,7 +130,9 @@ def _critical_force_impl(
     def g(p, prm):
         return jnp.real(_eig_at(model, prm, p, solver))
 
-    lo, hi, found = _bracket(lambda p: g(p, params), jnp.asarray(p_start, float), growth_factor, max_steps)
+    lo, hi, found = _bracket(
+        lambda p: g(p, params), jnp.asarray(p_start, float), growth_factor, max_steps
+    )
 
     def solve(f, _guess):
         return _safeguarded_newton(f, lo, hi, rtol, max_iter)
@@ -138,24 +140,38 @@ def _critical_force_impl(
     def tangent_solve(linear_g, y):
         return y / linear_g(jnp.ones_like(y))
 
-    p_c, converged = jax.lax.custom_root(lambda p: g(p, params), 0.5 * (lo + hi), solve, tangent_solve, has_aux=True)
+    p_c, converged = jax.lax.custom_root(
+        lambda p: g(p, params), 0.5 * (lo + hi), solve, tangent_solve, has_aux=True
+    )
     lam = _eig_at(model, params, p_c, solver)
     ok = valid(params.replace(p=0.0))
     p_c = jnp.where(ok, jnp.where(found, p_c, jnp.inf), jnp.nan)
     lam = jnp.where(ok, lam, jnp.nan + 0j)
     result = RESULTS.where(
         ok,
-        RESULTS.where(found, RESULTS.where(converged > 0.5, RESULTS.successful, RESULTS.max_steps_reached), RESULTS.no_crossing),
+        RESULTS.where(
+            found,
+            RESULTS.where(converged > 0.5, RESULTS.successful, RESULTS.max_steps_reached),
+            RESULTS.no_crossing,
+        ),
         RESULTS.invalid_params,
     )
     crit = Critical(p=p_c, eigenvalue=lam, found=found & ok, result=result)
     if throw:
-        crit = result.error_if(crit, (result != RESULTS.successful) & (result != RESULTS.no_crossing))
+        crit = result.error_if(
+            crit, (result != RESULTS.successful) & (result != RESULTS.no_crossing)
+        )
     return crit
 
 
-critical_force_impl = _critical_force_impl  # the traceable entry point (no validation, no jit of its own)
-_critical_force_jit = jax.jit(_critical_force_impl, static_argnums=0, static_argnames=("p_start", "growth_factor", "p_max", "rtol", "max_iter", "solver", "throw"))
+critical_force_impl = (
+    _critical_force_impl  # the traceable entry point (no validation, no jit of its own)
+)
+_critical_force_jit = jax.jit(
+    _critical_force_impl,
+    static_argnums=0,
+    static_argnames=("p_start", "growth_factor", "p_max", "rtol", "max_iter", "solver", "throw"),
+)
 
 
 def critical_force(model: Model, params: Params, **options) -> Critical:

@@ -25,7 +25,18 @@ MIN_RATIO = 1e-9
 """Smallest accepted ``out_of_plane`` and ``imbalance`` (stiffness and force ratios: their
 reciprocals are bounded by :data:`MAX_MAGNITUDE` too)."""
 
-PARAM_NAMES = ("p", "ks", "kl", "cl", "gamma", "ktheta", "out_of_plane", "inactive_factor", "imbalance", "a0")
+PARAM_NAMES = (
+    "p",
+    "ks",
+    "kl",
+    "cl",
+    "gamma",
+    "ktheta",
+    "out_of_plane",
+    "inactive_factor",
+    "imbalance",
+    "a0",
+)
 
 # (lower bound, inclusive?) of each field; gamma is unbounded below.
 _BOUNDS = {
@@ -128,7 +139,9 @@ class Params(eqx.Module):
                     rel = ">=" if inclusive else ">"
                     raise ValueError(f"parameter {name} must be {rel} {low:g}, got {_show(value)}")
             if not bool(np.all(np.abs(arr) <= MAX_MAGNITUDE)):
-                raise ValueError(f"parameter {name} must be at most {MAX_MAGNITUDE:g} in magnitude (float64 loses the answer beyond), got {_show(value)}")
+                raise ValueError(
+                    f"parameter {name} must be at most {MAX_MAGNITUDE:g} in magnitude (float64 loses the answer beyond), got {_show(value)}"
+                )
         return self
 
 

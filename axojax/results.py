@@ -51,4 +51,8 @@ def message(result: RESULTS | diffrax.RESULTS | optx.RESULTS) -> str:
 
 def is_successful(result) -> bool:
     """Whether a concrete result item is ``RESULTS.successful``."""
-    return bool(RESULTS.promote(result) == RESULTS.successful) if not isinstance(result, RESULTS) else bool(result == RESULTS.successful)
+    return (
+        bool(RESULTS.promote(result) == RESULTS.successful)
+        if not isinstance(result, RESULTS)
+        else bool(result == RESULTS.successful)
+    )

@@ -35,10 +35,17 @@ class Units:
     def __post_init__(self) -> None:
         for name in ("length_um", "ei_pn_um2", "cn_pn_s_um2"):
             v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
+            if (
+                isinstance(v, bool)
+                or not isinstance(v, (int, float))
+                or not math.isfinite(v)
+                or v <= 0
+            ):
                 raise ValueError(f"unit {name} must be a finite positive number, got {v!r}")
             if not UNIT_RANGE[0] <= v <= UNIT_RANGE[1]:
-                raise ValueError(f"unit {name} must be in {UNIT_RANGE[0]:g}..{UNIT_RANGE[1]:g}, got {v!r}")
+                raise ValueError(
+                    f"unit {name} must be in {UNIT_RANGE[0]:g}..{UNIT_RANGE[1]:g}, got {v!r}"
+                )
 
     # -- scales ---------------------------------------------------------------------
     @property

@@ -43,8 +43,15 @@ print(json.dumps(out))
 
 
 def run(emitters_off: bool) -> dict:
-    env = {**os.environ, "AXOJAX_KEEP_XLA_FLAGS": "1", "XLA_FLAGS": "--xla_cpu_multi_thread_eigen=false" + (" --xla_cpu_use_fusion_emitters=false" if emitters_off else "")}
-    done = subprocess.run([sys.executable, "-c", CHILD], env=env, capture_output=True, text=True, timeout=900)
+    env = {
+        **os.environ,
+        "AXOJAX_KEEP_XLA_FLAGS": "1",
+        "XLA_FLAGS": "--xla_cpu_multi_thread_eigen=false"
+        + (" --xla_cpu_use_fusion_emitters=false" if emitters_off else ""),
+    }
+    done = subprocess.run(
+        [sys.executable, "-c", CHILD], env=env, capture_output=True, text=True, timeout=900
+    )
     if done.returncode != 0:
         raise SystemExit(done.stderr[-2000:])
     return json.loads(done.stdout.strip().splitlines()[-1])
@@ -60,12 +67,16 @@ def main() -> None:
             runs[off].append(run(off))
     keys = [k for k in runs[False][0] if k != "xla_flags"]
     print(f"{args.repeats} alternating fresh processes each; median; load {os.getloadavg()[0]:.1f}")
-    print(f"{'program':18s} {'compile s (new -> old emitters)':>32s} {'ratio':>6s} {'ms/point (new -> old)':>24s} {'ratio':>6s}  same result")
+    print(
+        f"{'program':18s} {'compile s (new -> old emitters)':>32s} {'ratio':>6s} {'ms/point (new -> old)':>24s} {'ratio':>6s}  same result"
+    )
     for k in keys:
         c = [statistics.median(r[k]["compile_s"] for r in runs[off]) for off in (False, True)]
         t = [statistics.median(r[k]["ms_per_point"] for r in runs[off]) for off in (False, True)]
         same = abs(runs[False][0][k]["checksum"] / runs[True][0][k]["checksum"] - 1) < 1e-10
-        print(f"{k:18s} {c[0]:15.2f} -> {c[1]:6.2f} {c[0] / c[1]:14.2f}x {t[0]:13.2f} -> {t[1]:6.2f} {t[0] / t[1]:7.2f}x  {same}")
+        print(
+            f"{k:18s} {c[0]:15.2f} -> {c[1]:6.2f} {c[0] / c[1]:14.2f}x {t[0]:13.2f} -> {t[1]:6.2f} {t[0] / t[1]:7.2f}x  {same}"
+        )
 
 
 if __name__ == "__main__":

@@ -40,13 +40,17 @@ def main() -> None:
     ap.add_argument("--skip-large", action="store_true", help="skip part 1")
     args = ap.parse_args()
     model = ax.models.preset(args.model)
-    print(f"load average (1, 5, 15 min) at start: {' '.join(f'{x:.2f}' for x in os.getloadavg())}; {os.cpu_count()} cores")
+    print(
+        f"load average (1, 5, 15 min) at start: {' '.join(f'{x:.2f}' for x in os.getloadavg())}; {os.cpu_count()} cores"
+    )
     targets = []
     if not args.skip_large:
         Z = sample(args.points)
         for solver in (ax.eigen.Dense(), ax.eigen.Arnoldi()):
             ratio = report(model, solver, Z, args)
-        targets.append(f"value + gradient / value, Arnoldi (CPU default path): {ratio:.2f}x (target <= 1.3x)")
+        targets.append(
+            f"value + gradient / value, Arnoldi (CPU default path): {ratio:.2f}x (target <= 1.3x)"
+        )
     chains = [int(c) for c in args.chains.split(",") if c.strip()]
     if chains:
         print("\n2. small batches (chains): wall time of one call, best of", 10 * args.repeats)
@@ -54,7 +58,9 @@ def main() -> None:
             for k in chains:
                 t_v, t_g = small_batch(model, solver, sample(k), 10 * args.repeats)
                 if k == 4 and solver.options.batched == ax.eigen.Arnoldi().options.batched:
-                    targets.append(f"4-point batch, value + gradient, default path: {t_g * 1e3:.2f} ms (target <= 2 ms)")
+                    targets.append(
+                        f"4-point batch, value + gradient, default path: {t_g * 1e3:.2f} ms (target <= 2 ms)"
+                    )
     if targets:
         print("\ntargets (issue 22):\n" + "\n".join(targets))
     print(f"load average at end: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
@@ -62,7 +68,17 @@ def main() -> None:
 
 def sample(points: int):
     rng = np.random.default_rng(0)
-    return jnp.asarray(np.column_stack([rng.uniform(400, 700, points), 10 ** rng.uniform(4, 6, points), 10 ** rng.uniform(1, 3, points), 10 ** rng.uniform(-3, -1, points), rng.uniform(-1, 0.3, points)]))
+    return jnp.asarray(
+        np.column_stack(
+            [
+                rng.uniform(400, 700, points),
+                10 ** rng.uniform(4, 6, points),
+                10 ** rng.uniform(1, 3, points),
+                10 ** rng.uniform(-3, -1, points),
+                rng.uniform(-1, 0.3, points),
+            ]
+        )
+    )
 
 
 def functions(model, solver):
@@ -92,7 +108,10 @@ def small_batch(model, solver, Z, repeats: int) -> None:
     t_v = best_time(jax.jit(jax.vmap(metrics)), Z, repeats)
     t_g = best_time(jax.jit(jax.vmap(jax.value_and_grad(loss, has_aux=True))), Z, repeats)
     path = "batched" if solver.batched else "per-point"
-    print(f"Arnoldi {path:9s} {Z.shape[0]} points: value {t_v * 1e3:7.2f} ms/call   value + gradient {t_g * 1e3:7.2f} ms/call   ratio {t_g / t_v:5.2f}x", flush=True)
+    print(
+        f"Arnoldi {path:9s} {Z.shape[0]} points: value {t_v * 1e3:7.2f} ms/call   value + gradient {t_g * 1e3:7.2f} ms/call   ratio {t_g / t_v:5.2f}x",
+        flush=True,
+    )
     return t_v, t_g
 
 
@@ -106,10 +125,17 @@ def report(model, solver, Z, args) -> None:
         return best_time(f, Z, args.repeats) / args.points
 
     t_v, t_r, t_f = clock(value), clock(value_grad), clock(value_jac)
-    print(f"solver {solver}, device: {jax.devices()[0].device_kind}, model {args.model} ({model.n_dof} dof), {args.points} points, best of {args.repeats}")
+    print(
+        f"solver {solver}, device: {jax.devices()[0].device_kind}, model {args.model} ({model.n_dof} dof), {args.points} points, best of {args.repeats}"
+    )
     print(f"value (3 metrics)                     {t_v * 1e3:8.3f} ms/point")
-    print(f"value + reverse-mode gradient (5)     {t_r * 1e3:8.3f} ms/point   ratio {t_r / t_v:5.2f}x")
-    print(f"value + forward-mode Jacobian (3x5)   {t_f * 1e3:8.3f} ms/point   ratio {t_f / t_v:5.2f}x", flush=True)
+    print(
+        f"value + reverse-mode gradient (5)     {t_r * 1e3:8.3f} ms/point   ratio {t_r / t_v:5.2f}x"
+    )
+    print(
+        f"value + forward-mode Jacobian (3x5)   {t_f * 1e3:8.3f} ms/point   ratio {t_f / t_v:5.2f}x",
+        flush=True,
+    )
     return t_r / t_v
 
 

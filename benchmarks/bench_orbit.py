@@ -29,7 +29,13 @@ def orbit_times(elements: int = 10, harmonics: int = 8, cubic: float = 10.0) -> 
         jax.block_until_ready(cycle.coefficients)
         times.append(time.perf_counter() - t)
     rep = cycle.report()
-    return {"with_compilation_s": times[0], "after_compilation_s": times[1], "newton_steps": int(cycle.steps), "n_dof": model.n_dof, **rep}
+    return {
+        "with_compilation_s": times[0],
+        "after_compilation_s": times[1],
+        "newton_steps": int(cycle.steps),
+        "n_dof": model.n_dof,
+        **rep,
+    }
 
 
 def main() -> None:

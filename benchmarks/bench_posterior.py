@@ -79,9 +79,18 @@ def problem(n_elements: int, solver) -> Problem:
         Target("frequency_hz", f * (1 + 0.02 * rng.normal()), 0.02 * f),
         Target("wavelength_um", lam * (1 + 0.05 * rng.normal()), 0.05 * lam),
     ]
-    print(f"truth {TRUTH}: frequency {f:.3f} Hz, wavelength {lam:.3f} um; psi_1 at {s_um.size} points, sigma {sigma} rad")
+    print(
+        f"truth {TRUTH}: frequency {f:.3f} Hz, wavelength {lam:.3f} um; psi_1 at {s_um.size} points, sigma {sigma} rad"
+    )
     start = truth.with_values({"p": 400.0, "ks": 3e5, "kl": 3e3})
-    return Problem(model, [Condition({}, targets, ShapeTarget(s_um, psi1, sigma))], list(TRUTH), params=start, bounds=BOUNDS, solver=solver)
+    return Problem(
+        model,
+        [Condition({}, targets, ShapeTarget(s_um, psi1, sigma))],
+        list(TRUTH),
+        params=start,
+        bounds=BOUNDS,
+        solver=solver,
+    )
 
 
 def main() -> None:
@@ -91,11 +100,19 @@ def main() -> None:
     ap.add_argument("--warmup", type=int, default=500)
     ap.add_argument("--elements", type=int, default=10)
     ap.add_argument("--solver", default="arnoldi", choices=("arnoldi", "dense", "auto"))
-    ap.add_argument("--sequential", action="store_true", help="chains one after another instead of vmapped")
-    ap.add_argument("--no-whiten", action="store_true", help="NUTS in z (the logistic coordinates) instead of whitened by the Laplace approximation")
+    ap.add_argument(
+        "--sequential", action="store_true", help="chains one after another instead of vmapped"
+    )
+    ap.add_argument(
+        "--no-whiten",
+        action="store_true",
+        help="NUTS in z (the logistic coordinates) instead of whitened by the Laplace approximation",
+    )
     ap.add_argument("--max-doublings", type=int, default=8, help="NUTS tree depth limit")
     args = ap.parse_args()
-    solver = {"arnoldi": ax.eigen.Arnoldi, "dense": ax.eigen.Dense, "auto": ax.eigen.Auto}[args.solver]()
+    solver = {"arnoldi": ax.eigen.Arnoldi, "dense": ax.eigen.Dense, "auto": ax.eigen.Auto}[
+        args.solver
+    ]()
     print(f"{os.cpu_count()} cores, load average {os.getloadavg()}")
     pb = problem(args.elements, solver)
 
@@ -112,19 +129,44 @@ def main() -> None:
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         sampler = NUTS(whiten=not args.no_whiten, max_num_doublings=args.max_doublings)
-        post = posterior(pb, draws=args.draws, chains=args.chains, warmup=args.warmup, seed=0, sampler=sampler, vectorize=not args.sequential, progress=True)
+        post = posterior(
+            pb,
+            draws=args.draws,
+            chains=args.chains,
+            warmup=args.warmup,
+            seed=0,
+            sampler=sampler,
+            vectorize=not args.sequential,
+            progress=True,
+        )
     for w in caught:
         print("warning:", w.message)
     ess_min = min(post.ess.values())
-    print(f"\n{args.chains} chains x {args.draws} draws (+{args.warmup} warm-up), {'sequential' if args.sequential else 'vmapped'} chains, solver {args.solver}, N_e = {args.elements}, {sampler}")
-    print(f"total {post.seconds:.1f} s (target 300 s): compile {post.seconds_compile:.1f} s; starts {post.seconds_start:.1f} s, warm-up {post.seconds_warmup:.1f} s, sampling {post.seconds_sampling:.1f} s (each with its compilation)")
-    print(f"gradients {post.gradients} ({post.gradients / (args.chains * (args.draws + args.warmup)):.1f} per chain step), divergences {post.divergences}, acceptance {post.acceptance:.2f}, step sizes {np.round(post.step_size, 3)}")
-    print(f"time per gradient {1e3 * post.seconds_per_gradient:.2f} ms (x{post.seconds_per_gradient / single:.2f} one value-and-gradient alone)")
-    print(f"time per effective sample {post.seconds_per_ess:.3f} s (smallest bulk ESS {ess_min:.0f}); excluding compilation {(post.seconds - post.seconds_compile) / ess_min:.3f} s")
-    print(f"total / 5-minute target: {post.seconds / 300:.2f}; gradients per effective sample {post.gradients / ess_min:.0f}")
-    print(f"\n{'name':>4} {'truth':>10} {'q05':>10} {'q50':>10} {'q95':>10} {'R-hat':>7} {'ESS':>7} {'ESS tail':>8}")
+    print(
+        f"\n{args.chains} chains x {args.draws} draws (+{args.warmup} warm-up), {'sequential' if args.sequential else 'vmapped'} chains, solver {args.solver}, N_e = {args.elements}, {sampler}"
+    )
+    print(
+        f"total {post.seconds:.1f} s (target 300 s): compile {post.seconds_compile:.1f} s; starts {post.seconds_start:.1f} s, warm-up {post.seconds_warmup:.1f} s, sampling {post.seconds_sampling:.1f} s (each with its compilation)"
+    )
+    print(
+        f"gradients {post.gradients} ({post.gradients / (args.chains * (args.draws + args.warmup)):.1f} per chain step), divergences {post.divergences}, acceptance {post.acceptance:.2f}, step sizes {np.round(post.step_size, 3)}"
+    )
+    print(
+        f"time per gradient {1e3 * post.seconds_per_gradient:.2f} ms (x{post.seconds_per_gradient / single:.2f} one value-and-gradient alone)"
+    )
+    print(
+        f"time per effective sample {post.seconds_per_ess:.3f} s (smallest bulk ESS {ess_min:.0f}); excluding compilation {(post.seconds - post.seconds_compile) / ess_min:.3f} s"
+    )
+    print(
+        f"total / 5-minute target: {post.seconds / 300:.2f}; gradients per effective sample {post.gradients / ess_min:.0f}"
+    )
+    print(
+        f"\n{'name':>4} {'truth':>10} {'q05':>10} {'q50':>10} {'q95':>10} {'R-hat':>7} {'ESS':>7} {'ESS tail':>8}"
+    )
     for n in post.names:
-        print(f"{n:>4} {TRUTH[n]:10.4g} {post.q05[n]:10.4g} {post.q50[n]:10.4g} {post.q95[n]:10.4g} {post.rhat[n]:7.4f} {post.ess[n]:7.0f} {post.ess_tail[n]:8.0f}")
+        print(
+            f"{n:>4} {TRUTH[n]:10.4g} {post.q05[n]:10.4g} {post.q50[n]:10.4g} {post.q95[n]:10.4g} {post.rhat[n]:7.4f} {post.ess[n]:7.0f} {post.ess_tail[n]:8.0f}"
+        )
     print(f"load average at the end {os.getloadavg()}")
 
 

@@ -57,12 +57,18 @@ def run(elements: int, cubic: float, periods: float) -> tuple:
     lc = ""
     if sim.limit_cycle:
         f_lc = sim.limit_cycle["frequency_hz"]
-        lc = (f", limit cycle {f_lc:.2f} Hz ({100 * (f_lc / f_hopf - 1):+.1f} % from the Hopf frequency {f_hopf:.2f} Hz), "
-              f"tip amplitude {sim.limit_cycle['tip_amplitude_um']:.2f} um")
-    print(f"{elements} elements ({model.n_dof} dof), cubic {cubic:g}, {periods:g} periods ({t_end:.3f} s): state {sim.state}{lc}")
-    print(f"  axojax: first call (compile + run) {times[0]:7.2f} s; second call (run) {times[1]:7.2f} s = {times[1] / periods:.3f} s per period; "
-          f"{solver['steps']} accepted + {solver['rejected']} rejected steps ({times[1] / max(solver['steps'] + solver['rejected'], 1) * 1e3:.2f} ms each); "
-          f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
+        lc = (
+            f", limit cycle {f_lc:.2f} Hz ({100 * (f_lc / f_hopf - 1):+.1f} % from the Hopf frequency {f_hopf:.2f} Hz), "
+            f"tip amplitude {sim.limit_cycle['tip_amplitude_um']:.2f} um"
+        )
+    print(
+        f"{elements} elements ({model.n_dof} dof), cubic {cubic:g}, {periods:g} periods ({t_end:.3f} s): state {sim.state}{lc}"
+    )
+    print(
+        f"  axojax: first call (compile + run) {times[0]:7.2f} s; second call (run) {times[1]:7.2f} s = {times[1] / periods:.3f} s per period; "
+        f"{solver['steps']} accepted + {solver['rejected']} rejected steps ({times[1] / max(solver['steps'] + solver['rejected'], 1) * 1e3:.2f} ms each); "
+        f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores"
+    )
     return model, params, t_end, sim, times
 
 
@@ -89,8 +95,13 @@ def scipy_radau(model, params, cubic: float, t_end_s: float, perturbation_um: fl
     q0 = (perturbation_um / units.length_um) * tip_deflection(model)
     t = time.perf_counter()
     sol = scipy.integrate.solve_ivp(
-        lambda _, q: Cb - CA @ q - C_inv @ f_nl(q), (0.0, t_end_s / units.tau_s), q0,
-        method="Radau", jac=lambda _, q: -(CA + C_inv @ tangent(q)), rtol=1e-6, atol=1e-9,
+        lambda _, q: Cb - CA @ q - C_inv @ f_nl(q),
+        (0.0, t_end_s / units.tau_s),
+        q0,
+        method="Radau",
+        jac=lambda _, q: -(CA + C_inv @ tangent(q)),
+        rtol=1e-6,
+        atol=1e-9,
     )
     return time.perf_counter() - t, sol
 
@@ -100,7 +111,9 @@ def main() -> None:
     ap.add_argument("--periods", type=float, default=20)
     ap.add_argument("--nl-elements", type=int, default=10)
     ap.add_argument("--no-scipy", action="store_true", help="skip the scipy Radau comparison")
-    ap.add_argument("--no-orbit", action="store_true", help="skip the direct limit-cycle computation")
+    ap.add_argument(
+        "--no-orbit", action="store_true", help="skip the direct limit-cycle computation"
+    )
     args = ap.parse_args()
     print(f"device: {jax.devices()[0].device_kind}, {os.cpu_count()} cores, jax {jax.__version__}")
     run(10, 0.0, args.periods)
@@ -109,10 +122,14 @@ def main() -> None:
     if not args.no_scipy:
         seconds, sol = scipy_radau(model, params, cubic, t_end)
         tip_scipy = centreline(model, sol.y[:, -1], np.array([1.0]))[:, 0] * ax.Units().length_um
-        print(f"  scipy Radau, exact Jacobian: {seconds:7.2f} s ({sol.message.rstrip('.')}; {sol.t.size - 1} steps, {sol.njev} Jacobians, "
-              f"{sol.nlu} LU factorisations); load average {os.getloadavg()[0]:.1f}")
-        print(f"  ratio scipy / axojax: {seconds / times[1]:.2f} (run), {seconds / times[0]:.2f} (with compilation); "
-              f"tip at the end: axojax {np.round(sim.tip_um[-1], 5)} um, scipy {np.round(tip_scipy, 5)} um")
+        print(
+            f"  scipy Radau, exact Jacobian: {seconds:7.2f} s ({sol.message.rstrip('.')}; {sol.t.size - 1} steps, {sol.njev} Jacobians, "
+            f"{sol.nlu} LU factorisations); load average {os.getloadavg()[0]:.1f}"
+        )
+        print(
+            f"  ratio scipy / axojax: {seconds / times[1]:.2f} (run), {seconds / times[0]:.2f} (with compilation); "
+            f"tip at the end: axojax {np.round(sim.tip_um[-1], 5)} um, scipy {np.round(tip_scipy, 5)} um"
+        )
     if not args.no_orbit:
         # The same limit cycle computed directly (benchmarks/bench_orbit.py), beside the
         # simulation that reaches it.
@@ -120,9 +137,11 @@ def main() -> None:
         from bench_orbit import orbit_times
 
         r = orbit_times(args.nl_elements, cubic=cubic)
-        print(f"one orbit directly (ax.limit_cycle, harmonic balance, Floquet multipliers included): {r['after_compilation_s']:.2f} s "
-              f"({r['with_compilation_s']:.1f} s with compilation), {r['newton_steps']} Newton steps, {r['frequency_hz']:.3f} Hz "
-              f"(simulation: {(sim.limit_cycle or {}).get('frequency_hz', float('nan')):.3f} Hz), tip amplitude {r['tip_amplitude_um']:.3f} um; load average {os.getloadavg()[0]:.1f}")
+        print(
+            f"one orbit directly (ax.limit_cycle, harmonic balance, Floquet multipliers included): {r['after_compilation_s']:.2f} s "
+            f"({r['with_compilation_s']:.1f} s with compilation), {r['newton_steps']} Newton steps, {r['frequency_hz']:.3f} Hz "
+            f"(simulation: {(sim.limit_cycle or {}).get('frequency_hz', float('nan')):.3f} Hz), tip amplitude {r['tip_amplitude_um']:.3f} um; load average {os.getloadavg()[0]:.1f}"
+        )
 
 
 if __name__ == "__main__":

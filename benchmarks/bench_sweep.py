@@ -56,10 +56,31 @@ def whole_command(args, p_axis: str, ks_axis: str, cache: str = "off") -> tuple[
     """Seconds and JSON report of one ``axojax sweep`` process; ``cache`` is its
     ``AXOJAX_CACHE_DIR`` (axojax/cache.py): ``off`` compiles everything."""
     with tempfile.TemporaryDirectory() as tmp:
-        cmd = [sys.executable, "-m", "axojax.cli.main", "sweep", "--model", args.model, "--p", p_axis, "--ks", ks_axis,
-               "--kl-ratio", "1000", "--out", os.path.join(tmp, "s.npz"), "--json"]
+        cmd = [
+            sys.executable,
+            "-m",
+            "axojax.cli.main",
+            "sweep",
+            "--model",
+            args.model,
+            "--p",
+            p_axis,
+            "--ks",
+            ks_axis,
+            "--kl-ratio",
+            "1000",
+            "--out",
+            os.path.join(tmp, "s.npz"),
+            "--json",
+        ]
         t = time.perf_counter()
-        out = subprocess.run(cmd, check=True, capture_output=True, text=True, env={**os.environ, "AXOJAX_CACHE_DIR": cache}).stdout
+        out = subprocess.run(
+            cmd,
+            check=True,
+            capture_output=True,
+            text=True,
+            env={**os.environ, "AXOJAX_CACHE_DIR": cache},
+        ).stdout
         return time.perf_counter() - t, json.loads(out)
 
 
@@ -89,8 +110,12 @@ def scipy_loops(model, p, ks):
         for (A, C), ref in zip(mats, dense):
             As = scipy.sparse.csc_matrix(A[np.ix_(perm, perm)])
             Cs = scipy.sparse.csc_matrix(C[np.ix_(perm, perm)])
-            shift = ref.real + 0.01 * abs(ref)  # an oracle, real (scipy's real-matrix path ignores complex shifts)
-            lam = scipy.sparse.linalg.eigs(As, k=6, M=Cs, sigma=shift, which="LM", return_eigenvectors=False)
+            shift = ref.real + 0.01 * abs(
+                ref
+            )  # an oracle, real (scipy's real-matrix path ignores complex shifts)
+            lam = scipy.sparse.linalg.eigs(
+                As, k=6, M=Cs, sigma=shift, which="LM", return_eigenvectors=False
+            )
             best = lam[np.argmax(lam.real)]
             errors.append(abs(best - ref) / max(abs(ref), 1.0))
         t_arpack = time.perf_counter() - t
@@ -100,7 +125,14 @@ def scipy_loops(model, p, ks):
 def import_seconds(repeats: int = 3) -> float:
     """Best wall time of importing the ``axojax sweep`` command's modules in a fresh process."""
     code = "import time; t = time.perf_counter(); import axojax.cli.main, axojax.cli.sweep; print(time.perf_counter() - t)"
-    return min(float(subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True).stdout) for _ in range(repeats))
+    return min(
+        float(
+            subprocess.run(
+                [sys.executable, "-c", code], check=True, capture_output=True, text=True
+            ).stdout
+        )
+        for _ in range(repeats)
+    )
 
 
 def compile_seconds(model) -> tuple[float, float]:
@@ -148,23 +180,39 @@ def main() -> None:
         whole_command(args, args.p, args.ks, cache)  # fills the cache
         t_warm, _ = whole_command(args, args.p, args.ks, cache)
     t_eig, t_arpack, err = scipy_loops(model, p, ks)
-    print(f"1. model {args.model} ({model.n_dof} dof), {n} points, {os.cpu_count()} cores, device {jax.devices()[0].device_kind}")
+    print(
+        f"1. model {args.model} ({model.n_dof} dof), {n} points, {os.cpu_count()} cores, device {jax.devices()[0].device_kind}"
+    )
     solver = doc.get("solver", {})
-    print(f"axojax sweep command (incl. start-up, compile; solver {solver.get('name')}, {solver.get('dense_fallbacks')} dense fallbacks):"
-          f" {t_ax:8.2f} s {n / t_ax:8.2f} points/s")
-    print(f"scipy.linalg.eig loop (matrices prebuilt; faster of all cores and one thread): {t_eig:8.2f} s {n / t_eig:8.2f} points/s")
-    print(f"scipy ARPACK shift-invert loop (shift 1 % from the answer; equals eig to 1e-6 at {np.sum(err < 1e-6)} of {n} points): {t_arpack:8.2f} s {n / t_arpack:8.2f} points/s")
-    print(f"the same command again, compiled programs loaded from its cache (axojax/cache.py): {t_warm:8.2f} s {n / t_warm:8.2f} points/s")
-    print(f"ratio axojax / scipy eig:    {t_eig / t_ax:8.2f}x (with the cache: {t_eig / t_warm:.2f}x)")
+    print(
+        f"axojax sweep command (incl. start-up, compile; solver {solver.get('name')}, {solver.get('dense_fallbacks')} dense fallbacks):"
+        f" {t_ax:8.2f} s {n / t_ax:8.2f} points/s"
+    )
+    print(
+        f"scipy.linalg.eig loop (matrices prebuilt; faster of all cores and one thread): {t_eig:8.2f} s {n / t_eig:8.2f} points/s"
+    )
+    print(
+        f"scipy ARPACK shift-invert loop (shift 1 % from the answer; equals eig to 1e-6 at {np.sum(err < 1e-6)} of {n} points): {t_arpack:8.2f} s {n / t_arpack:8.2f} points/s"
+    )
+    print(
+        f"the same command again, compiled programs loaded from its cache (axojax/cache.py): {t_warm:8.2f} s {n / t_warm:8.2f} points/s"
+    )
+    print(
+        f"ratio axojax / scipy eig:    {t_eig / t_ax:8.2f}x (with the cache: {t_eig / t_warm:.2f}x)"
+    )
     print(f"ratio axojax / scipy ARPACK: {t_arpack / t_ax:8.2f}x")
     if args.large:
         k = args.large
         t_big, doc = whole_command(args, f"100:900:{k}", f"log:1e2:1e7:{k}")
-        print(f"a larger map, where compilation and start-up matter less: {k} x {k} = {k * k} points, whole command {t_big:.2f} s"
-              f" ({k * k / t_big:.2f} points/s, {doc['solver']['dense_fallbacks']} dense fallbacks):"
-              f" {k * k / t_big / (n / t_eig):.2f}x the scipy eig loop's rate, {k * k / t_big / (n / t_arpack):.2f}x ARPACK's")
+        print(
+            f"a larger map, where compilation and start-up matter less: {k} x {k} = {k * k} points, whole command {t_big:.2f} s"
+            f" ({k * k / t_big:.2f} points/s, {doc['solver']['dense_fallbacks']} dense fallbacks):"
+            f" {k * k / t_big / (n / t_eig):.2f}x the scipy eig loop's rate, {k * k / t_big / (n / t_arpack):.2f}x ARPACK's"
+        )
     if not args.skip_scaling:
-        print("\n2. time per point of the dominant eigenpair (vmapped, compile excluded; per-point path 16 points, batched 64, dense 4)")
+        print(
+            "\n2. time per point of the dominant eigenpair (vmapped, compile excluded; per-point path 16 points, batched 64, dense 4)"
+        )
         sizes = (10, 20, 40, 80)
         rows = {"arnoldi": [], "arnoldi batched": [], "dense": []}
 
@@ -174,24 +222,35 @@ def main() -> None:
         for ne in sizes:
             m = ax.models.preset(args.model, n_elements=ne)
             rows["arnoldi"].append(per_point(m, Arnoldi(batched=False), 16))
-            rows["arnoldi batched"].append(per_point(m, Arnoldi(batched=True), 64, repeats=2) if ne <= 40 else np.nan)
+            rows["arnoldi batched"].append(
+                per_point(m, Arnoldi(batched=True), 64, repeats=2) if ne <= 40 else np.nan
+            )
             rows["dense"].append(per_point(m, Dense(), 4, repeats=1) if ne <= 40 else np.nan)
-            print(f"N_e = {ne:3d} ({m.n_dof:5d} dof): arnoldi {fmt(rows['arnoldi'][-1])}   arnoldi batched {fmt(rows['arnoldi batched'][-1])}"
-                  f"   dense {fmt(rows['dense'][-1])}", flush=True)
+            print(
+                f"N_e = {ne:3d} ({m.n_dof:5d} dof): arnoldi {fmt(rows['arnoldi'][-1])}   arnoldi batched {fmt(rows['arnoldi batched'][-1])}"
+                f"   dense {fmt(rows['dense'][-1])}",
+                flush=True,
+            )
         for name, t in rows.items():
             ok = ~np.isnan(t)
             slope = np.polyfit(np.log(np.asarray(sizes)[ok]), np.log(np.asarray(t)[ok]), 1)[0]
-            print(f"fitted growth exponent, {name} (N_e = {', '.join(str(s) for s, k in zip(sizes, ok) if k)}): {slope:5.2f}")
+            print(
+                f"fitted growth exponent, {name} (N_e = {', '.join(str(s) for s, k in zip(sizes, ok) if k)}): {slope:5.2f}"
+            )
         if model.n_elements == 10:
             t10 = rows["arnoldi"][0]
-            print(f"per point at N_e = 10, compile excluded: {t_eig / n / t10:.1f}x the scipy eig loop (target 60x), {t_arpack / n / t10:.1f}x ARPACK's best case (target 8x);"
-                  f" batched path {t_eig / n / rows['arnoldi batched'][0]:.1f}x")
+            print(
+                f"per point at N_e = 10, compile excluded: {t_eig / n / t10:.1f}x the scipy eig loop (target 60x), {t_arpack / n / t10:.1f}x ARPACK's best case (target 8x);"
+                f" batched path {t_eig / n / rows['arnoldi batched'][0]:.1f}x"
+            )
 
     print("\n3. cold start")
     t_imp = import_seconds()
     wall, cpu = compile_seconds(model)
     print(f"import of the sweep command (fresh process, best of 3): {t_imp:.2f} s (target 0.8 s)")
-    print(f"compilation of the 256-point chunk evaluator: {wall:.2f} s wall, {cpu:.2f} s CPU (target 1.5 s)")
+    print(
+        f"compilation of the 256-point chunk evaluator: {wall:.2f} s wall, {cpu:.2f} s CPU (target 1.5 s)"
+    )
     print(f"load average at end: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
 
 

@@ -43,7 +43,10 @@ def extract(snapshot: pathlib.Path, out: pathlib.Path = OUT) -> pathlib.Path:
     freq = scipy.io.loadmat(folder / "FreeSperm_Frequency.mat")
     filled = [i for i in range(xyz["X"].size) if xyz["X"].flat[i].size]
     assert filled == [CELL], f"expected only cell {CELL} filled, found {filled}"
-    arrays = {f"{c.lower()}_um": np.asarray(xyz[c].flat[CELL], dtype=np.float64).T.astype(np.float32) for c in "XYZ"}
+    arrays = {
+        f"{c.lower()}_um": np.asarray(xyz[c].flat[CELL], dtype=np.float64).T.astype(np.float32)
+        for c in "XYZ"
+    }
     assert arrays["x_um"].shape == (272, 100), arrays["x_um"].shape
     np.savez_compressed(
         out,

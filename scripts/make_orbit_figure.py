@@ -21,10 +21,14 @@ COMMAND = ["orbit", "--model", "seven", "--p", "240:330:10"]
 def make(out: pathlib.Path) -> int:
     out.parent.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory() as tmp:
-        return main(COMMAND + ["--out", str(pathlib.Path(tmp) / "orbit_branch.npz"), "--plot", str(out)])
+        return main(
+            COMMAND + ["--out", str(pathlib.Path(tmp) / "orbit_branch.npz"), "--plot", str(out)]
+        )
 
 
 if __name__ == "__main__":
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", type=pathlib.Path, default=ROOT / "docs" / "images" / "orbit_branch.png")
+    ap.add_argument(
+        "--out", type=pathlib.Path, default=ROOT / "docs" / "images" / "orbit_branch.png"
+    )
     sys.exit(make(ap.parse_args().out))

@@ -30,33 +30,57 @@ RATIO = 1e3
 
 
 def main(out: str | None = None) -> pathlib.Path:
-    path = pathlib.Path(out) if out else pathlib.Path(__file__).resolve().parents[1] / "docs" / "images" / "overview.png"
+    path = (
+        pathlib.Path(out)
+        if out
+        else pathlib.Path(__file__).resolve().parents[1] / "docs" / "images" / "overview.png"
+    )
     units = ax.Units()
     model = ax.models.seven(n_elements=10)
     p_axis, ks_axis = np.linspace(50, 1000, 39), np.logspace(2, 7, 31)
     res = ax.sweep(model, ax.Params(), {"p": p_axis, "ks": ks_axis}, kl_ratio=RATIO, progress=False)
     ks_line = np.logspace(2, 7, 41)
-    boundary = jax.jit(jax.vmap(lambda lk: ax.critical_force(model, ax.Params(ks=jnp.exp(lk), kl=jnp.exp(lk) / RATIO).broadcast()).p))
+    boundary = jax.jit(
+        jax.vmap(
+            lambda lk: (
+                ax.critical_force(
+                    model, ax.Params(ks=jnp.exp(lk), kl=jnp.exp(lk) / RATIO).broadcast()
+                ).p
+            )
+        )
+    )
     p_c = np.asarray(boundary(jnp.log(ks_line)))
     mode = ax.dominant_mode(model, ax.Params(p=300.0, ks=1e6, kl=1e3))
     x, frames = mode_frames(model, np.asarray(mode.eigenvector), n_frames=16)
     angle = float(mode.beat_angle)
     inplane = (np.cos(angle) * frames[:, 0] + np.sin(angle) * frames[:, 1]) * units.length_um
 
-    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.2), gridspec_kw={"width_ratios": [2.3, 1]}, constrained_layout=True)
+    fig, (a, b) = plt.subplots(
+        1, 2, figsize=(11, 4.2), gridspec_kw={"width_ratios": [2.3, 1]}, constrained_layout=True
+    )
     f = np.where(res.data["classification"] == 1, res.data["frequency_hz"], np.nan)
-    im = a.pcolormesh(p_axis, ks_axis, f.T, shading="auto", cmap="viridis", norm=matplotlib.colors.LogNorm())
+    im = a.pcolormesh(
+        p_axis, ks_axis, f.T, shading="auto", cmap="viridis", norm=matplotlib.colors.LogNorm()
+    )
     fig.colorbar(im, ax=a, label="beat frequency (Hz)")
     a.plot(p_c, ks_line, "r-", lw=2.2, label="Hopf boundary p_c(k_s)")
     a.plot([300], [1e6], "w*", ms=12, mec="k", label="fig. 7d point")
     a.text(70, 3e5, "stable", fontsize=12)
-    a.set(yscale="log", xlim=(p_axis[0], p_axis[-1]), xlabel="dynein force p (dimensionless)", ylabel="spoke stiffness k_s (k_l = k_s/1e3)",
-          title="seven-filament axoneme: flutter (beating) region")
+    a.set(
+        yscale="log",
+        xlim=(p_axis[0], p_axis[-1]),
+        xlabel="dynein force p (dimensionless)",
+        ylabel="spoke stiffness k_s (k_l = k_s/1e3)",
+        title="seven-filament axoneme: flutter (beating) region",
+    )
     a.legend(loc="lower right", fontsize=9)
     for k, u in enumerate(inplane):
         b.plot(u, x * units.length_um, color=plt.cm.viridis(k / len(inplane)), lw=1.2)
-    b.set(xlabel="displacement in the beat plane (um)", ylabel="distance from the base (um)",
-          title=f"its beating mode at the star:\n{float(mode.frequency_hz(units)):.1f} Hz (paper: 51 Hz),\nwavelength {float(mode.wavelength_um(units)):.1f} um")
+    b.set(
+        xlabel="displacement in the beat plane (um)",
+        ylabel="distance from the base (um)",
+        title=f"its beating mode at the star:\n{float(mode.frequency_hz(units)):.1f} Hz (paper: 51 Hz),\nwavelength {float(mode.wavelength_um(units)):.1f} um",
+    )
     b.title.set_fontsize(10)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)

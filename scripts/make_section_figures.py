@@ -17,7 +17,11 @@ PRESETS = ("four", "seven", "nine")
 
 
 def main(outdir: str | None = None) -> None:
-    out = pathlib.Path(outdir) if outdir else pathlib.Path(__file__).resolve().parents[1] / "docs" / "images"
+    out = (
+        pathlib.Path(outdir)
+        if outdir
+        else pathlib.Path(__file__).resolve().parents[1] / "docs" / "images"
+    )
     out.mkdir(parents=True, exist_ok=True)
     for name in PRESETS:
         path = out / f"section_{name}.png"

@@ -28,7 +28,14 @@ README_MARKER = re.compile(r"<!-- readme-section: (.+?) -->")
 @event_priority(100)  # before mkdocs-jupyter wraps the notebook files
 def on_files(files: Files, config) -> Files:
     for path in sorted(NOTEBOOKS.glob("*.ipynb")):
-        files.append(File(f"notebooks/{path.name}", str(ROOT), config["site_dir"], config["use_directory_urls"]))
+        files.append(
+            File(
+                f"notebooks/{path.name}",
+                str(ROOT),
+                config["site_dir"],
+                config["use_directory_urls"],
+            )
+        )
     return files
 
 
@@ -63,13 +70,29 @@ def _flag(action: argparse.Action) -> str:
 
 
 def _parser_section(name: str, parser: argparse.ArgumentParser) -> str:
-    lines = [f"## `axojax {name}`", "", _cell(parser.description or ""), "", "```text", parser.format_usage().strip(), "```", ""]
+    lines = [
+        f"## `axojax {name}`",
+        "",
+        _cell(parser.description or ""),
+        "",
+        "```text",
+        parser.format_usage().strip(),
+        "```",
+        "",
+    ]
     for group in parser._action_groups:  # argparse's own grouping: options, model, units, ...
-        actions = [a for a in group._group_actions if not isinstance(a, argparse._HelpAction) and a.help != argparse.SUPPRESS]
+        actions = [
+            a
+            for a in group._group_actions
+            if not isinstance(a, argparse._HelpAction) and a.help != argparse.SUPPRESS
+        ]
         if not actions:
             continue
         lines += [f"**{group.title}**", "", "| flag | meaning |", "|---|---|"]
-        lines += [f"| {_flag(a)}{' (required)' if a.required else ''} | {_cell(a.help or '')} |" for a in actions]
+        lines += [
+            f"| {_flag(a)}{' (required)' if a.required else ''} | {_cell(a.help or '')} |"
+            for a in actions
+        ]
         lines.append("")
     return "\n".join(lines)
 

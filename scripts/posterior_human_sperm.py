@@ -35,20 +35,43 @@ def problem_and_fit(n_elements: int = 6):
     units = ax.Units(length_um=L, ei_pn_um2=EI / 11, cn_pn_s_um2=cn / 11)
     model = ax.models.seven(n_elements=n_elements)
     freq_targets, shape = beat.targets()
-    condition = ax.inverse.Condition(targets=freq_targets, shape=shape, label="sperm", source="ax.datasets.human_sperm()")
-    start = ax.Params().with_values({"p": 400.0, "ks": 3.16e4}, RATIO)  # the notebook's map point nearest 10.25 Hz
-    problem = ax.inverse.Problem(model, [condition], ["p", "ks"], params=start, bounds=BOUNDS, kl_ratio=RATIO, units=units, shape_floor=SHAPE_FLOOR)
-    result = ax.inverse.least_squares(problem, ax.inverse.LevenbergMarquardt(max_steps=60), starts=4, seed=0)
+    condition = ax.inverse.Condition(
+        targets=freq_targets, shape=shape, label="sperm", source="ax.datasets.human_sperm()"
+    )
+    start = ax.Params().with_values(
+        {"p": 400.0, "ks": 3.16e4}, RATIO
+    )  # the notebook's map point nearest 10.25 Hz
+    problem = ax.inverse.Problem(
+        model,
+        [condition],
+        ["p", "ks"],
+        params=start,
+        bounds=BOUNDS,
+        kl_ratio=RATIO,
+        units=units,
+        shape_floor=SHAPE_FLOOR,
+    )
+    result = ax.inverse.least_squares(
+        problem, ax.inverse.LevenbergMarquardt(max_steps=60), starts=4, seed=0
+    )
     return problem, result
 
 
 def summarise(post, result, label: str) -> None:
-    print(f"\n{label}: {post.chains} chains x {post.draws} draws (+{post.warmup} warm-up), {post.seconds:.0f} s, {post.gradients / (post.chains * (post.draws + post.warmup)):.1f} gradients per step, {post.divergences} divergent; {post.message}")
-    print(f"  {'':3s} {'optimum':>10s} {'q05':>10s} {'q50':>10s} {'q95':>10s} {'R-hat':>6s} {'ESS':>6s} {'ESS tail':>8s}")
+    print(
+        f"\n{label}: {post.chains} chains x {post.draws} draws (+{post.warmup} warm-up), {post.seconds:.0f} s, {post.gradients / (post.chains * (post.draws + post.warmup)):.1f} gradients per step, {post.divergences} divergent; {post.message}"
+    )
+    print(
+        f"  {'':3s} {'optimum':>10s} {'q05':>10s} {'q50':>10s} {'q95':>10s} {'R-hat':>6s} {'ESS':>6s} {'ESS tail':>8s}"
+    )
     for n in post.names:
-        print(f"  {n:3s} {result.params[n]:10.4g} {post.q05[n]:10.4g} {post.q50[n]:10.4g} {post.q95[n]:10.4g} {post.rhat[n]:6.3f} {post.ess[n]:6.0f} {post.ess_tail[n]:8.0f}")
+        print(
+            f"  {n:3s} {result.params[n]:10.4g} {post.q05[n]:10.4g} {post.q50[n]:10.4g} {post.q95[n]:10.4g} {post.rhat[n]:6.3f} {post.ess[n]:6.0f} {post.ess_tail[n]:8.0f}"
+        )
     u = post.u.reshape(-1, len(post.names))
-    print(f"  sd of log p {post.sd_u['p']:.3f}, of log ks {post.sd_u['ks']:.3f}; correlation {np.corrcoef(u.T)[0, 1]:.3f}")
+    print(
+        f"  sd of log p {post.sd_u['p']:.3f}, of log ks {post.sd_u['ks']:.3f}; correlation {np.corrcoef(u.T)[0, 1]:.3f}"
+    )
 
 
 def main() -> None:
@@ -56,24 +79,40 @@ def main() -> None:
     ap.add_argument("--draws", type=int, default=2000)
     ap.add_argument("--warmup", type=int, default=500)
     ap.add_argument("--chains", type=int, default=4)
-    ap.add_argument("--corner", default=None, help="write the two corner plots to OUT.png and OUT_scaled.png")
+    ap.add_argument(
+        "--corner", default=None, help="write the two corner plots to OUT.png and OUT_scaled.png"
+    )
     args = ap.parse_args()
     print(f"{os.cpu_count()} cores, load average {os.getloadavg()}")
     t0 = time.perf_counter()
     problem, result = problem_and_fit()
     print(f"fit ({time.perf_counter() - t0:.0f} s): {result.message}")
-    print(f"chi2/dof {result.chi2_per_dof:.3g}; p {result.params['p']:.4g}, ks {result.params['ks']:.4g}")
+    print(
+        f"chi2/dof {result.chi2_per_dof:.3g}; p {result.params['p']:.4g}, ks {result.params['ks']:.4g}"
+    )
     inflation = float(np.sqrt(result.chi2_per_dof))
-    for label, prob in (("stated sigmas", problem), (f"sigmas x sqrt(chi2/dof) = x{inflation:.2f}", ax.inverse.ScaledSigmas(problem, inflation))):
+    for label, prob in (
+        ("stated sigmas", problem),
+        (
+            f"sigmas x sqrt(chi2/dof) = x{inflation:.2f}",
+            ax.inverse.ScaledSigmas(problem, inflation),
+        ),
+    ):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", UserWarning)
-            post = ax.posterior(prob, draws=args.draws, chains=args.chains, warmup=args.warmup, init=result, seed=0)
+            post = ax.posterior(
+                prob, draws=args.draws, chains=args.chains, warmup=args.warmup, init=result, seed=0
+            )
         summarise(post, result, label)
         if args.corner:
             from axojax.plotting.corner import plot_corner
 
             root, ext = os.path.splitext(args.corner)
-            plot_corner(post, optimum=result.params, out=args.corner if prob is problem else f"{root}_scaled{ext or '.png'}")
+            plot_corner(
+                post,
+                optimum=result.params,
+                out=args.corner if prob is problem else f"{root}_scaled{ext or '.png'}",
+            )
     print(f"load average at the end {os.getloadavg()}")
 
 

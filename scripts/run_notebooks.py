@@ -34,7 +34,13 @@ def run(path: pathlib.Path, timeout: int) -> float:
     nb = nbformat.read(path, as_version=4)
     start = time.perf_counter()
     with tempfile.TemporaryDirectory() as cwd:
-        client = NotebookClient(nb, timeout=timeout, kernel_name="python3", record_timing=False, resources={"metadata": {"path": cwd}})
+        client = NotebookClient(
+            nb,
+            timeout=timeout,
+            kernel_name="python3",
+            record_timing=False,
+            resources={"metadata": {"path": cwd}},
+        )
         try:
             client.execute()
         except CellExecutionError:
@@ -56,7 +62,11 @@ def strip_noise(nb) -> None:
         kept = []
         for out in cell.get("outputs", []):
             if out.get("output_type") == "stream" and out.get("name") == "stderr":
-                lines = [l for l in out["text"].splitlines(keepends=True) if not any(n in l for n in NOISE)]
+                lines = [
+                    l
+                    for l in out["text"].splitlines(keepends=True)
+                    if not any(n in l for n in NOISE)
+                ]
                 if not "".join(lines).strip():
                     continue
                 out["text"] = "".join(lines)
@@ -65,11 +75,15 @@ def strip_noise(nb) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="scripts/run_notebooks.py", description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(
+        prog="scripts/run_notebooks.py", description=__doc__.split("\n\n")[0]
+    )
     parser.add_argument("names", nargs="*", help="notebook names (without .ipynb); default all")
     parser.add_argument("--timeout", type=int, default=3600, help="seconds per cell (default 3600)")
     args = parser.parse_args(argv)
-    paths = [NOTEBOOKS / f"{n.removesuffix('.ipynb')}.ipynb" for n in args.names] or sorted(NOTEBOOKS.glob("*.ipynb"))
+    paths = [NOTEBOOKS / f"{n.removesuffix('.ipynb')}.ipynb" for n in args.names] or sorted(
+        NOTEBOOKS.glob("*.ipynb")
+    )
     missing = [str(p) for p in paths if not p.is_file()]
     if missing:
         print(f"run_notebooks.py: error: no such notebook: {', '.join(missing)}", file=sys.stderr)
@@ -77,7 +91,9 @@ def main(argv: list[str] | None = None) -> int:
     os.environ.pop("AXOJAX_FAST", None)
     os.environ.pop("MPLBACKEND", None)  # the kernel's inline backend stores the figures
     # this checkout's axojax, whatever is installed (the kernel runs in a temporary directory)
-    os.environ["PYTHONPATH"] = os.pathsep.join([str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])])
+    os.environ["PYTHONPATH"] = os.pathsep.join(
+        [str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])]
+    )
     failed = []
     for path in paths:
         try:
@@ -85,7 +101,11 @@ def main(argv: list[str] | None = None) -> int:
             print(f"{path.name}: {seconds:.0f} s", flush=True)
         except CellExecutionError as err:
             failed.append(path.name)
-            print(f"{path.name}: FAILED, left unchanged\n{str(err)[-2000:]}", file=sys.stderr, flush=True)
+            print(
+                f"{path.name}: FAILED, left unchanged\n{str(err)[-2000:]}",
+                file=sys.stderr,
+                flush=True,
+            )
     return 1 if failed else 0
 
 

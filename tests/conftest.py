@@ -22,7 +22,9 @@ from axojax.cache import CACHE_ENV
 # never set it.
 LEVEL_FLAG = "--xla_backend_optimization_level=0"
 SUITE_XLA_FLAGS = LEVEL_FLAG
-if not os.environ.get("AXOJAX_TEST_FULL_OPTIMISATION") and "xla_backend_optimization_level" not in os.environ.get("XLA_FLAGS", ""):
+if not os.environ.get(
+    "AXOJAX_TEST_FULL_OPTIMISATION"
+) and "xla_backend_optimization_level" not in os.environ.get("XLA_FLAGS", ""):
     os.environ["XLA_FLAGS"] = (os.environ.get("XLA_FLAGS", "") + " " + SUITE_XLA_FLAGS).strip()
 
 _OLD_CACHE_ENV = pytest.StashKey["str | None"]()
@@ -62,7 +64,11 @@ def pytest_configure(config):
     notebook starts from nothing. A cached program is the same program (results are
     identical; tests/test_cache.py), so every test checks what it checked before."""
     cache = getattr(config, "cache", None)
-    path = cache.mkdir("jax-compilation-cache") if cache is not None else pathlib.Path(tempfile.mkdtemp(prefix="axojax-test-cache-"))
+    path = (
+        cache.mkdir("jax-compilation-cache")
+        if cache is not None
+        else pathlib.Path(tempfile.mkdtemp(prefix="axojax-test-cache-"))
+    )
     config.stash[_OLD_CACHE_ENV] = os.environ.get(CACHE_ENV)
     os.environ[CACHE_ENV] = str(path)
     ax.enable_compilation_cache(path)
@@ -85,10 +91,13 @@ def pytest_collection_modifyitems(config, items):
     put groups with many tests first, and the one-test notebook groups last) workers take
     groups in collection order, so the long ones start early and the short modules fill
     the end instead of one worker finishing alone."""
+
     def notebook(item):
         return item.module.__name__.endswith("test_notebooks")
 
     for item in items:
         if item.get_closest_marker("xdist_group") is None:
-            item.add_marker(pytest.mark.xdist_group(item.nodeid if notebook(item) else item.module.__name__))
+            item.add_marker(
+                pytest.mark.xdist_group(item.nodeid if notebook(item) else item.module.__name__)
+            )
     items.sort(key=lambda item: not notebook(item))  # stable: modules stay contiguous

@@ -27,7 +27,11 @@ def beat(envelope, f=10.0):
         (beat(np.exp(2.5 * T), f=1.1) + 0.1, False, "growing"),
         # Monotone departure by e^4 = 55x: divergent, also after an early decaying wobble.
         (0.01 * np.exp(4 * T), False, "divergent"),
-        (0.01 * np.exp(4 * T) + 0.005 * np.exp(-40 * T) * np.sin(2 * np.pi * 10 * T), False, "divergent"),
+        (
+            0.01 * np.exp(4 * T) + 0.005 * np.exp(-40 * T) * np.sin(2 * np.pi * 10 * T),
+            False,
+            "divergent",
+        ),
         # Monotone departure by less than 10x: growing; monotone return: decaying.
         (0.01 * np.exp(T), False, "growing"),
         (0.01 * np.exp(-5 * T), True, "decaying"),
@@ -66,4 +70,7 @@ def test_tip_at_rest_is_decaying_even_past_the_linear_threshold():
     y = y + 1e-13 * np.exp(2 * T) * rng.standard_normal(T.size)
     assert classify_trajectory(T, y, 0.0, True, equilibrium_stable=False)[0] == "decaying"
     # A beat that is only small (not at rest) is still classified by its envelope.
-    assert classify_trajectory(T, 1e-9 * beat(np.exp(3 * T)), 0.0, True, equilibrium_stable=False)[0] == "growing"
+    assert (
+        classify_trajectory(T, 1e-9 * beat(np.exp(3 * T)), 0.0, True, equilibrium_stable=False)[0]
+        == "growing"
+    )

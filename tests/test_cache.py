@@ -16,7 +16,9 @@ import axojax as ax
 from axojax.cache import quiet_loader
 from axojax.cli.main import main
 
-needs_quiet_loader = pytest.mark.skipif(not quiet_loader(jax.__version__), reason=f"the cache is off on jax {jax.__version__} (< 0.10)")
+needs_quiet_loader = pytest.mark.skipif(
+    not quiet_loader(jax.__version__), reason=f"the cache is off on jax {jax.__version__} (< 0.10)"
+)
 
 # The `axojax` command (console entry point), counting jax's persistent-cache hits.
 COMMAND = """
@@ -38,9 +40,30 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]  # this checkout, whatever th
 
 
 def sweep(cache, out):
-    args = ["sweep", "--model", "seven", "--p", "250:350:2", "--ks", "log:1e5:1e6:2", "--kl-ratio", "1000", "--solver", "arnoldi", "--out", str(out), "--json"]
-    done = subprocess.run([sys.executable, "-c", COMMAND, *args], env={**os.environ, "AXOJAX_CACHE_DIR": str(cache), "PYTHONPATH": str(ROOT)},
-                          capture_output=True, text=True, timeout=300, check=True)
+    args = [
+        "sweep",
+        "--model",
+        "seven",
+        "--p",
+        "250:350:2",
+        "--ks",
+        "log:1e5:1e6:2",
+        "--kl-ratio",
+        "1000",
+        "--solver",
+        "arnoldi",
+        "--out",
+        str(out),
+        "--json",
+    ]
+    done = subprocess.run(
+        [sys.executable, "-c", COMMAND, *args],
+        env={**os.environ, "AXOJAX_CACHE_DIR": str(cache), "PYTHONPATH": str(ROOT)},
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=True,
+    )
     hits = int(done.stderr.rsplit("cache hits:", 1)[1])
     on_import = done.stderr.split("cache dir on import:", 1)[1].split("\n", 1)[0].strip()
     after = done.stderr.split("cache dir after:", 1)[1].split("\n", 1)[0].strip()

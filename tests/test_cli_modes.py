@@ -25,16 +25,38 @@ def test_modes_single(capsys):
     assert d["eigenvalue"][0] == pytest.approx(4360.456, abs=5e-4)
     assert d["frequency_hz"] == pytest.approx(1865.222 / (2 * np.pi * 0.85536), rel=1e-6)
     assert d["growth_rate_per_s"] == pytest.approx(4360.456 / 0.85536, rel=1e-6)
-    assert d["velocity_um_per_s"] == pytest.approx(d["wavelength_um"] * d["frequency_hz"], rel=1e-12)
+    assert d["velocity_um_per_s"] == pytest.approx(
+        d["wavelength_um"] * d["frequency_hz"], rel=1e-12
+    )
     assert d["out_of_plane_ratio"] == 0.0
 
 
 def test_modes_units_and_tie(capsys, seven):
-    doc = modes_json(["--model", "seven", "--p", "300", "--ks", "1e4", "--kl-ratio", "1000", "--length-um", "10", "--cn", "0.002"], capsys)
+    doc = modes_json(
+        [
+            "--model",
+            "seven",
+            "--p",
+            "300",
+            "--ks",
+            "1e4",
+            "--kl-ratio",
+            "1000",
+            "--length-um",
+            "10",
+            "--cn",
+            "0.002",
+        ],
+        capsys,
+    )
     mode = ax.dominant_mode(seven, ax.Params(p=300.0, ks=1e4, kl=10.0))
     units = ax.Units(length_um=10.0, cn_pn_s_um2=0.002)
-    assert doc["dominant"]["frequency_hz"] == pytest.approx(float(mode.frequency_hz(units)), rel=1e-10)
-    assert doc["dominant"]["wavelength_um"] == pytest.approx(float(mode.wavelength_um(units)), rel=1e-10)
+    assert doc["dominant"]["frequency_hz"] == pytest.approx(
+        float(mode.frequency_hz(units)), rel=1e-10
+    )
+    assert doc["dominant"]["wavelength_um"] == pytest.approx(
+        float(mode.wavelength_um(units)), rel=1e-10
+    )
 
 
 def test_modes_stable_has_no_wave(capsys):

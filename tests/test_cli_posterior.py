@@ -14,7 +14,26 @@ from axojax.cli.main import main
 
 def test_fit_posterior_report_file_and_corner_plot(tmp_path, capsys):
     out = tmp_path / "fit.json"
-    rc = main(["fit", "--model", "two", "--elements", "4", "--free", "p", "--target-frequency", "30", "--posterior", "40", "--chains", "2", "--out", str(out), "--json"])
+    rc = main(
+        [
+            "fit",
+            "--model",
+            "two",
+            "--elements",
+            "4",
+            "--free",
+            "p",
+            "--target-frequency",
+            "30",
+            "--posterior",
+            "40",
+            "--chains",
+            "2",
+            "--out",
+            str(out),
+            "--json",
+        ]
+    )
     assert rc == 0
     doc = json.loads(capsys.readouterr().out)
     post = doc["posterior"]
@@ -30,12 +49,28 @@ def test_fit_posterior_report_file_and_corner_plot(tmp_path, capsys):
     assert (tmp_path / "corner.png").stat().st_size > 10_000
 
 
-@pytest.mark.parametrize(("argv", "flag"), [
-    (["--posterior", "2"], "--posterior"),
-    (["--posterior", "20", "--chains", "0"], "--chains"),
-    (["--chains", "3"], "--chains"),
-])
+@pytest.mark.parametrize(
+    ("argv", "flag"),
+    [
+        (["--posterior", "2"], "--posterior"),
+        (["--posterior", "20", "--chains", "0"], "--chains"),
+        (["--chains", "3"], "--chains"),
+    ],
+)
 def test_bad_posterior_flags_are_one_line(argv, flag, capsys):
-    rc = main(["fit", "--model", "seven", "--elements", "4", "--free", "p", "--target-frequency", "30", *argv])
+    rc = main(
+        [
+            "fit",
+            "--model",
+            "seven",
+            "--elements",
+            "4",
+            "--free",
+            "p",
+            "--target-frequency",
+            "30",
+            *argv,
+        ]
+    )
     err = capsys.readouterr().err.strip().splitlines()
     assert rc == 2 and len(err) == 1 and flag in err[0]

@@ -59,7 +59,23 @@ def test_boundary_along_ks_vmapped_and_differentiable(seven):
 def test_cli_critical_json(capsys, seven):
     import json
 
-    assert main(["critical", "--model", "seven", "--along", "ks", "--values", "1e3,1e5", "--kl-ratio", "1000", "--json"]) == 0
+    assert (
+        main(
+            [
+                "critical",
+                "--model",
+                "seven",
+                "--along",
+                "ks",
+                "--values",
+                "1e3,1e5",
+                "--kl-ratio",
+                "1000",
+                "--json",
+            ]
+        )
+        == 0
+    )
     doc = json.loads(capsys.readouterr().out)
     rows = doc["critical"]
     assert [r["ks"] for r in rows] == [1e3, 1e5]

@@ -30,7 +30,9 @@ def problem():
     m = cycle_measures(cyc, S_UM)
     sigma = 0.002
     rng = np.random.default_rng(7)
-    psi1 = np.asarray(m.psi1) * np.exp(0.9j) + sigma * (rng.standard_normal(21) + 1j * rng.standard_normal(21))
+    psi1 = np.asarray(m.psi1) * np.exp(0.9j) + sigma * (
+        rng.standard_normal(21) + 1j * rng.standard_normal(21)
+    )
     psi0 = np.asarray(m.psi0) + sigma * rng.standard_normal(21)
     shape = ShapeTarget(S_UM, psi1, sigma, psi0=psi0)
     freq = CycleTarget("frequency_hz", float(m.frequency_hz) * (1 + 1e-4), 0.01)
@@ -39,9 +41,18 @@ def problem():
 
 def residual_fn(model, base, shape, freq):
     """Residuals in log(p, a0, kappa); ``start`` (the warm start) travels as ``args``."""
+
     def r(z, start):
         p, a0, kappa = jnp.exp(z)
-        return waveform_residuals(model, base.replace(p=p, a0=a0), kappa, shape=shape, scalars=[freq], solver=SOLVER, start=start)
+        return waveform_residuals(
+            model,
+            base.replace(p=p, a0=a0),
+            kappa,
+            shape=shape,
+            scalars=[freq],
+            solver=SOLVER,
+            start=start,
+        )
 
     return r
 
@@ -51,7 +62,14 @@ def test_fit_recovers_the_orbit_parameters(problem):
     guess = truth * np.array([1.01, 1.15, 1.3])
     start = ax.limit_cycle(model, base.replace(p=guess[0], a0=guess[1]), guess[2], solver=SOLVER)
     fn = residual_fn(model, base, shape, freq)
-    sol = optx.least_squares(fn, optx.LevenbergMarquardt(rtol=1e-8, atol=1e-8), jnp.log(jnp.asarray(guess)), args=start, max_steps=40, throw=False)
+    sol = optx.least_squares(
+        fn,
+        optx.LevenbergMarquardt(rtol=1e-8, atol=1e-8),
+        jnp.log(jnp.asarray(guess)),
+        args=start,
+        max_steps=40,
+        throw=False,
+    )
     z = sol.value
     fitted = np.exp(np.asarray(z))
     for got, want, tol in zip(fitted, truth, (1e-3, 2e-2, 5e-2)):  # p, a0, kappa
@@ -68,5 +86,11 @@ def test_residual_jacobian_matches_finite_differences(problem):
     r = jax.jit(fn)
     J = np.asarray(jax.jit(jax.jacfwd(fn))(z, start))
     h = 1e-5
-    fd = np.stack([(np.asarray(r(z.at[i].add(h), start)) - np.asarray(r(z.at[i].add(-h), start))) / (2 * h) for i in range(3)], axis=1)
+    fd = np.stack(
+        [
+            (np.asarray(r(z.at[i].add(h), start)) - np.asarray(r(z.at[i].add(-h), start))) / (2 * h)
+            for i in range(3)
+        ],
+        axis=1,
+    )
     np.testing.assert_allclose(J, fd, atol=1e-5 * np.abs(fd).max())

@@ -35,14 +35,18 @@ def test_array_measures_match_numpy():
     rng = np.random.default_rng(3)
     s = np.linspace(0.0, 12.0, 41)
     psi0 = 0.3 - 0.05 * s + 0.01 * rng.standard_normal(41)
-    psi1 = (0.2 + 0.03 * s) * np.exp(-1j * (2 * np.pi / 9.0) * s + 0.4j)  # phase wraps several times
+    psi1 = (0.2 + 0.03 * s) * np.exp(
+        -1j * (2 * np.pi / 9.0) * s + 0.4j
+    )  # phase wraps several times
     psi1[0] = 0.0  # a clamped base: phase undefined, dropped
     assert static_curvature(s, psi0) == pytest.approx(np.polyfit(s, psi0, 1)[0], rel=1e-12)
     assert dynamic_amplitude(psi1) == pytest.approx(np.mean(np.abs(psi1)), rel=1e-12)
     slope = np.polyfit(s[1:], np.unwrap(np.angle(psi1[1:])), 1)[0]
     assert phase_wavelength(s, psi1) == pytest.approx(2 * np.pi / abs(slope), rel=1e-12)
     assert phase_wavelength(s, psi1) == pytest.approx(9.0, rel=1e-9)
-    g = jax.grad(lambda z: phase_wavelength(jnp.asarray(s), z.astype(complex) * jnp.asarray(psi1)))(jnp.ones(41))
+    g = jax.grad(lambda z: phase_wavelength(jnp.asarray(s), z.astype(complex) * jnp.asarray(psi1)))(
+        jnp.ones(41)
+    )
     assert np.all(np.isfinite(np.asarray(g)))  # no NaN from the zero at the base
 
 
@@ -55,10 +59,20 @@ def test_gradients_match_finite_differences(setup):
         cyc = SOLVER.solve(model, params.replace(p=p, a0=a0, cl=cl), kappa, start)
         m = cycle_measures(cyc)
         pt = cycle_measures(cyc, point)
-        return jnp.stack([
-            m.frequency_hz, m.tip_amplitude_um, m.wavelength_um, m.static_curvature_rad_per_um, m.dynamic_amplitude_rad,
-            m.out_of_plane, pt.psi0[0], pt.psi0[1], jnp.abs(pt.psi1[0]), jnp.abs(pt.psi1[1]),
-        ])
+        return jnp.stack(
+            [
+                m.frequency_hz,
+                m.tip_amplitude_um,
+                m.wavelength_um,
+                m.static_curvature_rad_per_um,
+                m.dynamic_amplitude_rad,
+                m.out_of_plane,
+                pt.psi0[0],
+                pt.psi0[1],
+                jnp.abs(pt.psi1[0]),
+                jnp.abs(pt.psi1[1]),
+            ]
+        )
 
     theta = jnp.array([float(params.p), float(params.a0), float(params.cl), KAPPA])
     f = jax.jit(values)
@@ -66,7 +80,17 @@ def test_gradients_match_finite_differences(setup):
     rel = np.array([1e-5, 1e-4, 1e-4, 1e-5])
 
     def central(step):
-        return np.stack([(np.asarray(f(theta.at[i].mul(1 + step[i]))) - np.asarray(f(theta.at[i].mul(1 - step[i])))) / (2 * step[i] * float(theta[i])) for i in range(4)], axis=1)
+        return np.stack(
+            [
+                (
+                    np.asarray(f(theta.at[i].mul(1 + step[i])))
+                    - np.asarray(f(theta.at[i].mul(1 - step[i])))
+                )
+                / (2 * step[i] * float(theta[i]))
+                for i in range(4)
+            ],
+            axis=1,
+        )
 
     fd, fd2 = central(rel), central(2 * rel)
     scale = np.abs(fd).max(axis=1, keepdims=True)
@@ -76,7 +100,9 @@ def test_gradients_match_finite_differences(setup):
     # is estimated by the same difference at twice the step.
     fd_error = np.abs(fd - fd2) / scale
     assert np.max(fd_error) < 1e-3  # the differences themselves are meaningful
-    assert np.all(np.abs(J - fd) / scale <= 2e-5 + 2 * fd_error), np.max(np.abs(J - fd) / scale - 2 * fd_error)
+    assert np.all(np.abs(J - fd) / scale <= 2e-5 + 2 * fd_error), np.max(
+        np.abs(J - fd) / scale - 2 * fd_error
+    )
     # reverse mode (the transposed implicit solve) gives the same
     g = np.asarray(jax.jit(jax.grad(lambda th: values(th)[4]))(theta))
     np.testing.assert_allclose(g, J[4], rtol=1e-8, atol=1e-12 * np.abs(J[4]).max())
@@ -96,8 +122,12 @@ def test_measures_agree_with_a_simulation(setup):
     assert float(m.frequency_hz) == pytest.approx(sim.limit_cycle["frequency_hz"], rel=1e-3)
     assert float(m.tip_amplitude_um) == pytest.approx(sim.limit_cycle["tip_amplitude_um"], rel=1e-2)
     np.testing.assert_allclose(np.asarray(m.psi0), modes.psi0, atol=2e-3 * np.abs(modes.psi0).max())
-    np.testing.assert_allclose(np.abs(np.asarray(m.psi1)), np.abs(modes.psi1), atol=1e-2 * np.abs(modes.psi1).max())
-    assert float(m.static_curvature_rad_per_um) == pytest.approx(static_curvature(modes.s, modes.psi0), rel=1e-2)
+    np.testing.assert_allclose(
+        np.abs(np.asarray(m.psi1)), np.abs(modes.psi1), atol=1e-2 * np.abs(modes.psi1).max()
+    )
+    assert float(m.static_curvature_rad_per_um) == pytest.approx(
+        static_curvature(modes.s, modes.psi0), rel=1e-2
+    )
     assert float(m.dynamic_amplitude_rad) == pytest.approx(dynamic_amplitude(modes.psi1), rel=1e-2)
     assert float(m.wavelength_um) == pytest.approx(phase_wavelength(modes.s, modes.psi1), rel=1e-2)
     assert float(m.static_curvature_rad_per_um) < 0  # the stronger group 0 sits on +y

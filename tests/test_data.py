@@ -49,7 +49,10 @@ def write_fourier_csv(path, frequency=True, length=True):
     if frequency:
         head += [f"# frequency_hz = {F}", "# frequency_sigma_hz = 0.3"]
     p1 = psi1_true(S)
-    rows = [f"{float(s)!r},{float(a)!r},{float(b.real)!r},{float(b.imag)!r}" for s, a, b in zip(S, psi0_true(S), p1)]
+    rows = [
+        f"{float(s)!r},{float(a)!r},{float(b.real)!r},{float(b.imag)!r}"
+        for s, a, b in zip(S, psi0_true(S), p1)
+    ]
     path.write_text("\n".join(head + ["s_um,psi0_rad,psi1_re_rad,psi1_im_rad"] + rows) + "\n")
     return path
 
@@ -64,8 +67,22 @@ def test_bundled_human_sperm_frequency(capsys):
     assert doc["frequency_hz"] == pytest.approx(10.26, abs=0.1)
     assert doc["frequency_hz"] == pytest.approx(published, abs=0.1)
     # Honest: at least the 1 % floor, and not a shrug either.
-    assert FREQUENCY_REL_FLOOR * doc["frequency_hz"] <= doc["frequency_sigma_hz"] < 0.05 * doc["frequency_hz"]
-    for key in ("file", "kind", "length_um", "frequency_hz", "frequency_sigma_hz", "wavelength_um", "static_curvature_rad_per_um", "dynamic_amplitude_rad", "planarity"):
+    assert (
+        FREQUENCY_REL_FLOOR * doc["frequency_hz"]
+        <= doc["frequency_sigma_hz"]
+        < 0.05 * doc["frequency_hz"]
+    )
+    for key in (
+        "file",
+        "kind",
+        "length_um",
+        "frequency_hz",
+        "frequency_sigma_hz",
+        "wavelength_um",
+        "static_curvature_rad_per_um",
+        "dynamic_amplitude_rad",
+        "planarity",
+    ):
         assert key in doc
     assert doc["kind"] == "centreline-3d"
     # The point cloud itself (independent SVD here): clearly non-planar.
@@ -87,7 +104,16 @@ def test_fourier_file_gives_back_every_number(tmp_path, fmt, capsys):
     else:
         p1 = psi1_true(S)
         path = tmp_path / "modes.npz"
-        np.savez(path, s_um=S, psi0_rad=psi0_true(S), psi1_re_rad=p1.real, psi1_im_rad=p1.imag, length_um=L, frequency_hz=F, frequency_sigma_hz=0.3)
+        np.savez(
+            path,
+            s_um=S,
+            psi0_rad=psi0_true(S),
+            psi1_re_rad=p1.real,
+            psi1_im_rad=p1.imag,
+            length_um=L,
+            frequency_hz=F,
+            frequency_sigma_hz=0.3,
+        )
     code, out, _ = run_cli(capsys, str(path), "--json")
     assert code == 0
     doc = json.loads(out)
@@ -146,7 +172,9 @@ def test_kymograph_recovers_modes_with_honest_sigmas(tmp_path):
     t, psi = kymograph(200.0, 2.0, 0.0)
     clean = ax.fitting.beat_from_kymograph(t, S, psi)
     assert clean.frequency_hz == pytest.approx(F, rel=1e-3)
-    assert clean.frequency_sigma_hz == pytest.approx(FREQUENCY_REL_FLOOR * clean.frequency_hz, rel=1e-9)
+    assert clean.frequency_sigma_hz == pytest.approx(
+        FREQUENCY_REL_FLOOR * clean.frequency_hz, rel=1e-9
+    )
     assert np.all(clean.psi1_sigma >= PSI1_FLOOR_RAD)
     assert clean.wavelength_um == pytest.approx(2 * np.pi / K, rel=1e-3)
     assert clean.static_curvature_rad_per_um == pytest.approx(B0, rel=1e-3)
@@ -205,7 +233,13 @@ def test_mat_files_with_named_variables_and_cells(tmp_path):
     path = tmp_path / "cells.mat"
     scipy.io.savemat(path, {**cells, "frame_rate_hz": fps})
     a = read_beat(path)
-    np.savez(tmp_path / "same.npz", x_um=pts[..., 0], y_um=pts[..., 1], z_um=pts[..., 2], frame_rate_hz=fps)
+    np.savez(
+        tmp_path / "same.npz",
+        x_um=pts[..., 0],
+        y_um=pts[..., 1],
+        z_um=pts[..., 2],
+        frame_rate_hz=fps,
+    )
     b = read_beat(tmp_path / "same.npz")
     assert a.frequency_hz == pytest.approx(b.frequency_hz, rel=1e-6)
     np.testing.assert_allclose(a.modes.psi1, b.modes.psi1, atol=1e-5)
@@ -222,7 +256,9 @@ def test_mat_files_with_named_variables_and_cells(tmp_path):
     with pytest.raises(ValueError, match="two.mat.*cell=") as info:
         read_beat(tmp_path / "two.mat")
     assert "\n" not in str(info.value)
-    assert read_beat(tmp_path / "two.mat", cell=2).frequency_hz == pytest.approx(a.frequency_hz, rel=1e-9)
+    assert read_beat(tmp_path / "two.mat", cell=2).frequency_hz == pytest.approx(
+        a.frequency_hz, rel=1e-9
+    )
 
 
 def test_exclude_base(tmp_path):
@@ -255,12 +291,37 @@ def test_plot(tmp_path, capsys):
         ("bad.mat", "not matlab", "cannot read"),
         ("nolen.csv", "s_um,psi0_rad,psi1_re_rad,psi1_im_rad\n0,0,0.1,0\n1,0,0.1,0\n", "length_um"),
         ("odd.csv", "# length_um = 3\nfoo,bar\n1,2\n", "missing column"),
-        ("nan.csv", "# length_um = 3\ns_um,psi0_rad,psi1_re_rad,psi1_im_rad\n0,0,nan,0\n1,0,0.1,0\n", "NaN"),
+        (
+            "nan.csv",
+            "# length_um = 3\ns_um,psi0_rad,psi1_re_rad,psi1_im_rad\n0,0,nan,0\n1,0,0.1,0\n",
+            "NaN",
+        ),
         ("empty.npz", "", "cannot read"),
-        ("dup.csv", "# length_um = 3\ns_um,psi0_rad,psi1_re_rad,psi1_im_rad,psi1_im_rad\n0,0,0.1,0,1\n1,0,0.1,0,1\n", "psi1_im_rad appear more than once"),
-        ("frames.npz", lambda p: np.savez(p, x_um=np.zeros((0, 8)), y_um=np.zeros((0, 8)), frame_rate_hz=100.0), "x_um is empty"),
-        ("complex.npz", lambda p: np.savez(p, x_um=np.ones((5, 8)) + 1j, y_um=np.ones((5, 8)), frame_rate_hz=100.0), "x_um is complex"),
-        ("rate.csv", "# frame_rate_hz = 1e308\nframe,x_um,y_um\n" + "".join(f"{f},{k},{0.1 * f * k}\n" for f in range(3) for k in range(5)), "outside"),
+        (
+            "dup.csv",
+            "# length_um = 3\ns_um,psi0_rad,psi1_re_rad,psi1_im_rad,psi1_im_rad\n0,0,0.1,0,1\n1,0,0.1,0,1\n",
+            "psi1_im_rad appear more than once",
+        ),
+        (
+            "frames.npz",
+            lambda p: np.savez(
+                p, x_um=np.zeros((0, 8)), y_um=np.zeros((0, 8)), frame_rate_hz=100.0
+            ),
+            "x_um is empty",
+        ),
+        (
+            "complex.npz",
+            lambda p: np.savez(
+                p, x_um=np.ones((5, 8)) + 1j, y_um=np.ones((5, 8)), frame_rate_hz=100.0
+            ),
+            "x_um is complex",
+        ),
+        (
+            "rate.csv",
+            "# frame_rate_hz = 1e308\nframe,x_um,y_um\n"
+            + "".join(f"{f},{k},{0.1 * f * k}\n" for f in range(3) for k in range(5)),
+            "outside",
+        ),
     ],
 )
 def test_bad_files_give_one_line_naming_the_file(tmp_path, capsys, name, content, problem):
@@ -286,7 +347,9 @@ def test_csv_3d_centreline_and_frame_rate_flag(tmp_path, capsys):
     assert code == 2 and "frame_rate_hz" in err and "c3.csv" in err
     code, out, _ = run_cli(capsys, str(path), "--frame-rate-hz", str(fps), "--json")
     doc = json.loads(out)
-    np.savez(tmp_path / "c3.npz", x_um=pts[..., 0], y_um=pts[..., 1], z_um=pts[..., 2], frame_rate_hz=fps)
+    np.savez(
+        tmp_path / "c3.npz", x_um=pts[..., 0], y_um=pts[..., 1], z_um=pts[..., 2], frame_rate_hz=fps
+    )
     ref = read_beat(tmp_path / "c3.npz")
     assert code == 0 and doc["kind"] == "centreline-3d" and doc["planarity"]["planar"]
     assert doc["frequency_hz"] == pytest.approx(ref.frequency_hz, rel=1e-9)

@@ -16,7 +16,22 @@ import axojax as ax
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 TIMEOUT_S = 240  # two processes each import jax and compile once; never hang the suite
 AXES = {"p": np.array([150.0, 250.0, 400.0, 600.0, 900.0]), "ks": np.array([1e3, 1e5])}
-FLAGS = ["--model", "two", "--elements", "4", "--p", "150,250,400,600,900", "--ks", "1e3,1e5", "--cl", "0.02", "--chunk", "3", "--solver", "dense"]
+FLAGS = [
+    "--model",
+    "two",
+    "--elements",
+    "4",
+    "--p",
+    "150,250,400,600,900",
+    "--ks",
+    "1e3,1e5",
+    "--cl",
+    "0.02",
+    "--chunk",
+    "3",
+    "--solver",
+    "dense",
+]
 
 
 def free_port() -> int:
@@ -29,8 +44,31 @@ def run_job(out, n: int = 2) -> list[dict]:
     """``axojax sweep`` in n processes joined by jax.distributed; their JSON reports."""
     port = free_port()
     env = {**os.environ, "JAX_PLATFORMS": "cpu"}
-    cmd = [sys.executable, "-m", "axojax.cli.main", "sweep", *FLAGS, "--out", str(out), "--json", "--coordinator", f"localhost:{port}", "--num-processes", str(n)]
-    procs = [subprocess.Popen([*cmd, "--process-id", str(i)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env, cwd=ROOT) for i in range(n)]
+    cmd = [
+        sys.executable,
+        "-m",
+        "axojax.cli.main",
+        "sweep",
+        *FLAGS,
+        "--out",
+        str(out),
+        "--json",
+        "--coordinator",
+        f"localhost:{port}",
+        "--num-processes",
+        str(n),
+    ]
+    procs = [
+        subprocess.Popen(
+            [*cmd, "--process-id", str(i)],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+            env=env,
+            cwd=ROOT,
+        )
+        for i in range(n)
+    ]
     reports = []
     try:
         for p in procs:
@@ -49,7 +87,14 @@ def run_job(out, n: int = 2) -> list[dict]:
 
 @pytest.fixture(scope="module")
 def single():
-    return ax.sweep(ax.models.two(n_elements=4), ax.Params(cl=0.02), AXES, chunk_size=3, progress=False, solver=ax.eigen.Dense())
+    return ax.sweep(
+        ax.models.two(n_elements=4),
+        ax.Params(cl=0.02),
+        AXES,
+        chunk_size=3,
+        progress=False,
+        solver=ax.eigen.Dense(),
+    )
 
 
 def test_two_processes_resume_and_equal_one(single, tmp_path, monkeypatch):
@@ -75,7 +120,15 @@ def test_two_processes_resume_and_equal_one(single, tmp_path, monkeypatch):
 
     monkeypatch.setattr(engine, "_evaluator", interrupting)
     with pytest.raises(KeyboardInterrupt):
-        ax.sweep(ax.models.two(n_elements=4), ax.Params(cl=0.02), AXES, chunk_size=3, out=out, progress=False, solver=ax.eigen.Dense())
+        ax.sweep(
+            ax.models.two(n_elements=4),
+            ax.Params(cl=0.02),
+            AXES,
+            chunk_size=3,
+            out=out,
+            progress=False,
+            solver=ax.eigen.Dense(),
+        )
     parts = tmp_path / "map.npz.parts"
     assert len(list(parts.glob("chunk_*.npz"))) == 2  # of 4 chunks
 
@@ -105,7 +158,12 @@ def test_two_processes_resume_and_equal_one(single, tmp_path, monkeypatch):
 def test_cli_distributed_flag_errors(flags, message, tmp_path, capsys):
     from axojax.cli.main import main
 
-    assert main(["sweep", "--model", "two", "--p", "200,400", "--out", str(tmp_path / "a.npz"), *flags]) == 2
+    assert (
+        main(
+            ["sweep", "--model", "two", "--p", "200,400", "--out", str(tmp_path / "a.npz"), *flags]
+        )
+        == 2
+    )
     err = capsys.readouterr().err
     assert message in err and len(err.strip().splitlines()) == 1
 

@@ -30,7 +30,11 @@ def test_mkdocs_build_strict(tmp_path):
     env = {**os.environ, "NO_MKDOCS_2_WARNING": "1", "MPLBACKEND": "Agg"}
     run = subprocess.run(
         [sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", str(tmp_path / "site")],
-        cwd=ROOT, env=env, capture_output=True, text=True, timeout=300,
+        cwd=ROOT,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
     )
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
     site = tmp_path / "site"
@@ -49,5 +53,9 @@ def test_every_notebook_is_in_the_nav_and_stored_with_figures():
         assert f"notebooks/{path.name}" in nav, f"{path.name} is not in mkdocs.yml's nav"
         nb = json.loads(path.read_text())
         outputs = [o for c in nb["cells"] if c["cell_type"] == "code" for o in c.get("outputs", [])]
-        assert any("image/png" in o.get("data", {}) for o in outputs), f"{path.name} is stored without figures: run scripts/run_notebooks.py"
-        assert not any(o.get("output_type") == "error" for o in outputs), f"{path.name} is stored with an error"
+        assert any("image/png" in o.get("data", {}) for o in outputs), (
+            f"{path.name} is stored without figures: run scripts/run_notebooks.py"
+        )
+        assert not any(o.get("output_type") == "error" for o in outputs), (
+            f"{path.name} is stored with an error"
+        )

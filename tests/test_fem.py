@@ -7,9 +7,41 @@ from axojax.fem import Profiles, filament_matrices, interpolation_matrix, make_m
 
 
 def element_closed_forms(h):
-    k = np.array([[12, 6 * h, -12, 6 * h], [6 * h, 4 * h * h, -6 * h, 2 * h * h], [-12, -6 * h, 12, -6 * h], [6 * h, 2 * h * h, -6 * h, 4 * h * h]]) / h**3
-    m = h / 420 * np.array([[156, 22 * h, 54, -13 * h], [22 * h, 4 * h * h, 13 * h, -3 * h * h], [54, 13 * h, 156, -22 * h], [-13 * h, -3 * h * h, -22 * h, 4 * h * h]])
-    d = 1 / (30 * h) * np.array([[36, 3 * h, -36, 3 * h], [3 * h, 4 * h * h, -3 * h, -h * h], [-36, -3 * h, 36, -3 * h], [3 * h, -h * h, -3 * h, 4 * h * h]])
+    k = (
+        np.array(
+            [
+                [12, 6 * h, -12, 6 * h],
+                [6 * h, 4 * h * h, -6 * h, 2 * h * h],
+                [-12, -6 * h, 12, -6 * h],
+                [6 * h, 2 * h * h, -6 * h, 4 * h * h],
+            ]
+        )
+        / h**3
+    )
+    m = (
+        h
+        / 420
+        * np.array(
+            [
+                [156, 22 * h, 54, -13 * h],
+                [22 * h, 4 * h * h, 13 * h, -3 * h * h],
+                [54, 13 * h, 156, -22 * h],
+                [-13 * h, -3 * h * h, -22 * h, 4 * h * h],
+            ]
+        )
+    )
+    d = (
+        1
+        / (30 * h)
+        * np.array(
+            [
+                [36, 3 * h, -36, 3 * h],
+                [3 * h, 4 * h * h, -3 * h, -h * h],
+                [-36, -3 * h, 36, -3 * h],
+                [3 * h, -h * h, -3 * h, 4 * h * h],
+            ]
+        )
+    )
     return k, m, d
 
 
@@ -53,7 +85,12 @@ def test_follower_matrices_identities():
 def test_profiles_uniform_equal_default_and_scale():
     mesh = make_mesh(5)
     plain = filament_matrices(mesh)
-    ones = filament_matrices(mesh, Profiles(ei=lambda x: np.ones_like(x), p=lambda x: np.ones_like(x), k=lambda x: 1.0 + 0 * x))
+    ones = filament_matrices(
+        mesh,
+        Profiles(
+            ei=lambda x: np.ones_like(x), p=lambda x: np.ones_like(x), k=lambda x: 1.0 + 0 * x
+        ),
+    )
     for name in ("K0", "G0", "F0", "Mk"):
         np.testing.assert_allclose(getattr(ones, name), getattr(plain, name), atol=1e-12)
     double = filament_matrices(mesh, Profiles(ei=lambda x: 2.0 + 0 * x))
@@ -84,13 +121,24 @@ def test_models_built_alike_are_equal_and_share_compiled_programs():
     a, b = ax.models.two(n_elements=2), ax.models.two(n_elements=2)
     assert a is not b and a == b and hash(a) == hash(b)
     ramp = lambda x: 1.0 + x  # noqa: E731
-    others = [ax.models.two(n_elements=3), ax.models.single(n_elements=2), a.with_imbalance_kind("force"),
-              ax.models.seven(n_elements=2), ax.models.seven(n_elements=2, rotation_deg=10.0), ax.models.two(n_elements=2, profiles=Profiles(ei=ramp))]
+    others = [
+        ax.models.two(n_elements=3),
+        ax.models.single(n_elements=2),
+        a.with_imbalance_kind("force"),
+        ax.models.seven(n_elements=2),
+        ax.models.seven(n_elements=2, rotation_deg=10.0),
+        ax.models.two(n_elements=2, profiles=Profiles(ei=ramp)),
+    ]
     for other in others:
         assert a != other
     assert others[3] != others[4]
-    assert ax.models.two(n_elements=2, profiles=Profiles(ei=ramp)) == ax.models.two(n_elements=2, profiles=Profiles(ei=ramp))
-    f = jax.jit(lambda model, p: dominant_mode_impl(model, ax.Params(p=p), ax.eigen.Dense()).eigenvalue, static_argnums=0)
+    assert ax.models.two(n_elements=2, profiles=Profiles(ei=ramp)) == ax.models.two(
+        n_elements=2, profiles=Profiles(ei=ramp)
+    )
+    f = jax.jit(
+        lambda model, p: dominant_mode_impl(model, ax.Params(p=p), ax.eigen.Dense()).eigenvalue,
+        static_argnums=0,
+    )
     assert complex(f(a, 300.0)) == complex(f(b, 300.0))
     assert f._cache_size() == 1
     f(others[0], 300.0)
@@ -117,7 +165,9 @@ def test_models_copy_their_inputs_and_pickle_without_their_key():
     from axojax.models.section import ActivePair, CrossSection, Link, build_model
 
     pos, ei = np.array([[0.0, 0.0], [1.0, 0.0]]), np.array([1.0, 2.0])
-    model = build_model(CrossSection("u", pos, links=(Link(0, 1),), active_pairs=(ActivePair(0, 1),), ei=ei), 2)
+    model = build_model(
+        CrossSection("u", pos, links=(Link(0, 1),), active_pairs=(ActivePair(0, 1),), ei=ei), 2
+    )
     pos[0, 0], ei[0] = 0.5, 3.0  # the caller's arrays stay the caller's
     assert model.section.positions[0, 0] == 0.0 and model.section.ei[0] == 1.0
     hash(model)

@@ -34,7 +34,11 @@ def synthetic(model):
     fps = 400.0
     t = np.arange(160) / fps
     rng = np.random.default_rng(1)
-    psi = 0.1 + np.real(psi1[None] * np.exp(2j * np.pi * f * t)[:, None]) + 0.02 * rng.normal(size=(t.size, s.size))
+    psi = (
+        0.1
+        + np.real(psi1[None] * np.exp(2j * np.pi * f * t)[:, None])
+        + 0.02 * rng.normal(size=(t.size, s.size))
+    )
     return dict(f=f, s=s, t=t, psi=psi, fps=fps, wavelength=float(mode.wavelength_um()))
 
 
@@ -46,19 +50,37 @@ def test_recovery_from_synthetic_kymograph_file(model, synthetic, tmp_path):
     targets, shape = beat.targets()
     start = ax.Params().with_values(dict(p=280.0, ks=4e5), RATIO)
     # The data are the model's own mode plus noise: no model discrepancy, so no shape floor.
-    result = fit(model, start, targets, ["p", "ks"], shape=shape, kl_ratio=RATIO, bounds=BOX, starts=1, shape_floor=0.0)
+    result = fit(
+        model,
+        start,
+        targets,
+        ["p", "ks"],
+        shape=shape,
+        kl_ratio=RATIO,
+        bounds=BOX,
+        starts=1,
+        shape_floor=0.0,
+    )
     assert result.converged, result.message
     for name, true in TRUE.items():
         err = abs(result.params[name] - true)
         assert err <= 2 * result.stderr[name], (name, result.params[name], result.stderr[name])
         assert result.stderr[name] < 0.1 * true  # a real estimate, not a shrug
-    assert abs(result.achieved["frequency_hz"] - beat.frequency_hz) <= beat.frequency_sigma_hz * 1.0 + 1e-12
+    assert (
+        abs(result.achieved["frequency_hz"] - beat.frequency_hz)
+        <= beat.frequency_sigma_hz * 1.0 + 1e-12
+    )
 
 
 def test_fitted_parameters_reproduce_scalar_targets(model, synthetic):
-    targets = [Target("frequency_hz", synthetic["f"], 0.02 * synthetic["f"]), Target("wavelength_um", synthetic["wavelength"], 0.05 * synthetic["wavelength"])]
+    targets = [
+        Target("frequency_hz", synthetic["f"], 0.02 * synthetic["f"]),
+        Target("wavelength_um", synthetic["wavelength"], 0.05 * synthetic["wavelength"]),
+    ]
     start = ax.Params().with_values(dict(p=380.0, ks=3e4), RATIO)
-    result = fit(model, start, targets, ["p", "ks"], kl_ratio=RATIO, bounds=BOX, starts=1, max_steps=40)
+    result = fit(
+        model, start, targets, ["p", "ks"], kl_ratio=RATIO, bounds=BOX, starts=1, max_steps=40
+    )
     assert result.converged, result.message
     # Independent recomputation at the fitted point.
     mode = ax.dominant_mode(model, ax.Params().with_values(result.params, RATIO))
@@ -68,7 +90,14 @@ def test_fitted_parameters_reproduce_scalar_targets(model, synthetic):
 
 def test_infeasible_target_ends_with_a_message(model):
     with pytest.warns(UserWarning, match="not reproduced"):
-        result = fit(model, ax.Params(), [Target("frequency_hz", 5000.0, 10.0)], ["cl"], starts=2, max_steps=40)
+        result = fit(
+            model,
+            ax.Params(),
+            [Target("frequency_hz", 5000.0, 10.0)],
+            ["cl"],
+            starts=2,
+            max_steps=40,
+        )
     assert not result.converged
     assert "frequency_hz" in result.message and "sigma" in result.message
 
@@ -76,7 +105,15 @@ def test_infeasible_target_ends_with_a_message(model):
 def test_unidentifiable_parameter_is_flagged(model, synthetic):
     # One frequency cannot pin three parameters: the Fisher matrix is singular.
     with pytest.warns(UserWarning, match="not identifiable"):
-        result = fit(model, ax.Params().with_values(TRUE, RATIO), [Target("frequency_hz", synthetic["f"], 1.0)], ["p", "ks", "cl"], kl_ratio=RATIO, starts=1, max_steps=30)
+        result = fit(
+            model,
+            ax.Params().with_values(TRUE, RATIO),
+            [Target("frequency_hz", synthetic["f"], 1.0)],
+            ["p", "ks", "cl"],
+            kl_ratio=RATIO,
+            starts=1,
+            max_steps=30,
+        )
     assert not all(result.identifiable.values())
 
 
@@ -84,8 +121,20 @@ def test_centreline_coordinates_give_the_same_modes(synthetic, tmp_path):
     s, psi = synthetic["s"], synthetic["psi"]
     ds = np.diff(s)[0]
     # Integrate the tangent angle to points (base at the origin), trapezoidal in s.
-    x = np.concatenate([np.zeros((psi.shape[0], 1)), np.cumsum((np.cos(psi[:, 1:]) + np.cos(psi[:, :-1])) / 2 * ds, axis=1)], axis=1)
-    y = np.concatenate([np.zeros((psi.shape[0], 1)), np.cumsum((np.sin(psi[:, 1:]) + np.sin(psi[:, :-1])) / 2 * ds, axis=1)], axis=1)
+    x = np.concatenate(
+        [
+            np.zeros((psi.shape[0], 1)),
+            np.cumsum((np.cos(psi[:, 1:]) + np.cos(psi[:, :-1])) / 2 * ds, axis=1),
+        ],
+        axis=1,
+    )
+    y = np.concatenate(
+        [
+            np.zeros((psi.shape[0], 1)),
+            np.cumsum((np.sin(psi[:, 1:]) + np.sin(psi[:, :-1])) / 2 * ds, axis=1),
+        ],
+        axis=1,
+    )
     path = tmp_path / "centreline.npz"
     np.savez(path, x_um=x, y_um=y, frame_rate_hz=synthetic["fps"], length_um=12.0)
     from_points = read_beat(path)
@@ -96,9 +145,15 @@ def test_centreline_coordinates_give_the_same_modes(synthetic, tmp_path):
 
 def test_csv_kymograph_matches_npz(synthetic, tmp_path):
     t, s, psi = synthetic["t"], synthetic["s"], synthetic["psi"]
-    rows = [f"{k},{float(s[j])!r},{float(psi[k, j])!r}" for k in range(len(t)) for j in range(len(s))]
+    rows = [
+        f"{k},{float(s[j])!r},{float(psi[k, j])!r}" for k in range(len(t)) for j in range(len(s))
+    ]
     path = tmp_path / "beat.csv"
-    path.write_text(f"# frame_rate_hz = {synthetic['fps']}\n# length_um = 12\nframe,s_um,psi_rad\n" + "\n".join(rows) + "\n")
+    path.write_text(
+        f"# frame_rate_hz = {synthetic['fps']}\n# length_um = 12\nframe,s_um,psi_rad\n"
+        + "\n".join(rows)
+        + "\n"
+    )
     a = read_beat(path)
     b = beat_from_kymograph(t, s, psi)
     assert a.frequency_hz == pytest.approx(b.frequency_hz, rel=1e-12)
@@ -110,8 +165,15 @@ def test_csv_kymograph_matches_npz(synthetic, tmp_path):
     [
         ("# frame_rate_hz = 100\n# length_um = 12\nframe,s_um\n0,0\n", "missing columns"),
         ("# length_um = 12\nframe,s_um,psi_rad\n0,0,0.1\n", "missing frame_rate_hz"),
-        ("# frame_rate_hz = 100\n# length_um = 12\nframe,s_um,psi_rad\n0,0,nan\n0,1,0.1\n1,0,0.2\n1,1,0.1\n", "NaN"),
-        ("# frame_rate_hz = 100\n# length_um = 12\nframe,s_um,psi_rad\n" + "".join(f"{k},{j},{np.sin(k / 10) * j}\n" for k in range(6) for j in range(3)), "too few frames"),
+        (
+            "# frame_rate_hz = 100\n# length_um = 12\nframe,s_um,psi_rad\n0,0,nan\n0,1,0.1\n1,0,0.2\n1,1,0.1\n",
+            "NaN",
+        ),
+        (
+            "# frame_rate_hz = 100\n# length_um = 12\nframe,s_um,psi_rad\n"
+            + "".join(f"{k},{j},{np.sin(k / 10) * j}\n" for k in range(6) for j in range(3)),
+            "too few frames",
+        ),
     ],
 )
 def test_malformed_data_names_the_problem(tmp_path, content, problem):
@@ -125,13 +187,41 @@ def test_malformed_data_names_the_problem(tmp_path, content, problem):
 def test_cli_fit_json_and_infeasible_exit(synthetic, capsys):
     from axojax.cli.main import main
 
-    base = [sys.executable, "-m", "axojax.cli.main", "fit", "--model", "seven", "--elements", "6", "--kl-ratio", "1000", "--ks", "1e5", "--starts", "1"]
-    r = subprocess.run(base + ["--free", "p", "--p", "300", "--target-frequency", f"{synthetic['f']}", "--json"], capture_output=True, text=True, timeout=600)
+    base = [
+        sys.executable,
+        "-m",
+        "axojax.cli.main",
+        "fit",
+        "--model",
+        "seven",
+        "--elements",
+        "6",
+        "--kl-ratio",
+        "1000",
+        "--ks",
+        "1e5",
+        "--starts",
+        "1",
+    ]
+    r = subprocess.run(
+        base + ["--free", "p", "--p", "300", "--target-frequency", f"{synthetic['f']}", "--json"],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert r.returncode == 0, r.stderr
     doc = json.loads(r.stdout)
     assert set(doc) >= {"params", "achieved", "loss", "converged", "stderr"}
-    assert doc["converged"] and abs(doc["achieved"]["frequency_hz"] - synthetic["f"]) <= 0.05 * synthetic["f"]
-    bad = subprocess.run(base + ["--free", "cl", "--target-frequency", "5000", "--json"], capture_output=True, text=True, timeout=600)
+    assert (
+        doc["converged"]
+        and abs(doc["achieved"]["frequency_hz"] - synthetic["f"]) <= 0.05 * synthetic["f"]
+    )
+    bad = subprocess.run(
+        base + ["--free", "cl", "--target-frequency", "5000", "--json"],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert bad.returncode == 1 and "not reproduced" in bad.stderr
     assert json.loads(bad.stdout)["converged"] is False
     # a bad flag ends before any work: main() in this process (the exit status of a
@@ -150,8 +240,32 @@ def test_cli_data_fit_report_exclusion_and_plot(synthetic, tmp_path, capsys):
     path = tmp_path / "beat.npz"
     np.savez(path, psi=synthetic["psi"], frame_rate_hz=synthetic["fps"], length_um=12.0)
     out, fig = tmp_path / "fit.json", tmp_path / "fit.png"
-    argv = ["fit", "--model", "seven", "--elements", "6", "--kl-ratio", "1000", "--ks", "1e5", "--p", "300", "--free", "p", "--starts", "1",
-            "--data", str(path), "--exclude-base-um", "1.5", "--shape-floor", "0.02", "--json", "--out", str(out)]
+    argv = [
+        "fit",
+        "--model",
+        "seven",
+        "--elements",
+        "6",
+        "--kl-ratio",
+        "1000",
+        "--ks",
+        "1e5",
+        "--p",
+        "300",
+        "--free",
+        "p",
+        "--starts",
+        "1",
+        "--data",
+        str(path),
+        "--exclude-base-um",
+        "1.5",
+        "--shape-floor",
+        "0.02",
+        "--json",
+        "--out",
+        str(out),
+    ]
     code = main(argv)
     doc = json.loads(capsys.readouterr().out)
     assert code in (0, 1)
@@ -168,9 +282,15 @@ def test_cli_data_fit_report_exclusion_and_plot(synthetic, tmp_path, capsys):
 @pytest.mark.parametrize(
     "spec, problem",
     [
-        ('model = "seven"\nfree = ["ks"]\ncolour = 1\n[[condition]]\nfrequency_hz = 50\n', "unknown key"),
+        (
+            'model = "seven"\nfree = ["ks"]\ncolour = 1\n[[condition]]\nfrequency_hz = 50\n',
+            "unknown key",
+        ),
         ('model = "seven"\nfree = ["ks"]\n', "no [[condition]]"),
-        ('model = "seven"\nfree = ["zz"]\n[[condition]]\nfrequency_hz = 50\n', "unknown parameter 'zz'"),
+        (
+            'model = "seven"\nfree = ["zz"]\n[[condition]]\nfrequency_hz = 50\n',
+            "unknown parameter 'zz'",
+        ),
         ('model = "seven"\nfree = ["ks"]\n[[condition]]\nfrequency_hz = -5\n', "must be > 0"),
         ('model = "seven"\nfree = ["ks"]\n[[condition]]\np = 100\n', "at least one target"),
         ('model = "seven"\nfree = ["ks"\n', "not valid TOML"),
@@ -196,7 +316,9 @@ def test_achieved_wavelength_of_a_standing_mode_is_none_as_in_modes(capsys):
     assert main(["modes", *base, "--p", "300", "--json"]) == 0
     mode = json.loads(capsys.readouterr().out)["dominant"]
     assert mode["frequency_hz"] == 0 and mode["wavelength_um"] is None
-    assert main(["fit", *base, "--free", "p", "--target-frequency", "40", "--starts", "1", "--json"]) in (0, 1)
+    assert main(
+        ["fit", *base, "--free", "p", "--target-frequency", "40", "--starts", "1", "--json"]
+    ) in (0, 1)
     doc = json.loads(capsys.readouterr().out)
     achieved = doc["conditions"][0]["achieved"]
     assert achieved["frequency_hz"] == 0  # still a standing mode where the fit ended

@@ -29,9 +29,13 @@ def observed():
     base = ax.Params(p=160.0)
     p_c = float(ax.critical_force(model, base).p)
     truth = {"p": 1.06 * p_c, "a0": 0.3 / 12}
-    m = cycle_measures(ax.limit_cycle(model, base.replace(**truth), TRUTH_CUBIC, solver=SOLVER), S_UM)
+    m = cycle_measures(
+        ax.limit_cycle(model, base.replace(**truth), TRUTH_CUBIC, solver=SOLVER), S_UM
+    )
     rng = np.random.default_rng(5)
-    psi1 = np.asarray(m.psi1) * np.exp(0.7j) + SIGMA * (rng.standard_normal(S_UM.size) + 1j * rng.standard_normal(S_UM.size))
+    psi1 = np.asarray(m.psi1) * np.exp(0.7j) + SIGMA * (
+        rng.standard_normal(S_UM.size) + 1j * rng.standard_normal(S_UM.size)
+    )
     psi0 = np.asarray(m.psi0) + SIGMA * rng.standard_normal(S_UM.size)
     shape = ShapeTarget(S_UM, psi1, SIGMA, psi0=psi0, source="limit_cycle")
     freq = Target("frequency_hz", float(m.frequency_hz), 0.01, source="limit_cycle")
@@ -43,18 +47,40 @@ def test_fit_recovers_the_stiffening(observed):
     start = base.replace(p=truth["p"] * 1.01, a0=truth["a0"] * 1.1)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        result = ax.fit(model, start, [freq], ["p", "a0", "cubic"], shape=shape, cubic=1.5 * TRUTH_CUBIC, orbit_solver=SOLVER, shape_floor=0.0, starts=1)
+        result = ax.fit(
+            model,
+            start,
+            [freq],
+            ["p", "a0", "cubic"],
+            shape=shape,
+            cubic=1.5 * TRUTH_CUBIC,
+            orbit_solver=SOLVER,
+            shape_floor=0.0,
+            starts=1,
+        )
     assert result.converged, result.message
     for name, want in truth.items():
-        assert abs(result.params[name] - want) <= 2.5 * result.stderr[name] + 1e-9 * want, (name, result.params[name], want, result.stderr[name])
+        assert abs(result.params[name] - want) <= 2.5 * result.stderr[name] + 1e-9 * want, (
+            name,
+            result.params[name],
+            want,
+            result.stderr[name],
+        )
         assert result.identifiable[name]
     assert result.conditions[0]["params"]["cubic"] == pytest.approx(result.params["cubic"])
 
 
 def test_cubic_jacobian_matches_finite_differences(observed):
     model, base, truth, shape, freq = observed
-    problem = Problem(model, [Condition(targets=[freq], shape=shape)], ["p", "cubic"], params=base.replace(p=truth["p"], a0=truth["a0"]),
-                      cubic=TRUTH_CUBIC, orbit_solver=SOLVER, shape_floor=0.0)
+    problem = Problem(
+        model,
+        [Condition(targets=[freq], shape=shape)],
+        ["p", "cubic"],
+        params=base.replace(p=truth["p"], a0=truth["a0"]),
+        cubic=TRUTH_CUBIC,
+        orbit_solver=SOLVER,
+        shape_floor=0.0,
+    )
     u = np.asarray(problem.u0)
     jac = problem.jacobian(u)
     h = 1e-5
@@ -67,8 +93,29 @@ def test_cubic_jacobian_matches_finite_differences(observed):
 def test_cubic_needs_a_limit_cycle_target(observed, capsys):
     model, base, truth, shape, freq = observed
     with pytest.raises(ValueError, match="cubic"):
-        Problem(model, [Condition(targets=[Target("frequency_hz", 50.0, 1.0)])], ["p", "cubic"], params=base)
-    assert main(["fit", "--model", "two", "--elements", "4", "--free", "p,cubic", "--target-frequency", "50", "--json"]) == 2
+        Problem(
+            model,
+            [Condition(targets=[Target("frequency_hz", 50.0, 1.0)])],
+            ["p", "cubic"],
+            params=base,
+        )
+    assert (
+        main(
+            [
+                "fit",
+                "--model",
+                "two",
+                "--elements",
+                "4",
+                "--free",
+                "p,cubic",
+                "--target-frequency",
+                "50",
+                "--json",
+            ]
+        )
+        == 2
+    )
     err = capsys.readouterr().err
     assert "--free" in err and "cubic" in err and len(err.strip().splitlines()) == 1
 
@@ -79,7 +126,16 @@ def test_no_orbit_at_the_start_is_said(observed):
     model, base, truth, shape, freq = observed
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        result = ax.fit(model, base.replace(p=0.5 * truth["p"] / 1.06, a0=truth["a0"]), [freq], ["p"], shape=shape, cubic=TRUTH_CUBIC,
-                        orbit_solver=SOLVER, starts=1, max_steps=3)
+        result = ax.fit(
+            model,
+            base.replace(p=0.5 * truth["p"] / 1.06, a0=truth["a0"]),
+            [freq],
+            ["p"],
+            shape=shape,
+            cubic=TRUTH_CUBIC,
+            orbit_solver=SOLVER,
+            starts=1,
+            max_steps=3,
+        )
     assert not result.converged
     assert "no limit cycle found" in result.message and "axojax critical" in result.message

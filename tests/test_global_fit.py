@@ -24,7 +24,13 @@ def _spec(path, params: dict, starts_note: str = "") -> None:
     lines = ['model = "seven"', "elements = 10", 'free = ["ks", "kl", "cl", "gamma"]', "[params]"]
     lines += [f"{k} = {v!r}" for k, v in params.items()]
     for p, f in FIG7.items():
-        lines += ["[[condition]]", f'label = "p{p}"', f"p = {p}", f"frequency_hz = {f}", f"frequency_sigma_hz = {SIGMA * f!r}"]
+        lines += [
+            "[[condition]]",
+            f'label = "p{p}"',
+            f"p = {p}",
+            f"frequency_hz = {f}",
+            f"frequency_sigma_hz = {SIGMA * f!r}",
+        ]
     path.write_text("\n".join(lines) + "\n")
 
 
@@ -38,7 +44,16 @@ def test_fig7_global_fit_reproduces_all_five_and_modes_agrees(tmp_path, capsys):
     code = main(["fit", "--spec", str(spec), "--starts", "1", "--json", "--out", str(out)])
     doc = json.loads(capsys.readouterr().out)
     assert code == 0, doc["message"]
-    assert set(doc) >= {"params", "conditions", "loss", "chi2_per_dof", "converged", "stderr", "at_bound", "identifiable"}
+    assert set(doc) >= {
+        "params",
+        "conditions",
+        "loss",
+        "chi2_per_dof",
+        "converged",
+        "stderr",
+        "at_bound",
+        "identifiable",
+    }
     assert set(doc["params"]) == {"ks", "kl", "cl", "gamma"} and doc["at_bound"] == []
     assert json.loads(out.read_text())["loss"] == doc["loss"]
     for c in doc["conditions"]:
@@ -53,17 +68,24 @@ def test_fig7_global_fit_reproduces_all_five_and_modes_agrees(tmp_path, capsys):
     # One condition independently: scipy's generalized eigenvalues of the assembled pencil.
     c = doc["conditions"][0]
     lam = scipy_dominant(ax.models.seven(n_elements=10), ax.Params(**c["params"]))
-    assert lam.imag / (2 * np.pi * ax.Units().tau_s) == pytest.approx(c["achieved"]["frequency_hz"], rel=1e-6)
+    assert lam.imag / (2 * np.pi * ax.Units().tau_s) == pytest.approx(
+        c["achieved"]["frequency_hz"], rel=1e-6
+    )
     # What is determined: ks, cl and gamma; kl is not (it barely moves these frequencies).
     assert doc["identifiable"]["cl"] and doc["identifiable"]["gamma"]
 
 
-@pytest.mark.skipif(os.environ.get("AXOJAX_SLOW_TESTS") != "1", reason="several minutes: set AXOJAX_SLOW_TESTS=1")
+@pytest.mark.skipif(
+    os.environ.get("AXOJAX_SLOW_TESTS") != "1", reason="several minutes: set AXOJAX_SLOW_TESTS=1"
+)
 def test_fig7_multistart_from_the_stated_parameters():
     """From the caption's stated set (ks 1e6, kl 1e3, cl 1/200, gamma 0) and a Sobol design:
     the best of eight starts reproduces all five frequencies within 3 %."""
     model = ax.models.seven(n_elements=10)
-    conds = [Condition({"p": float(p)}, [Target("frequency_hz", f, SIGMA * f)], label=f"p{p}") for p, f in FIG7.items()]
+    conds = [
+        Condition({"p": float(p)}, [Target("frequency_hz", f, SIGMA * f)], label=f"p{p}")
+        for p, f in FIG7.items()
+    ]
     result = ax.fit(model, ax.Params(), conds, ["ks", "kl", "cl", "gamma"], starts=8)
     for c in result.conditions:
         assert abs(c["achieved"]["frequency_hz"] / FIG7[round(c["params"]["p"])] - 1) <= 0.03
@@ -81,7 +103,16 @@ def test_synthetic_global_fit_recovers_the_truth():
         mode = ax.dominant_mode(model, ax.Params(p=p, **truth))
         f, w = float(mode.frequency_hz()), float(mode.wavelength_um())
         sf, sw = 0.01 * f, 0.01 * w
-        conds.append(Condition({"p": p}, [Target("frequency_hz", f + sf * rng.normal(), sf), Target("wavelength_um", w + sw * rng.normal(), sw)], label=f"p{p:g}"))
+        conds.append(
+            Condition(
+                {"p": p},
+                [
+                    Target("frequency_hz", f + sf * rng.normal(), sf),
+                    Target("wavelength_um", w + sw * rng.normal(), sw),
+                ],
+                label=f"p{p:g}",
+            )
+        )
     start = ax.Params(ks=1e5, kl=600.0, cl=0.01)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # with noise some target may sit beyond 1 sigma

@@ -20,17 +20,49 @@ import axojax as ax
 CASES = {
     "single": (["p"], {"p": (100.0, 600.0)}),
     "beck": (["p"], {"p": (40.0, 60.0)}),
-    "two": (["p", "kl", "cl", "gamma"], {"p": (250.0, 600.0), "kl": (1e2, 1e4), "cl": (1e-3, 1e-1), "gamma": (-1.0, 0.5)}),
-    "four": (["p", "ks", "kl", "cl", "gamma"], {"p": (300.0, 700.0), "ks": (1e4, 1e6), "kl": (10.0, 1e3), "cl": (1e-3, 0.1), "gamma": (-1.0, 0.3)}),
-    "seven": (["p", "ks", "kl", "cl", "gamma"], {"p": (350.0, 800.0), "ks": (1e4, 1e6), "kl": (10.0, 1e3), "cl": (1e-3, 0.1), "gamma": (-1.0, 0.3)}),
-    "nine": (["p", "ks", "kl", "cl", "gamma"], {"p": (350.0, 800.0), "ks": (1e4, 1e6), "kl": (10.0, 1e3), "cl": (1e-3, 0.1), "gamma": (-1.0, 0.3)}),
+    "two": (
+        ["p", "kl", "cl", "gamma"],
+        {"p": (250.0, 600.0), "kl": (1e2, 1e4), "cl": (1e-3, 1e-1), "gamma": (-1.0, 0.5)},
+    ),
+    "four": (
+        ["p", "ks", "kl", "cl", "gamma"],
+        {
+            "p": (300.0, 700.0),
+            "ks": (1e4, 1e6),
+            "kl": (10.0, 1e3),
+            "cl": (1e-3, 0.1),
+            "gamma": (-1.0, 0.3),
+        },
+    ),
+    "seven": (
+        ["p", "ks", "kl", "cl", "gamma"],
+        {
+            "p": (350.0, 800.0),
+            "ks": (1e4, 1e6),
+            "kl": (10.0, 1e3),
+            "cl": (1e-3, 0.1),
+            "gamma": (-1.0, 0.3),
+        },
+    ),
+    "nine": (
+        ["p", "ks", "kl", "cl", "gamma"],
+        {
+            "p": (350.0, 800.0),
+            "ks": (1e4, 1e6),
+            "kl": (10.0, 1e3),
+            "cl": (1e-3, 0.1),
+            "gamma": (-1.0, 0.3),
+        },
+    ),
 }
 POINTS_PER_PRESET = {"nine": 2}  # 4 elsewhere: 22 points in all
 H = 1e-3
 
 
 def to_params(names, z):
-    return ax.Params().with_values({n: (z[i] if n == "gamma" else jnp.exp(z[i])) for i, n in enumerate(names)})
+    return ax.Params().with_values(
+        {n: (z[i] if n == "gamma" else jnp.exp(z[i])) for i, n in enumerate(names)}
+    )
 
 
 def make_metrics(model, names):
@@ -48,11 +80,22 @@ def sample_points(name, rng):
     model = ax.models.preset(name)
     points = []
     while len(points) < POINTS_PER_PRESET.get(name, 4):
-        z = np.array([rng.uniform(*box[n]) if n == "gamma" else rng.uniform(np.log(box[n][0]), np.log(box[n][1])) for n in names])
+        z = np.array(
+            [
+                rng.uniform(*box[n])
+                if n == "gamma"
+                else rng.uniform(np.log(box[n][0]), np.log(box[n][1]))
+                for n in names
+            ]
+        )
         params = to_params(names, jnp.asarray(z))
         lam = np.asarray(ax.spectrum(model, params, 4))
         upper = lam[lam.imag >= 0]
-        if lam[0].real > 0 and abs(lam[0].imag) > 1e-3 * abs(lam[0]) and abs(upper[0] - upper[1]) > 0.05 * abs(upper[0]):
+        if (
+            lam[0].real > 0
+            and abs(lam[0].imag) > 1e-3 * abs(lam[0])
+            and abs(upper[0] - upper[1]) > 0.05 * abs(upper[0])
+        ):
             points.append(z)
     return model, names, jnp.asarray(np.array(points))
 
@@ -74,7 +117,9 @@ def test_gradients_match_finite_differences(name):
     def five_point(h):
         steps = jnp.eye(k) * h  # (k, k)
         offsets = jnp.array([-2.0, -1.0, 1.0, 2.0])
-        shifted = Z[:, None, None, :] + offsets[None, :, None, None] * steps[None, None, :, :]  # (P, 4, k, k)
+        shifted = (
+            Z[:, None, None, :] + offsets[None, :, None, None] * steps[None, None, :, :]
+        )  # (P, 4, k, k)
         vals = batched(shifted.reshape(-1, k)).reshape(Z.shape[0], 4, k, 3)
         fd = (vals[:, 0] - 8 * vals[:, 1] + 8 * vals[:, 2] - vals[:, 3]) / (12 * h)  # (P, k, 3)
         return jnp.swapaxes(fd, 1, 2)  # (P, 3, k)
@@ -113,7 +158,9 @@ def test_degenerate_isotropic_never_nan():
     model = ax.models.four()
 
     def growth(oop, p):
-        return ax.dominant_mode(model, ax.Params(p=p, out_of_plane=oop, kl=100.0, ks=100.0)).growth_rate
+        return ax.dominant_mode(
+            model, ax.Params(p=p, out_of_plane=oop, kl=100.0, ks=100.0)
+        ).growth_rate
 
     g = jax.grad(growth, argnums=(0, 1))(1.0, 0.0)
     assert all(np.isfinite(float(x)) for x in g)
@@ -121,10 +168,18 @@ def test_degenerate_isotropic_never_nan():
     m = int(np.sum(np.abs(lam - lam[0]) < 1e-8 * abs(lam[0])))
     assert m >= 2  # it is degenerate
     h = 1e-4
-    up = np.asarray(ax.spectrum(model, ax.Params(p=0.0, out_of_plane=1.0 + h, kl=100.0, ks=100.0), m)).real
-    down = np.asarray(ax.spectrum(model, ax.Params(p=0.0, out_of_plane=1.0 - h, kl=100.0, ks=100.0), m)).real
+    up = np.asarray(
+        ax.spectrum(model, ax.Params(p=0.0, out_of_plane=1.0 + h, kl=100.0, ks=100.0), m)
+    ).real
+    down = np.asarray(
+        ax.spectrum(model, ax.Params(p=0.0, out_of_plane=1.0 - h, kl=100.0, ks=100.0), m)
+    ).real
     branch_mean = (np.mean(up) - np.mean(down)) / (2 * h)
     assert float(g[0]) == pytest.approx(branch_mean, rel=1e-5)
     # Also under vmap and reverse mode of a metric through the eigenvector.
-    wl = jax.vmap(jax.grad(lambda p: ax.dominant_mode(model, ax.Params(p=p, out_of_plane=1.0)).out_of_plane_ratio))(jnp.array([0.0, 1.0]))
+    wl = jax.vmap(
+        jax.grad(
+            lambda p: ax.dominant_mode(model, ax.Params(p=p, out_of_plane=1.0)).out_of_plane_ratio
+        )
+    )(jnp.array([0.0, 1.0]))
     assert np.all(np.isfinite(np.asarray(wl)))

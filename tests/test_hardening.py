@@ -54,18 +54,43 @@ def one_line(argv, capsys, flag, code=2):
 def test_sizes_refused_with_the_estimate(tmp_path, capsys):
     n = 3000
     big = tmp_path / "big.json"
-    big.write_text(json.dumps({"filaments": [{"position": [float(i), 0.0]} for i in range(n)], "links": [{"between": [i, i + 1]} for i in range(n - 1)]}))
+    big.write_text(
+        json.dumps(
+            {
+                "filaments": [{"position": [float(i), 0.0]} for i in range(n)],
+                "links": [{"between": [i, i + 1]} for i in range(n - 1)],
+            }
+        )
+    )
     cases = [
         (["modes", "--elements", "100000000"], "--elements"),
         (["modes", "--elements", "50000"], "--elements"),
         (["critical", "--model-file", str(big)], "--model-file"),
-        (["sweep", "--p", "0:1:100000", "--ks", "0:1:100000", "--out", str(tmp_path / "h.npz")], "--p"),
+        (
+            ["sweep", "--p", "0:1:100000", "--ks", "0:1:100000", "--out", str(tmp_path / "h.npz")],
+            "--p",
+        ),
         (["sweep", "--p", "0:1:100000000000", "--out", str(tmp_path / "h.npz")], "--p"),
         (["orbit", "--elements", "40", "--harmonics", "99"], "--harmonics"),
         # the full spectrum's dense matrices are checked before the model is built (a
         # 1000-element model took minutes to build before the refusal)
         (["modes", "--elements", "1000"], "--elements"),
-        (["fit", "--model", "two", "--elements", "3", "--free", "p", "--target-frequency", "40", "--starts", "100000000000"], "--starts"),
+        (
+            [
+                "fit",
+                "--model",
+                "two",
+                "--elements",
+                "3",
+                "--free",
+                "p",
+                "--target-frequency",
+                "40",
+                "--starts",
+                "100000000000",
+            ],
+            "--starts",
+        ),
     ]
     spec = tmp_path / "big.toml"
     spec.write_text('elements = 100000\nfree = ["p"]\n[[condition]]\nfrequency_hz = 40\n')
@@ -89,7 +114,18 @@ COMMANDS = {
 
 
 @pytest.mark.parametrize("command", list(COMMANDS))
-@pytest.mark.parametrize("flag,value", [("--p", "1e300"), ("--ks", "1e300"), ("--cl", "1e300"), ("--gamma", "-1e300"), ("--imbalance", "1e-300"), ("--length-um", "1e300"), ("--rotation-deg", "1e300")])
+@pytest.mark.parametrize(
+    "flag,value",
+    [
+        ("--p", "1e300"),
+        ("--ks", "1e300"),
+        ("--cl", "1e300"),
+        ("--gamma", "-1e300"),
+        ("--imbalance", "1e-300"),
+        ("--length-um", "1e300"),
+        ("--rotation-deg", "1e300"),
+    ],
+)
 def test_magnitudes_refused(command, flag, value, capsys, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     argv = COMMANDS[command] + [flag, value]
@@ -144,7 +180,11 @@ def test_magnitude_limit_is_where_float64_still_answers():
 @pytest.mark.parametrize("command", list(COMMANDS))
 def test_kl_ratio_with_kl_refused(command, capsys, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    argv = COMMANDS[command] + ["--kl-ratio", "1000", "--kl", "5"] + (["--p", "100:200:2"] if command == "sweep" else [])
+    argv = (
+        COMMANDS[command]
+        + ["--kl-ratio", "1000", "--kl", "5"]
+        + (["--p", "100:200:2"] if command == "sweep" else [])
+    )
     one_line(argv, capsys, "--kl-ratio")
 
 
@@ -181,7 +221,11 @@ def test_output_paths_one_rule(argv, flag, suffix, where, capsys, tmp_path, monk
 
 def test_check_output_path_rule(tmp_path):
     assert _io.check_output_path(tmp_path / "a.npz", (".npz",)) == tmp_path / "a.npz"
-    for bad, match in ((tmp_path / "a.txt", "expected a .npz"), (tmp_path / "no" / "a.npz", "does not exist"), (tmp_path, "expected a .npz")):
+    for bad, match in (
+        (tmp_path / "a.txt", "expected a .npz"),
+        (tmp_path / "no" / "a.npz", "does not exist"),
+        (tmp_path, "expected a .npz"),
+    ):
         with pytest.raises(ValueError, match=match):
             _io.check_output_path(bad, (".npz",))
     assert list(tmp_path.iterdir()) == []  # the probe file is gone
@@ -193,7 +237,9 @@ def test_check_output_path_rule(tmp_path):
 @pytest.fixture(scope="module")
 def good_files(tmp_path_factory):
     d = tmp_path_factory.mktemp("good")
-    sweep = ax.sweep(ax.models.two(n_elements=4), ax.Params(), {"p": [100.0, 200.0]}, progress=False)
+    sweep = ax.sweep(
+        ax.models.two(n_elements=4), ax.Params(), {"p": [100.0, 200.0]}, progress=False
+    )
     sweep.save(d / "sweep.npz")
     return d
 
@@ -209,7 +255,11 @@ def _bad_files(d, good):
     np.savez(d / "metalist.npz", meta=np.array(json.dumps([1, 2])))
     np.savez(d / "metanotjson.npz", meta=np.array("{"))
     np.savez(d / "simulation-only-meta.npz", meta=np.array(json.dumps({"kind": "simulation"})))
-    np.savez(d / "sweep-without-metrics.npz", meta=np.array(json.dumps({"kind": "sweep", "axes": ["p"]})), p=np.arange(3.0))
+    np.savez(
+        d / "sweep-without-metrics.npz",
+        meta=np.array(json.dumps({"kind": "sweep", "axes": ["p"]})),
+        p=np.arange(3.0),
+    )
     np.savez(d / "branch-only-meta.npz", meta=np.array(json.dumps({"kind": "orbit_branch"})))
     with np.load(good / "sweep.npz") as f:
         arrays = {k: f[k] for k in f.files}
@@ -247,7 +297,9 @@ def test_resumed_sweep_recomputes_damaged_chunks(tmp_path, monkeypatch):
     parts[1].write_bytes(b"")  # empty
     np.savez(parts[2], a=np.arange(2))  # foreign
     lines = []
-    result = ax.sweep(model, ax.Params(), axes, chunk_size=2, progress=False, out=out, log=lines.append)
+    result = ax.sweep(
+        model, ax.Params(), axes, chunk_size=2, progress=False, out=out, log=lines.append
+    )
     assert len(lines) == 1 and "1 of 4 chunks were done" in lines[0] and "3 damaged" in lines[0]
     for k in result.data:
         np.testing.assert_array_equal(result.data[k], reference.data[k])
@@ -296,13 +348,25 @@ def _cli(*args):
 def test_two_identical_sweeps_at_once(tmp_path):
     """Both finish, or one refuses in one line; the file equals a one-process run."""
     out = tmp_path / "s.npz"
-    argv = _cli("sweep", *TWO, "--p", "100:400:24", "--gamma", "0:1:2", "--chunk", "2", "--out", str(out))
-    procs = [subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) for _ in range(2)]
+    argv = _cli(
+        "sweep", *TWO, "--p", "100:400:24", "--gamma", "0:1:2", "--chunk", "2", "--out", str(out)
+    )
+    procs = [
+        subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        for _ in range(2)
+    ]
     results = [(p.wait(timeout=600), p.stderr.read()) for p in procs]
     for code, err in results:
-        assert code == 0 or (code == 2 and len(err.strip().splitlines()) == 1 and "--out: another process" in err), err
+        assert code == 0 or (
+            code == 2 and len(err.strip().splitlines()) == 1 and "--out: another process" in err
+        ), err
     assert any(code == 0 for code, _ in results)
-    reference = ax.sweep(ax.models.two(n_elements=4), ax.Params(), {"p": np.linspace(100, 400, 24), "gamma": np.array([0.0, 1.0])}, progress=False)
+    reference = ax.sweep(
+        ax.models.two(n_elements=4),
+        ax.Params(),
+        {"p": np.linspace(100, 400, 24), "gamma": np.array([0.0, 1.0])},
+        progress=False,
+    )
     got = ax.SweepResult.load(out)
     for k in reference.data:
         np.testing.assert_array_equal(got.data[k], reference.data[k])
@@ -313,7 +377,19 @@ def test_two_identical_sweeps_at_once(tmp_path):
     "argv",
     [
         ["simulate", *TWO, "--p", "300", "--t-end", "0.05", "--out", "{out}"],
-        ["orbit", "--model", "seven", "--elements", "3", "--harmonics", "3", "--p", "300", "--out", "{out}"],
+        [
+            "orbit",
+            "--model",
+            "seven",
+            "--elements",
+            "3",
+            "--harmonics",
+            "3",
+            "--p",
+            "300",
+            "--out",
+            "{out}",
+        ],
         ["sweep", *TWO, "--p", "100:400:40", "--chunk", "2", "--out", "{out}"],
     ],
     ids=["simulate", "orbit", "sweep"],
@@ -329,7 +405,9 @@ def test_kill_minus_nine_leaves_no_file_or_a_complete_one(argv, tmp_path, capsys
         proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         t0 = time.monotonic()
         while proc.poll() is None:
-            if delay is None and any(n.startswith(".o.npz") and ".tmp" in n for n in os.listdir(tmp_path)):
+            if delay is None and any(
+                n.startswith(".o.npz") and ".tmp" in n for n in os.listdir(tmp_path)
+            ):
                 break  # its temporary output exists: kill it now
             if delay is not None and time.monotonic() - t0 > delay:
                 break
@@ -372,14 +450,28 @@ def test_broken_pipe_exits_quietly(json_flag, capsys, monkeypatch):
 
 
 def test_broken_pipe_in_a_real_pipe():
-    r = subprocess.run(f"{sys.executable} -m axojax.cli.main modes --model seven --top 280 | head -c 10", shell=True, capture_output=True, text=True, timeout=300)
+    r = subprocess.run(
+        f"{sys.executable} -m axojax.cli.main modes --model seven --top 280 | head -c 10",
+        shell=True,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert r.stderr == "" and len(r.stdout) == 10
 
 
 # -- 8. argparse -------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("argv,flag", [(["modes", "--gam", "1"], "--gam"), (["sweep", "--p", "100:300:3", "--gam=-1:1:3", "--out", "x.npz"], "--gam"), (["critical", "--elem", "4"], "--elem"), (["simulate", "--t-e", "1"], "--t-e")])
+@pytest.mark.parametrize(
+    "argv,flag",
+    [
+        (["modes", "--gam", "1"], "--gam"),
+        (["sweep", "--p", "100:300:3", "--gam=-1:1:3", "--out", "x.npz"], "--gam"),
+        (["critical", "--elem", "4"], "--elem"),
+        (["simulate", "--t-e", "1"], "--t-e"),
+    ],
+)
 def test_abbreviations_refused(argv, flag, capsys, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     one_line(argv, capsys, flag)
@@ -392,7 +484,11 @@ def test_negative_values_are_values(tmp_path, capsys):
     assert main(["modes", *TWO, "--gamma", "-1e-3", "--json"]) == 0
     capsys.readouterr()
     result = ax.SweepResult.load(out)
-    assert list(result.coords) == ["p", "gamma"] and result.coords["gamma"].tolist() == [-1.0, 0.0, 1.0]
+    assert list(result.coords) == ["p", "gamma"] and result.coords["gamma"].tolist() == [
+        -1.0,
+        0.0,
+        1.0,
+    ]
     one_line(["modes", *TWO, "--p", "-5"], capsys, "--p")
 
 
@@ -425,7 +521,11 @@ def test_fit_data_no_fit_can_use(kind, tmp_path, capsys):
 
 @pytest.mark.parametrize(
     "argv,flag",
-    [(["modes", "--rotation-deg", "1e300"], "--rotation-deg"), (["orbit", "--p", "300", "--cubic", "1e300"], "--cubic"), (["modes", "--kl-ratio", "1e-12"], "--kl-ratio")],
+    [
+        (["modes", "--rotation-deg", "1e300"], "--rotation-deg"),
+        (["orbit", "--p", "300", "--cubic", "1e300"], "--cubic"),
+        (["modes", "--kl-ratio", "1e-12"], "--kl-ratio"),
+    ],
 )
 def test_the_flag_at_fault_is_named(argv, flag, capsys):
     one_line(argv, capsys, flag)
@@ -454,7 +554,9 @@ def test_traced_parameters_out_of_range_give_nan_and_a_code():
     with pytest.raises(ValueError, match="jax.vmap"):
         ax.critical_force(model, ax.Params(ks=np.array([1.0, 2.0])))
     with pytest.raises(Exception, match="invalid|out of its range"):
-        jax.block_until_ready(jax.jit(lambda p: ax.dominant_mode(model, ax.Params(p=p), throw=True))(jnp.nan))
+        jax.block_until_ready(
+            jax.jit(lambda p: ax.dominant_mode(model, ax.Params(p=p), throw=True))(jnp.nan)
+        )
 
 
 def test_one_result_convention():
@@ -475,4 +577,6 @@ def test_one_result_convention():
     import diffrax
 
     promoted = RESULTS.promote(diffrax.RESULTS.max_steps_reached)  # what Trajectory.result holds
-    assert promoted == RESULTS.max_steps_reached and message(promoted).startswith("The maximum number of solver steps")
+    assert promoted == RESULTS.max_steps_reached and message(promoted).startswith(
+        "The maximum number of solver steps"
+    )

@@ -18,8 +18,11 @@ def tiny(kind):
     """Three planar filaments, two elements: group 0 pair (0, 1) bends one way, group 1
     pair (1, 0) the other (n = +1 and -1), so balanced moments cancel."""
     section = CrossSection(
-        "tiny", np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]),
-        links=(Link(0, 1), Link(1, 2)), active_pairs=(ActivePair(0, 1, 0), ActivePair(1, 0, 1)), n_dirs=1,
+        "tiny",
+        np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]]),
+        links=(Link(0, 1), Link(1, 2)),
+        active_pairs=(ActivePair(0, 1, 0), ActivePair(1, 0, 1)),
+        n_dirs=1,
     )
     return build_model(section, n_elements=2, imbalance_kind=kind)
 
@@ -38,7 +41,9 @@ def test_moment_reading_keeps_the_balanced_operator_and_adds_the_couple():
     force = ax.assemble(tiny("force"), params)
     np.testing.assert_array_equal(np.asarray(moment.A), np.asarray(balanced.A))
     np.testing.assert_array_equal(np.asarray(moment.C), np.asarray(balanced.C))
-    assert np.abs(np.asarray(force.A) - np.asarray(balanced.A)).max() > 1.0  # the force reading changes A
+    assert (
+        np.abs(np.asarray(force.A) - np.asarray(balanced.A)).max() > 1.0
+    )  # the force reading changes A
     np.testing.assert_array_equal(np.asarray(balanced.b), 0.0)
     # Hand computation: net couple m = p a0 (1 - 1/R) per unit length, from group 0's pair
     # (0, 1), shared half and half; its virtual work int m/2 du' dx = m/2 (u(1) - u(0)) loads
@@ -47,7 +52,9 @@ def test_moment_reading_keeps_the_balanced_operator_and_adds_the_couple():
     expected = np.zeros(3 * 4)
     expected[0 * 4 + 2] = expected[1 * 4 + 2] = m / 2
     np.testing.assert_allclose(np.asarray(moment.b), expected, rtol=1e-13, atol=1e-15)
-    np.testing.assert_array_equal(np.asarray(force.b), np.asarray(moment.b))  # the same couple in both readings
+    np.testing.assert_array_equal(
+        np.asarray(force.b), np.asarray(moment.b)
+    )  # the same couple in both readings
 
 
 def test_moment_reading_keeps_the_seven_mode_planar(seven):
@@ -80,13 +87,17 @@ def test_moment_beat_matches_the_independent_simulation(seven):
     # the y frame. Measured here: 0.029 rad/um at the nodes; MODEL.md quotes "~0.040" from
     # its run: only the order of magnitude is asserted.
     assert -0.05 < m["static_curvature_rad_per_um"] < -0.02
-    balanced = cycle_measures(ax.limit_cycle(seven, params.replace(imbalance=1.0), 10.0, solver=solver), nodes).scalars()
+    balanced = cycle_measures(
+        ax.limit_cycle(seven, params.replace(imbalance=1.0), 10.0, solver=solver), nodes
+    ).scalars()
     assert balanced["frequency_hz"] == pytest.approx(19.7, rel=0.01)
     assert abs(balanced["static_curvature_rad_per_um"]) < 1e-6
 
 
 def modes_json(args, capsys):
-    assert main(["modes", "--model", "seven", "--p", "300", "--imbalance", "5", *args, "--json"]) == 0
+    assert (
+        main(["modes", "--model", "seven", "--p", "300", "--imbalance", "5", *args, "--json"]) == 0
+    )
     return json.loads(capsys.readouterr()[0])
 
 
@@ -114,8 +125,10 @@ def test_cli_spec_reads_the_imbalance_kind(tmp_path, capsys):
 
     def spec_fit(kind_line, *flags):
         path = tmp_path / "fit.toml"
-        path.write_text(f'model = "seven"\nelements = 6\n{kind_line}free = ["p"]\n[params]\np = 280\nimbalance = 5\n'
-                        f'[[condition]]\nfrequency_hz = {f_force}\nfrequency_sigma_hz = {0.001 * f_force}\n')
+        path.write_text(
+            f'model = "seven"\nelements = 6\n{kind_line}free = ["p"]\n[params]\np = 280\nimbalance = 5\n'
+            f"[[condition]]\nfrequency_hz = {f_force}\nfrequency_sigma_hz = {0.001 * f_force}\n"
+        )
         code = main(["fit", "--spec", str(path), "--starts", "1", "--json", *flags])
         out, err = capsys.readouterr()
         return code, (json.loads(out) if out else None), err
@@ -136,5 +149,7 @@ def test_sweep_records_the_imbalance_kind(seven):
     """A map's meta names how its imbalance was read (two maps of the same flags differ by it)."""
     axes = {"p": [250.0, 300.0]}
     for kind in ("moment", "force"):
-        res = ax.sweep(seven.with_imbalance_kind(kind), ax.Params(imbalance=5.0), axes, progress=False)
+        res = ax.sweep(
+            seven.with_imbalance_kind(kind), ax.Params(imbalance=5.0), axes, progress=False
+        )
         assert res.meta["imbalance_kind"] == kind

@@ -26,7 +26,9 @@ def test_inferred_set_reproduces_the_paper_within_3_percent(model, p):
     mode = ax.dominant_mode(model, panel_params(p))
     assert ax.eigen.CLASSES[int(mode.classification)] == "flutter"
     f = float(mode.frequency_hz(ax.Units()))
-    assert abs(f / PAPER_HZ[p] - 1) < 0.03, f"p = {p:g}: {f:.2f} Hz vs the paper's {PAPER_HZ[p]:g} Hz"
+    assert abs(f / PAPER_HZ[p] - 1) < 0.03, (
+        f"p = {p:g}: {f:.2f} Hz vs the paper's {PAPER_HZ[p]:g} Hz"
+    )
 
 
 def test_stated_set_does_not(model):

@@ -57,9 +57,15 @@ def test_relabelling_invariance(name):
     assert_same_spectrum(b, a)
 
 
-@pytest.mark.parametrize("name,params", [("single", ax.Params(p=300.0)), ("seven", ax.Params(p=300.0)), ("beck", ax.Params(p=40.0))])
+@pytest.mark.parametrize(
+    "name,params",
+    [("single", ax.Params(p=300.0)), ("seven", ax.Params(p=300.0)), ("beck", ax.Params(p=40.0))],
+)
 def test_mesh_convergence(name, params):
-    values = [complex(spectrum(ax.models.preset(name, n_elements=n), params, 1)[0]) for n in (5, 10, 20, 40, 80)]
+    values = [
+        complex(spectrum(ax.models.preset(name, n_elements=n), params, 1)[0])
+        for n in (5, 10, 20, 40, 80)
+    ]
     values = [complex(v.real, abs(v.imag)) for v in values]
     errors = [abs(v - values[-1]) for v in values[:-1]]
     # Cubic Hermite elements: eigenvalue error O(h^4), so each halving gains ~16x.

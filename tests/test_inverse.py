@@ -34,8 +34,17 @@ def truth(model):
 
 
 def _problem(model, truth, **kw):
-    conds = [Condition({"p": p}, [Target("frequency_hz", f, 0.01 * f), Target("wavelength_um", w, 0.02 * w)], label=f"p{p:g}") for p, (f, w) in truth.items()]
-    return Problem(model, conds, ["ks", "cl"], params=ax.Params(ks=2e5, cl=0.004), kl_ratio=RATIO, **kw)
+    conds = [
+        Condition(
+            {"p": p},
+            [Target("frequency_hz", f, 0.01 * f), Target("wavelength_um", w, 0.02 * w)],
+            label=f"p{p:g}",
+        )
+        for p, (f, w) in truth.items()
+    ]
+    return Problem(
+        model, conds, ["ks", "cl"], params=ax.Params(ks=2e5, cl=0.004), kl_ratio=RATIO, **kw
+    )
 
 
 @pytest.fixture(scope="module")
@@ -65,7 +74,9 @@ def test_contract_for_samplers(problem_gamma):
     assert np.all((u > prob.lower) & (u < prob.upper))
     # log|du/dz| equals the log-determinant of the (diagonal) Jacobian of to_u.
     jac = jax.jacfwd(prob.to_u)(jnp.asarray(z))
-    assert float(prob.log_jacobian(z)) == pytest.approx(float(np.linalg.slogdet(np.asarray(jac))[1]), rel=1e-12)
+    assert float(prob.log_jacobian(z)) == pytest.approx(
+        float(np.linalg.slogdet(np.asarray(jac))[1]), rel=1e-12
+    )
     r = np.asarray(prob.residuals(u))
     assert r.shape == (prob.n_residuals,) == (4,)
     want = -0.5 * np.sum(r**2) + float(prob.log_jacobian(z))
@@ -85,7 +96,9 @@ def test_residuals_are_the_normalised_misfits(model, truth, problem):
     for i, (p, (f, w)) in enumerate(truth.items()):
         mode = ax.dominant_mode(model, ax.Params(p=p, ks=1.5e5, kl=1.5e5 / RATIO, cl=0.006))
         assert r[2 * i] == pytest.approx((float(mode.frequency_hz()) - f) / (0.01 * f), rel=1e-8)
-        assert r[2 * i + 1] == pytest.approx((float(mode.wavelength_um()) - w) / (0.02 * w), rel=1e-8)
+        assert r[2 * i + 1] == pytest.approx(
+            (float(mode.wavelength_um()) - w) / (0.02 * w), rel=1e-8
+        )
 
 
 def test_jacobian_matches_finite_differences(problem_gamma):
@@ -112,20 +125,35 @@ def test_solvers_reach_the_truth(problem, solver):
     # Standard errors: the Gauss-Newton ones from a finite-difference Jacobian (in log u).
     u = np.log([result.params["ks"], result.params["cl"]])
     f, h = problem.residuals_at, 1e-5
-    J = np.stack([(np.asarray(f(u + h * e)) - np.asarray(f(u - h * e))) / (2 * h) for e in np.eye(2)], axis=1)
+    J = np.stack(
+        [(np.asarray(f(u + h * e)) - np.asarray(f(u - h * e))) / (2 * h) for e in np.eye(2)], axis=1
+    )
     se = np.sqrt(np.diag(np.linalg.inv(J.T @ J)))
-    assert [result.stderr_fitted["ks"], result.stderr_fitted["cl"]] == pytest.approx(list(se), rel=1e-3)
-    assert result.identifiable["ks"] == (se[0] <= 1.0) and result.identifiable["cl"] == (se[1] <= 1.0)
+    assert [result.stderr_fitted["ks"], result.stderr_fitted["cl"]] == pytest.approx(
+        list(se), rel=1e-3
+    )
+    assert result.identifiable["ks"] == (se[0] <= 1.0) and result.identifiable["cl"] == (
+        se[1] <= 1.0
+    )
 
 
 def test_parameter_at_a_bound_is_never_identifiable(model):
     """A frequency no cl in the box reaches drives cl to its lower bound: listed in
     at_bound, not identifiable, and the message says so."""
     with pytest.warns(UserWarning):
-        result = ax.fit(model, ax.Params(), [Target("frequency_hz", 5000.0, 10.0)], ["cl"], bounds={"cl": (1e-3, 1e2)}, starts=2)
+        result = ax.fit(
+            model,
+            ax.Params(),
+            [Target("frequency_hz", 5000.0, 10.0)],
+            ["cl"],
+            bounds={"cl": (1e-3, 1e2)},
+            starts=2,
+        )
     assert result.at_bound == ["cl"]
     assert result.identifiable == {"cl": False}
-    assert result.params["cl"] <= 1e-3 * (1e5) ** 0.01  # within 1 % of the log range of the lower bound
+    assert (
+        result.params["cl"] <= 1e-3 * (1e5) ** 0.01
+    )  # within 1 % of the log range of the lower bound
     assert "lower bound" in result.message and not result.converged
     doc = result.to_json()
     assert doc["at_bound"] == ["cl"] and doc["identifiable"]["cl"] is False
@@ -141,8 +169,12 @@ def test_linear_parameter_judged_on_its_own_scale(problem_gamma):
         assert result.identifiable[name] == (se <= 0.05 * 6.0 and name not in result.at_bound)
     for name in ("ks", "cl"):
         assert result.coordinate[name] == "log"
-        assert result.stderr[name] == pytest.approx(result.params[name] * result.stderr_fitted[name])
-        assert result.identifiable[name] == (result.stderr_fitted[name] <= 1.0 and name not in result.at_bound)
+        assert result.stderr[name] == pytest.approx(
+            result.params[name] * result.stderr_fitted[name]
+        )
+        assert result.identifiable[name] == (
+            result.stderr_fitted[name] <= 1.0 and name not in result.at_bound
+        )
 
 
 def _shape_target(model, params, s, noise=0.0, basal=0.0, seed=0):
@@ -165,13 +197,19 @@ def test_shape_floor_and_basal_exclusion(model):
     np.testing.assert_allclose(prob.shapes[0].sigma, np.hypot(0.01, 0.05))
     no_floor = Problem(model, cond, ["p"], params=params, kl_ratio=RATIO, shape_floor=0.0)
     u = jnp.asarray(prob.u0)
-    np.testing.assert_allclose(np.asarray(no_floor.residuals(u)) * 0.01 / np.hypot(0.01, 0.05), np.asarray(prob.residuals(u)), rtol=1e-10)
+    np.testing.assert_allclose(
+        np.asarray(no_floor.residuals(u)) * 0.01 / np.hypot(0.01, 0.05),
+        np.asarray(prob.residuals(u)),
+        rtol=1e-10,
+    )
     # Excluding the base: fewer residuals; the report states the misfit left in the base.
     cut = Problem(model, cond, ["p"], params=params, kl_ratio=RATIO, exclude_base_um=2.0)
     kept = int((s >= 2.0).sum())
     assert cut.n_residuals == 2 * kept
     result = least_squares(cut, starts=1)
-    assert result.params["p"] == pytest.approx(320.0, rel=1e-3)  # the shape without its base is the truth's
+    assert result.params["p"] == pytest.approx(
+        320.0, rel=1e-3
+    )  # the shape without its base is the truth's
     ex = result.conditions[0]["excluded_base"]
     assert ex["points"] == s.size - kept
     assert ex["rms_rad"] == pytest.approx(0.3, rel=0.05) and ex["kept_rms_rad"] < 1e-3
@@ -187,11 +225,29 @@ def test_report_json_and_figure(model, tmp_path):
     shape = _shape_target(model, params, s, noise=0.02)
     mode = ax.dominant_mode(model, params)
     f = float(mode.frequency_hz())
-    result = ax.fit(model, ax.Params(p=300.0, ks=1.2e5), [Target("frequency_hz", f, 0.02 * f)], ["p", "ks"], shape=shape, kl_ratio=RATIO, starts=1)
+    result = ax.fit(
+        model,
+        ax.Params(p=300.0, ks=1.2e5),
+        [Target("frequency_hz", f, 0.02 * f)],
+        ["p", "ks"],
+        shape=shape,
+        kl_ratio=RATIO,
+        starts=1,
+    )
     path = tmp_path / "fit.json"
     result.save(path)
     doc = json.loads(path.read_text())
-    assert set(doc) >= {"params", "achieved", "loss", "converged", "stderr", "chi2_per_dof", "at_bound", "identifiable", "conditions"}
+    assert set(doc) >= {
+        "params",
+        "achieved",
+        "loss",
+        "converged",
+        "stderr",
+        "chi2_per_dof",
+        "at_bound",
+        "identifiable",
+        "conditions",
+    }
     assert doc["dof"] == 1 + 2 * s.size - 2
     assert doc["chi2_per_dof"] == pytest.approx(2 * doc["loss"] / doc["dof"], rel=1e-9)
     sh = doc["conditions"][0]["shape"]

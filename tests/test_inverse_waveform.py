@@ -23,7 +23,10 @@ from axojax.inverse import LevenbergMarquardt
 from axojax.orbits.measures import cycle_measures
 
 NEWTON_STEPS: list[int] = []  # Newton iterations of every orbit solved by SOLVER, in order
-SOLVER = ax.orbits.Recording(ax.orbits.HarmonicBalance(harmonics=4, floquet=0, rtol=1e-11), lambda k: NEWTON_STEPS.append(int(k)))
+SOLVER = ax.orbits.Recording(
+    ax.orbits.HarmonicBalance(harmonics=4, floquet=0, rtol=1e-11),
+    lambda k: NEWTON_STEPS.append(int(k)),
+)
 S_UM = np.linspace(0.0, 12.0, 21)
 CUBIC = 6.0
 
@@ -39,7 +42,9 @@ def observed():
     m = cycle_measures(ax.limit_cycle(model, base.replace(**truth), CUBIC, solver=SOLVER), S_UM)
     sigma = 0.002
     rng = np.random.default_rng(3)
-    psi1 = np.asarray(m.psi1) * np.exp(-0.4j) + sigma * (rng.standard_normal(S_UM.size) + 1j * rng.standard_normal(S_UM.size))
+    psi1 = np.asarray(m.psi1) * np.exp(-0.4j) + sigma * (
+        rng.standard_normal(S_UM.size) + 1j * rng.standard_normal(S_UM.size)
+    )
     psi0 = np.asarray(m.psi0) + sigma * rng.standard_normal(S_UM.size)
     shape = ShapeTarget(S_UM, psi1, sigma, psi0=psi0, source="limit_cycle")
     freq = Target("frequency_hz", float(m.frequency_hz), 0.01, source="limit_cycle")
@@ -53,11 +58,25 @@ def fits(observed):
     model, base, truth, shape, freq = observed
     start = base.replace(p=truth["p"] * 1.01, a0=truth["a0"] * 1.15)
     out = {}
-    for label, method in (("warm", LevenbergMarquardt()), ("cold", LevenbergMarquardt(warm_start=False))):
+    for label, method in (
+        ("warm", LevenbergMarquardt()),
+        ("cold", LevenbergMarquardt(warm_start=False)),
+    ):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             NEWTON_STEPS.clear()
-            result = ax.fit(model, start, [freq], ["p", "a0"], shape=shape, cubic=CUBIC, orbit_solver=SOLVER, shape_floor=0.0, starts=1, method=method)
+            result = ax.fit(
+                model,
+                start,
+                [freq],
+                ["p", "a0"],
+                shape=shape,
+                cubic=CUBIC,
+                orbit_solver=SOLVER,
+                shape_floor=0.0,
+                starts=1,
+                method=method,
+            )
         out[label] = (result, list(NEWTON_STEPS))
     return out
 
@@ -67,7 +86,12 @@ def test_waveform_fit_recovers_the_orbit(observed, fits):
     result, _ = fits["warm"]
     assert result.converged, result.message
     for name, want in truth.items():
-        assert abs(result.params[name] - want) <= 2 * result.stderr[name] + 1e-9 * want, (name, result.params[name], want, result.stderr[name])
+        assert abs(result.params[name] - want) <= 2 * result.stderr[name] + 1e-9 * want, (
+            name,
+            result.params[name],
+            want,
+            result.stderr[name],
+        )
         assert result.stderr[name] < 0.05 * want  # the waveform determines both
     shape_report = result.conditions[0]["shape"]
     assert shape_report["source"] == "limit_cycle" and shape_report["psi0_fit_rad"] is not None
@@ -80,7 +104,11 @@ def test_warm_started_fit_matches_the_cold_one_in_fewer_newton_steps(fits):
     assert warm.converged and cold.converged
     assert warm.iterations == cold.iterations  # the same Levenberg-Marquardt path
     for name in ("p", "a0"):
-        assert abs(warm.params[name] / cold.params[name] - 1) < 1e-7, (name, warm.params[name], cold.params[name])
+        assert abs(warm.params[name] / cold.params[name] - 1) < 1e-7, (
+            name,
+            warm.params[name],
+            cold.params[name],
+        )
     assert abs(warm.loss - cold.loss) < 1e-6 * cold.loss
     # The orbits are counted in order: one per Levenberg-Marquardt step and one for the
     # final gradient (the fit), then the report's (cold in both). The warm fit's

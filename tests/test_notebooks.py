@@ -44,17 +44,26 @@ def test_notebook_executes(path, monkeypatch, tmp_path):
     monkeypatch.setenv("JAX_COMPILATION_CACHE_DIR", os.environ[CACHE_ENV])
     monkeypatch.setenv("JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS", str(MIN_COMPILE_SECONDS))
     if path.stem in RUN_BOUND:
-        flags = os.environ.get("XLA_FLAGS", "").replace(LEVEL_FLAG, "").strip()  # axojax's own flags stay
+        flags = (
+            os.environ.get("XLA_FLAGS", "").replace(LEVEL_FLAG, "").strip()
+        )  # axojax's own flags stay
         monkeypatch.setenv("XLA_FLAGS", flags)
     nb = nbformat.read(path, as_version=4)
-    NotebookClient(nb, timeout=600, kernel_name="python3", resources={"metadata": {"path": str(tmp_path)}}).execute()
+    NotebookClient(
+        nb, timeout=600, kernel_name="python3", resources={"metadata": {"path": str(tmp_path)}}
+    ).execute()
     outputs = [o for c in nb.cells if c.cell_type == "code" for o in c.get("outputs", [])]
     assert not [o for o in outputs if o.get("output_type") == "error"]
     if path.stem.startswith("gallery_"):
         assert "assert " in _source(nb), "a gallery notebook asserts its key numbers"
-        tables = [o["data"]["text/markdown"] for o in outputs if "text/markdown" in o.get("data", {})]
+        tables = [
+            o["data"]["text/markdown"] for o in outputs if "text/markdown" in o.get("data", {})
+        ]
         assert any("| paper | axojax |" in t for t in tables), "no paper-vs-axojax table"
-        assert any(o.get("output_type") == "display_data" and "image/png" in o.get("data", {}) for o in outputs), "no figure"
+        assert any(
+            o.get("output_type") == "display_data" and "image/png" in o.get("data", {})
+            for o in outputs
+        ), "no figure"
 
 
 def test_gallery_covers_every_claim_group():

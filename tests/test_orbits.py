@@ -42,7 +42,9 @@ def test_orbit_equals_long_simulation(two4):
     params = ax.Params(p=1.04 * float(ax.critical_force(two4, ax.Params()).p))
     cycle = ax.limit_cycle(two4, params, KAPPA, solver=SOLVER)
     assert bool(cycle.converged)
-    sim = ax.simulate(two4, params, 1.5, cubic=KAPPA, samples_per_period=1000, rtol=1e-9, atol=1e-12)
+    sim = ax.simulate(
+        two4, params, 1.5, cubic=KAPPA, samples_per_period=1000, rtol=1e-9, atol=1e-12
+    )
     assert sim.state == "limit_cycle"
     lc = sim.limit_cycle
     assert abs(float(cycle.frequency_hz()) / lc["frequency_hz"] - 1) < 1e-4
@@ -80,10 +82,19 @@ def test_floquet_multipliers_past_hopf(two4, p_hopf):
 
     def rhs(t, z):
         q, Phi = z[:n], z[n:].reshape(n, n)
-        return np.concatenate([Ci @ (b - A @ q - np.asarray(f(q))), (-Ci @ (A + np.asarray(Jf(q))) @ Phi).ravel()])
+        return np.concatenate(
+            [Ci @ (b - A @ q - np.asarray(f(q))), (-Ci @ (A + np.asarray(Jf(q))) @ Phi).ravel()]
+        )
 
     q0 = cycle.states(1)[1][0]
-    sol = scipy.integrate.solve_ivp(rhs, (0, float(cycle.period)), np.concatenate([q0, np.eye(n).ravel()]), method="Radau", rtol=1e-10, atol=1e-12)
+    sol = scipy.integrate.solve_ivp(
+        rhs,
+        (0, float(cycle.period)),
+        np.concatenate([q0, np.eye(n).ravel()]),
+        method="Radau",
+        rtol=1e-10,
+        atol=1e-12,
+    )
     assert np.abs(sol.y[:n, -1] - q0).max() < 1e-5 * np.abs(q0).max()  # the orbit closes
     ref = np.linalg.eigvals(sol.y[n:, -1].reshape(n, n))
     ref = ref[np.argsort(-np.abs(ref))]
@@ -117,8 +128,19 @@ def test_fit_recovers_parameters_from_limit_cycle(two4):
     true = ax.Params(p=160.0, cl=0.005)
     cycle = ax.limit_cycle(two4, true, KAPPA, solver=SOLVER)
     f, a = float(cycle.frequency_hz()), float(cycle.amplitude_um())
-    targets = [Target("frequency_hz", f, 1e-3 * f, source="limit_cycle"), Target("amplitude_um", a, 1e-3 * a, source="limit_cycle")]
-    res = ax.fit(two4, ax.Params(p=175.0, cl=0.004), targets, ["p", "cl"], starts=1, cubic=KAPPA, orbit_solver=SOLVER)
+    targets = [
+        Target("frequency_hz", f, 1e-3 * f, source="limit_cycle"),
+        Target("amplitude_um", a, 1e-3 * a, source="limit_cycle"),
+    ]
+    res = ax.fit(
+        two4,
+        ax.Params(p=175.0, cl=0.004),
+        targets,
+        ["p", "cl"],
+        starts=1,
+        cubic=KAPPA,
+        orbit_solver=SOLVER,
+    )
     assert res.converged
     assert abs(res.params["p"] / 160.0 - 1) < 1e-4
     assert abs(res.params["cl"] / 0.005 - 1) < 1e-4
@@ -129,7 +151,24 @@ def test_branch_cli(two4, p_hopf, tmp_path, capsys):
     """`axojax orbit --p a:b:n`: the branch from the Hopf point, amplitude rising with p
     (supercritical), stable, saved and plotted."""
     out, fig = tmp_path / "branch.npz", tmp_path / "branch.png"
-    code = main(["orbit", "--model", "two", "--elements", "4", "--p", "140:200:4", "--harmonics", "8", "--json", "--out", str(out), "--plot", str(fig)])
+    code = main(
+        [
+            "orbit",
+            "--model",
+            "two",
+            "--elements",
+            "4",
+            "--p",
+            "140:200:4",
+            "--harmonics",
+            "8",
+            "--json",
+            "--out",
+            str(out),
+            "--plot",
+            str(fig),
+        ]
+    )
     assert code == 0
     doc = json.loads(capsys.readouterr().out)
     assert abs(doc["hopf"]["p"] / p_hopf - 1) < 1e-8
@@ -144,7 +183,10 @@ def test_branch_cli(two4, p_hopf, tmp_path, capsys):
     assert fig.stat().st_size > 10_000
     replot = tmp_path / "replot.png"
     assert main(["plot", str(out), "--out", str(replot), "--json"]) == 0
-    assert json.loads(capsys.readouterr().out)["kind"] == "orbit_branch" and replot.stat().st_size > 10_000
+    assert (
+        json.loads(capsys.readouterr().out)["kind"] == "orbit_branch"
+        and replot.stat().st_size > 10_000
+    )
 
 
 def test_bad_input_one_line(two4, p_hopf, capsys):
@@ -165,7 +207,22 @@ def test_bad_input_one_line(two4, p_hopf, capsys):
         (["orbit", "--model", "two", "--ks", "1:2:3"], "--ks"),
         (["orbit", "--model", "single"], "--model"),
         (["fit", "--model", "two", "--free", "p", "--target-amplitude", "3"], "--target-amplitude"),
-        (["fit", "--model", "two", "--free", "p", "--target", "limit-cycle", "--target-frequency", "20", "--marginal", "1"], "--marginal"),
+        (
+            [
+                "fit",
+                "--model",
+                "two",
+                "--free",
+                "p",
+                "--target",
+                "limit-cycle",
+                "--target-frequency",
+                "20",
+                "--marginal",
+                "1",
+            ],
+            "--marginal",
+        ),
     ):
         assert main(argv) == 2
         err = capsys.readouterr().err.strip()
@@ -180,7 +237,11 @@ def test_warm_start_and_its_fallback_in_one_newton_loop(two4):
     prm = ax.Params(p=160.0)
     cold = ax.limit_cycle(two4, prm, KAPPA, solver=solver)
     near = ax.limit_cycle(two4, ax.Params(p=160.3), KAPPA, solver=solver)
-    warm_solve = jax.jit(lambda params, start: ax.orbits.WarmStart(solver, warm_steps=1).solve(two4, params, KAPPA, start))
+    warm_solve = jax.jit(
+        lambda params, start: ax.orbits.WarmStart(solver, warm_steps=1).solve(
+            two4, params, KAPPA, start
+        )
+    )
     warm, fell_back = warm_solve(prm, cold), warm_solve(prm, near)
     assert bool(cold.converged) and bool(warm.converged) and bool(fell_back.converged)
     assert int(warm.steps) == 1 < int(cold.steps)
@@ -188,4 +249,6 @@ def test_warm_start_and_its_fallback_in_one_newton_loop(two4):
     assert float(warm.amplitude_um()) == pytest.approx(float(cold.amplitude_um()), rel=1e-8)
     assert int(fell_back.steps) == int(cold.steps) + 1
     assert float(fell_back.frequency_hz()) == pytest.approx(float(cold.frequency_hz()), rel=1e-12)
-    np.testing.assert_allclose(np.asarray(fell_back.phase_ref), np.asarray(cold.phase_ref))  # the Hopf guess's phase condition
+    np.testing.assert_allclose(
+        np.asarray(fell_back.phase_ref), np.asarray(cold.phase_ref)
+    )  # the Hopf guess's phase condition

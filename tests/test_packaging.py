@@ -28,9 +28,26 @@ def wheel(tmp_path_factory):
     src = tmp_path_factory.mktemp("src")
     for name in ("pyproject.toml", "README.md", "LICENSE"):
         shutil.copy(ROOT / name, src / name)
-    shutil.copytree(ROOT / "axojax", src / "axojax", ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
+    shutil.copytree(
+        ROOT / "axojax", src / "axojax", ignore=shutil.ignore_patterns("__pycache__", "*.pyc")
+    )
     out = tmp_path_factory.mktemp("dist")
-    r = subprocess.run([sys.executable, "-m", "build", "--wheel", "--no-isolation", "--skip-dependency-check", "--outdir", str(out)], cwd=src, capture_output=True, text=True, timeout=600)
+    r = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "build",
+            "--wheel",
+            "--no-isolation",
+            "--skip-dependency-check",
+            "--outdir",
+            str(out),
+        ],
+        cwd=src,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert r.returncode == 0, r.stdout[-2000:] + r.stderr[-2000:]
     (path,) = out.glob("axojax-*.whl")
     return path
@@ -38,7 +55,11 @@ def wheel(tmp_path_factory):
 
 def test_wheel_carries_modules_and_package_data(wheel):
     names = set(zipfile.ZipFile(wheel).namelist())
-    source = [p.relative_to(ROOT).as_posix() for p in (ROOT / "axojax").rglob("*") if p.is_file() and "__pycache__" not in p.parts and p.suffix != ".pyc"]
+    source = [
+        p.relative_to(ROOT).as_posix()
+        for p in (ROOT / "axojax").rglob("*")
+        if p.is_file() and "__pycache__" not in p.parts and p.suffix != ".pyc"
+    ]
     missing = sorted(set(source) - names)
     assert not missing, f"not in the wheel: {missing}"
     assert "axojax/cli/main.py" in names and "axojax/_io.py" in names
@@ -57,14 +78,34 @@ def test_metadata_files():
     assert "## [Unreleased]" in (ROOT / "CHANGELOG.md").read_text()
 
 
-@pytest.mark.skipif(os.environ.get("AXOJAX_SLOW_TESTS") != "1", reason="installs the wheel into a fresh venv (minutes); AXOJAX_SLOW_TESTS=1")
+@pytest.mark.skipif(
+    os.environ.get("AXOJAX_SLOW_TESTS") != "1",
+    reason="installs the wheel into a fresh venv (minutes); AXOJAX_SLOW_TESTS=1",
+)
 def test_wheel_installs_and_runs(wheel, tmp_path):
     venv = tmp_path / "venv"
     subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", str(venv)], check=True)
     py = venv / "bin" / "python"
-    subprocess.run([str(py), "-m", "pip", "install", "--no-deps", "--no-index", str(wheel)], check=True, capture_output=True)
+    subprocess.run(
+        [str(py), "-m", "pip", "install", "--no-deps", "--no-index", str(wheel)],
+        check=True,
+        capture_output=True,
+    )
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
-    r = subprocess.run([str(venv / "bin" / "axojax"), "modes", "--model", "two", "--elements", "4", "--json"], capture_output=True, text=True, timeout=600, cwd=tmp_path, env=env)
+    r = subprocess.run(
+        [str(venv / "bin" / "axojax"), "modes", "--model", "two", "--elements", "4", "--json"],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        cwd=tmp_path,
+        env=env,
+    )
     assert r.returncode == 0, r.stderr
-    r = subprocess.run([str(py), "-c", "import axojax, pathlib; print(pathlib.Path(axojax.__file__).parent)"], capture_output=True, text=True, env=env, cwd=tmp_path)
+    r = subprocess.run(
+        [str(py), "-c", "import axojax, pathlib; print(pathlib.Path(axojax.__file__).parent)"],
+        capture_output=True,
+        text=True,
+        env=env,
+        cwd=tmp_path,
+    )
     assert str(venv) in r.stdout

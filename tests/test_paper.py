@@ -22,7 +22,14 @@ def rows():
 
 
 def test_rows_match_model_md_section_7(rows):
-    for key, stated in [("7a", "347.06"), ("7b", "54.72"), ("7c", "54.72"), ("7d", "50.30"), ("7g", "103.0"), ("7h", "285.0")]:
+    for key, stated in [
+        ("7a", "347.06"),
+        ("7b", "54.72"),
+        ("7c", "54.72"),
+        ("7d", "50.30"),
+        ("7g", "103.0"),
+        ("7h", "285.0"),
+    ]:
         assert agrees(rows[key].value, stated), (key, rows[key].value)
     for key in ("7e", "7f"):  # p = 150, 200: stable at k_s = 1e6
         assert rows[key].value is None and rows[key].shown.startswith("stable")
@@ -34,7 +41,12 @@ def test_two_row_cannot_discriminate(rows):
     """MODEL.md section 7: Re lambda 12x Im lambda, 38-68 Hz under +-2 % of the follower
     load, 78 Hz at N_e = 6; the follower elasticity shows it beside the seven's."""
     note = rows["7b"].note
-    for text in ("Re lambda is 12x Im lambda", "38-68 Hz", "N_e = 6 gives 78 Hz", "cannot discriminate"):
+    for text in (
+        "Re lambda is 12x Im lambda",
+        "38-68 Hz",
+        "N_e = 6 gives 78 Hz",
+        "cannot discriminate",
+    ):
         assert text in note, note
     assert rows["7b"].elasticity["follower"] > 5 * rows["7d"].elasticity["follower"]
     assert rows["7c"].elasticity == pytest.approx(rows["7b"].elasticity, rel=1e-6)
@@ -75,7 +87,11 @@ def test_readme_and_docs_are_current(rows):
         assert line in readme.splitlines(), f"README.md is stale; run {table.COMMAND}\n{line}"
         assert line in docs.splitlines(), f"docs/paper_table.md is stale; run {table.COMMAND}"
     for key in ("12b", "12c", "12d", "12e"):  # the time-domain rows are there too
-        assert any(l.startswith("| sec. 3.7.1") and paper.CLAIMS[[c.key for c in paper.CLAIMS].index(key)].label in l for l in readme.splitlines())
+        assert any(
+            l.startswith("| sec. 3.7.1")
+            and paper.CLAIMS[[c.key for c in paper.CLAIMS].index(key)].label in l
+            for l in readme.splitlines()
+        )
 
 
 def test_replace_block():
@@ -92,14 +108,36 @@ def test_beat_measures_travelling_wave():
     t = np.linspace(0.0, 0.5, 2001)
     s = np.linspace(0.0, L, 41)
     u = s[None] * np.cos(2 * np.pi * f * t[:, None] - k * s[None])
-    lc = {"frequency_hz": f, "period_s": 1 / f, "tip_amplitude_um": L, "static_curvature_rad_per_um": -0.04, "dynamic_amplitude_rad": 0.7, "cycles": 10}
-    sim = ax.Simulation(t_s=t, x_um=s, centreline_um=u[:, None, :], psi_rad=np.gradient(u, s, axis=1), tip_um=u[:, -1:],
-                        beat_angle_rad=0.0, state="limit_cycle", limit_cycle=lc, linear={}, meta={})
+    lc = {
+        "frequency_hz": f,
+        "period_s": 1 / f,
+        "tip_amplitude_um": L,
+        "static_curvature_rad_per_um": -0.04,
+        "dynamic_amplitude_rad": 0.7,
+        "cycles": 10,
+    }
+    sim = ax.Simulation(
+        t_s=t,
+        x_um=s,
+        centreline_um=u[:, None, :],
+        psi_rad=np.gradient(u, s, axis=1),
+        tip_um=u[:, -1:],
+        beat_angle_rad=0.0,
+        state="limit_cycle",
+        limit_cycle=lc,
+        linear={},
+        meta={},
+    )
     m = paper.beat_measures(sim)
     assert m["wavelength_um"] == pytest.approx(15.0, rel=1e-2)  # np.gradient on 41 points
     assert m["direction"] == 1 and m["phase_span_rad"] == pytest.approx(k * (L - s[1]), rel=1e-3)
     assert m["frequency_hz"] == f and m["static_curvature_rad_per_um"] == -0.04
-    assert paper.beat_measures(ax.Simulation(t, s, u[:, None, :], u, u[:, -1:], 0.0, "growing", None, {}, {})) is None
+    assert (
+        paper.beat_measures(
+            ax.Simulation(t, s, u[:, None, :], u, u[:, -1:], 0.0, "growing", None, {}, {})
+        )
+        is None
+    )
 
 
 def test_cli_errors(capsys, tmp_path):

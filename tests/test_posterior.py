@@ -51,7 +51,10 @@ class LinearGaussian(eqx.Module):
     def __init__(self, A, y, sigma, lower, upper, names):
         self.A, self.y, self.sigma = jnp.asarray(A, float), jnp.asarray(y, float), float(sigma)
         self.lower, self.upper = np.asarray(lower, float), np.asarray(upper, float)
-        self.names, self.u0 = tuple(names), 0.5 * (np.asarray(lower, float) + np.asarray(upper, float))
+        self.names, self.u0 = (
+            tuple(names),
+            0.5 * (np.asarray(lower, float) + np.asarray(upper, float)),
+        )
 
     def residuals(self, u):
         return (self.A @ u - self.y) / self.sigma
@@ -67,8 +70,14 @@ class LinearGaussian(eqx.Module):
         return jnp.log(f) - jnp.log1p(-f)
 
     def log_density(self, z):
-        logjac = jnp.sum(jnp.log(self.upper - self.lower) + jax.nn.log_sigmoid(z) + jax.nn.log_sigmoid(-z))
-        return -0.5 * jnp.sum(self.residuals(self.to_u(z)) ** 2) + self.log_prior(self.to_u(z)) + logjac
+        logjac = jnp.sum(
+            jnp.log(self.upper - self.lower) + jax.nn.log_sigmoid(z) + jax.nn.log_sigmoid(-z)
+        )
+        return (
+            -0.5 * jnp.sum(self.residuals(self.to_u(z)) ** 2)
+            + self.log_prior(self.to_u(z))
+            + logjac
+        )
 
     def values(self, u):
         return {n: jnp.exp(u[i]) for i, n in enumerate(self.names)}
@@ -124,7 +133,9 @@ def test_diagnostics_of_iid_normal_draws():
     # Independent draws: the effective sample size is the number of draws.
     np.testing.assert_allclose(diagnostics.ess_bulk(x), 4000, rtol=0.15)
     np.testing.assert_allclose(diagnostics.ess_tail(x), 4000, rtol=0.2)
-    np.testing.assert_allclose(diagnostics.rhat(x), [reference_split_rhat(x[..., i]) for i in range(3)], rtol=1e-9)
+    np.testing.assert_allclose(
+        diagnostics.rhat(x), [reference_split_rhat(x[..., i]) for i in range(3)], rtol=1e-9
+    )
 
 
 def test_ess_of_an_autoregressive_chain():
@@ -193,7 +204,9 @@ def test_interval_coverage_over_synthetic_data_sets():
 
 
 def test_unidentifiable_parameter_is_as_wide_as_its_prior():
-    A1 = np.array([[1.0, 0.0], [0.5, 0.0], [-0.4, 0.0], [0.2, 0.0]])  # b does not enter the residuals
+    A1 = np.array(
+        [[1.0, 0.0], [0.5, 0.0], [-0.4, 0.0], [0.2, 0.0]]
+    )  # b does not enter the residuals
     problem = linear_problem(3, A1)
     post = posterior(problem, seed=1, **SMALL)
     lo, hi = problem.lower[1], problem.upper[1]
@@ -229,7 +242,9 @@ def test_scaled_sigmas_widen_the_posterior_by_their_factor():
     u = problem.to_u(z)
     # The log density in z: the likelihood term over 9, prior and log-Jacobian as before.
     chi2 = float(jnp.sum(problem.residuals(u) ** 2))
-    assert float(scaled.log_density(z)) == pytest.approx(float(problem.log_density(z)) + 0.5 * chi2 * (1 - 1 / 9), rel=1e-12)
+    assert float(scaled.log_density(z)) == pytest.approx(
+        float(problem.log_density(z)) + 0.5 * chi2 * (1 - 1 / 9), rel=1e-12
+    )
     with pytest.raises(ValueError, match="factor"):
         ScaledSigmas(problem, 0.0)
 
@@ -243,19 +258,31 @@ def test_start_is_the_mode_of_the_density_in_z():
     exact = jax.nn.log_sigmoid(z) + jax.nn.log_sigmoid(-z) + np.log(4.0)
     np.testing.assert_allclose(-0.5 * _logistic_residuals(z) ** 2, exact, rtol=1e-12, atol=1e-12)
     problem = linear_problem(5)
-    problem = LinearGaussian(problem.A, problem.y, problem.sigma, [-1.0, -1.0], [1.0, 1.0], ["a", "b"])  # bounds close: the Jacobian term moves the mode
+    problem = LinearGaussian(
+        problem.A, problem.y, problem.sigma, [-1.0, -1.0], [1.0, 1.0], ["a", "b"]
+    )  # bounds close: the Jacobian term moves the mode
     f = jax.jit(lambda z: -problem.log_density(z))
-    ref = scipy.optimize.minimize(lambda z: float(f(jnp.asarray(z))), np.zeros(2), jac=lambda z: np.asarray(jax.grad(f)(jnp.asarray(z))), method="BFGS", options={"gtol": 1e-10})
+    ref = scipy.optimize.minimize(
+        lambda z: float(f(jnp.asarray(z))),
+        np.zeros(2),
+        jac=lambda z: np.asarray(jax.grad(f)(jnp.asarray(z))),
+        method="BFGS",
+        options={"gtol": 1e-10},
+    )
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         post = posterior(problem, draws=20, chains=2, warmup=0, seed=0)
-    np.testing.assert_allclose(post.start_u, np.asarray(problem.to_u(jnp.asarray(ref.x))), atol=1e-6)
+    np.testing.assert_allclose(
+        post.start_u, np.asarray(problem.to_u(jnp.asarray(ref.x))), atol=1e-6
+    )
 
 
 def test_starts_settings_and_errors():
     problem = linear_problem(0)
     starts = np.array([[0.2, -0.1], [0.4, -0.3], [0.3, 0.0], [0.1, -0.2]])
-    post = posterior(problem, init=starts, seed=0, sampler=NUTS(dense_mass=False), vectorize=False, **SMALL)
+    post = posterior(
+        problem, init=starts, seed=0, sampler=NUTS(dense_mass=False), vectorize=False, **SMALL
+    )
     mean, _ = problem.exact()
     assert abs(post.mean_u["a"] - mean[0]) < mc_tol(post, "a")
     np.testing.assert_allclose(post.start_u, starts.mean(axis=0))
@@ -264,7 +291,14 @@ def test_starts_settings_and_errors():
     for i, n in enumerate(problem.names):
         assert abs(post.mean_u[n] - mean[i]) < mc_tol(post, n)
     # A least-squares result (params by name, coordinate per name) as the centre.
-    fitted = type("Fit", (), {"params": {"a": float(np.exp(mean[0])), "b": float(np.exp(mean[1]))}, "coordinate": {"a": "log", "b": "log"}})()
+    fitted = type(
+        "Fit",
+        (),
+        {
+            "params": {"a": float(np.exp(mean[0])), "b": float(np.exp(mean[1]))},
+            "coordinate": {"a": "log", "b": "log"},
+        },
+    )()
     post = posterior(problem, init=fitted, seed=0, **SMALL)
     np.testing.assert_allclose(post.start_u, mean)
     with pytest.raises(ValueError, match="init"):
@@ -312,7 +346,10 @@ def test_json_npz_and_corner_plot(tmp_path):
 # -- a real model ---------------------------------------------------------------------
 
 
-@pytest.mark.skipif(os.environ.get("AXOJAX_SLOW_TESTS") != "1", reason="50 s: set AXOJAX_SLOW_TESTS=1 (tests/test_cli_posterior.py samples a seven-filament model in the default run)")
+@pytest.mark.skipif(
+    os.environ.get("AXOJAX_SLOW_TESTS") != "1",
+    reason="50 s: set AXOJAX_SLOW_TESTS=1 (tests/test_cli_posterior.py samples a seven-filament model in the default run)",
+)
 def test_seven_filament_posterior_matches_quadrature():
     """One parameter (p) of the four-element seven-filament model from noisy frequency and
     wavelength: the sampled posterior against the posterior by quadrature on a grid of
@@ -325,8 +362,18 @@ def test_seven_filament_posterior_matches_quadrature():
     mode = ax.dominant_mode(model, base.replace(p=truth))
     f, lam = float(mode.frequency_hz()), float(mode.wavelength_um())
     rng = np.random.default_rng(0)
-    targets = [Target("frequency_hz", f * (1 + 0.02 * rng.normal()), 0.02 * f), Target("wavelength_um", lam * (1 + 0.05 * rng.normal()), 0.05 * lam)]
-    problem = Problem(model, [Condition({}, targets)], ["p"], params=base.replace(p=300.0), bounds={"p": (100.0, 1000.0)}, kl_ratio=1000.0)
+    targets = [
+        Target("frequency_hz", f * (1 + 0.02 * rng.normal()), 0.02 * f),
+        Target("wavelength_um", lam * (1 + 0.05 * rng.normal()), 0.05 * lam),
+    ]
+    problem = Problem(
+        model,
+        [Condition({}, targets)],
+        ["p"],
+        params=base.replace(p=300.0),
+        bounds={"p": (100.0, 1000.0)},
+        kl_ratio=1000.0,
+    )
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         post = posterior(problem, draws=300, chains=4, warmup=200, seed=0, init=np.log([300.0]))
@@ -335,7 +382,9 @@ def test_seven_filament_posterior_matches_quadrature():
     assert post.divergences <= 0.01 * 4 * 300  # a few, at the steep side of the density
     # Quadrature: the posterior in u = log p (uniform prior) on a grid around the draws.
     residuals = jax.jit(problem.residuals)
-    grid = np.linspace(np.log(post.q50["p"]) - 8 * post.sd_u["p"], np.log(post.q50["p"]) + 8 * post.sd_u["p"], 321)
+    grid = np.linspace(
+        np.log(post.q50["p"]) - 8 * post.sd_u["p"], np.log(post.q50["p"]) + 8 * post.sd_u["p"], 321
+    )
     logp = np.array([-0.5 * float(jnp.sum(residuals(jnp.array([g])) ** 2)) for g in grid])
     w = np.exp(logp - scipy.special.logsumexp(logp))
     assert w[0] < 1e-6 and w[-1] < 1e-6  # the grid covers the posterior

@@ -11,4 +11,6 @@ def test_main_job_output_is_current(capsys):
     """The block under "The main job" is what `axojax modes --model seven --p 300` prints."""
     assert main(["modes", "--model", "seven", "--p", "300"]) == 0
     out = capsys.readouterr().out.rstrip("\n")
-    assert f"```\n{out}\n```" in README.read_text(), "README's main-job block is stale: paste the command's output"
+    assert f"```\n{out}\n```" in README.read_text(), (
+        "README's main-job block is stale: paste the command's output"
+    )

@@ -57,7 +57,9 @@ def test_four_equals_two():
     assert agrees(float(four.frequency_hz()), "54.72")
 
 
-@pytest.mark.parametrize("ks,pc_ref", [(1e3, "66.9"), (1e4, "88.8"), (1e5, "136.6"), (1e6, "249.8")])
+@pytest.mark.parametrize(
+    "ks,pc_ref", [(1e3, "66.9"), (1e4, "88.8"), (1e5, "136.6"), (1e6, "249.8")]
+)
 def test_seven_critical_force_scipy(seven, ks, pc_ref):
     """p_c of the seven preset at k_l = k_s / 1e3 (MODEL.md section 6), by scipy's brentq on
     scipy.linalg.eig; the stable checks below it make sure the root is the first crossing."""
@@ -91,8 +93,25 @@ def independent_two(p, kl, cl, ne=10):
     for e in range(ne):
         xi = (g + 1) / 2
         x = e * h + xi * h
-        N = np.array([1 - 3 * xi**2 + 2 * xi**3, h * (xi - 2 * xi**2 + xi**3), 3 * xi**2 - 2 * xi**3, h * (xi**3 - xi**2)])
-        dN = np.array([6 * xi**2 - 6 * xi, h * (1 - 4 * xi + 3 * xi**2), 6 * xi - 6 * xi**2, h * (3 * xi**2 - 2 * xi)]) / h
+        N = np.array(
+            [
+                1 - 3 * xi**2 + 2 * xi**3,
+                h * (xi - 2 * xi**2 + xi**3),
+                3 * xi**2 - 2 * xi**3,
+                h * (xi**3 - xi**2),
+            ]
+        )
+        dN = (
+            np.array(
+                [
+                    6 * xi**2 - 6 * xi,
+                    h * (1 - 4 * xi + 3 * xi**2),
+                    6 * xi - 6 * xi**2,
+                    h * (3 * xi**2 - 2 * xi),
+                ]
+            )
+            / h
+        )
         ddN = np.array([12 * xi - 6, h * (6 * xi - 4), 6 - 12 * xi, h * (6 * xi - 2)]) / h**2
         sl = slice(2 * e, 2 * e + 4)
         ww = w * h / 2

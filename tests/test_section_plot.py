@@ -46,7 +46,9 @@ def test_rotation_deg_is_a_pure_rotation(name, deg):
     -deg, and leaves links and pairs alone; with isotropic bending the spectrum is unchanged."""
     base = ax.models.preset(name).section
     turned = ax.models.preset(name, rotation_deg=deg).section
-    np.testing.assert_allclose(turned.positions, base.rotated(np.radians(-deg)).positions, atol=1e-14)
+    np.testing.assert_allclose(
+        turned.positions, base.rotated(np.radians(-deg)).positions, atol=1e-14
+    )
     assert turned.links == base.links and turned.active_pairs == base.active_pairs
     iso = ax.Params(p=300.0, ks=1e4, kl=10.0, out_of_plane=1.0)
     a = sorted_spectrum(ax.models.preset(name, n_elements=4), iso)
@@ -75,7 +77,9 @@ def test_plot_section_draws_every_part(name):
     assert "beat plane (z = 0)" in labels
     if section.active_pairs:
         assert any("net bending direction" in l for l in labels)
-        assert len(a.patches) >= section.n_filaments + len(section.active_pairs) + len(group_bending_directions(section))
+        assert len(a.patches) >= section.n_filaments + len(section.active_pairs) + len(
+            group_bending_directions(section)
+        )
 
 
 def test_cli_plot_section(tmp_path, capsys):
@@ -88,7 +92,15 @@ def test_cli_plot_section(tmp_path, capsys):
     assert main(["plot", "--model", "four", "--rotation-deg", "45", "--out", str(out2)]) == 0
     assert out2.is_file()
     model_file = tmp_path / "pair.json"
-    model_file.write_text(json.dumps({"filaments": [{"position": [0, 0]}, {"position": [1, 0]}], "links": [{"between": [0, 1]}], "active_pairs": [{"between": [0, 1]}]}))
+    model_file.write_text(
+        json.dumps(
+            {
+                "filaments": [{"position": [0, 0]}, {"position": [1, 0]}],
+                "links": [{"between": [0, 1]}],
+                "active_pairs": [{"between": [0, 1]}],
+            }
+        )
+    )
     assert main(["plot", "--model-file", str(model_file), "--out", str(tmp_path / "file.png")]) == 0
 
 

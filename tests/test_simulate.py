@@ -60,16 +60,22 @@ def test_limit_cycle_just_past_hopf_is_supercritical(seven6, hopf6, capsys):
         out[factor] = (sim.limit_cycle, float(ax.dominant_mode(seven6, params).frequency_hz()))
     with capsys.disabled():
         for factor, (lc, f_lin) in out.items():
-            print(f"\np = {factor} p_c: limit cycle {lc['frequency_hz']:.3f} Hz, tip amplitude {lc['tip_amplitude_um']:.3f} um; "
-                  f"linear: Im(lambda)/2pi at this p {f_lin:.3f} Hz, at the Hopf point {f_hopf:.3f} Hz")
+            print(
+                f"\np = {factor} p_c: limit cycle {lc['frequency_hz']:.3f} Hz, tip amplitude {lc['tip_amplitude_um']:.3f} um; "
+                f"linear: Im(lambda)/2pi at this p {f_lin:.3f} Hz, at the Hopf point {f_hopf:.3f} Hz"
+            )
     lc4, f_lin4 = out[1.04]
     lc2, f_lin2 = out[1.02]
     # Onset frequency: near a Hopf point the cycle's frequency moves linearly with
     # p - p_c (normal form), so the two frequencies extrapolate to the linear prediction
     # at the bifurcation (at 1.04 p_c itself the beat is already 6 % above it).
-    f_onset = lc2["frequency_hz"] - (lc4["frequency_hz"] - lc2["frequency_hz"]) * (1.02 - 1.0) / (1.04 - 1.02)
+    f_onset = lc2["frequency_hz"] - (lc4["frequency_hz"] - lc2["frequency_hz"]) * (1.02 - 1.0) / (
+        1.04 - 1.02
+    )
     with capsys.disabled():
-        print(f"limit-cycle frequency extrapolates to {f_onset:.3f} Hz at p_c (Hopf frequency {f_hopf:.3f} Hz)")
+        print(
+            f"limit-cycle frequency extrapolates to {f_onset:.3f} Hz at p_c (Hopf frequency {f_hopf:.3f} Hz)"
+        )
     assert abs(f_onset - f_hopf) / f_hopf < 0.02
     # Close to the boundary the beat tracks the eigenvalue at its own p, too.
     assert abs(lc2["frequency_hz"] - f_lin2) / f_lin2 < 0.05
@@ -142,16 +148,28 @@ def test_trajectory_matches_scipy_radau():
     params = ax.Params(p=300.0)
     q0 = 0.02 * tip_deflection(model)
     t_end = 0.01
-    traj = integrate(model, params, 30.0, jnp.asarray(q0), jnp.array([0.0, t_end]), rtol=1e-9, atol=1e-12)
+    traj = integrate(
+        model, params, 30.0, jnp.asarray(q0), jnp.array([0.0, t_end]), rtol=1e-9, atol=1e-12
+    )
     assert bool(traj.ok)
     f = vector_field(model, params, 30.0)
     fun = jax.jit(lambda q: f(0.0, q, None))
     jac = jax.jit(jax.jacfwd(lambda q: f(0.0, q, None)))
-    ref = scipy.integrate.solve_ivp(lambda t, q: np.asarray(fun(q)), (0.0, t_end), q0, method="Radau", jac=lambda t, q: np.asarray(jac(q)), rtol=1e-10, atol=1e-13)
+    ref = scipy.integrate.solve_ivp(
+        lambda t, q: np.asarray(fun(q)),
+        (0.0, t_end),
+        q0,
+        method="Radau",
+        jac=lambda t, q: np.asarray(jac(q)),
+        rtol=1e-10,
+        atol=1e-13,
+    )
     assert ref.success
     q_ref = ref.y[:, -1]
     assert np.abs(q_ref).max() > 5 * np.abs(q0).max()  # it grew: the cubic term matters
-    np.testing.assert_allclose(np.asarray(traj.q[-1]), q_ref, rtol=0, atol=1e-8 * np.abs(q_ref).max())  # measured: 3e-11
+    np.testing.assert_allclose(
+        np.asarray(traj.q[-1]), q_ref, rtol=0, atol=1e-8 * np.abs(q_ref).max()
+    )  # measured: 3e-11
 
 
 def test_imbalance_bends_to_the_static_solution(seven6):
@@ -208,18 +226,44 @@ def test_cli_simulate_json_file_and_plot(tmp_path, hopf6, capsys):
     from axojax.cli.main import main
 
     out, fig, gif = tmp_path / "sim.npz", tmp_path / "sim.png", tmp_path / "sim.gif"
-    cmd = [sys.executable, "-m", "axojax.cli.main", "simulate", "--model", "seven", "--elements", "6", "--p", str(1.04 * hopf6[0]),
-           "--t-end", "0.35", "--perturbation-um", "3", "--out", str(out), "--gif", str(gif), "--json"]
+    cmd = [
+        sys.executable,
+        "-m",
+        "axojax.cli.main",
+        "simulate",
+        "--model",
+        "seven",
+        "--elements",
+        "6",
+        "--p",
+        str(1.04 * hopf6[0]),
+        "--t-end",
+        "0.35",
+        "--perturbation-um",
+        "3",
+        "--out",
+        str(out),
+        "--gif",
+        str(gif),
+        "--json",
+    ]
     r = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
     assert r.returncode == 0, r.stderr
     doc = json.loads(r.stdout)
     assert set(doc["limit_cycle"]) == {"frequency_hz", "tip_amplitude_um", "period_s"}
     assert set(doc["linear"]) >= {"frequency_hz", "growth_rate_per_s"}
-    assert math.isclose(doc["limit_cycle"]["period_s"] * doc["limit_cycle"]["frequency_hz"], 1.0, rel_tol=1e-9)
+    assert math.isclose(
+        doc["limit_cycle"]["period_s"] * doc["limit_cycle"]["frequency_hz"], 1.0, rel_tol=1e-9
+    )
     sim = ax.Simulation.load(out)
-    assert sim.state == "limit_cycle" and sim.limit_cycle["frequency_hz"] == doc["limit_cycle"]["frequency_hz"]
+    assert (
+        sim.state == "limit_cycle"
+        and sim.limit_cycle["frequency_hz"] == doc["limit_cycle"]["frequency_hz"]
+    )
     assert gif.stat().st_size > 0
-    assert main(["plot", str(out), "--out", str(fig)]) == 0  # in this process: the file is what is checked
+    assert (
+        main(["plot", str(out), "--out", str(fig)]) == 0
+    )  # in this process: the file is what is checked
     assert fig.stat().st_size > 0
     # a bad flag ends before any work: main() in this process (the exit status of a
     # process is tests/test_errors.py::test_console_script_exit_status)
@@ -232,7 +276,22 @@ def test_cli_reports_solver_failure_on_one_line(capsys):
     from axojax.cli.main import main
     from axojax.cli.simulate import render
 
-    base = [sys.executable, "-m", "axojax.cli.main", "simulate", "--model", "two", "--elements", "4", "--p", "300", "--t-end", "0.05", "--max-steps", "50"]
+    base = [
+        sys.executable,
+        "-m",
+        "axojax.cli.main",
+        "simulate",
+        "--model",
+        "two",
+        "--elements",
+        "4",
+        "--p",
+        "300",
+        "--t-end",
+        "0.05",
+        "--max-steps",
+        "50",
+    ]
     r = subprocess.run(base + ["--json"], capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stderr
     doc = json.loads(r.stdout)

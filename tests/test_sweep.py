@@ -36,20 +36,32 @@ def test_every_point_equals_dominant_mode_and_scipy(model, reference):
             params = BASE.replace(p=p, ks=ks, kl=ks / 100.0)
             mode = ax.dominant_mode(model, params)
             lam = complex(mode.eigenvalue)
-            assert reference.data["eigenvalue_real"][i, j] == pytest.approx(lam.real, rel=1e-10, abs=1e-9)
-            assert reference.data["eigenvalue_imag"][i, j] == pytest.approx(lam.imag, rel=1e-10, abs=1e-9)
-            assert reference.data["frequency_hz"][i, j] == pytest.approx(float(mode.frequency_hz()), rel=1e-10, abs=1e-9)
+            assert reference.data["eigenvalue_real"][i, j] == pytest.approx(
+                lam.real, rel=1e-10, abs=1e-9
+            )
+            assert reference.data["eigenvalue_imag"][i, j] == pytest.approx(
+                lam.imag, rel=1e-10, abs=1e-9
+            )
+            assert reference.data["frequency_hz"][i, j] == pytest.approx(
+                float(mode.frequency_hz()), rel=1e-10, abs=1e-9
+            )
             assert reference.data["classification"][i, j] == int(mode.classification)
             if int(mode.direction):
-                assert reference.data["wavelength_um"][i, j] == pytest.approx(float(mode.wavelength_um()), rel=1e-8)
+                assert reference.data["wavelength_um"][i, j] == pytest.approx(
+                    float(mode.wavelength_um()), rel=1e-8
+                )
             else:
                 assert np.isnan(reference.data["wavelength_um"][i, j])
             # independent: scipy's QZ on the same matrices
             s = ax.assemble(model, params)
             ev = scipy.linalg.eig(-np.asarray(s.A), np.asarray(s.C), right=False)
             top = ev[np.argmax(ev.real)]
-            assert reference.data["eigenvalue_real"][i, j] == pytest.approx(top.real, rel=1e-8, abs=1e-8)
-            assert reference.data["eigenvalue_imag"][i, j] == pytest.approx(abs(top.imag), rel=1e-8, abs=1e-6)
+            assert reference.data["eigenvalue_real"][i, j] == pytest.approx(
+                top.real, rel=1e-8, abs=1e-8
+            )
+            assert reference.data["eigenvalue_imag"][i, j] == pytest.approx(
+                abs(top.imag), rel=1e-8, abs=1e-6
+            )
 
 
 def test_interrupted_sweep_resumes(model, reference, tmp_path, monkeypatch):
@@ -89,9 +101,13 @@ def run_two_device_script(script: str, marker: str, what: str) -> None:
     """Run ``script`` in a fresh process (its own XLA flags); it must print ``marker``
     within 180 s, which a jaxlib 0.10 pool deadlock would prevent."""
     try:
-        proc = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=180)
+        proc = subprocess.run(
+            [sys.executable, "-c", script], capture_output=True, text=True, timeout=180
+        )
     except subprocess.TimeoutExpired:
-        pytest.fail(f"{what} did not finish in 180 s (jaxlib 0.10 pool deadlock; see axojax/_runtime.py)")
+        pytest.fail(
+            f"{what} did not finish in 180 s (jaxlib 0.10 pool deadlock; see axojax/_runtime.py)"
+        )
     assert proc.returncode == 0, proc.stderr[-2000:]
     assert marker in proc.stdout
 
@@ -124,7 +140,22 @@ def test_two_cpu_devices_identical(tmp_path):
 
 def test_cli_sweep_and_plot(tmp_path, capsys):
     out = tmp_path / "s.npz"
-    code = main(["sweep", "--model", "two", "--kl", "1e2:1e3:2", "--p", "200,400,600", "--cl", "0.01", "--out", str(out), "--json"])
+    code = main(
+        [
+            "sweep",
+            "--model",
+            "two",
+            "--kl",
+            "1e2:1e3:2",
+            "--p",
+            "200,400,600",
+            "--cl",
+            "0.01",
+            "--out",
+            str(out),
+            "--json",
+        ]
+    )
     assert code == 0
     doc = json.loads(capsys.readouterr().out)
     assert doc["shape"] == [2, 3] and doc["points"] == 6  # axes in command-line order: kl, then p
@@ -143,7 +174,10 @@ def test_cli_sweep_errors(tmp_path, capsys):
     assert main(["sweep", "--model", "two", "--p", "1:2:x", "--out", str(tmp_path / "a.npz")]) == 2
     err = capsys.readouterr().err
     assert "--p" in err and len(err.strip().splitlines()) == 1
-    assert main(["sweep", "--model", "two", "--ks", "log:-1:2:3", "--out", str(tmp_path / "a.npz")]) == 2
+    assert (
+        main(["sweep", "--model", "two", "--ks", "log:-1:2:3", "--out", str(tmp_path / "a.npz")])
+        == 2
+    )
     assert "--ks" in capsys.readouterr().err
     assert main(["plot", str(tmp_path / "missing.npz"), "--out", str(tmp_path / "x.png")]) == 2
 
@@ -166,11 +200,42 @@ def test_netcdf_export_matches_npz(reference, tmp_path, capsys):
         assert json.loads(ds.attrs["axojax_meta"]) == reference.meta
         assert ds.attrs["fixed_cl"] == pytest.approx(0.02)
     npz, nc = tmp_path / "c.npz", tmp_path / "c.nc"
-    assert main(["sweep", "--model", "two", "--p", "200,400", "--out", str(npz), "--netcdf", str(nc), "--json"]) == 0
+    assert (
+        main(
+            [
+                "sweep",
+                "--model",
+                "two",
+                "--p",
+                "200,400",
+                "--out",
+                str(npz),
+                "--netcdf",
+                str(nc),
+                "--json",
+            ]
+        )
+        == 0
+    )
     assert json.loads(capsys.readouterr().out)["netcdf"] == str(nc)
     with xr.open_dataset(nc) as ds, np.load(npz) as f:
         np.testing.assert_array_equal(ds["growth_rate_per_s"].values, f["growth_rate_per_s"])
-    assert main(["sweep", "--model", "two", "--p", "200,400", "--out", str(npz), "--netcdf", str(tmp_path / "c.cdf")]) == 2
+    assert (
+        main(
+            [
+                "sweep",
+                "--model",
+                "two",
+                "--p",
+                "200,400",
+                "--out",
+                str(npz),
+                "--netcdf",
+                str(tmp_path / "c.cdf"),
+            ]
+        )
+        == 2
+    )
     assert "--netcdf" in capsys.readouterr().err
 
 
@@ -178,13 +243,30 @@ def test_netcdf_without_xarray_is_one_line_error(reference, tmp_path, monkeypatc
     monkeypatch.setitem(sys.modules, "xarray", None)  # import xarray now raises ImportError
     with pytest.raises(ImportError, match=r"axojax\[netcdf\]"):
         reference.to_xarray()
-    assert main(["sweep", "--model", "two", "--p", "200,400", "--out", str(tmp_path / "c.npz"), "--netcdf", str(tmp_path / "c.nc")]) == 2
+    assert (
+        main(
+            [
+                "sweep",
+                "--model",
+                "two",
+                "--p",
+                "200,400",
+                "--out",
+                str(tmp_path / "c.npz"),
+                "--netcdf",
+                str(tmp_path / "c.nc"),
+            ]
+        )
+        == 2
+    )
     err = capsys.readouterr().err
     assert "--netcdf" in err and "axojax[netcdf]" in err and len(err.strip().splitlines()) == 1
 
 
-@pytest.mark.skipif(not blocking_batched_lapack(importlib.metadata.version("jaxlib")),
-                    reason="this jaxlib has no blocking batched-LAPACK path (only 0.10.x and 0.11.0 do)")
+@pytest.mark.skipif(
+    not blocking_batched_lapack(importlib.metadata.version("jaxlib")),
+    reason="this jaxlib has no blocking batched-LAPACK path (only 0.10.x and 0.11.0 do)",
+)
 def test_batched_lapack_over_two_devices_does_not_deadlock():
     """The evaluator the sweep used before it looped over points: jit(vmap) of the dense
     metrics, sharded over 2 host CPU devices, so every eig/LU/Cholesky is a *batched*
@@ -213,7 +295,15 @@ def test_batched_lapack_over_two_devices_does_not_deadlock():
 
 @pytest.mark.parametrize(
     "version, affected",
-    [("0.9.2", False), ("0.10.0", True), ("0.10.2", True), ("0.11.0", True), ("0.11.1", False), ("0.12.0", False), ("0.10.2.dev20260101+cuda", True)],
+    [
+        ("0.9.2", False),
+        ("0.10.0", True),
+        ("0.10.2", True),
+        ("0.11.0", True),
+        ("0.11.1", False),
+        ("0.12.0", False),
+        ("0.10.2.dev20260101+cuda", True),
+    ],
 )
 def test_which_jaxlib_blocks_on_batched_lapack(version, affected):
     from axojax import _runtime

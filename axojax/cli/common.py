@@ -73,17 +73,32 @@ def finite_float(text: str) -> float:
 def add_model_source(group, elements: bool = True, default: str = "seven") -> None:
     """``--model`` | ``--model-file``, ``--rotation-deg`` (and ``--elements``) on ``group``."""
     src = group.add_mutually_exclusive_group()
-    src.add_argument("--model", default=None, help=f"preset: {', '.join(PRESETS)}" + (f" (default {default})" if default else ""))
-    src.add_argument("--model-file", default=None, metavar="PATH", help="TOML/JSON cross-section file")
+    src.add_argument(
+        "--model",
+        default=None,
+        help=f"preset: {', '.join(PRESETS)}" + (f" (default {default})" if default else ""),
+    )
+    src.add_argument(
+        "--model-file", default=None, metavar="PATH", help="TOML/JSON cross-section file"
+    )
     if elements:
-        group.add_argument("--elements", default=10, metavar="N", help="elements per filament (default 10)")
+        group.add_argument(
+            "--elements", default=10, metavar="N", help="elements per filament (default 10)"
+        )
     group.add_argument(
-        "--rotation-deg", type=finite_float, default=0.0, metavar="DEG",
+        "--rotation-deg",
+        type=finite_float,
+        default=0.0,
+        metavar="DEG",
         help="turn a 3D preset's cross-section by DEG degrees from +z towards +y (default 0: the paper's beat plane)",
     )
 
 
-def add_model_flags(parser: argparse.ArgumentParser, params: tuple[str, ...] = tuple(PARAM_FLAGS), axes: bool = False) -> None:
+def add_model_flags(
+    parser: argparse.ArgumentParser,
+    params: tuple[str, ...] = tuple(PARAM_FLAGS),
+    axes: bool = False,
+) -> None:
     """Model, parameter and unit flags; with ``axes`` the parameter flags also take an
     axis (a:b:n, log:a:b:n or v1,v2,...) and are parsed by :func:`split_axes`."""
     g = parser.add_argument_group("model")
@@ -92,25 +107,61 @@ def add_model_flags(parser: argparse.ArgumentParser, params: tuple[str, ...] = t
     for flag in params:
         field = PARAM_FLAGS[flag]
         kind = str if axes else finite_float
-        g.add_argument(f"--{flag}", type=kind, default=None, metavar="AXIS" if axes else "X", help=f"dimensionless {field} (default {getattr(d, field):g})")
+        g.add_argument(
+            f"--{flag}",
+            type=kind,
+            default=None,
+            metavar="AXIS" if axes else "X",
+            help=f"dimensionless {field} (default {getattr(d, field):g})",
+        )
     g.add_argument(
-        "--imbalance-kind", choices=IMBALANCE_KINDS, default=IMBALANCE_KINDS[0],
+        "--imbalance-kind",
+        choices=IMBALANCE_KINDS,
+        default=IMBALANCE_KINDS[0],
         help="read --imbalance R as a static couple p a0 (1 - 1/R) with balanced forces (moment, the paper's reading, "
         "default) or as group 1 carrying p / R (force); MODEL.md section 3",
     )
-    g.add_argument("--kl-ratio", type=finite_float, default=None, metavar="R", help="tie kl = ks / R wherever ks is set, swept or fitted")
+    g.add_argument(
+        "--kl-ratio",
+        type=finite_float,
+        default=None,
+        metavar="R",
+        help="tie kl = ks / R wherever ks is set, swept or fitted",
+    )
     u = parser.add_argument_group("units")
     du = Units()
-    u.add_argument("--length-um", type=finite_float, default=du.length_um, metavar="UM", help="cilium length L in um (default 12)")
-    u.add_argument("--ei", type=finite_float, default=du.ei_pn_um2, metavar="PN_UM2", help="EI of one filament, pN um^2 (default 800/11)")
-    u.add_argument("--cn", type=finite_float, default=du.cn_pn_s_um2, metavar="PN_S_UM2", help="resistive coefficient, pN s um^-2 (default 0.003)")
-    parser.add_argument("--json", action="store_true", help="print one JSON document on stdout and nothing else")
+    u.add_argument(
+        "--length-um",
+        type=finite_float,
+        default=du.length_um,
+        metavar="UM",
+        help="cilium length L in um (default 12)",
+    )
+    u.add_argument(
+        "--ei",
+        type=finite_float,
+        default=du.ei_pn_um2,
+        metavar="PN_UM2",
+        help="EI of one filament, pN um^2 (default 800/11)",
+    )
+    u.add_argument(
+        "--cn",
+        type=finite_float,
+        default=du.cn_pn_s_um2,
+        metavar="PN_S_UM2",
+        help="resistive coefficient, pN s um^-2 (default 0.003)",
+    )
+    parser.add_argument(
+        "--json", action="store_true", help="print one JSON document on stdout and nothing else"
+    )
 
 
 def add_solver_flag(parser: argparse.ArgumentParser) -> None:
     """``--solver {auto,dense,arnoldi}``: the dominant-eigenpair solver."""
     parser.add_argument(
-        "--solver", default="auto", metavar="NAME",
+        "--solver",
+        default="auto",
+        metavar="NAME",
         help=f"dominant-eigenpair solver: {', '.join(SOLVERS)} (default auto: certified Arnoldi on the "
         f"block-tridiagonal pencil for models of {Auto().min_arnoldi_dof}+ unknowns, and for sweeps (or traced boundaries) of "
         f"{Auto().min_batch_points}+ points on models of {Auto().min_batch_dof}+ unknowns; dense otherwise)",
@@ -124,7 +175,9 @@ def solver_from_args(args: argparse.Namespace) -> AbstractEigenSolver:
         raise CLIError(f"--solver: {err}") from None
 
 
-def split_axes(args: argparse.Namespace, argv: list[str]) -> tuple[dict[str, float], dict[str, np.ndarray]]:
+def split_axes(
+    args: argparse.Namespace, argv: list[str]
+) -> tuple[dict[str, float], dict[str, np.ndarray]]:
     """Parameter flags given as strings -> (fixed values, axes in command-line order)."""
     fixed, axes = {}, {}
     for flag, field in PARAM_FLAGS.items():
@@ -138,7 +191,17 @@ def split_axes(args: argparse.Namespace, argv: list[str]) -> tuple[dict[str, flo
                 fixed[field] = finite_float(text)
             except argparse.ArgumentTypeError as err:
                 raise CLIError(f"--{flag}: {err}") from None
-    position = {f: min([i for i, a in enumerate(argv) if a == f"--{FIELD_FLAGS[f]}" or a.startswith(f"--{FIELD_FLAGS[f]}=")] or [0]) for f in axes}
+    position = {
+        f: min(
+            [
+                i
+                for i, a in enumerate(argv)
+                if a == f"--{FIELD_FLAGS[f]}" or a.startswith(f"--{FIELD_FLAGS[f]}=")
+            ]
+            or [0]
+        )
+        for f in axes
+    }
     return fixed, dict(sorted(axes.items(), key=lambda kv: position[kv[0]]))
 
 
@@ -152,7 +215,9 @@ def check_memory(need_bytes: float, flag: str, what: str) -> None:
     exceeds :data:`MEMORY_FRACTION` of the physical memory."""
     total = physical_memory()
     if need_bytes > MEMORY_FRACTION * total:
-        raise CLIError(f"{flag}: {what} needs about {need_bytes / 2**30:.3g} GiB of memory, more than {MEMORY_FRACTION:.0%} of this machine's {total / 2**30:.3g} GiB")
+        raise CLIError(
+            f"{flag}: {what} needs about {need_bytes / 2**30:.3g} GiB of memory, more than {MEMORY_FRACTION:.0%} of this machine's {total / 2**30:.3g} GiB"
+        )
 
 
 def model_bytes(section: CrossSection, n_elements: int) -> float:
@@ -164,7 +229,10 @@ def model_bytes(section: CrossSection, n_elements: int) -> float:
     block-tridiagonal factors and Krylov basis."""
     n_fd = section.n_filaments * section.n_dirs
     n = dense_unknowns(section, n_elements)
-    build = 8.0 * (n_fd**2 * (2 + len(section.active_pairs)) + (len(section.links) + 3 * len(section.active_pairs)) * n_fd)
+    build = 8.0 * (
+        n_fd**2 * (2 + len(section.active_pairs))
+        + (len(section.links) + 3 * len(section.active_pairs)) * n_fd
+    )
     # the mesh: shape-function rows at 5 quadrature points per element over the 2 (n_e + 1)
     # nodal dofs (three of them), and the filament's dense matrices
     build += 8.0 * (3 * 5 * n_elements * 2 * (n_elements + 1) + 8 * (2 * n_elements) ** 2)
@@ -197,27 +265,43 @@ def model_from_args(args: argparse.Namespace, dense_spectrum: bool = False) -> M
     if not 1 <= n <= MAX_ELEMENTS:
         raise CLIError(f"--elements: expected an integer in 1..{MAX_ELEMENTS}, got {n}")
     if abs(args.rotation_deg) > MAX_ROTATION_DEG:
-        raise CLIError(f"--rotation-deg: expected degrees in -{MAX_ROTATION_DEG:g}..{MAX_ROTATION_DEG:g}, got {args.rotation_deg:g}")
+        raise CLIError(
+            f"--rotation-deg: expected degrees in -{MAX_ROTATION_DEG:g}..{MAX_ROTATION_DEG:g}, got {args.rotation_deg:g}"
+        )
     if args.model_file is not None:
         source = "--model-file"
         if args.rotation_deg != 0.0:
-            raise CLIError("--rotation-deg: applies to presets; a --model-file gives its positions itself")
+            raise CLIError(
+                "--rotation-deg: applies to presets; a --model-file gives its positions itself"
+            )
     else:
         source = "--model"
     try:
         if args.model_file is not None:
             section = load_section(args.model_file)
         else:
-            section = preset_section("seven" if args.model is None else args.model, args.rotation_deg)
+            section = preset_section(
+                "seven" if args.model is None else args.model, args.rotation_deg
+            )
     except ValueError as err:
         flag = "--rotation-deg" if (source == "--model" and "rotation_deg" in str(err)) else source
         raise CLIError(f"{flag}: {err}") from None
     # blame --elements when the cross-section itself would fit at the default mesh
-    check_model_size(section, n, "--elements" if model_bytes(section, 10) <= MEMORY_FRACTION * physical_memory() else source)
+    check_model_size(
+        section,
+        n,
+        "--elements" if model_bytes(section, 10) <= MEMORY_FRACTION * physical_memory() else source,
+    )
     if dense_spectrum:
-        check_memory(DENSE_SPECTRUM_BYTES * dense_unknowns(section, n) ** 2, "--elements", f"the full spectrum of {dense_unknowns(section, n)} unknowns (dense matrices)")
+        check_memory(
+            DENSE_SPECTRUM_BYTES * dense_unknowns(section, n) ** 2,
+            "--elements",
+            f"the full spectrum of {dense_unknowns(section, n)} unknowns (dense matrices)",
+        )
     try:
-        return build_model(section, n, imbalance_kind=getattr(args, "imbalance_kind", IMBALANCE_KINDS[0]))
+        return build_model(
+            section, n, imbalance_kind=getattr(args, "imbalance_kind", IMBALANCE_KINDS[0])
+        )
     except ValueError as err:
         raise CLIError(f"{source}: {err}") from None
 
@@ -236,12 +320,16 @@ def check_beat(beat: Any, flag: str = "--data") -> None:
     psi = np.asarray(beat.psi_rad, dtype=float)
     frames, points = psi.shape if psi.ndim == 2 else (0, 0)
     if points < MIN_DATA_POINTS:
-        raise CLIError(f"{flag}: needs at least {MIN_DATA_POINTS} arc-length points per frame, got {points}")
+        raise CLIError(
+            f"{flag}: needs at least {MIN_DATA_POINTS} arc-length points per frame, got {points}"
+        )
     if frames < MIN_DATA_POINTS:
         raise CLIError(f"{flag}: needs at least {MIN_DATA_POINTS} frames, got {frames}")
     peak = float(np.max(np.abs(psi)))
     if not np.isfinite(peak) or peak > MAX_PSI_RAD:
-        raise CLIError(f"{flag}: tangent angles must be radians with |psi| <= {MAX_PSI_RAD:g}, got {peak:.3g}")
+        raise CLIError(
+            f"{flag}: tangent angles must be radians with |psi| <= {MAX_PSI_RAD:g}, got {peak:.3g}"
+        )
 
 
 def check_output(flag: str, path: str | None, suffixes: tuple[str, ...]) -> None:
@@ -295,7 +383,9 @@ def units_from_args(args: argparse.Namespace) -> Units:
         return Units(args.length_um, args.ei, args.cn)
     except ValueError as err:
         name = str(err).split()[1]
-        flag = {"length_um": "--length-um", "ei_pn_um2": "--ei", "cn_pn_s_um2": "--cn"}.get(name, "units")
+        flag = {"length_um": "--length-um", "ei_pn_um2": "--ei", "cn_pn_s_um2": "--cn"}.get(
+            name, "units"
+        )
         raise CLIError(f"{flag}: {err}") from None
 
 
@@ -352,7 +442,9 @@ def parse_axis(text: str, flag: str) -> np.ndarray:
             if not (np.isfinite(a) and np.isfinite(b)):
                 raise CLIError(f"{flag}: expected finite ends, got {text!r}")
             if n > MAX_AXIS:
-                raise CLIError(f"{flag}: an axis of {n} values is more than {MAX_AXIS} (split the sweep), got {text!r}")
+                raise CLIError(
+                    f"{flag}: an axis of {n} values is more than {MAX_AXIS} (split the sweep), got {text!r}"
+                )
             if log:
                 if a <= 0 or b <= 0:
                     raise CLIError(f"{flag}: log axis needs positive ends, got {text!r}")
@@ -360,7 +452,9 @@ def parse_axis(text: str, flag: str) -> np.ndarray:
             else:
                 values = np.linspace(a, b, n)
     except ValueError:
-        raise CLIError(f"{flag}: expected a:b:n, log:a:b:n or comma-separated values, got {text!r}") from None
+        raise CLIError(
+            f"{flag}: expected a:b:n, log:a:b:n or comma-separated values, got {text!r}"
+        ) from None
     if values.size == 0 or not np.all(np.isfinite(values)):
         raise CLIError(f"{flag}: expected finite values, got {text!r}")
     return values

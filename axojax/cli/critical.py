@@ -20,9 +20,21 @@ traced boundary is a batch for ``--solver auto``."""
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     common.add_model_flags(parser)
-    parser.add_argument("--along", default=None, metavar="NAME", help="second parameter to trace the boundary along, e.g. ks")
-    parser.add_argument("--values", default=None, metavar="AXIS", help="values of --along: a:b:n, log:a:b:n or v1,v2,...")
-    parser.add_argument("--chunk", type=int, default=8, metavar="N", help="points per compiled batch (default 8)")
+    parser.add_argument(
+        "--along",
+        default=None,
+        metavar="NAME",
+        help="second parameter to trace the boundary along, e.g. ks",
+    )
+    parser.add_argument(
+        "--values",
+        default=None,
+        metavar="AXIS",
+        help="values of --along: a:b:n, log:a:b:n or v1,v2,...",
+    )
+    parser.add_argument(
+        "--chunk", type=int, default=8, metavar="N", help="points per compiled batch (default 8)"
+    )
     common.add_solver_flag(parser)
 
 
@@ -39,7 +51,14 @@ def run(args: argparse.Namespace) -> dict:
     if args.along is None:
         c = critical_force(model, params, solver=solver)
         _report_failures(args, [("", c.result)])
-        return {"critical": [{"p": float(c.p) if bool(c.found) else None, "frequency_hz": float(c.frequency_hz(units)) if bool(c.found) else None}]}
+        return {
+            "critical": [
+                {
+                    "p": float(c.p) if bool(c.found) else None,
+                    "frequency_hz": float(c.frequency_hz(units)) if bool(c.found) else None,
+                }
+            ]
+        }
     (field,) = common.parse_names(args.along, "--along")
     if field == "p":
         raise common.CLIError("--along: the boundary is traced in p, choose another parameter")
@@ -58,14 +77,22 @@ def run(args: argparse.Namespace) -> dict:
 
     chunk_size = min(args.chunk, len(values))
     out, failures = [], []
-    for start in tqdm(range(0, len(values), chunk_size), desc="critical", unit="chunk", disable=None):
+    for start in tqdm(
+        range(0, len(values), chunk_size), desc="critical", unit="chunk", disable=None
+    ):
         chunk = values[start : start + chunk_size]
         padded = np.concatenate([chunk, np.repeat(chunk[-1:], chunk_size - len(chunk))])
         p, f, found, result = batch(padded)
         p, f, found = (np.asarray(a)[: len(chunk)] for a in (p, f, found))
         codes = np.asarray(result._value)[: len(chunk)]
         for v, pc, fc, ok, code in zip(chunk, p, f, found, codes):
-            out.append({common.FIELD_FLAGS[field]: float(v), "p": float(pc) if ok else None, "frequency_hz": float(fc) if ok else None})
+            out.append(
+                {
+                    common.FIELD_FLAGS[field]: float(v),
+                    "p": float(pc) if ok else None,
+                    "frequency_hz": float(fc) if ok else None,
+                }
+            )
             failures.append((f" at --{common.FIELD_FLAGS[field]} {v:g}", _item(int(code))))
     _report_failures(args, failures)
     return {"critical": out}

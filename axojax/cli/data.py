@@ -28,25 +28,76 @@ from . import common
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("file", metavar="FILE", help="beat file (.csv, .npz, .mat: kymograph, 2D/3D centreline or Fourier modes) or a bundled data set (human_sperm)")
-    parser.add_argument("--length-um", type=common.finite_float, default=None, metavar="UM", help="flagellum length, when the file lacks it")
-    parser.add_argument("--frame-rate-hz", type=common.finite_float, default=None, metavar="HZ", help="frames per second, when the file lacks it")
-    parser.add_argument("--cell", type=int, default=None, metavar="INDEX", help=".mat cell arrays: which cell (0-based; default the only non-empty one)")
-    parser.add_argument("--planarity-threshold", type=common.finite_float, default=PLANARITY_THRESHOLD, metavar="R", help=f"3D beats with s3/s2 below R are planar (default {PLANARITY_THRESHOLD:g})")
-    parser.add_argument("--exclude-base-um", type=common.finite_float, default=None, metavar="UM", help="leave out the basal stretch s < UM")
-    parser.add_argument("--plot", default=None, metavar="OUT.png", help="figure: psi_0, |psi_1| and phase along s, kymograph or reconstruction")
+    parser.add_argument(
+        "file",
+        metavar="FILE",
+        help="beat file (.csv, .npz, .mat: kymograph, 2D/3D centreline or Fourier modes) or a bundled data set (human_sperm)",
+    )
+    parser.add_argument(
+        "--length-um",
+        type=common.finite_float,
+        default=None,
+        metavar="UM",
+        help="flagellum length, when the file lacks it",
+    )
+    parser.add_argument(
+        "--frame-rate-hz",
+        type=common.finite_float,
+        default=None,
+        metavar="HZ",
+        help="frames per second, when the file lacks it",
+    )
+    parser.add_argument(
+        "--cell",
+        type=int,
+        default=None,
+        metavar="INDEX",
+        help=".mat cell arrays: which cell (0-based; default the only non-empty one)",
+    )
+    parser.add_argument(
+        "--planarity-threshold",
+        type=common.finite_float,
+        default=PLANARITY_THRESHOLD,
+        metavar="R",
+        help=f"3D beats with s3/s2 below R are planar (default {PLANARITY_THRESHOLD:g})",
+    )
+    parser.add_argument(
+        "--exclude-base-um",
+        type=common.finite_float,
+        default=None,
+        metavar="UM",
+        help="leave out the basal stretch s < UM",
+    )
+    parser.add_argument(
+        "--plot",
+        default=None,
+        metavar="OUT.png",
+        help="figure: psi_0, |psi_1| and phase along s, kymograph or reconstruction",
+    )
     parser.add_argument("--json", action="store_true", help="print one JSON document on stdout")
 
 
 def run(args: argparse.Namespace) -> dict:
-    common.check_output("--plot", args.plot, common.FIGURE_SUFFIXES)  # before any work, as every command
-    for flag, value in (("--length-um", args.length_um), ("--frame-rate-hz", args.frame_rate_hz), ("--planarity-threshold", args.planarity_threshold)):
+    common.check_output(
+        "--plot", args.plot, common.FIGURE_SUFFIXES
+    )  # before any work, as every command
+    for flag, value in (
+        ("--length-um", args.length_um),
+        ("--frame-rate-hz", args.frame_rate_hz),
+        ("--planarity-threshold", args.planarity_threshold),
+    ):
         if value is not None and not value > 0:
             raise common.CLIError(f"{flag}: must be > 0, got {value:g}")
     if args.cell is not None and args.cell < 0:
         raise common.CLIError(f"--cell: must be >= 0, got {args.cell}")
     try:
-        beat = read_beat(args.file, length_um=args.length_um, frame_rate_hz=args.frame_rate_hz, cell=args.cell, planarity_threshold=args.planarity_threshold)
+        beat = read_beat(
+            args.file,
+            length_um=args.length_um,
+            frame_rate_hz=args.frame_rate_hz,
+            cell=args.cell,
+            planarity_threshold=args.planarity_threshold,
+        )
         if args.exclude_base_um is not None:
             beat = beat.exclude_base(args.exclude_base_um)
     except ValueError as err:
@@ -66,13 +117,22 @@ def run(args: argparse.Namespace) -> dict:
 
 
 def _num(v, fmt: str, unit: str) -> str:
-    return "unknown" if v is None or (isinstance(v, float) and not math.isfinite(v)) else f"{v:{fmt}} {unit}"
+    return (
+        "unknown"
+        if v is None or (isinstance(v, float) and not math.isfinite(v))
+        else f"{v:{fmt}} {unit}"
+    )
 
 
 def render(doc: dict) -> str:
-    freq = "unknown (give --target-frequency to a fit)" if doc["frequency_hz"] is None else f"{doc['frequency_hz']:.4g} +- {doc['frequency_sigma_hz']:.2g} Hz"
+    freq = (
+        "unknown (give --target-frequency to a fit)"
+        if doc["frequency_hz"] is None
+        else f"{doc['frequency_hz']:.4g} +- {doc['frequency_sigma_hz']:.2g} Hz"
+    )
     lines = [
-        f"{doc['file']}: {doc['kind']}, {doc['n_points']} points" + (f", {doc['frames']} frames, {doc['cycles']} cycles" if doc["frames"] else ""),
+        f"{doc['file']}: {doc['kind']}, {doc['n_points']} points"
+        + (f", {doc['frames']} frames, {doc['cycles']} cycles" if doc["frames"] else ""),
         f"  length            {_num(doc['length_um'], '.4g', 'um')}",
         f"  frequency         {freq}",
         f"  wavelength        {_num(doc['wavelength_um'], '.4g', 'um')}",
@@ -82,7 +142,9 @@ def render(doc: dict) -> str:
     ]
     if doc["planarity"] is not None:
         r = doc["planarity"]["ratios"]
-        lines.append(f"  planarity         s2/s1 {r['s2_over_s1']:.3g}, s3/s1 {r['s3_over_s1']:.3g}, s3/s2 {r['s3_over_s2']:.3g}")
+        lines.append(
+            f"  planarity         s2/s1 {r['s2_over_s1']:.3g}, s3/s1 {r['s3_over_s1']:.3g}, s3/s2 {r['s3_over_s2']:.3g}"
+        )
     if doc.get("published_frequency_hz") is not None:
         lines.append(f"  published frequency {doc['published_frequency_hz']:.4g} Hz")
     lines += [f"  note: {n}" for n in doc["notes"]]

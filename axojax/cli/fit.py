@@ -55,7 +55,19 @@ MAX_DRAWS = 100_000  # draws per chain of --posterior (a 3-parameter posterior n
 MAX_CHAINS = 64
 MAX_STARTS = 10_000
 """Most starts of a multi-start fit (each is a full local fit; 1e11 asked for 745 GiB)."""
-SPEC_TOP = {"model", "model_file", "elements", "imbalance_kind", "kl_ratio", "length_um", "free", "free_per_condition", "params", "condition", "bounds"}
+SPEC_TOP = {
+    "model",
+    "model_file",
+    "elements",
+    "imbalance_kind",
+    "kl_ratio",
+    "length_um",
+    "free",
+    "free_per_condition",
+    "params",
+    "condition",
+    "bounds",
+}
 SPEC_TARGETS = {
     # key: (target name, sigma key, default relative sigma)
     "frequency_hz": ("frequency_hz", "frequency_sigma_hz", 0.05),
@@ -66,58 +78,186 @@ SPEC_TARGETS = {
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     common.add_model_flags(parser)
-    parser.add_argument("--free", default=None, metavar="NAMES", help="comma-separated parameters to fit, e.g. p,ks; cubic (the stiffening, --cubic its start) with --target limit-cycle (or free = [...] in --spec)")
-    parser.add_argument("--spec", default=None, metavar="FIT.toml", help="fit several conditions at once (global fit): model, free parameters and [[condition]] tables (see the module docs)")
-    common.add_solver_flag(parser)
-    parser.add_argument("--target-frequency", type=common.finite_float, default=None, metavar="HZ", help="observed beat frequency (Hz)")
-    parser.add_argument("--frequency-sigma", type=common.finite_float, default=None, metavar="HZ", help="its uncertainty (default 5%% of it)")
-    parser.add_argument("--target-wavelength", type=common.finite_float, default=None, metavar="UM", help="observed wavelength (um)")
-    parser.add_argument("--wavelength-sigma", type=common.finite_float, default=None, metavar="UM", help="its uncertainty (default 10%% of it)")
-    parser.add_argument("--target-velocity", type=common.finite_float, default=None, metavar="UM_PER_S", help="observed wave velocity (um/s), 10%% uncertainty")
-    parser.add_argument("--marginal", type=common.finite_float, default=None, metavar="PER_S", help="add a growth-rate target 0 +- this (1/s): beat near the Hopf boundary")
-    parser.add_argument("--observation", default=None, metavar="NAME", help=f"bundled published targets: {', '.join(OBSERVATIONS)}")
-    parser.add_argument("--data", default=None, metavar="FILE", help="beat data (kymograph, centreline or Fourier-mode file): frequency and mode shape")
     parser.add_argument(
-        "--target", choices=("linear", "limit-cycle"), default="linear",
+        "--free",
+        default=None,
+        metavar="NAMES",
+        help="comma-separated parameters to fit, e.g. p,ks; cubic (the stiffening, --cubic its start) with --target limit-cycle (or free = [...] in --spec)",
+    )
+    parser.add_argument(
+        "--spec",
+        default=None,
+        metavar="FIT.toml",
+        help="fit several conditions at once (global fit): model, free parameters and [[condition]] tables (see the module docs)",
+    )
+    common.add_solver_flag(parser)
+    parser.add_argument(
+        "--target-frequency",
+        type=common.finite_float,
+        default=None,
+        metavar="HZ",
+        help="observed beat frequency (Hz)",
+    )
+    parser.add_argument(
+        "--frequency-sigma",
+        type=common.finite_float,
+        default=None,
+        metavar="HZ",
+        help="its uncertainty (default 5%% of it)",
+    )
+    parser.add_argument(
+        "--target-wavelength",
+        type=common.finite_float,
+        default=None,
+        metavar="UM",
+        help="observed wavelength (um)",
+    )
+    parser.add_argument(
+        "--wavelength-sigma",
+        type=common.finite_float,
+        default=None,
+        metavar="UM",
+        help="its uncertainty (default 10%% of it)",
+    )
+    parser.add_argument(
+        "--target-velocity",
+        type=common.finite_float,
+        default=None,
+        metavar="UM_PER_S",
+        help="observed wave velocity (um/s), 10%% uncertainty",
+    )
+    parser.add_argument(
+        "--marginal",
+        type=common.finite_float,
+        default=None,
+        metavar="PER_S",
+        help="add a growth-rate target 0 +- this (1/s): beat near the Hopf boundary",
+    )
+    parser.add_argument(
+        "--observation",
+        default=None,
+        metavar="NAME",
+        help=f"bundled published targets: {', '.join(OBSERVATIONS)}",
+    )
+    parser.add_argument(
+        "--data",
+        default=None,
+        metavar="FILE",
+        help="beat data (kymograph, centreline or Fourier-mode file): frequency and mode shape",
+    )
+    parser.add_argument(
+        "--target",
+        choices=("linear", "limit-cycle"),
+        default="linear",
         help="what --target-frequency/--target-wavelength/--target-amplitude describe: the dominant linear mode "
         "(default) or the nonlinear beat's limit cycle (computed directly, see 'axojax orbit')",
     )
-    parser.add_argument("--target-amplitude", type=common.finite_float, default=None, metavar="UM", help="observed tip amplitude (um, half peak-to-peak; needs --target limit-cycle)")
-    parser.add_argument("--amplitude-sigma", type=common.finite_float, default=None, metavar="UM", help="its uncertainty (default 10%% of it)")
-    parser.add_argument("--cubic", type=common.finite_float, default=None, metavar="KAPPA", help="cubic link stiffening of the limit cycle, 1/L^2 (default 10; with --target limit-cycle)")
-    parser.add_argument("--starts", type=int, default=4, metavar="N", help="multi-start count: the given point plus a Sobol design in the bounds (default 4)")
-    parser.add_argument("--method", choices=METHODS, default="lm", help="least-squares solver: lm (Levenberg-Marquardt, default), lbfgs, adam")
     parser.add_argument(
-        "--shape-floor", type=common.finite_float, default=SHAPE_FLOOR, metavar="RAD",
+        "--target-amplitude",
+        type=common.finite_float,
+        default=None,
+        metavar="UM",
+        help="observed tip amplitude (um, half peak-to-peak; needs --target limit-cycle)",
+    )
+    parser.add_argument(
+        "--amplitude-sigma",
+        type=common.finite_float,
+        default=None,
+        metavar="UM",
+        help="its uncertainty (default 10%% of it)",
+    )
+    parser.add_argument(
+        "--cubic",
+        type=common.finite_float,
+        default=None,
+        metavar="KAPPA",
+        help="cubic link stiffening of the limit cycle, 1/L^2 (default 10; with --target limit-cycle)",
+    )
+    parser.add_argument(
+        "--starts",
+        type=int,
+        default=4,
+        metavar="N",
+        help="multi-start count: the given point plus a Sobol design in the bounds (default 4)",
+    )
+    parser.add_argument(
+        "--method",
+        choices=METHODS,
+        default="lm",
+        help="least-squares solver: lm (Levenberg-Marquardt, default), lbfgs, adam",
+    )
+    parser.add_argument(
+        "--shape-floor",
+        type=common.finite_float,
+        default=SHAPE_FLOOR,
+        metavar="RAD",
         help=f"model-discrepancy floor added in quadrature to psi_1's sigma (default {SHAPE_FLOOR:g} rad: tangent-angle accuracy of tracked centrelines, "
         "5-10%% of a typical |psi_1|)",
     )
-    parser.add_argument("--exclude-base-um", type=common.finite_float, default=0.0, metavar="UM", help="leave the basal stretch s < UM of the data's shape out of the fit (its misfit is reported)")
-    parser.add_argument("--out", default=None, metavar="FIT.json", help="save the fit report (read by 'axojax plot FIT.json')")
     parser.add_argument(
-        "--posterior", type=int, default=None, metavar="DRAWS",
+        "--exclude-base-um",
+        type=common.finite_float,
+        default=0.0,
+        metavar="UM",
+        help="leave the basal stretch s < UM of the data's shape out of the fit (its misfit is reported)",
+    )
+    parser.add_argument(
+        "--out",
+        default=None,
+        metavar="FIT.json",
+        help="save the fit report (read by 'axojax plot FIT.json')",
+    )
+    parser.add_argument(
+        "--posterior",
+        type=int,
+        default=None,
+        metavar="DRAWS",
         help="then sample the posterior from the optimum with NUTS: DRAWS per chain after as many warm-up steps "
         "(adds \"posterior\" to the report; with --out FIT.json the draws go to FIT.posterior.npz, drawn by 'axojax plot')",
     )
-    parser.add_argument("--chains", type=int, default=4, metavar="C", help="posterior chains (default 4; with --posterior)")
+    parser.add_argument(
+        "--chains",
+        type=int,
+        default=4,
+        metavar="C",
+        help="posterior chains (default 4; with --posterior)",
+    )
 
 
 def _targets(args: argparse.Namespace) -> list[Target]:
     out = []
     cycle = args.target == "limit-cycle"
     if not cycle:
-        for flag, value in (("--target-amplitude", args.target_amplitude), ("--amplitude-sigma", args.amplitude_sigma), ("--cubic", args.cubic)):
+        for flag, value in (
+            ("--target-amplitude", args.target_amplitude),
+            ("--amplitude-sigma", args.amplitude_sigma),
+            ("--cubic", args.cubic),
+        ):
             if value is not None:
-                raise common.CLIError(f"{flag}: describes the limit cycle; add --target limit-cycle")
+                raise common.CLIError(
+                    f"{flag}: describes the limit cycle; add --target limit-cycle"
+                )
     elif args.target_velocity is not None:
-        raise common.CLIError("--target-velocity: not a limit-cycle target (use --target-frequency and --target-wavelength)")
+        raise common.CLIError(
+            "--target-velocity: not a limit-cycle target (use --target-frequency and --target-wavelength)"
+        )
     elif args.marginal is not None:
-        raise common.CLIError("--marginal: a limit cycle lives past the Hopf point; drop --marginal with --target limit-cycle")
+        raise common.CLIError(
+            "--marginal: a limit cycle lives past the Hopf point; drop --marginal with --target limit-cycle"
+        )
     elif args.observation is not None:
-        raise common.CLIError("--observation: fits the linear mode; with --target limit-cycle give --target-frequency/--target-wavelength/--target-amplitude or --data")
+        raise common.CLIError(
+            "--observation: fits the linear mode; with --target limit-cycle give --target-frequency/--target-wavelength/--target-amplitude or --data"
+        )
     spec = (
         ("frequency_hz", args.target_frequency, args.frequency_sigma, 0.05, "--target-frequency"),
-        ("wavelength_um", args.target_wavelength, args.wavelength_sigma, 0.10, "--target-wavelength"),
+        (
+            "wavelength_um",
+            args.target_wavelength,
+            args.wavelength_sigma,
+            0.10,
+            "--target-wavelength",
+        ),
         ("velocity_um_per_s", args.target_velocity, None, 0.10, "--target-velocity"),
         ("amplitude_um", args.target_amplitude, args.amplitude_sigma, 0.10, "--target-amplitude"),
     )
@@ -156,7 +296,13 @@ def _read_data(path, flag: str):
     if hasattr(beat, "summary"):
         doc = beat.summary()
     else:
-        doc = {"file": str(path), "frequency_hz": beat.frequency_hz, "frequency_sigma_hz": beat.frequency_sigma_hz, "n_points": len(beat.s_um), "note": "reduced by the kymograph/centreline reader (no 'axojax data' summary available)"}
+        doc = {
+            "file": str(path),
+            "frequency_hz": beat.frequency_hz,
+            "frequency_sigma_hz": beat.frequency_sigma_hz,
+            "n_points": len(beat.s_um),
+            "note": "reduced by the kymograph/centreline reader (no 'axojax data' summary available)",
+        }
     return beat, doc
 
 
@@ -166,23 +312,38 @@ def _check_posterior(args: argparse.Namespace) -> None:
             raise common.CLIError("--chains: applies to the posterior; add --posterior DRAWS")
         return
     if not 4 <= args.posterior <= MAX_DRAWS:
-        raise common.CLIError(f"--posterior: draws per chain must be in 4..{MAX_DRAWS}, got {args.posterior}")
+        raise common.CLIError(
+            f"--posterior: draws per chain must be in 4..{MAX_DRAWS}, got {args.posterior}"
+        )
     if not 1 <= args.chains <= MAX_CHAINS:
-        raise common.CLIError(f"--chains: expected an integer in 1..{MAX_CHAINS}, got {args.chains}")
+        raise common.CLIError(
+            f"--chains: expected an integer in 1..{MAX_CHAINS}, got {args.chains}"
+        )
 
 
 def _fit_options(args: argparse.Namespace) -> dict:
     if not 1 <= args.starts <= MAX_STARTS:
-        raise common.CLIError(f"--starts: expected an integer in 1..{MAX_STARTS}, got {args.starts}")
+        raise common.CLIError(
+            f"--starts: expected an integer in 1..{MAX_STARTS}, got {args.starts}"
+        )
     if args.shape_floor < 0:
         raise common.CLIError(f"--shape-floor: must be >= 0 rad, got {args.shape_floor:g}")
     if args.exclude_base_um < 0:
         raise common.CLIError(f"--exclude-base-um: must be >= 0 um, got {args.exclude_base_um:g}")
-    return {"starts": args.starts, "method": args.method, "progress": not args.json and sys.stderr.isatty(), "solver": common.solver_from_args(args), "shape_floor": args.shape_floor, "exclude_base_um": args.exclude_base_um}
+    return {
+        "starts": args.starts,
+        "method": args.method,
+        "progress": not args.json and sys.stderr.isatty(),
+        "solver": common.solver_from_args(args),
+        "shape_floor": args.shape_floor,
+        "exclude_base_um": args.exclude_base_um,
+    }
 
 
 def _length_given(args) -> bool:
-    return any(a == "--length-um" or a.startswith("--length-um=") for a in getattr(args, "_argv", []))
+    return any(
+        a == "--length-um" or a.startswith("--length-um=") for a in getattr(args, "_argv", [])
+    )
 
 
 def _finish(args, result, extra: dict, post=None) -> dict:
@@ -201,7 +362,9 @@ def _finish(args, result, extra: dict, post=None) -> dict:
         import json
 
         try:
-            _io.write_text(args.out, json.dumps(common.to_jsonable(doc), indent=1, allow_nan=False) + "\n")
+            _io.write_text(
+                args.out, json.dumps(common.to_jsonable(doc), indent=1, allow_nan=False) + "\n"
+            )
         except OSError as err:
             raise common.CLIError(f"--out: cannot write {args.out!r} ({err})") from None
         doc["out"] = str(args.out)
@@ -227,11 +390,20 @@ def _run_fit(args, *fit_args, flag: str, **kwargs):
     from ..fitting import build_problem
     from ..inverse import posterior
 
-    problem = build_problem(*fit_args, **{k: v for k, v in kwargs.items() if k not in LEAST_SQUARES_ONLY})
+    problem = build_problem(
+        *fit_args, **{k: v for k, v in kwargs.items() if k not in LEAST_SQUARES_ONLY}
+    )
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            post = posterior(problem, draws=args.posterior, chains=args.chains, warmup=max(args.posterior, 150), init=result, progress=kwargs.get("progress", False))
+            post = posterior(
+                problem,
+                draws=args.posterior,
+                chains=args.chains,
+                warmup=max(args.posterior, 150),
+                init=result,
+                progress=kwargs.get("progress", False),
+            )
     except ValueError as err:
         raise common.CLIError(f"--posterior: {err}") from None
     for w in caught:  # R-hat, ESS and divergence warnings: one line each on stderr
@@ -258,28 +430,51 @@ def run(args: argparse.Namespace) -> dict:
         length = getattr(beat, "length_um", None)
         if length is not None and abs(length - units.length_um) > 1e-6 * length:
             if _length_given(args):
-                raise common.CLIError(f"--length-um: {units.length_um:g} um conflicts with the data's length {length:g} um ({args.data})")
+                raise common.CLIError(
+                    f"--length-um: {units.length_um:g} um conflicts with the data's length {length:g} um ({args.data})"
+                )
             units = Units(length, units.ei_pn_um2, units.cn_pn_s_um2)  # the data's length
         data_targets, shape = beat.targets()
         if args.target == "limit-cycle":
             # The whole waveform against the nonlinear beat: psi_0 and psi_1 in absolute
             # amplitude, and the data's frequency as the limit cycle's.
-            data_targets = [Target(t.name, t.value, t.sigma, source="limit_cycle") for t in data_targets if t.name in ("frequency_hz", "wavelength_um")]
+            data_targets = [
+                Target(t.name, t.value, t.sigma, source="limit_cycle")
+                for t in data_targets
+                if t.name in ("frequency_hz", "wavelength_um")
+            ]
             shape = None if shape is None else dataclasses.replace(shape, source="limit_cycle")
         targets += [t for t in data_targets if t.name not in {u.name for u in targets}]
     elif args.exclude_base_um:
         raise common.CLIError("--exclude-base-um: applies to a shape; give --data")
     if not targets and shape is None:
-        raise common.CLIError("--free: nothing to fit to; give --target-frequency, --target-wavelength, --observation or --data")
+        raise common.CLIError(
+            "--free: nothing to fit to; give --target-frequency, --target-wavelength, --observation or --data"
+        )
     if args.target == "limit-cycle":
         kappa = DEFAULT_CUBIC if args.cubic is None else args.cubic
         if not kappa > 0:
-            raise common.CLIError(f"--cubic: must be > 0 (the stiffening that bounds the beat), got {kappa:g}")
+            raise common.CLIError(
+                f"--cubic: must be > 0 (the stiffening that bounds the beat), got {kappa:g}"
+            )
         if model.link_B.shape[0] == 0:
-            raise common.CLIError(f"--target: {model.name!r} has no links, so it has no limit cycle; use a model with links")
+            raise common.CLIError(
+                f"--target: {model.name!r} has no links, so it has no limit cycle; use a model with links"
+            )
         options["cubic"] = kappa
     flag = "--exclude-base-um" if args.exclude_base_um else "--free"
-    result, post = _run_fit(args, model, params, targets, free, shape=shape, kl_ratio=common.kl_ratio(args), units=units, flag=flag, **options)
+    result, post = _run_fit(
+        args,
+        model,
+        params,
+        targets,
+        free,
+        shape=shape,
+        kl_ratio=common.kl_ratio(args),
+        units=units,
+        flag=flag,
+        **options,
+    )
     return _finish(args, result, extra, post)
 
 
@@ -305,12 +500,14 @@ def _number(path, where: str, value) -> float:
 
 def _names(path, key: str, value) -> list[str]:
     if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-        _spec_error(path, f"{key} must be a list of parameter names, e.g. [\"ks\", \"cl\"]")
+        _spec_error(path, f'{key} must be a list of parameter names, e.g. ["ks", "cl"]')
     out = []
     for v in value:
         field = common.PARAM_FLAGS.get(v) or (v if v in PARAM_NAMES else None)
         if field is None:
-            _spec_error(path, f"{key}: unknown parameter {v!r}; choose from {', '.join(PARAM_NAMES)}")
+            _spec_error(
+                path, f"{key}: unknown parameter {v!r}; choose from {', '.join(PARAM_NAMES)}"
+            )
         out.append(field)
     return out
 
@@ -320,7 +517,9 @@ def _param_table(path, where: str, table: dict) -> dict[str, float]:
     for k, v in table.items():
         field = common.PARAM_FLAGS.get(k) or (k if k in PARAM_NAMES else None)
         if field is None:
-            _spec_error(path, f"{where}: unknown parameter {k!r}; choose from {', '.join(PARAM_NAMES)}")
+            _spec_error(
+                path, f"{where}: unknown parameter {k!r}; choose from {', '.join(PARAM_NAMES)}"
+            )
         out[field] = _number(path, f"{where}.{k}", v)
     return out
 
@@ -333,7 +532,15 @@ def _run_spec(args: argparse.Namespace) -> dict:
         spec = tomllib.loads(path.read_text())
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as err:
         raise common.CLIError(f"--spec: {path}: not valid TOML ({err})") from None
-    for flag, value in (("--free", args.free), ("--data", args.data), ("--observation", args.observation), ("--target-frequency", args.target_frequency), ("--target-wavelength", args.target_wavelength), ("--model", args.model), ("--model-file", args.model_file)):
+    for flag, value in (
+        ("--free", args.free),
+        ("--data", args.data),
+        ("--observation", args.observation),
+        ("--target-frequency", args.target_frequency),
+        ("--target-wavelength", args.target_wavelength),
+        ("--model", args.model),
+        ("--model-file", args.model_file),
+    ):
         if value is not None:
             raise common.CLIError(f"{flag}: with --spec give it in the spec file")
     for flag, field in common.PARAM_FLAGS.items():
@@ -341,19 +548,36 @@ def _run_spec(args: argparse.Namespace) -> dict:
             raise common.CLIError(f"--{flag}: with --spec give parameters in its [params] table")
     unknown = set(spec) - SPEC_TOP
     if unknown:
-        _spec_error(path, f"unknown key(s) {', '.join(sorted(unknown))}; known: {', '.join(sorted(SPEC_TOP))}")
+        _spec_error(
+            path,
+            f"unknown key(s) {', '.join(sorted(unknown))}; known: {', '.join(sorted(SPEC_TOP))}",
+        )
     here = path.parent
     # Model.
     elements = spec.get("elements", 10)
-    if isinstance(elements, bool) or not isinstance(elements, int) or not 1 <= elements <= common.MAX_ELEMENTS:
-        _spec_error(path, f"elements must be an integer in 1..{common.MAX_ELEMENTS}, got {elements!r}")
+    if (
+        isinstance(elements, bool)
+        or not isinstance(elements, int)
+        or not 1 <= elements <= common.MAX_ELEMENTS
+    ):
+        _spec_error(
+            path, f"elements must be an integer in 1..{common.MAX_ELEMENTS}, got {elements!r}"
+        )
     if "model" in spec and "model_file" in spec:
         _spec_error(path, "give model or model_file, not both")
     kind = spec.get("imbalance_kind", args.imbalance_kind)
     if kind not in common.IMBALANCE_KINDS:
-        _spec_error(path, f"imbalance_kind must be one of {', '.join(common.IMBALANCE_KINDS)}, got {kind!r}")
-    if "imbalance_kind" in spec and args.imbalance_kind != common.IMBALANCE_KINDS[0] and args.imbalance_kind != kind:
-        raise common.CLIError(f"--imbalance-kind: {args.imbalance_kind} conflicts with the spec's imbalance_kind = {kind!r} ({path})")
+        _spec_error(
+            path, f"imbalance_kind must be one of {', '.join(common.IMBALANCE_KINDS)}, got {kind!r}"
+        )
+    if (
+        "imbalance_kind" in spec
+        and args.imbalance_kind != common.IMBALANCE_KINDS[0]
+        and args.imbalance_kind != kind
+    ):
+        raise common.CLIError(
+            f"--imbalance-kind: {args.imbalance_kind} conflicts with the spec's imbalance_kind = {kind!r} ({path})"
+        )
     try:
         if "model_file" in spec:
             section = load_section(here / str(spec["model_file"]))
@@ -361,23 +585,32 @@ def _run_spec(args: argparse.Namespace) -> dict:
             section = preset_section(str(spec.get("model", "seven")))
     except (ValueError, OSError) as err:
         _spec_error(path, f"model: {err}")
-    common.check_model_size(section, elements, f"--spec: {path}: elements")  # as --elements, before anything is built
+    common.check_model_size(
+        section, elements, f"--spec: {path}: elements"
+    )  # as --elements, before anything is built
     try:
         model = build_model(section, elements, imbalance_kind=kind)
     except ValueError as err:
         _spec_error(path, f"model: {err}")
-    length = _number(path, "length_um", spec["length_um"]) if "length_um" in spec else args.length_um
+    length = (
+        _number(path, "length_um", spec["length_um"]) if "length_um" in spec else args.length_um
+    )
     try:
         units = Units(length, args.ei, args.cn)
     except ValueError as err:
         _spec_error(path, f"units: {err}")
-    kl_ratio = _number(path, "kl_ratio", spec["kl_ratio"]) if "kl_ratio" in spec else common.kl_ratio(args)
+    kl_ratio = (
+        _number(path, "kl_ratio", spec["kl_ratio"]) if "kl_ratio" in spec else common.kl_ratio(args)
+    )
     if kl_ratio is not None and kl_ratio <= 0:
         _spec_error(path, f"kl_ratio must be > 0, got {kl_ratio:g}")
     free = _names(path, "free", spec.get("free", []))
     per = _names(path, "free_per_condition", spec.get("free_per_condition", []))
     if not free and not per:
-        _spec_error(path, "free: name at least one parameter to fit (free = [...] or free_per_condition = [...])")
+        _spec_error(
+            path,
+            "free: name at least one parameter to fit (free = [...] or free_per_condition = [...])",
+        )
     base = spec.get("params", {})
     if not isinstance(base, dict):
         _spec_error(path, "[params] must be a table of parameter values")
@@ -420,9 +653,15 @@ def _run_spec(args: argparse.Namespace) -> dict:
             elif k in SPEC_TARGETS:
                 name, sigma_key, rel = SPEC_TARGETS[k]
                 value = _number(path, f"{where}.{k}", v)
-                sigma = _number(path, f"{where}.{sigma_key}", table[sigma_key]) if sigma_key in table else rel * abs(value)
+                sigma = (
+                    _number(path, f"{where}.{sigma_key}", table[sigma_key])
+                    if sigma_key in table
+                    else rel * abs(value)
+                )
                 if value <= 0 or sigma <= 0:
-                    _spec_error(path, f"{where}: {k} and its sigma must be > 0, got {value:g} +- {sigma:g}")
+                    _spec_error(
+                        path, f"{where}: {k} and its sigma must be > 0, got {value:g} +- {sigma:g}"
+                    )
                 targets = [t for t in targets if t.name != name] + [Target(name, value, sigma)]
             else:
                 fixed.update(_param_table(path, where, {k: v}))
@@ -430,11 +669,31 @@ def _run_spec(args: argparse.Namespace) -> dict:
             if not any(s == sigma_key and k in table for k, (_, s, _) in SPEC_TARGETS.items()):
                 _spec_error(path, f"{where}: {sigma_key} without its target")
         try:
-            conditions.append(Condition(params=fixed, targets=targets, shape=shape, label=label, source=str(table.get("source", src or path))))
+            conditions.append(
+                Condition(
+                    params=fixed,
+                    targets=targets,
+                    shape=shape,
+                    label=label,
+                    source=str(table.get("source", src or path)),
+                )
+            )
         except ValueError as err:
             _spec_error(path, f"{where}: {err}")
     flag = "--exclude-base-um" if args.exclude_base_um else "--spec"
-    result, post = _run_fit(args, model, params, conditions, free, per_condition=per, bounds=bounds or None, kl_ratio=kl_ratio, units=units, flag=flag, **options)
+    result, post = _run_fit(
+        args,
+        model,
+        params,
+        conditions,
+        free,
+        per_condition=per,
+        bounds=bounds or None,
+        kl_ratio=kl_ratio,
+        units=units,
+        flag=flag,
+        **options,
+    )
     extra = {"spec": str(path)}
     if data_docs:
         extra["data"] = data_docs[0] if len(data_docs) == 1 else data_docs
@@ -445,31 +704,62 @@ def render(doc: dict) -> str:
     lines = [f"{'parameter':>12s}  {'value':>12s}  {'stderr':>12s}  note"]
     for k, v in doc["fitted"].items():
         se = doc["stderr"].get(k)
-        note = "at bound" if k in doc["at_bound"] else ("" if doc["identifiable"].get(k) else "not identifiable")
+        note = (
+            "at bound"
+            if k in doc["at_bound"]
+            else ("" if doc["identifiable"].get(k) else "not identifiable")
+        )
         lines.append(f"{k:>12s}  {v:12.5g}  {se if se is not None else float('inf'):12.3g}  {note}")
     for c in doc["conditions"]:
         a = c["achieved"]
         head = f"[{c['label']}] " if len(doc["conditions"]) > 1 else ""
         if "frequency_hz" in a:
-            wl = "none (no travelling wave)" if a["wavelength_um"] is None else f"{a['wavelength_um']:.3f} um"
-            lines.append(f"{head}achieved: {a['frequency_hz']:.3f} Hz, wavelength {wl}, growth {a['growth_rate_per_s']:.3f} /s")
+            wl = (
+                "none (no travelling wave)"
+                if a["wavelength_um"] is None
+                else f"{a['wavelength_um']:.3f} um"
+            )
+            lines.append(
+                f"{head}achieved: {a['frequency_hz']:.3f} Hz, wavelength {wl}, growth {a['growth_rate_per_s']:.3f} /s"
+            )
         if "limit_cycle_frequency_hz" in a:
-            f, amp, wl = (a.get(f"limit_cycle_{k}") for k in ("frequency_hz", "amplitude_um", "wavelength_um"))
-            lines.append(f"{head}limit cycle: " + (f"{f:.3f} Hz, tip amplitude {amp:.3f} um, wavelength {wl:.3f} um" if f is not None else "no orbit found"))
+            f, amp, wl = (
+                a.get(f"limit_cycle_{k}") for k in ("frequency_hz", "amplitude_um", "wavelength_um")
+            )
+            lines.append(
+                f"{head}limit cycle: "
+                + (
+                    f"{f:.3f} Hz, tip amplitude {amp:.3f} um, wavelength {wl:.3f} um"
+                    if f is not None
+                    else "no orbit found"
+                )
+            )
         for t in c["targets"]:
             got = t["achieved"]
-            lines.append(f"{head}  {t['name']}: {got if got is not None else float('nan'):.4g} vs {t['value']:.4g} +- {t['sigma']:.3g} ({t['residual']:+.2f} sigma)")
+            lines.append(
+                f"{head}  {t['name']}: {got if got is not None else float('nan'):.4g} vs {t['value']:.4g} +- {t['sigma']:.3g} ({t['residual']:+.2f} sigma)"
+            )
         if c.get("shape_rms") is not None:
             lines.append(f"{head}  mode shape rms residual {c['shape_rms']:.2f} sigma")
     chi2 = doc.get("chi2_per_dof")
-    lines.append(f"loss {doc['loss']:.4g}; chi2/dof {chi2:.3g}" if chi2 is not None else f"loss {doc['loss']:.4g}; chi2/dof undefined (no more residuals than fitted values)")
+    lines.append(
+        f"loss {doc['loss']:.4g}; chi2/dof {chi2:.3g}"
+        if chi2 is not None
+        else f"loss {doc['loss']:.4g}; chi2/dof undefined (no more residuals than fitted values)"
+    )
     lines.append(f"converged: {doc['converged']}; {doc['message']}")
     post = doc.get("posterior")
     if post:
-        lines.append(f"posterior ({post['chains']} chains x {post['draws']} draws, {post['seconds']:.1f} s):")
-        lines.append(f"{'parameter':>12s}  {'mean':>12s}  {'sd':>10s}  {'q05':>12s}  {'q95':>12s}  {'rhat':>6s}  {'ess':>7s}")
+        lines.append(
+            f"posterior ({post['chains']} chains x {post['draws']} draws, {post['seconds']:.1f} s):"
+        )
+        lines.append(
+            f"{'parameter':>12s}  {'mean':>12s}  {'sd':>10s}  {'q05':>12s}  {'q95':>12s}  {'rhat':>6s}  {'ess':>7s}"
+        )
         for k, m in post["mean"].items():
-            lines.append(f"{k:>12s}  {m:12.5g}  {post['sd'][k]:10.3g}  {post['q05'][k]:12.5g}  {post['q95'][k]:12.5g}  {post['rhat'][k]:6.3f}  {post['ess'][k]:7.0f}")
+            lines.append(
+                f"{k:>12s}  {m:12.5g}  {post['sd'][k]:10.3g}  {post['q05'][k]:12.5g}  {post['q95'][k]:12.5g}  {post['rhat'][k]:6.3f}  {post['ess'][k]:7.0f}"
+            )
         if post.get("file"):
             lines.append(f"wrote {post['file']} (axojax plot it for a corner plot)")
     if doc.get("out"):
@@ -492,7 +782,9 @@ def figure_of_report(path) -> object:
     except (OSError, UnicodeDecodeError, ValueError) as err:
         raise common.CLIError(f"FILE: cannot read {str(path)!r} as JSON ({err})") from None
     if not isinstance(doc, dict) or not {"loss", "converged", "conditions"} <= set(doc):
-        raise common.CLIError(f"FILE: {str(path)!r} is not a fit report (write one with 'axojax fit --out FIT.json')")
+        raise common.CLIError(
+            f"FILE: {str(path)!r} is not a fit report (write one with 'axojax fit --out FIT.json')"
+        )
     try:
         return plot_fit_report(doc)
     except (KeyError, TypeError, ValueError) as err:

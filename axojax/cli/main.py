@@ -58,7 +58,10 @@ def version() -> str:
 def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     """The full parser; with ``only``, the flags of that subcommand alone (the others
     listed but not imported: ``axojax sweep`` never loads diffrax, optax or matplotlib)."""
-    parser = _Parser(prog="axojax", description="Flutter of the ciliary axoneme: eigen-analysis, sweeps, fits and simulations.")
+    parser = _Parser(
+        prog="axojax",
+        description="Flutter of the ciliary axoneme: eigen-analysis, sweeps, fits and simulations.",
+    )
     parser.add_argument("--version", action="version", version=f"axojax {version()}")
     sub = parser.add_subparsers(dest="command", parser_class=_Parser)
     for name, help_text in SUBCOMMANDS.items():

@@ -16,12 +16,21 @@ METRICS = ("growth_rate_per_s", "frequency_hz", "wavelength_um")
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     common.add_model_flags(parser)
-    parser.add_argument("--top", type=int, default=10, metavar="K", help="how many eigenvalues to list (default 10)")
-    parser.add_argument("--grad", default=None, metavar="NAMES", help="comma-separated parameters to differentiate by, e.g. p,ks")
+    parser.add_argument(
+        "--top", type=int, default=10, metavar="K", help="how many eigenvalues to list (default 10)"
+    )
+    parser.add_argument(
+        "--grad",
+        default=None,
+        metavar="NAMES",
+        help="comma-separated parameters to differentiate by, e.g. p,ks",
+    )
     common.add_solver_flag(parser)
 
 
-def metric_gradients(model, params, names: list[str], kl_ratio, units: Units, solver=DEFAULT_SOLVER) -> dict:
+def metric_gradients(
+    model, params, names: list[str], kl_ratio, units: Units, solver=DEFAULT_SOLVER
+) -> dict:
     """d(metric)/d(name) for the INTERFACE metrics (forward mode, one jvp per name)."""
 
     def metrics(values):
@@ -57,7 +66,9 @@ def run(args: argparse.Namespace) -> dict:
         "dominant": mode.report(units),
     }
     if names:
-        doc["gradients"] = metric_gradients(model, params, names, common.kl_ratio(args), units, solver)
+        doc["gradients"] = metric_gradients(
+            model, params, names, common.kl_ratio(args), units, solver
+        )
     return doc
 
 

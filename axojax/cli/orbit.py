@@ -22,10 +22,25 @@ the Newton system grows as (2 H + 1)^2 blocks."""
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     common.add_model_flags(parser, axes=True)
-    parser.add_argument("--cubic", type=common.finite_float, default=DEFAULT_CUBIC, metavar="KAPPA", help=f"cubic link stiffening kappa, 1/L^2 (default {DEFAULT_CUBIC:g})")
-    parser.add_argument("--harmonics", default=10, metavar="H", help="harmonics of the orbit (default 10)")
-    parser.add_argument("--out", default=None, metavar="FILE.npz", help="write the orbits (the branch) here")
-    parser.add_argument("--plot", default=None, metavar="FIGURE.png", help="figure: the branch (amplitude, frequency, stability against p) or the single orbit's waveform")
+    parser.add_argument(
+        "--cubic",
+        type=common.finite_float,
+        default=DEFAULT_CUBIC,
+        metavar="KAPPA",
+        help=f"cubic link stiffening kappa, 1/L^2 (default {DEFAULT_CUBIC:g})",
+    )
+    parser.add_argument(
+        "--harmonics", default=10, metavar="H", help="harmonics of the orbit (default 10)"
+    )
+    parser.add_argument(
+        "--out", default=None, metavar="FILE.npz", help="write the orbits (the branch) here"
+    )
+    parser.add_argument(
+        "--plot",
+        default=None,
+        metavar="FIGURE.png",
+        help="figure: the branch (amplitude, frequency, stability against p) or the single orbit's waveform",
+    )
 
 
 def run(args: argparse.Namespace) -> dict:
@@ -37,7 +52,9 @@ def run(args: argparse.Namespace) -> dict:
     fixed, axes = common.split_axes(args, args._argv)
     other = [f for f in axes if f != "p"]
     if other:
-        raise common.CLIError(f"--{common.FIELD_FLAGS[other[0]]}: only --p takes an axis in 'orbit' (the branch in p)")
+        raise common.CLIError(
+            f"--{common.FIELD_FLAGS[other[0]]}: only --p takes an axis in 'orbit' (the branch in p)"
+        )
     ratio = common.kl_ratio(args)
     common.check_params(Params().with_values(fixed))
     params = Params().with_values(fixed, ratio)
@@ -45,21 +62,33 @@ def run(args: argparse.Namespace) -> dict:
     for value in axes.get("p", []):
         common.check_params(params.replace(p=float(value)))
     if not (args.cubic > 0):
-        raise common.CLIError(f"--cubic: must be > 0 (the stiffening that bounds the beat), got {args.cubic:g}")
+        raise common.CLIError(
+            f"--cubic: must be > 0 (the stiffening that bounds the beat), got {args.cubic:g}"
+        )
     if args.cubic > MAX_CUBIC:
-        raise common.CLIError(f"--cubic: expected at most {MAX_CUBIC:g} (1/L^2; default {DEFAULT_CUBIC:g}), got {args.cubic:g}")
+        raise common.CLIError(
+            f"--cubic: expected at most {MAX_CUBIC:g} (1/L^2; default {DEFAULT_CUBIC:g}), got {args.cubic:g}"
+        )
     if model.link_B.shape[0] == 0:
-        raise common.CLIError(f"--model: {model.name!r} has no links, so the cubic link force cannot bound a beat; use a model with links")
+        raise common.CLIError(
+            f"--model: {model.name!r} has no links, so the cubic link force cannot bound a beat; use a model with links"
+        )
     try:
         H = int(str(args.harmonics))
         if not 1 <= H <= MAX_HARMONICS:
             raise ValueError
     except ValueError:
-        raise common.CLIError(f"--harmonics: expected an integer in 1..{MAX_HARMONICS}, got {args.harmonics!r}") from None
+        raise common.CLIError(
+            f"--harmonics: expected an integer in 1..{MAX_HARMONICS}, got {args.harmonics!r}"
+        ) from None
     common.check_output("--out", args.out, (".npz",))
     common.check_output("--plot", args.plot, common.FIGURE_SUFFIXES)
     # the Newton system: (2H + 1) n unknowns, a dense LU (and its complex Floquet twin)
-    common.check_memory(32.0 * ((2 * H + 1) * model.n_dof) ** 2, "--harmonics", f"an orbit of {H} harmonics on {model.n_dof} unknowns")
+    common.check_memory(
+        32.0 * ((2 * H + 1) * model.n_dof) ** 2,
+        "--harmonics",
+        f"an orbit of {H} harmonics on {model.n_dof} unknowns",
+    )
     solver = HarmonicBalance(harmonics=H)
 
     if "p" not in axes:
@@ -70,7 +99,13 @@ def run(args: argparse.Namespace) -> dict:
         report = {"p": float(params.p), **cycle.report(units)}
         if args.out is not None:
             with _io.atomic_path(args.out) as tmp:
-                Branch(np.array([float(params.p)]), [report], math.nan, math.nan, {"model": model.name, "n_elements": model.n_elements, "cubic": args.cubic}).save(tmp)
+                Branch(
+                    np.array([float(params.p)]),
+                    [report],
+                    math.nan,
+                    math.nan,
+                    {"model": model.name, "n_elements": model.n_elements, "cubic": args.cubic},
+                ).save(tmp)
         if args.plot is not None:
             from ..orbits.plot import plot_orbit, save
 
@@ -91,10 +126,15 @@ def run(args: argparse.Namespace) -> dict:
     def progress(p, cyc):
         if bar is not None:
             bar.update(1)
-            bar.set_postfix_str(f"p={p:.4g} " + ("no orbit" if cyc is None else f"{float(cyc.frequency_hz(units)):.3f} Hz"))
+            bar.set_postfix_str(
+                f"p={p:.4g} "
+                + ("no orbit" if cyc is None else f"{float(cyc.frequency_hz(units)):.3f} Hz")
+            )
 
     try:
-        result = branch(model, params, args.cubic, p_values, solver=solver, units=units, callback=progress)
+        result = branch(
+            model, params, args.cubic, p_values, solver=solver, units=units, callback=progress
+        )
     except ValueError as err:
         raise common.CLIError(f"--p: {err}") from None
     finally:
@@ -107,7 +147,17 @@ def run(args: argparse.Namespace) -> dict:
         from ..orbits.plot import plot_branch, save
 
         with _io.atomic_path(args.plot) as tmp:
-            save(plot_branch(result.arrays(), {**result.meta, "p_hopf": result.p_hopf, "hopf_frequency_hz": result.hopf_frequency_hz}), tmp)
+            save(
+                plot_branch(
+                    result.arrays(),
+                    {
+                        **result.meta,
+                        "p_hopf": result.p_hopf,
+                        "hopf_frequency_hz": result.hopf_frequency_hz,
+                    },
+                ),
+                tmp,
+            )
     return result.report()
 
 
@@ -116,11 +166,15 @@ def render(doc: dict) -> str:
     if "hopf" in doc:
         h = doc["hopf"]
         lines.append(f"Hopf point of the equilibrium: p = {h['p']:.6g}, {h['frequency_hz']:.3f} Hz")
-    lines.append(f"{'p':>10s}  {'freq (Hz)':>10s}  {'period (ms)':>11s}  {'tip amp (um)':>12s}  {'wavelength (um)':>15s}  {'|rho_2|':>8s}  stable")
+    lines.append(
+        f"{'p':>10s}  {'freq (Hz)':>10s}  {'period (ms)':>11s}  {'tip amp (um)':>12s}  {'wavelength (um)':>15s}  {'|rho_2|':>8s}  stable"
+    )
     for o in doc["orbits"]:
         rho = sorted((abs(complex(*r)) for r in o["floquet"]), reverse=True)
         second = rho[1] if len(rho) > 1 else float("nan")
-        lines.append(f"{o['p']:10.5g}  {o['frequency_hz']:10.4f}  {o['period_s'] * 1e3:11.3f}  {o['tip_amplitude_um']:12.4f}  {o['wavelength_um']:15.3f}  {second:8.4f}  {o['stable']}")
+        lines.append(
+            f"{o['p']:10.5g}  {o['frequency_hz']:10.4f}  {o['period_s'] * 1e3:11.3f}  {o['tip_amplitude_um']:12.4f}  {o['wavelength_um']:15.3f}  {second:8.4f}  {o['stable']}"
+        )
     if doc.get("missing"):
         lines.append("no orbit at p = " + ", ".join(f"{p:g}" for p in doc["missing"]))
     return "\n".join(lines)

@@ -15,15 +15,35 @@ from . import common
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("file", metavar="FILE.npz", nargs="?", default=None, help="output of 'axojax sweep' or 'axojax simulate'")
+    parser.add_argument(
+        "file",
+        metavar="FILE.npz",
+        nargs="?",
+        default=None,
+        help="output of 'axojax sweep' or 'axojax simulate'",
+    )
     g = parser.add_argument_group("cross-section (instead of FILE.npz)")
     common.add_model_source(g, elements=False, default="")
-    parser.add_argument("--out", required=True, metavar="FIGURE.png", help=f"figure path ({', '.join(common.FIGURE_SUFFIXES)})")
+    parser.add_argument(
+        "--out",
+        required=True,
+        metavar="FIGURE.png",
+        help=f"figure path ({', '.join(common.FIGURE_SUFFIXES)})",
+    )
     parser.add_argument("--json", action="store_true", help="print one JSON document on stdout")
 
 
 KINDS = ("sweep", "simulation", "orbit_branch", "posterior")
-READ_ERRORS = (OSError, EOFError, KeyError, ValueError, TypeError, AttributeError, IndexError, zipfile.BadZipFile)
+READ_ERRORS = (
+    OSError,
+    EOFError,
+    KeyError,
+    ValueError,
+    TypeError,
+    AttributeError,
+    IndexError,
+    zipfile.BadZipFile,
+)
 """What a truncated, damaged or foreign file raises on the way in (numpy's zip reader,
 the JSON meta, the arrays)."""
 
@@ -35,33 +55,54 @@ def _bad(path: pathlib.Path, why: str) -> common.CLIError:
 def _meta(path: pathlib.Path) -> dict:
     """The file's meta, checked: a JSON object whose ``kind`` axojax writes."""
     if not zipfile.is_zipfile(path):
-        raise _bad(path, "is not an .npz file (no zip archive: truncated, damaged or another format); rerun the command that wrote it")
+        raise _bad(
+            path,
+            "is not an .npz file (no zip archive: truncated, damaged or another format); rerun the command that wrote it",
+        )
     try:
         with np.load(path, allow_pickle=False) as f:
             if "meta" not in f.files:
-                raise _bad(path, f"is not an axojax file (no 'meta' entry; it holds {', '.join(f.files) or 'nothing'})")
+                raise _bad(
+                    path,
+                    f"is not an axojax file (no 'meta' entry; it holds {', '.join(f.files) or 'nothing'})",
+                )
             text = str(f["meta"])
     except common.CLIError:
         raise
     except READ_ERRORS as err:
-        raise _bad(path, f"cannot be read as an .npz file: truncated or damaged ({type(err).__name__}: {str(err).splitlines()[0] if str(err) else 'no detail'}); rerun the command that wrote it") from None
+        raise _bad(
+            path,
+            f"cannot be read as an .npz file: truncated or damaged ({type(err).__name__}: {str(err).splitlines()[0] if str(err) else 'no detail'}); rerun the command that wrote it",
+        ) from None
     try:
         meta = json.loads(text)
     except ValueError:
         raise _bad(path, "has a 'meta' entry that is not JSON: not an axojax file") from None
     if not isinstance(meta, dict):
-        raise _bad(path, f"has a 'meta' entry that is a JSON {type(meta).__name__}, not an object: not an axojax file")
+        raise _bad(
+            path,
+            f"has a 'meta' entry that is a JSON {type(meta).__name__}, not an object: not an axojax file",
+        )
     kind = meta.get("kind", "sweep")
     if kind not in KINDS:
         raise _bad(path, f"has kind {kind!r}; axojax plots {', '.join(KINDS)} files")
     return meta
 
 
-def _check_shapes(path: pathlib.Path, kind: str, arrays: dict[str, np.ndarray], expect: dict[str, tuple]) -> None:
+def _check_shapes(
+    path: pathlib.Path, kind: str, arrays: dict[str, np.ndarray], expect: dict[str, tuple]
+) -> None:
     for name, shape in expect.items():
         a = np.asarray(arrays[name])
-        if a.ndim != len(shape) or any(s is not None and n != s for n, s in zip(a.shape, shape)) or a.size == 0:
-            raise _bad(path, f"is a {kind} file whose {name!r} array has shape {a.shape}, expected {tuple('*' if s is None else s for s in shape)} (non-empty)")
+        if (
+            a.ndim != len(shape)
+            or any(s is not None and n != s for n, s in zip(a.shape, shape))
+            or a.size == 0
+        ):
+            raise _bad(
+                path,
+                f"is a {kind} file whose {name!r} array has shape {a.shape}, expected {tuple('*' if s is None else s for s in shape)} (non-empty)",
+            )
 
 
 def _load(path: pathlib.Path, kind: str):
@@ -72,11 +113,25 @@ def _load(path: pathlib.Path, kind: str):
 
             obj = SweepResult.load(path)
             shape = obj.shape
-            missing = [k for k in ("growth_rate_per_s", "frequency_hz", "classification") if k not in obj.data]
+            missing = [
+                k
+                for k in ("growth_rate_per_s", "frequency_hz", "classification")
+                if k not in obj.data
+            ]
             if missing:
                 raise _bad(path, f"is a sweep file without its {missing[0]!r} array")
-            _check_shapes(path, kind, {**{k: np.asarray(v) for k, v in obj.coords.items()}, **{k: obj.data[k] for k in METRICS if k in obj.data}},
-                          {**{k: (len(v),) for k, v in obj.coords.items()}, **{k: shape for k in METRICS if k in obj.data}})
+            _check_shapes(
+                path,
+                kind,
+                {
+                    **{k: np.asarray(v) for k, v in obj.coords.items()},
+                    **{k: obj.data[k] for k in METRICS if k in obj.data},
+                },
+                {
+                    **{k: (len(v),) for k, v in obj.coords.items()},
+                    **{k: shape for k in METRICS if k in obj.data},
+                },
+            )
             return obj
         if kind == "posterior":
             from ..inverse import Posterior
@@ -89,30 +144,70 @@ def _load(path: pathlib.Path, kind: str):
 
             arrays, meta = Branch.load(path)
             n = len(np.atleast_1d(arrays.get("p", [])))
-            need = ("p", "tip_amplitude_um", "frequency_hz", "stable", "floquet_real", "floquet_imag")
+            need = (
+                "p",
+                "tip_amplitude_um",
+                "frequency_hz",
+                "stable",
+                "floquet_real",
+                "floquet_imag",
+            )
             missing = [k for k in need if k not in arrays]
             if missing:
                 raise _bad(path, f"is an orbit branch file without its {missing[0]!r} array")
-            _check_shapes(path, kind, arrays, {"p": (n,), "tip_amplitude_um": (n,), "frequency_hz": (n,), "stable": (n,), "floquet_real": (n, None), "floquet_imag": (n, None)})
+            _check_shapes(
+                path,
+                kind,
+                arrays,
+                {
+                    "p": (n,),
+                    "tip_amplitude_um": (n,),
+                    "frequency_hz": (n,),
+                    "stable": (n,),
+                    "floquet_real": (n, None),
+                    "floquet_imag": (n, None),
+                },
+            )
             return arrays, meta
         from ..dynamics import Simulation
 
         sim = Simulation.load(path)
         T, S = len(sim.t_s), len(sim.x_um)
-        _check_shapes(path, kind, {"t_s": sim.t_s, "x_um": sim.x_um, "tip_um": sim.tip_um, "psi_rad": sim.psi_rad, "centreline_um": sim.centreline_um},
-                      {"t_s": (T,), "x_um": (S,), "tip_um": (T, None), "psi_rad": (T, S), "centreline_um": (T, None, S)})
+        _check_shapes(
+            path,
+            kind,
+            {
+                "t_s": sim.t_s,
+                "x_um": sim.x_um,
+                "tip_um": sim.tip_um,
+                "psi_rad": sim.psi_rad,
+                "centreline_um": sim.centreline_um,
+            },
+            {
+                "t_s": (T,),
+                "x_um": (S,),
+                "tip_um": (T, None),
+                "psi_rad": (T, S),
+                "centreline_um": (T, None, S),
+            },
+        )
         return sim
     except common.CLIError:
         raise
     except READ_ERRORS as err:
         detail = str(err).splitlines()[0] if str(err) else "no detail"
-        raise _bad(path, f"is a {kind} file that cannot be read whole ({type(err).__name__}: {detail}); rerun the command that wrote it") from None
+        raise _bad(
+            path,
+            f"is a {kind} file that cannot be read whole ({type(err).__name__}: {detail}); rerun the command that wrote it",
+        ) from None
 
 
 def _figure(args: argparse.Namespace):
     section = args.model is not None or args.model_file is not None
     if args.file is not None and section:
-        raise common.CLIError(f"{'--model' if args.model is not None else '--model-file'}: give FILE.npz or a cross-section, not both")
+        raise common.CLIError(
+            f"{'--model' if args.model is not None else '--model-file'}: give FILE.npz or a cross-section, not both"
+        )
     if section:
         from ..plotting import plot_section
 
@@ -120,12 +215,18 @@ def _figure(args: argparse.Namespace):
         model = common.model_from_args(args)
         return plot_section(model), "section", model.name
     if args.file is None:
-        raise common.CLIError("FILE: give FILE.npz (a sweep, simulation, orbit branch or posterior), FIT.json (a fit report), or --model/--model-file for a cross-section")
+        raise common.CLIError(
+            "FILE: give FILE.npz (a sweep, simulation, orbit branch or posterior), FIT.json (a fit report), or --model/--model-file for a cross-section"
+        )
     if args.rotation_deg != 0.0:
-        raise common.CLIError("--rotation-deg: turns a cross-section (--model); FILE.npz has its own")
+        raise common.CLIError(
+            "--rotation-deg: turns a cross-section (--model); FILE.npz has its own"
+        )
     path = pathlib.Path(args.file)
     if not path.is_file():
-        raise common.CLIError(f"FILE: {str(path)!r} does not exist" + (" (a directory)" if path.is_dir() else ""))
+        raise common.CLIError(
+            f"FILE: {str(path)!r} does not exist" + (" (a directory)" if path.is_dir() else "")
+        )
     kind = _meta(path).get("kind", "sweep")
     obj = _load(path, kind)
     try:
@@ -146,12 +247,17 @@ def _figure(args: argparse.Namespace):
 
         return plot_simulation(obj), kind, None
     except (ValueError, IndexError, KeyError, TypeError) as err:
-        raise _bad(path, f"is a {kind} file whose contents do not make a figure ({type(err).__name__}: {str(err).splitlines()[0] if str(err) else 'no detail'})") from None
+        raise _bad(
+            path,
+            f"is a {kind} file whose contents do not make a figure ({type(err).__name__}: {str(err).splitlines()[0] if str(err) else 'no detail'})",
+        ) from None
 
 
 def run(args: argparse.Namespace) -> dict:
     common.check_output("--out", args.out, common.FIGURE_SUFFIXES)
-    if args.file is not None and str(args.file).endswith(".json"):  # a fit report (axojax fit --out)
+    if args.file is not None and str(args.file).endswith(
+        ".json"
+    ):  # a fit report (axojax fit --out)
         from .fit import figure_of_report
 
         fig, kind, model = figure_of_report(args.file), "fit", None

@@ -18,18 +18,60 @@ MAX_CUBIC = 1e6
 """Largest ``--cubic`` (1/L^2; default 10): at 1e6 the links stiffen at a displacement of
 L/1000, below the resolution of the beat; beyond, the nonlinear solve breaks down."""
 
-FLAGS = {"t_end_s": "--t-end", "cubic": "--cubic", "perturbation_um": "--perturbation-um", "rtol": "--rtol"}
+FLAGS = {
+    "t_end_s": "--t-end",
+    "cubic": "--cubic",
+    "perturbation_um": "--perturbation-um",
+    "rtol": "--rtol",
+}
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     common.add_model_flags(parser)
-    parser.add_argument("--t-end", type=common.finite_float, required=True, metavar="SECONDS", help="simulated time (s)")
-    parser.add_argument("--cubic", type=common.finite_float, default=None, metavar="KAPPA", help=f"cubic link stiffening kappa, 1/L^2 (default {DEFAULT_CUBIC:g}; 0: linear)")
-    parser.add_argument("--perturbation-um", type=common.finite_float, default=0.1, metavar="UM", help="initial tip displacement in y (default 0.1 um)")
-    parser.add_argument("--rtol", type=common.finite_float, default=1e-6, metavar="X", help="solver relative tolerance (default 1e-6)")
-    parser.add_argument("--max-steps", type=int, default=None, metavar="N", help="solver step budget (default: 10000 + 2000 per period of the linear frequency, rounded up to a multiple of 10000); running out ends in state solver_failed")
-    parser.add_argument("--out", default=None, metavar="FILE.npz", help="write the time series here")
-    parser.add_argument("--gif", default=None, metavar="FILE.gif", help="also write an animation of the last beat cycles")
+    parser.add_argument(
+        "--t-end",
+        type=common.finite_float,
+        required=True,
+        metavar="SECONDS",
+        help="simulated time (s)",
+    )
+    parser.add_argument(
+        "--cubic",
+        type=common.finite_float,
+        default=None,
+        metavar="KAPPA",
+        help=f"cubic link stiffening kappa, 1/L^2 (default {DEFAULT_CUBIC:g}; 0: linear)",
+    )
+    parser.add_argument(
+        "--perturbation-um",
+        type=common.finite_float,
+        default=0.1,
+        metavar="UM",
+        help="initial tip displacement in y (default 0.1 um)",
+    )
+    parser.add_argument(
+        "--rtol",
+        type=common.finite_float,
+        default=1e-6,
+        metavar="X",
+        help="solver relative tolerance (default 1e-6)",
+    )
+    parser.add_argument(
+        "--max-steps",
+        type=int,
+        default=None,
+        metavar="N",
+        help="solver step budget (default: 10000 + 2000 per period of the linear frequency, rounded up to a multiple of 10000); running out ends in state solver_failed",
+    )
+    parser.add_argument(
+        "--out", default=None, metavar="FILE.npz", help="write the time series here"
+    )
+    parser.add_argument(
+        "--gif",
+        default=None,
+        metavar="FILE.gif",
+        help="also write an animation of the last beat cycles",
+    )
 
 
 def run(args: argparse.Namespace) -> dict:
@@ -44,19 +86,40 @@ def run(args: argparse.Namespace) -> dict:
     except ValueError as err:
         raise common.CLIError(str(err)) from None
     if cubic > MAX_CUBIC:
-        raise common.CLIError(f"--cubic: expected at most {MAX_CUBIC:g} (1/L^2; default {DEFAULT_CUBIC:g}), got {cubic:g}")
+        raise common.CLIError(
+            f"--cubic: expected at most {MAX_CUBIC:g} (1/L^2; default {DEFAULT_CUBIC:g}), got {cubic:g}"
+        )
     if args.perturbation_um > units.length_um:
-        raise common.CLIError(f"--perturbation-um: a tip displacement of {args.perturbation_um:g} um exceeds the cilium length ({units.length_um:g} um, --length-um)")
+        raise common.CLIError(
+            f"--perturbation-um: a tip displacement of {args.perturbation_um:g} um exceeds the cilium length ({units.length_um:g} um, --length-um)"
+        )
     if args.rtol >= 1:
         raise common.CLIError(f"--rtol: expected a relative tolerance < 1, got {args.rtol:g}")
     if args.max_steps is not None and not 1 <= args.max_steps <= MAX_STEPS:
-        raise common.CLIError(f"--max-steps: expected an integer in 1..{MAX_STEPS}, got {args.max_steps}")
+        raise common.CLIError(
+            f"--max-steps: expected an integer in 1..{MAX_STEPS}, got {args.max_steps}"
+        )
     common.check_output("--out", args.out, (".npz",))
     common.check_output("--gif", args.gif, (".gif",))
-    common.check_memory(96.0 * model.n_dof**2, "--elements", f"a simulation of {model.n_dof} unknowns (dense matrices)")
+    common.check_memory(
+        96.0 * model.n_dof**2,
+        "--elements",
+        f"a simulation of {model.n_dof} unknowns (dense matrices)",
+    )
     if args.max_steps is None:
         _check_duration(model, params, units, args.t_end)
-    sim = simulate(model, params, args.t_end, cubic=cubic, units=units, perturbation_um=args.perturbation_um, rtol=args.rtol, atol=args.rtol * 1e-3, max_steps=args.max_steps, progress=not args.json and sys.stderr.isatty())
+    sim = simulate(
+        model,
+        params,
+        args.t_end,
+        cubic=cubic,
+        units=units,
+        perturbation_um=args.perturbation_um,
+        rtol=args.rtol,
+        atol=args.rtol * 1e-3,
+        max_steps=args.max_steps,
+        progress=not args.json and sys.stderr.isatty(),
+    )
     if args.out is not None:
         with _io.atomic_path(args.out) as tmp:
             sim.save(tmp)
@@ -90,10 +153,17 @@ def _check_duration(model, params, units, t_end_s: float) -> None:
 def render(doc: dict) -> str:
     lin = doc["linear"]
     reason = f": {doc['reason']}" if doc.get("reason") else ""
-    lines = [f"state: {doc['state']}{reason}", f"linear (dominant eigenvalue): {lin['classification']}, {lin['frequency_hz']:.3f} Hz, growth {lin['growth_rate_per_s']:.3f} /s"]
+    lines = [
+        f"state: {doc['state']}{reason}",
+        f"linear (dominant eigenvalue): {lin['classification']}, {lin['frequency_hz']:.3f} Hz, growth {lin['growth_rate_per_s']:.3f} /s",
+    ]
     lc = doc["limit_cycle"]
     if lc is not None:
         w = doc["waveform"]
-        lines.append(f"limit cycle: {lc['frequency_hz']:.3f} Hz (period {lc['period_s'] * 1e3:.2f} ms), tip amplitude {lc['tip_amplitude_um']:.3f} um")
-        lines.append(f"waveform: static curvature {w['static_curvature_rad_per_um']:.4f} rad/um, dynamic amplitude {w['dynamic_amplitude_rad']:.3f} rad")
+        lines.append(
+            f"limit cycle: {lc['frequency_hz']:.3f} Hz (period {lc['period_s'] * 1e3:.2f} ms), tip amplitude {lc['tip_amplitude_um']:.3f} um"
+        )
+        lines.append(
+            f"waveform: static curvature {w['static_curvature_rad_per_um']:.4f} rad/um, dynamic amplitude {w['dynamic_amplitude_rad']:.3f} rad"
+        )
     return "\n".join(lines)

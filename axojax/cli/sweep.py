@@ -24,16 +24,55 @@ from . import common
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     common.add_model_flags(parser, axes=True)
-    parser.add_argument("--out", required=True, metavar="FILE.npz", help="output file (resumable: rerun to continue)")
-    parser.add_argument("--netcdf", metavar="FILE.nc", help="also write the result as NetCDF (needs axojax[netcdf])")
-    parser.add_argument("--chunk", type=int, default=256, metavar="N", help="points per compiled batch (default 256)")
+    parser.add_argument(
+        "--out",
+        required=True,
+        metavar="FILE.npz",
+        help="output file (resumable: rerun to continue)",
+    )
+    parser.add_argument(
+        "--netcdf", metavar="FILE.nc", help="also write the result as NetCDF (needs axojax[netcdf])"
+    )
+    parser.add_argument(
+        "--chunk",
+        type=int,
+        default=256,
+        metavar="N",
+        help="points per compiled batch (default 256)",
+    )
     common.add_solver_flag(parser)
-    group = parser.add_argument_group("several processes (jax.distributed; see docs/scaling_out.md)")
-    group.add_argument("--distributed", action="store_true", help="join a jax.distributed job; coordinator, process count and index found from the cluster (SLURM, Open MPI, ...) unless given below")
-    group.add_argument("--coordinator", metavar="HOST:PORT", help="address of process 0's coordination service (implies --distributed)")
-    group.add_argument("--num-processes", type=int, metavar="N", help="processes in the job (implies --distributed)")
-    group.add_argument("--process-id", type=int, metavar="I", help="this process's index, 0..N-1 (implies --distributed)")
-    group.add_argument("--timeout", type=int, default=120, metavar="SECONDS", help="how long to wait for every process to join (default 120): a process I > 0 stops with a one-line error when process 0 does not answer; process 0 stops with jax's error when the others do not join")
+    group = parser.add_argument_group(
+        "several processes (jax.distributed; see docs/scaling_out.md)"
+    )
+    group.add_argument(
+        "--distributed",
+        action="store_true",
+        help="join a jax.distributed job; coordinator, process count and index found from the cluster (SLURM, Open MPI, ...) unless given below",
+    )
+    group.add_argument(
+        "--coordinator",
+        metavar="HOST:PORT",
+        help="address of process 0's coordination service (implies --distributed)",
+    )
+    group.add_argument(
+        "--num-processes",
+        type=int,
+        metavar="N",
+        help="processes in the job (implies --distributed)",
+    )
+    group.add_argument(
+        "--process-id",
+        type=int,
+        metavar="I",
+        help="this process's index, 0..N-1 (implies --distributed)",
+    )
+    group.add_argument(
+        "--timeout",
+        type=int,
+        default=120,
+        metavar="SECONDS",
+        help="how long to wait for every process to join (default 120): a process I > 0 stops with a one-line error when process 0 does not answer; process 0 stops with jax's error when the others do not join",
+    )
 
 
 def _wait_for_coordinator(host: str, port: int, timeout_s: float) -> None:
@@ -49,26 +88,42 @@ def _wait_for_coordinator(host: str, port: int, timeout_s: float) -> None:
             return
         except OSError:
             if time.monotonic() > deadline:
-                raise common.CLIError(f"--coordinator: nothing answered at {host}:{port} within {timeout_s:g} s (--timeout); is process 0 running?") from None
+                raise common.CLIError(
+                    f"--coordinator: nothing answered at {host}:{port} within {timeout_s:g} s (--timeout); is process 0 running?"
+                ) from None
             time.sleep(0.5)
 
 
 def init_distributed(args: argparse.Namespace) -> None:
     """``jax.distributed.initialize`` from the flags, before anything touches a device."""
-    explicit = {"coordinator_address": args.coordinator, "num_processes": args.num_processes, "process_id": args.process_id}
+    explicit = {
+        "coordinator_address": args.coordinator,
+        "num_processes": args.num_processes,
+        "process_id": args.process_id,
+    }
     if not args.distributed and all(v is None for v in explicit.values()):
         return
     host, port = None, None
     if args.coordinator is not None:
         host, _, port = args.coordinator.rpartition(":")
         if not host or not port.isdigit() or not 1 <= int(port) <= 65535:
-            raise common.CLIError(f"--coordinator: expected HOST:PORT with a port in 1..65535, got {args.coordinator!r}")
+            raise common.CLIError(
+                f"--coordinator: expected HOST:PORT with a port in 1..65535, got {args.coordinator!r}"
+            )
     if args.num_processes is not None and args.num_processes < 1:
-        raise common.CLIError(f"--num-processes: expected an integer >= 1, got {args.num_processes}")
+        raise common.CLIError(
+            f"--num-processes: expected an integer >= 1, got {args.num_processes}"
+        )
     if args.process_id is not None and args.process_id < 0:
         raise common.CLIError(f"--process-id: expected an integer >= 0, got {args.process_id}")
-    if args.process_id is not None and args.num_processes is not None and args.process_id >= args.num_processes:
-        raise common.CLIError(f"--process-id: expected 0..{args.num_processes - 1} (--num-processes {args.num_processes}), got {args.process_id}")
+    if (
+        args.process_id is not None
+        and args.num_processes is not None
+        and args.process_id >= args.num_processes
+    ):
+        raise common.CLIError(
+            f"--process-id: expected 0..{args.num_processes - 1} (--num-processes {args.num_processes}), got {args.process_id}"
+        )
     if args.timeout < 1:
         raise common.CLIError(f"--timeout: expected seconds >= 1, got {args.timeout}")
     if host is not None and args.process_id:
@@ -76,10 +131,26 @@ def init_distributed(args: argparse.Namespace) -> None:
     import jax
 
     try:
-        jax.distributed.initialize(**{k: v for k, v in explicit.items() if v is not None}, initialization_timeout=args.timeout)
+        jax.distributed.initialize(
+            **{k: v for k, v in explicit.items() if v is not None},
+            initialization_timeout=args.timeout,
+        )
     except (RuntimeError, ValueError) as e:
-        flag = next((f for f, v in (("--coordinator", args.coordinator), ("--process-id", args.process_id), ("--num-processes", args.num_processes)) if v is not None), "--distributed")
-        raise common.CLIError(f"{flag}: jax.distributed.initialize failed: {str(e).splitlines()[0]}") from None
+        flag = next(
+            (
+                f
+                for f, v in (
+                    ("--coordinator", args.coordinator),
+                    ("--process-id", args.process_id),
+                    ("--num-processes", args.num_processes),
+                )
+                if v is not None
+            ),
+            "--distributed",
+        )
+        raise common.CLIError(
+            f"{flag}: jax.distributed.initialize failed: {str(e).splitlines()[0]}"
+        ) from None
 
 
 GRID_BYTES_PER_POINT = 3 * (8 * 10 + 8 * 4)
@@ -94,10 +165,18 @@ def check_grid(model, axes: dict[str, np.ndarray], chunk: int) -> None:
 
     n_points = int(np.prod([len(v) for v in axes.values()], dtype=float))
     flags = " x ".join(f"--{common.FIELD_FLAGS[k]} {len(v)}" for k, v in axes.items())
-    common.check_memory(float(n_points) * (GRID_BYTES_PER_POINT + 8 * len(axes)), "--" + common.FIELD_FLAGS[next(iter(axes))], f"a grid of {n_points:.4g} points ({flags})")
+    common.check_memory(
+        float(n_points) * (GRID_BYTES_PER_POINT + 8 * len(axes)),
+        "--" + common.FIELD_FLAGS[next(iter(axes))],
+        f"a grid of {n_points:.4g} points ({flags})",
+    )
     per_point = common.model_bytes(model.section, model.n_elements)
     at_once = 1 if jax.local_devices()[0].platform == "cpu" else min(chunk, n_points)
-    common.check_memory(at_once * per_point, "--chunk", f"a chunk of {at_once} points evaluated at once on {model.n_dof} unknowns")
+    common.check_memory(
+        at_once * per_point,
+        "--chunk",
+        f"a chunk of {at_once} points evaluated at once on {model.n_dof} unknowns",
+    )
 
 
 def run(args: argparse.Namespace) -> dict:
@@ -128,7 +207,17 @@ def run(args: argparse.Namespace) -> dict:
     t0 = time.perf_counter()
     solver = common.solver_from_args(args)
     try:
-        result = sweep(model, params, axes, kl_ratio=ratio, units=units, chunk_size=args.chunk, out=args.out, solver=solver, log=lambda line: print(f"axojax: sweep: {line}", file=sys.stderr))
+        result = sweep(
+            model,
+            params,
+            axes,
+            kl_ratio=ratio,
+            units=units,
+            chunk_size=args.chunk,
+            out=args.out,
+            solver=solver,
+            log=lambda line: print(f"axojax: sweep: {line}", file=sys.stderr),
+        )
     except _io.OutputBusy as err:
         raise common.CLIError(f"--out: {err}") from None
     import jax
@@ -146,7 +235,10 @@ def run(args: argparse.Namespace) -> dict:
         "axes": {k: [float(v[0]), float(v[-1]), len(v)] for k, v in result.coords.items()},
         "shape": list(result.shape),
         "points": n,
-        "counts": {name: int(np.sum(cls == code)) for code, name in enumerate(("stable", "flutter", "divergence"))},
+        "counts": {
+            name: int(np.sum(cls == code))
+            for code, name in enumerate(("stable", "flutter", "divergence"))
+        },
         "seconds": seconds,
         "points_per_s": n / seconds,
         "solver": result.meta["solver"],
@@ -161,6 +253,11 @@ def render(doc: dict) -> str:
         f"swept {doc['model']} over {axes}: {doc['points']} points in {doc['seconds']:.1f} s ({doc['points_per_s']:.1f} points/s)\n"
         f"stable {c['stable']}, flutter {c['flutter']}, divergence {c['divergence']}\n"
         f"solver {doc['solver']['name']} ({doc['solver']['dense_fallbacks']} points recomputed densely)\n"
-        f"saved {doc['out']}" + (f" and {doc['netcdf']}" if doc["netcdf"] else "")
-        + (f" (process {doc['process'][0]} of {doc['process'][1]})" if doc["process"][1] > 1 else "")
+        f"saved {doc['out']}"
+        + (f" and {doc['netcdf']}" if doc["netcdf"] else "")
+        + (
+            f" (process {doc['process'][0]} of {doc['process'][1]})"
+            if doc["process"][1] > 1
+            else ""
+        )
     )

@@ -124,7 +124,9 @@ class MassChord(optx.AbstractRootFinder):
         c, q_lin, system = _stage(y, args)
 
         def factor():
-            return lu_factor(system.C_blocks + (system.A_blocks + system.links.tangent_blocks(q_lin)).scale(c))
+            return lu_factor(
+                system.C_blocks + (system.A_blocks + system.links.tangent_blocks(q_lin)).scale(c)
+            )
 
         lu = lax.cond(c == 0, lambda: system.C_lu, factor)
         return _State(
@@ -137,11 +139,25 @@ class MassChord(optx.AbstractRootFinder):
 
     def step(self, fn, y, args, options, state: _State, tags):
         c, q, system = _stage(y, args)
-        diff = system.solve(state.lu, system.C @ y - system.b + system.A @ q + system.links.force(q))
+        diff = system.solve(
+            state.lu, system.C @ y - system.b + system.A @ q + system.links.force(q)
+        )
         new_y = y - diff
         diffsize = self.norm(diff / (self.atol + self.rtol * jnp.abs(new_y)))
-        result = optx.RESULTS.where(jnp.all(jnp.isfinite(diff)), optx.RESULTS.successful, optx.RESULTS.singular)
-        return new_y, _State(lu=state.lu, diffsize=diffsize, diffsize_prev=state.diffsize, result=result, step=state.step + 1), None
+        result = optx.RESULTS.where(
+            jnp.all(jnp.isfinite(diff)), optx.RESULTS.successful, optx.RESULTS.singular
+        )
+        return (
+            new_y,
+            _State(
+                lu=state.lu,
+                diffsize=diffsize,
+                diffsize_prev=state.diffsize,
+                result=result,
+                step=state.step + 1,
+            ),
+            None,
+        )
 
     def terminate(self, fn, y, args, options, state: _State, tags):
         # VeryChord's test (diffrax._root_finder._verychord), unchanged.

@@ -71,7 +71,11 @@ class Trajectory(eqx.Module):
 def result_message(code) -> str:
     """The message of a result (a :class:`~axojax.results.RESULTS` item, or an index of
     ``diffrax.RESULTS``), on one line (its first sentence)."""
-    line = message(code) if hasattr(code, "_value") else " ".join(diffrax.RESULTS._index_to_message[int(code)].split())
+    line = (
+        message(code)
+        if hasattr(code, "_value")
+        else " ".join(diffrax.RESULTS._index_to_message[int(code)].split())
+    )
     return line.split(". ")[0].rstrip(".") if line else "successful"
 
 
@@ -145,7 +149,9 @@ def integrate(
         dt0=None,
         y0=q0,
         args=mass_system(model, params, kappa),
-        saveat=diffrax.SaveAt(subs=[diffrax.SubSaveAt(ts=t), diffrax.SubSaveAt(t1=True)]),  # t1: where it stopped
+        saveat=diffrax.SaveAt(
+            subs=[diffrax.SubSaveAt(ts=t), diffrax.SubSaveAt(t1=True)]
+        ),  # t1: where it stopped
         stepsize_controller=diffrax.PIDController(rtol=rtol, atol=atol, pcoeff=0.3, icoeff=0.3),
         max_steps=max_steps,
         throw=False,

@@ -56,7 +56,9 @@ class CubicLinks(eqx.Module):
     n_fd: int = eqx.field(static=True)
 
     def _stretch(self, q: Inexact[Array, " n"]) -> Inexact[Array, "E Q"]:
-        return self.B @ (jnp.reshape(q, (self.n_fd, self.phi.shape[1])) @ self.phi.T)  # delta_a_e(x_q)
+        return self.B @ (
+            jnp.reshape(q, (self.n_fd, self.phi.shape[1])) @ self.phi.T
+        )  # delta_a_e(x_q)
 
     def force(self, q: Inexact[Array, " n"]) -> Inexact[Array, " n"]:
         """f_nl(q), shape (n,)."""
@@ -72,7 +74,9 @@ class CubicLinks(eqx.Module):
         multiplied by ``B_e B_e^T``: O(E Q m^2 + E n^2) with m = 2 N_e, no
         Jacobian-vector products."""
         n = q.shape[0]
-        Me = jnp.einsum("qr,eq,qs->ers", self.phi, 3.0 * self.weight * self._stretch(q) ** 2, self.phi)
+        Me = jnp.einsum(
+            "qr,eq,qs->ers", self.phi, 3.0 * self.weight * self._stretch(q) ** 2, self.phi
+        )
         return jnp.einsum("ei,ej,ers->irjs", self.B, self.B, Me).reshape(n, n)
 
     def tangent_blocks(self, q: Inexact[Array, " n"]) -> BlockTridiagonal:
@@ -80,12 +84,17 @@ class CubicLinks(eqx.Module):
         :func:`axojax.assembly.assemble_blocks`): each link's filament-level matrix
         ``M_e`` is cut into its 2 x 2 node blocks and Kronecker-multiplied by
         ``B_e B_e^T`` block by block, never forming the n x n matrix."""
-        Me = jnp.einsum("qr,eq,qs->ers", self.phi, 3.0 * self.weight * self._stretch(q) ** 2, self.phi)
+        Me = jnp.einsum(
+            "qr,eq,qs->ers", self.phi, 3.0 * self.weight * self._stretch(q) ** 2, self.phi
+        )
         E, m = Me.shape[0], Me.shape[1]
         N = m // 2
         nodes = Me.reshape(E, N, 2, N, 2)
         k = np.arange(N)
-        rows, cols = np.concatenate([k[1:], k, k[:-1]]), np.concatenate([k[:-1], k, k[1:]])  # lower, diag, upper
+        rows, cols = (
+            np.concatenate([k[1:], k, k[:-1]]),
+            np.concatenate([k[:-1], k, k[1:]]),
+        )  # lower, diag, upper
         blocks = nodes[:, rows, :, cols, :]  # (3N-2, E, 2, 2)
         bs = 2 * self.n_fd
         out = jnp.einsum("ei,ej,keab->kiajb", self.B, self.B, blocks).reshape(-1, bs, bs)
@@ -97,16 +106,30 @@ def cubic_links(model: Model, params: Params, kappa: Real[ArrayLike, ""]) -> Cub
     zero-stiffness placeholder link, so that force and tangent are zero)."""
     phi, wk = (jnp.asarray(a) for a in _rule(model))
     if model.link_B.shape[0] == 0:
-        return CubicLinks(B=jnp.zeros((1, model.n_fd)), phi=phi, weight=jnp.zeros((1, wk.shape[0])), n_fd=model.n_fd)
+        return CubicLinks(
+            B=jnp.zeros((1, model.n_fd)),
+            phi=phi,
+            weight=jnp.zeros((1, wk.shape[0])),
+            n_fd=model.n_fd,
+        )
     k = jnp.asarray(kappa, dtype=float) * link_stiffness(model, params)
-    return CubicLinks(B=jnp.asarray(model.link_B, dtype=float), phi=phi, weight=k[:, None] * wk[None, :], n_fd=model.n_fd)
+    return CubicLinks(
+        B=jnp.asarray(model.link_B, dtype=float),
+        phi=phi,
+        weight=k[:, None] * wk[None, :],
+        n_fd=model.n_fd,
+    )
 
 
-def cubic_link_force(model: Model, params: Params, kappa: Real[ArrayLike, ""], q: Inexact[Array, " n"]) -> Inexact[Array, " n"]:
+def cubic_link_force(
+    model: Model, params: Params, kappa: Real[ArrayLike, ""], q: Inexact[Array, " n"]
+) -> Inexact[Array, " n"]:
     """f_nl(q), shape (n,), dimensionless force (EI/L^2 per unit L); zero without links."""
     return cubic_links(model, params, kappa).force(q)
 
 
-def cubic_link_tangent(model: Model, params: Params, kappa: Real[ArrayLike, ""], q: Inexact[Array, " n"]) -> Inexact[Array, "n n"]:
+def cubic_link_tangent(
+    model: Model, params: Params, kappa: Real[ArrayLike, ""], q: Inexact[Array, " n"]
+) -> Inexact[Array, "n n"]:
     """d f_nl / dq at ``q``, shape (n, n) (:meth:`CubicLinks.tangent`)."""
     return cubic_links(model, params, kappa).tangent(q)

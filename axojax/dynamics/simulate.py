@@ -37,7 +37,9 @@ stops at the budget and ends in the state ``solver_failed`` (with diffrax's reas
 time reached) instead of running for most of an hour."""
 MIN_STEPS = 10_000
 
-_integrate_jit = jax.jit(integrate, static_argnums=0, static_argnames=("rtol", "atol", "max_steps", "progress"))
+_integrate_jit = jax.jit(
+    integrate, static_argnums=0, static_argnames=("rtol", "atol", "max_steps", "progress")
+)
 
 
 @dataclasses.dataclass
@@ -93,27 +95,64 @@ class Simulation:
         filaments are)."""
         rest = self.meta.get("at_rest")
         if self.state == "decaying" and rest is not None:
-            return (f"the straight state is linearly unstable ({self.linear['classification']}) but the tip came to rest: the run ended "
-                    f"at a static state with filament tips up to {rest['max_filament_tip_um']:.3g} um from the axis "
-                    f"(centreline tip {rest['centreline_tip_um']:.2g} um)")
+            return (
+                f"the straight state is linearly unstable ({self.linear['classification']}) but the tip came to rest: the run ended "
+                f"at a static state with filament tips up to {rest['max_filament_tip_um']:.3g} um from the axis "
+                f"(centreline tip {rest['centreline_tip_um']:.2g} um)"
+            )
         if self.state != "solver_failed":
             return None
         solver = self.meta["solver"]
         accepted = solver["steps"]
-        mean = f"mean accepted step {solver['t_reached_s'] / accepted:.2g} s" if accepted else "none accepted"
-        return (f"the solver stopped at t = {solver['t_reached_s']:.4g} s of {self.meta['t_end_s']:.4g} s after "
-                f"{accepted + solver['rejected']} steps ({accepted} accepted, {mean}): {solver['result']}")
+        mean = (
+            f"mean accepted step {solver['t_reached_s'] / accepted:.2g} s"
+            if accepted
+            else "none accepted"
+        )
+        return (
+            f"the solver stopped at t = {solver['t_reached_s']:.4g} s of {self.meta['t_end_s']:.4g} s after "
+            f"{accepted + solver['rejected']} steps ({accepted} accepted, {mean}): {solver['result']}"
+        )
 
     def report(self) -> dict[str, Any]:
         """The ``axojax simulate --json`` document."""
-        lc = None if self.limit_cycle is None else {k: self.limit_cycle[k] for k in ("frequency_hz", "tip_amplitude_um", "period_s")}
+        lc = (
+            None
+            if self.limit_cycle is None
+            else {k: self.limit_cycle[k] for k in ("frequency_hz", "tip_amplitude_um", "period_s")}
+        )
         # INTERFACE.md: a failed solver's reason also under "solver"
-        solver = {**self.meta["solver"], "reason": self.reason if self.state == "solver_failed" else None}
-        return {"state": self.state, "reason": self.reason, "limit_cycle": lc, "linear": dict(self.linear), "waveform": self.limit_cycle, "solver": solver}
+        solver = {
+            **self.meta["solver"],
+            "reason": self.reason if self.state == "solver_failed" else None,
+        }
+        return {
+            "state": self.state,
+            "reason": self.reason,
+            "limit_cycle": lc,
+            "linear": dict(self.linear),
+            "waveform": self.limit_cycle,
+            "solver": solver,
+        }
 
     def save(self, path: str | pathlib.Path) -> None:
-        meta = {**self.meta, "kind": "simulation", "state": self.state, "limit_cycle": self.limit_cycle, "linear": self.linear, "beat_angle_rad": self.beat_angle_rad}
-        np.savez_compressed(path, t_s=self.t_s, x_um=self.x_um, centreline_um=self.centreline_um, psi_rad=self.psi_rad, tip_um=self.tip_um, meta=np.array(json.dumps(meta)))
+        meta = {
+            **self.meta,
+            "kind": "simulation",
+            "state": self.state,
+            "limit_cycle": self.limit_cycle,
+            "linear": self.linear,
+            "beat_angle_rad": self.beat_angle_rad,
+        }
+        np.savez_compressed(
+            path,
+            t_s=self.t_s,
+            x_um=self.x_um,
+            centreline_um=self.centreline_um,
+            psi_rad=self.psi_rad,
+            tip_um=self.tip_um,
+            meta=np.array(json.dumps(meta)),
+        )
 
     @classmethod
     def load(cls, path: str | pathlib.Path) -> "Simulation":
@@ -122,8 +161,12 @@ class Simulation:
             arrays = {k: f[k] for k in ("t_s", "x_um", "centreline_um", "psi_rad", "tip_um")}
         if meta.get("kind") != "simulation":
             raise ValueError(f"{str(path)!r} is not an axojax simulation file")
-        state, lc, lin, angle = (meta.pop(k) for k in ("state", "limit_cycle", "linear", "beat_angle_rad"))
-        return cls(**arrays, beat_angle_rad=angle, state=state, limit_cycle=lc, linear=lin, meta=meta)
+        state, lc, lin, angle = (
+            meta.pop(k) for k in ("state", "limit_cycle", "linear", "beat_angle_rad")
+        )
+        return cls(
+            **arrays, beat_angle_rad=angle, state=state, limit_cycle=lc, linear=lin, meta=meta
+        )
 
 
 def _along(v: Float[np.ndarray, "*shape d"], angle: float) -> Float[ArrayLike, "*shape"]:
@@ -139,7 +182,14 @@ MIN_T_END_S = 1e-9
 """Shortest simulated duration (s)."""
 
 
-def check_inputs(model: Model, t_end_s: float, cubic: float, perturbation_um: float, rtol: float, names: dict[str, str] | None = None) -> tuple[float, float, float, float]:
+def check_inputs(
+    model: Model,
+    t_end_s: float,
+    cubic: float,
+    perturbation_um: float,
+    rtol: float,
+    names: dict[str, str] | None = None,
+) -> tuple[float, float, float, float]:
     """Validate :func:`simulate`'s scalar inputs; returns them as floats.
 
     ``names`` renames the arguments in the error messages (the CLI passes its flags).
@@ -150,7 +200,9 @@ def check_inputs(model: Model, t_end_s: float, cubic: float, perturbation_um: fl
     def check(name: str, value: float, positive: bool = True) -> float:
         value = float(value)
         if not math.isfinite(value) or (value <= 0 if positive else value < 0):
-            raise ValueError(f"{names.get(name, name)} must be a finite number {'> 0' if positive else '>= 0'}, got {value!r}")
+            raise ValueError(
+                f"{names.get(name, name)} must be a finite number {'> 0' if positive else '>= 0'}, got {value!r}"
+            )
         return value
 
     t_end_s, cubic = check("t_end_s", t_end_s), check("cubic", cubic, positive=False)
@@ -158,11 +210,17 @@ def check_inputs(model: Model, t_end_s: float, cubic: float, perturbation_um: fl
     # a step-size controller cannot go below ~1e-13 relative in float64, and a duration of
     # 1e-300 s spent every step without advancing
     if not RTOL_RANGE[0] <= rtol <= RTOL_RANGE[1]:
-        raise ValueError(f"{names.get('rtol', 'rtol')} must be in [{RTOL_RANGE[0]:g}, {RTOL_RANGE[1]:g}], got {rtol!r}")
+        raise ValueError(
+            f"{names.get('rtol', 'rtol')} must be in [{RTOL_RANGE[0]:g}, {RTOL_RANGE[1]:g}], got {rtol!r}"
+        )
     if t_end_s < MIN_T_END_S:
-        raise ValueError(f"{names.get('t_end_s', 't_end_s')} must be at least {MIN_T_END_S:g} s, got {t_end_s!r}")
+        raise ValueError(
+            f"{names.get('t_end_s', 't_end_s')} must be at least {MIN_T_END_S:g} s, got {t_end_s!r}"
+        )
     if model.link_B.shape[0] == 0 and cubic > 0:
-        raise ValueError(f"{names.get('cubic', 'cubic')} = {cubic:g} needs a model with links; {model.name!r} has none (use 0)")
+        raise ValueError(
+            f"{names.get('cubic', 'cubic')} = {cubic:g} needs a model with links; {model.name!r} has none (use 0)"
+        )
     return t_end_s, cubic, perturbation_um, rtol
 
 
@@ -207,10 +265,16 @@ def simulate(
         :class:`Simulation`.
     """
     params = params.validate()
-    t_end_s, cubic, perturbation_um, rtol = check_inputs(model, t_end_s, cubic, perturbation_um, rtol)
+    t_end_s, cubic, perturbation_um, rtol = check_inputs(
+        model, t_end_s, cubic, perturbation_um, rtol
+    )
     if not (math.isfinite(atol) and atol > 0):
         raise ValueError(f"atol must be a finite number > 0, got {atol!r}")
-    for name, value, low in (("n_points", n_points, 2), ("samples_per_period", samples_per_period, 2), ("max_steps", 1 if max_steps is None else max_steps, 1)):
+    for name, value, low in (
+        ("n_points", n_points, 2),
+        ("samples_per_period", samples_per_period, 2),
+        ("max_steps", 1 if max_steps is None else max_steps, 1),
+    ):
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
             raise ValueError(f"{name} must be an integer >= {low}, got {value!r}")
     tau = units.tau_s
@@ -231,7 +295,17 @@ def simulate(
     x = np.linspace(0.0, 1.0, n_points)
     q0 = (perturbation_um / units.length_um) * tip_deflection(model)
 
-    traj = _integrate_jit(model, params, jnp.asarray(cubic), jnp.asarray(q0), jnp.asarray(t), rtol=rtol, atol=atol, max_steps=max_steps, progress=progress)
+    traj = _integrate_jit(
+        model,
+        params,
+        jnp.asarray(cubic),
+        jnp.asarray(q0),
+        jnp.asarray(t),
+        rtol=rtol,
+        atol=atol,
+        max_steps=max_steps,
+        progress=progress,
+    )
     q = np.asarray(traj.q)
     ok = bool(traj.ok)
     t_reached = float(traj.t_reached)
@@ -246,11 +320,17 @@ def simulate(
     angle = _beat_angle(tip_t)
 
     s = assemble(model, params)
-    q_eq = np.linalg.solve(np.asarray(s.A), np.asarray(s.b)) if np.any(np.asarray(s.b)) else np.zeros(model.n_dof)
+    q_eq = (
+        np.linalg.solve(np.asarray(s.A), np.asarray(s.b))
+        if np.any(np.asarray(s.b))
+        else np.zeros(model.n_dof)
+    )
     y_eq = float(_along(centreline(model, q_eq, np.array([1.0]))[:, 0], angle))
     y = _along(tip_t, angle)
     psi = _along(np.moveaxis(du, 1, -1), angle)  # (T, S)
-    state, cycles = classify_trajectory(t, y, y_eq, ok, equilibrium_stable=linear["growth_rate_per_s"] < 0)
+    state, cycles = classify_trajectory(
+        t, y, y_eq, ok, equilibrium_stable=linear["growth_rate_per_s"] < 0
+    )
 
     limit_cycle = None
     if state == "limit_cycle":
@@ -266,8 +346,13 @@ def simulate(
         }
     at_rest = None
     if state == "decaying" and linear["growth_rate_per_s"] > 0:
-        tips = q[-1].reshape(model.n_filaments, model.n_dirs, -1)[:, :, -2] * units.length_um  # u at the tip node
-        at_rest = {"max_filament_tip_um": float(np.abs(tips).max()), "centreline_tip_um": float(np.abs(tip_t[-1]).max() * units.length_um)}
+        tips = (
+            q[-1].reshape(model.n_filaments, model.n_dirs, -1)[:, :, -2] * units.length_um
+        )  # u at the tip node
+        at_rest = {
+            "max_filament_tip_um": float(np.abs(tips).max()),
+            "centreline_tip_um": float(np.abs(tip_t[-1]).max() * units.length_um),
+        }
     meta = {
         "at_rest": at_rest,
         "model": model.name,
@@ -277,7 +362,12 @@ def simulate(
         "cubic": cubic,
         "t_end_s": t_end_s,
         "perturbation_um": perturbation_um,
-        "units": {"length_um": units.length_um, "ei_pn_um2": units.ei_pn_um2, "cn_pn_s_um2": units.cn_pn_s_um2, "tau_s": tau},
+        "units": {
+            "length_um": units.length_um,
+            "ei_pn_um2": units.ei_pn_um2,
+            "cn_pn_s_um2": units.cn_pn_s_um2,
+            "tau_s": tau,
+        },
         "solver": {
             "name": "Kvaerno5",
             "rtol": rtol,

@@ -3,12 +3,52 @@
 
 from .dominant import CLUSTER_RTOL, dominant_eigenpair
 from .metrics import beat_plane, mode_shapes, wavenumber
-from .mode import CLASSES, DEFAULT_SOLVER, DIVERGENCE, FLUTTER, STABLE, Mode, classify, dominant_mode, mode_from_eigenpair, spectrum
+from .mode import (
+    CLASSES,
+    DEFAULT_SOLVER,
+    DIVERGENCE,
+    FLUTTER,
+    STABLE,
+    Mode,
+    classify,
+    dominant_mode,
+    mode_from_eigenpair,
+    spectrum,
+)
 from .pencil import eigensystem, eigenvalues
-from .solvers import SOLVERS, AbstractEigenSolver, Arnoldi, Auto, Dense, EigenSolver, solver_from_name
+from .solvers import (
+    SOLVERS,
+    AbstractEigenSolver,
+    Arnoldi,
+    Auto,
+    Dense,
+    EigenSolver,
+    solver_from_name,
+)
 
 __all__ = [
-    "Arnoldi", "Auto", "CLASSES", "CLUSTER_RTOL", "DEFAULT_SOLVER", "DIVERGENCE", "Dense", "AbstractEigenSolver", "EigenSolver", "FLUTTER",
-    "SOLVERS", "STABLE", "Mode", "beat_plane", "classify", "dominant_eigenpair", "dominant_mode", "eigensystem",
-    "eigenvalues", "mode_from_eigenpair", "mode_shapes", "solver_from_name", "spectrum", "wavenumber",
+    "Arnoldi",
+    "Auto",
+    "CLASSES",
+    "CLUSTER_RTOL",
+    "DEFAULT_SOLVER",
+    "DIVERGENCE",
+    "Dense",
+    "AbstractEigenSolver",
+    "EigenSolver",
+    "FLUTTER",
+    "SOLVERS",
+    "STABLE",
+    "Mode",
+    "beat_plane",
+    "classify",
+    "dominant_eigenpair",
+    "dominant_mode",
+    "eigensystem",
+    "eigenvalues",
+    "mode_from_eigenpair",
+    "mode_shapes",
+    "solver_from_name",
+    "spectrum",
+    "wavenumber",
 ]

@@ -117,7 +117,9 @@ def _symmetric_part_neg(A: BlockTridiagonal) -> BlockTridiagonal:
     return (A + A.T).scale(-0.5)
 
 
-def pole(A: BlockTridiagonal, C: BlockTridiagonal, lanczos_dim: int, kernels: str = "lapack") -> tuple[Float[Array, ""], Array]:
+def pole(
+    A: BlockTridiagonal, C: BlockTridiagonal, lanczos_dim: int, kernels: str = "lapack"
+) -> tuple[Float[Array, ""], Array]:
     """A real pole sigma with ``sigma C - G`` positive definite (G the symmetric part of
     -A), close above the numerical abscissa omega. Returns (sigma, verified)."""
     G = _symmetric_part_neg(A)
@@ -151,7 +153,9 @@ def pole(A: BlockTridiagonal, C: BlockTridiagonal, lanczos_dim: int, kernels: st
     # The loop starts from a failed stand-in so that one compiled factorisation serves
     # every trial.
     N, b = C.diag.shape[0], C.diag.shape[-1]
-    failed = BlockCholesky(jnp.full((N, b, b), jnp.nan), jnp.full((N - 1, b, b), jnp.nan), jnp.zeros((), bool))
+    failed = BlockCholesky(
+        jnp.full((N, b, b), jnp.nan), jnp.full((N - 1, b, b), jnp.nan), jnp.zeros((), bool)
+    )
     _, k, _, chol = jax.lax.while_loop(cond, body, (-1, TRIAL_POLES, 0, failed))
     s = 8.0 ** jnp.minimum(k, TRIAL_POLES - 1) - 1.0
     found = chol.ok
@@ -179,7 +183,9 @@ def pole(A: BlockTridiagonal, C: BlockTridiagonal, lanczos_dim: int, kernels: st
     Q, P, T = jax.lax.fori_loop(0, m, lanczos, (Q, P, T))
     Tm = (T[:m] + T[:m].T) / 2
     theta, Y = jnp.linalg.eigh(Tm)
-    top = theta[-1] + jnp.abs(T[m, m - 1] * Y[-1, -1])  # >= the largest eigenvalue of T once it has converged
+    top = theta[-1] + jnp.abs(
+        T[m, m - 1] * Y[-1, -1]
+    )  # >= the largest eigenvalue of T once it has converged
     omega = s - 1.0 / jnp.maximum(top, 1e-300)
     # Ritz values of Lanczos underestimate the largest eigenvalue of T, so omega can lie
     # below the abscissa when the Lanczos has not converged (poles far above it separate
@@ -236,7 +242,9 @@ def _ritz(V, H, sigma, m, opts: ArnoldiOptions, padded: bool = False) -> _Primal
     padding = theta == 0  # a breakdown of the Arnoldi process leaves zero rows
     safe_theta = jnp.where(padding, 1.0, theta)
     lam = jnp.where(padding, -jnp.inf, sigma - 1.0 / safe_theta)
-    converged = (residual / jnp.abs(safe_theta) ** 2 <= opts.tol * (1.0 + jnp.abs(lam))) & jnp.isfinite(lam)
+    converged = (
+        residual / jnp.abs(safe_theta) ** 2 <= opts.tol * (1.0 + jnp.abs(lam))
+    ) & jnp.isfinite(lam)
     i = jnp.argmax(jnp.where(converged, jnp.real(lam), -jnp.inf))
     lam_r = lam[i]
     # Cluster mean, as the dense solver reports degenerate eigenvalues.
@@ -257,7 +265,9 @@ def _dense_primal(A: BlockTridiagonal, C: BlockTridiagonal) -> _Primal:
     return _Primal(lam, v, jnp.zeros(()))
 
 
-def _arnoldi_point(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOptions, batched: bool = False) -> _Primal:
+def _arnoldi_point(
+    A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOptions, batched: bool = False
+) -> _Primal:
     """One parameter point: pole, factorisation, Arnoldi in stages until certified, and
     the dense solver where no stage certifies (``opts.fallback``). Scalar control flow:
     each stage and the fallback run only when needed.
@@ -281,7 +291,9 @@ def _arnoldi_point(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOption
         two passes through one compiled solve (from w = 0 the first is the plain solve;
         its product with zero costs less than a second copy of the solve to compile)."""
         b = C.matvec(v)
-        return jax.lax.fori_loop(0, 2, lambda _, w: w + lu.solve(b - M.matvec(w)), jnp.zeros_like(b))
+        return jax.lax.fori_loop(
+            0, 2, lambda _, w: w + lu.solve(b - M.matvec(w)), jnp.zeros_like(b)
+        )
 
     starts = jnp.asarray((0,) + dims[:-1])
     ends = jnp.asarray(dims)
@@ -294,11 +306,15 @@ def _arnoldi_point(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOption
         stage, V, H, _ = state
         # Per point, each stage orthogonalises against its own rows only; vmapped (the
         # batched path), a switch on the step would run every window.
-        V, H = arnoldi_steps(shift_invert, V, H, starts[stage], ends[stage], windows=() if batched else dims)
+        V, H = arnoldi_steps(
+            shift_invert, V, H, starts[stage], ends[stage], windows=() if batched else dims
+        )
         if batched:
             result = _ritz(V, H, sigma, ends[stage], opts, padded=True)
         else:
-            result = jax.lax.switch(stage, [functools.partial(_ritz, m=m, opts=opts) for m in dims], V, H, sigma)
+            result = jax.lax.switch(
+                stage, [functools.partial(_ritz, m=m, opts=opts) for m in dims], V, H, sigma
+            )
         return stage + 1, V, H, result
 
     empty = _Primal(jnp.zeros((), complex), jnp.zeros((n,), complex), jnp.zeros(()))
@@ -306,7 +322,9 @@ def _arnoldi_point(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOption
     result = result._replace(certified=result.certified * verified)
     if batched or not opts.fallback:
         return result
-    return jax.lax.cond(result.certified > 0.5, lambda _: result, lambda _: _dense_primal(A, C), None)
+    return jax.lax.cond(
+        result.certified > 0.5, lambda _: result, lambda _: _dense_primal(A, C), None
+    )
 
 
 def _batched_points(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOptions) -> _Primal:
@@ -323,7 +341,9 @@ def _batched_points(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOptio
         r, a, c = args
         return jax.lax.cond(r.certified > 0.5, lambda: r, lambda: _dense_primal(a, c))
 
-    return jax.lax.cond(jnp.all(out.certified > 0.5), lambda: out, lambda: jax.lax.map(fix, (out, A, C)))
+    return jax.lax.cond(
+        jnp.all(out.certified > 0.5), lambda: out, lambda: jax.lax.map(fix, (out, A, C))
+    )
 
 
 @functools.lru_cache(maxsize=None)
@@ -342,7 +362,9 @@ def _batched(opts: ArnoldiOptions):
         def full(x, batched):
             return x if batched else jnp.broadcast_to(x, (axis_size,) + x.shape)
 
-        A, C = (jax.tree.map(full, M, flags) for M, flags in ((A, in_batched[0]), (C, in_batched[1])))
+        A, C = (
+            jax.tree.map(full, M, flags) for M, flags in ((A, in_batched[0]), (C, in_batched[1]))
+        )
         if opts.batched:
             out = _batched_points(A, C, opts)
         else:
@@ -353,7 +375,9 @@ def _batched(opts: ArnoldiOptions):
 
 
 @functools.partial(jax.custom_jvp, nondiff_argnums=(2,))
-def structured_dominant(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOptions) -> tuple[Complex[Array, ""], Complex[Array, " n"], Float[Array, ""]]:
+def structured_dominant(
+    A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOptions
+) -> tuple[Complex[Array, ""], Complex[Array, " n"], Float[Array, ""]]:
     """Dominant eigenvalue (Im >= 0), unit eigenvector (node-major) and certificate
     (1.0 certified; 0.0 recomputed densely, or not certified when ``opts.fallback`` is
     off) of the block-tridiagonal pencil. Differentiable in A and C (module docstring).
@@ -388,7 +412,9 @@ def _solve_transpose(lu, b):
 # The per-point path: under vmap, the derivative rule's factorisation and solves run
 # point by point too (LAPACK's kernels one matrix at a time, like the primal), where a
 # vmapped complex LU and its scans were measured ~1.5x slower on CPU.
-_left_factor_seq = jax.custom_batching.sequential_vmap(functools.partial(_left_factor, kernels="lapack"))
+_left_factor_seq = jax.custom_batching.sequential_vmap(
+    functools.partial(_left_factor, kernels="lapack")
+)
 _solve_seq = jax.custom_batching.sequential_vmap(_solve)
 _solve_transpose_seq = jax.custom_batching.sequential_vmap(_solve_transpose)
 
@@ -407,7 +433,9 @@ def _structured_jvp(opts, primals, tangents):
         solve_, solve_t = _solve_seq, _solve_transpose_seq
     # Nearly singular on purpose (inverse iteration); the component of a solution along
     # x that the tiny offset amplifies is projected out below.
-    K_matvec = lambda y: A.astype(cdt).matvec(y) + C.astype(cdt).scale(lam + 1e-10 * (1.0 + jnp.abs(lam))).matvec(y)
+    K_matvec = lambda y: (
+        A.astype(cdt).matvec(y) + C.astype(cdt).scale(lam + 1e-10 * (1.0 + jnp.abs(lam))).matvec(y)
+    )
     Cx = C.matvec(x.astype(cdt))
     dKx = dA.astype(cdt).matvec(x) + lam * dC.astype(cdt).matvec(x)
     dlam = -jnp.vdot(w, dKx) / jnp.vdot(w, Cx)
@@ -421,7 +449,9 @@ def _structured_jvp(opts, primals, tangents):
     def solve(r):
         # Linear in r with a known transpose: reverse mode transposes through the same
         # factorisation (lu.solve_transpose) instead of through the scans.
-        return jax.lax.custom_linear_solve(K_matvec, r, lambda _, b: solve_(lu, b), lambda _, b: solve_t(lu, b))
+        return jax.lax.custom_linear_solve(
+            K_matvec, r, lambda _, b: solve_(lu, b), lambda _, b: solve_t(lu, b)
+        )
 
     dx = project(solve(rhs))
     dx = dx + project(solve(rhs - exact.matvec(dx)))  # one step of iterative refinement

@@ -69,7 +69,9 @@ def _primal(A, C, left: bool):
     lam, V, W = eigensystem(A, C, left=left)
     order, mask = _select(lam)
     lam_c = jnp.sum(mask * lam[order]) / jnp.sum(mask)
-    lam_c = jnp.where(jnp.imag(lam_c) < 0, jnp.conj(lam_c), lam_c)  # real clusters: drop the +-0i noise
+    lam_c = jnp.where(
+        jnp.imag(lam_c) < 0, jnp.conj(lam_c), lam_c
+    )  # real clusters: drop the +-0i noise
     Vc = jax.vmap(normalise, in_axes=1, out_axes=1)(V[:, order])
     Wc = None if W is None else W[:, order]
     return lam_c, Vc, Wc, mask
@@ -90,14 +92,18 @@ def _inverse_iteration(A, C, lam, steps: int = 2):
 
 
 @jax.custom_jvp
-def dominant_eigenpair(A: Float[Array, "n n"], C: Float[Array, "n n"]) -> tuple[Complex[Array, ""], Complex[Array, " n"]]:
+def dominant_eigenpair(
+    A: Float[Array, "n n"], C: Float[Array, "n n"]
+) -> tuple[Complex[Array, ""], Complex[Array, " n"]]:
     """Dominant eigenvalue (Im >= 0; cluster mean if degenerate) and unit eigenvector
     of ``(A + lambda C) v = 0``. Differentiable in A and C (see module docstring).
 
     Values: all eigenvalues (LAPACK, no eigenvectors), then the eigenvector by inverse
     iteration; the derivative rule computes the full left/right eigen-system."""
     S, _ = reduced_matrix(A, C)
-    lam = jax.lax.linalg.eig(S, compute_left_eigenvectors=False, compute_right_eigenvectors=False)[0]
+    lam = jax.lax.linalg.eig(S, compute_left_eigenvectors=False, compute_right_eigenvectors=False)[
+        0
+    ]
     order, mask = _select(lam)
     lam_c = jnp.sum(mask * lam[order]) / jnp.sum(mask)
     lam_c = jnp.where(jnp.imag(lam_c) < 0, jnp.conj(lam_c), lam_c)
@@ -118,7 +124,9 @@ def _dominant_jvp(primals, tangents):
     # switched off (a decoupled unit row/column), so a simple eigenvalue gets the
     # classic single border [[K, C v], [v^H, 0]].
     top = jnp.concatenate([K, CV * mask[None, :]], axis=1)
-    bottom = jnp.concatenate([jnp.conj(Vc).T * mask[:, None], jnp.diag(1.0 - mask).astype(cdt)], axis=1)
+    bottom = jnp.concatenate(
+        [jnp.conj(Vc).T * mask[:, None], jnp.diag(1.0 - mask).astype(cdt)], axis=1
+    )
     lu = lu_factor(jnp.concatenate([top, bottom], axis=0))
 
     dK = dA.astype(cdt) + lam * dC.astype(cdt)

@@ -37,7 +37,9 @@ def _quadrature(n_elements: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np
     return mesh.x, mesh.weights, mesh.phi, mesh.dphi
 
 
-def mode_shapes(model: Model, v: Complex[Array, " n"], x: Float[Array, " m"] | None = None, derivative: int = 0) -> Complex[Array, "F d m"]:
+def mode_shapes(
+    model: Model, v: Complex[Array, " n"], x: Float[Array, " m"] | None = None, derivative: int = 0
+) -> Complex[Array, "F d m"]:
     """Displacement (or its x-derivative) of every filament and direction at points x.
 
     Args:
@@ -61,7 +63,9 @@ def _safe_sqrt(x):
     return jnp.where(pos, jnp.sqrt(jnp.where(pos, x, 1.0)), 0.0)
 
 
-def beat_plane(model: Model, v: Complex[Array, " n"]) -> tuple[Complex[Array, " m"], Complex[Array, " m"], Array, Array]:
+def beat_plane(
+    model: Model, v: Complex[Array, " n"]
+) -> tuple[Complex[Array, " m"], Complex[Array, " m"], Array, Array]:
     """Complex in-plane centreline displacement u and u' at the quadrature points, the
     beat-direction angle (radians from y towards z) and the out-of-plane ratio."""
     x, w, phi, dphi = _quadrature(model.n_elements)

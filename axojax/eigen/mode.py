@@ -109,7 +109,9 @@ class Mode(eqx.Module):
         }
 
 
-def mode_from_eigenpair(model: Model, lam: Complex[Array, ""], v: Complex[Array, " n"], certified=True) -> Mode:
+def mode_from_eigenpair(
+    model: Model, lam: Complex[Array, ""], v: Complex[Array, " n"], certified=True
+) -> Mode:
     """All metrics of an eigenpair (differentiable through lam and v)."""
     k = wavenumber(model, v)
     _, _, angle, ratio = beat_plane(model, v)
@@ -137,7 +139,9 @@ def mode_from_eigenpair(model: Model, lam: Complex[Array, ""], v: Complex[Array,
 DEFAULT_SOLVER = Auto()
 
 
-def dominant_mode_impl(model: Model, params: Params, solver: AbstractEigenSolver = DEFAULT_SOLVER) -> Mode:
+def dominant_mode_impl(
+    model: Model, params: Params, solver: AbstractEigenSolver = DEFAULT_SOLVER
+) -> Mode:
     """:func:`dominant_mode` without its validation and its own ``jax.jit``: the entry
     point for code that traces it inside its own transformations (the sweep engine,
     fits). Parameters out of range give NaN numbers and ``result = invalid_params``
@@ -148,7 +152,11 @@ def dominant_mode_impl(model: Model, params: Params, solver: AbstractEigenSolver
     lam = jnp.where(ok, lam, jnp.nan + 0j)
     v = jnp.where(ok, v, jnp.nan + 0j)
     mode = mode_from_eigenpair(model, lam, v, certified)
-    result = RESULTS.where(ok, RESULTS.where(jnp.isfinite(lam), RESULTS.successful, RESULTS.nonfinite), RESULTS.invalid_params)
+    result = RESULTS.where(
+        ok,
+        RESULTS.where(jnp.isfinite(lam), RESULTS.successful, RESULTS.nonfinite),
+        RESULTS.invalid_params,
+    )
     return eqx.tree_at(lambda m: m.result, mode, result)
 
 
@@ -166,7 +174,13 @@ _dominant_mode_jit = jax.jit(dominant_mode_impl, static_argnums=(0, 2))
 _spectrum_jit = jax.jit(_spectrum_impl, static_argnums=(0, 2))
 
 
-def dominant_mode(model: Model, params: Params, solver: AbstractEigenSolver = DEFAULT_SOLVER, *, throw: bool = False) -> Mode:
+def dominant_mode(
+    model: Model,
+    params: Params,
+    solver: AbstractEigenSolver = DEFAULT_SOLVER,
+    *,
+    throw: bool = False,
+) -> Mode:
     """The dominant (largest real part) mode of ``model`` at ``params``.
 
     Jit-compiled per (model, solver), and composable: call it under ``jax.jit``,
@@ -180,9 +194,13 @@ def dominant_mode(model: Model, params: Params, solver: AbstractEigenSolver = DE
     under ``jit``) when ``mode.result`` is not ``successful``.
     """
     if not isinstance(solver, AbstractEigenSolver):
-        raise TypeError(f"solver must be an axojax eigen-solver (ax.eigen.Dense(), ax.eigen.Arnoldi(), ...), got {solver!r}")
+        raise TypeError(
+            f"solver must be an axojax eigen-solver (ax.eigen.Dense(), ax.eigen.Arnoldi(), ...), got {solver!r}"
+        )
     if not isinstance(model, Model):
-        raise TypeError(f"model must be an axojax model (ax.models.seven(), ax.models.from_file(...), ...), got {model!r}")
+        raise TypeError(
+            f"model must be an axojax model (ax.models.seven(), ax.models.from_file(...), ...), got {model!r}"
+        )
     if not isinstance(params, Params):
         raise TypeError(f"params must be an ax.Params, got {params!r}")
     require_scalars(params, "dominant_mode")
@@ -196,4 +214,3 @@ def spectrum(model: Model, params: Params, top: int | None = None) -> Complex[Ar
     """Eigenvalues of the pencil (A + lambda C) v = 0 sorted by decreasing real part;
     the ``top`` first (all n by default). Dimensionless (1/tau)."""
     return _spectrum_jit(model, params.validate(), top)
-

@@ -13,7 +13,9 @@ from jax.scipy.linalg import solve_triangular
 from jaxtyping import Array, Complex, Float
 
 
-def reduced_matrix(A: Float[Array, "n n"], C: Float[Array, "n n"]) -> tuple[Float[Array, "n n"], Float[Array, "n n"]]:
+def reduced_matrix(
+    A: Float[Array, "n n"], C: Float[Array, "n n"]
+) -> tuple[Float[Array, "n n"], Float[Array, "n n"]]:
     """(S, L): the symmetrically reduced matrix S = -L^{-1} A L^{-T} and L = chol(C)."""
     L = jnp.linalg.cholesky(C)
     LA = solve_triangular(L, A, lower=True)
@@ -24,7 +26,9 @@ def reduced_matrix(A: Float[Array, "n n"], C: Float[Array, "n n"]) -> tuple[Floa
 def eigenvalues(A: Float[Array, "n n"], C: Float[Array, "n n"]) -> Complex[Array, " n"]:
     """All n eigenvalues of the pencil, sorted by decreasing real part."""
     S, _ = reduced_matrix(A, C)
-    lam = jax.lax.linalg.eig(S, compute_left_eigenvectors=False, compute_right_eigenvectors=False)[0]
+    lam = jax.lax.linalg.eig(S, compute_left_eigenvectors=False, compute_right_eigenvectors=False)[
+        0
+    ]
     return lam[jnp.argsort(-jnp.real(lam))]
 
 
@@ -35,9 +39,13 @@ def eigensystem(
     in LAPACK order (not sorted)."""
     S, L = reduced_matrix(A, C)
     if left:
-        lam, ul, ur = jax.lax.linalg.eig(S, compute_left_eigenvectors=True, compute_right_eigenvectors=True)
+        lam, ul, ur = jax.lax.linalg.eig(
+            S, compute_left_eigenvectors=True, compute_right_eigenvectors=True
+        )
     else:
-        lam, ur = jax.lax.linalg.eig(S, compute_left_eigenvectors=False, compute_right_eigenvectors=True)
+        lam, ur = jax.lax.linalg.eig(
+            S, compute_left_eigenvectors=False, compute_right_eigenvectors=True
+        )
         ul = None
     Lt = L.T.astype(ur.dtype)
     V = solve_triangular(Lt, ur, lower=False)

@@ -39,7 +39,9 @@ class AbstractEigenSolver(eqx.Module):
     """Finds the dominant eigenpair of ``(A + lambda C) v = 0`` for a model."""
 
     @abc.abstractmethod
-    def eigenpair(self, model: Model, params: Params) -> tuple[Complex[Array, ""], Complex[Array, " n"], Float[Array, ""]]:
+    def eigenpair(
+        self, model: Model, params: Params
+    ) -> tuple[Complex[Array, ""], Complex[Array, " n"], Float[Array, ""]]:
         """(eigenvalue with Im >= 0, unit eigenvector in filament-major order, certified
         as 1.0/0.0). Differentiable in ``params``."""
 
@@ -87,7 +89,9 @@ class Arnoldi(AbstractEigenSolver):
 
     def __check_init__(self):
         if not self.krylov_dims or min(self.krylov_dims) < 2 or self.lanczos_dim < 2:
-            raise ValueError(f"krylov_dims and lanczos_dim must be >= 2, got {self.krylov_dims}, {self.lanczos_dim}")
+            raise ValueError(
+                f"krylov_dims and lanczos_dim must be >= 2, got {self.krylov_dims}, {self.lanczos_dim}"
+            )
         if not self.certify_factor >= 1.0:
             raise ValueError(f"certify_factor must be >= 1, got {self.certify_factor}")
         if not 0 < self.tol < 1e-3:
@@ -96,7 +100,14 @@ class Arnoldi(AbstractEigenSolver):
     @property
     def options(self) -> ArnoldiOptions:
         batched = self.batched if self.batched is not None else jax.default_backend() != "cpu"
-        return ArnoldiOptions(tuple(self.krylov_dims), self.lanczos_dim, self.certify_factor, self.tol, self.fallback, bool(batched))
+        return ArnoldiOptions(
+            tuple(self.krylov_dims),
+            self.lanczos_dim,
+            self.certify_factor,
+            self.tol,
+            self.fallback,
+            bool(batched),
+        )
 
     def eigenpair(self, model, params):
         system = assemble_blocks(model, params)
@@ -122,7 +133,9 @@ class Auto(AbstractEigenSolver):
 
     def resolve(self, model: Model, n_points: int = 1) -> AbstractEigenSolver:
         n = model.n_dof
-        large = n >= self.min_arnoldi_dof or (n >= self.min_batch_dof and n_points >= self.min_batch_points)
+        large = n >= self.min_arnoldi_dof or (
+            n >= self.min_batch_dof and n_points >= self.min_batch_points
+        )
         return Arnoldi() if large else Dense()
 
     def eigenpair(self, model, params):
@@ -137,7 +150,9 @@ def solver_from_name(name: str) -> AbstractEigenSolver:
     try:
         return SOLVERS[name]()
     except KeyError:
-        raise ValueError(f"unknown eigen-solver {name!r}; choose one of {', '.join(SOLVERS)}") from None
+        raise ValueError(
+            f"unknown eigen-solver {name!r}; choose one of {', '.join(SOLVERS)}"
+        ) from None
 
 
 EigenSolver = AbstractEigenSolver

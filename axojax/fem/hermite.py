@@ -25,9 +25,24 @@ def shape_functions(xi: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray, n
     """
     xi = np.asarray(xi, dtype=float)
     n = np.array(
-        [1 - 3 * xi**2 + 2 * xi**3, h * (xi - 2 * xi**2 + xi**3), 3 * xi**2 - 2 * xi**3, h * (-(xi**2) + xi**3)]
+        [
+            1 - 3 * xi**2 + 2 * xi**3,
+            h * (xi - 2 * xi**2 + xi**3),
+            3 * xi**2 - 2 * xi**3,
+            h * (-(xi**2) + xi**3),
+        ]
     )
-    dn = np.array([-6 * xi + 6 * xi**2, h * (1 - 4 * xi + 3 * xi**2), 6 * xi - 6 * xi**2, h * (-2 * xi + 3 * xi**2)]) / h
+    dn = (
+        np.array(
+            [
+                -6 * xi + 6 * xi**2,
+                h * (1 - 4 * xi + 3 * xi**2),
+                6 * xi - 6 * xi**2,
+                h * (-2 * xi + 3 * xi**2),
+            ]
+        )
+        / h
+    )
     ddn = np.array([-6 + 12 * xi, h * (-4 + 6 * xi), 6 - 12 * xi, h * (-2 + 6 * xi)]) / h**2
     return n, dn, ddn
 
@@ -84,12 +99,20 @@ def make_mesh(n_elements: int, points_per_element: int = 5) -> Mesh:
     """Uniform mesh with Gauss-Legendre quadrature (``points_per_element`` >= 4 is exact
     for every product of cubic shape functions and derivatives, including the (1 - x)
     weight of G0)."""
-    if isinstance(n_elements, bool) or not isinstance(n_elements, (int, np.integer)) or n_elements < 1:
+    if (
+        isinstance(n_elements, bool)
+        or not isinstance(n_elements, (int, np.integer))
+        or n_elements < 1
+    ):
         raise ValueError(f"n_elements must be an integer >= 1, got {n_elements!r}")
     if n_elements > MAX_ELEMENTS:
-        raise ValueError(f"n_elements must be at most {MAX_ELEMENTS} (the mesh's dense tables grow as its square), got {n_elements!r}")
+        raise ValueError(
+            f"n_elements must be at most {MAX_ELEMENTS} (the mesh's dense tables grow as its square), got {n_elements!r}"
+        )
     if points_per_element < 4:
-        raise ValueError(f"points_per_element must be >= 4 for exact quadrature, got {points_per_element}")
+        raise ValueError(
+            f"points_per_element must be >= 4 for exact quadrature, got {points_per_element}"
+        )
     g, w = np.polynomial.legendre.leggauss(points_per_element)
     h = 1.0 / n_elements
     left = np.arange(n_elements) * h

@@ -31,4 +31,19 @@ def __getattr__(name: str):
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-__all__ = ["DEFAULT_BOUNDS", "OBSERVATIONS", "SCALARS", "BeatData", "BeatFileError", "FitResult", "Planarity", "ShapeTarget", "Target", "beat_from_kymograph", "build_problem", "fit", "observation_targets", "read_beat"]
+__all__ = [
+    "DEFAULT_BOUNDS",
+    "OBSERVATIONS",
+    "SCALARS",
+    "BeatData",
+    "BeatFileError",
+    "FitResult",
+    "Planarity",
+    "ShapeTarget",
+    "Target",
+    "beat_from_kymograph",
+    "build_problem",
+    "fit",
+    "observation_targets",
+    "read_beat",
+]

@@ -76,7 +76,11 @@ class BeatData:
     def targets(self) -> tuple[list[Target], ShapeTarget]:
         """Frequency target (none when the frequency is unknown) and the psi_1 shape
         target (per-point sigma, with the observed psi_0)."""
-        freq = [] if self.frequency_hz is None else [Target("frequency_hz", self.frequency_hz, self.frequency_sigma_hz)]
+        freq = (
+            []
+            if self.frequency_hz is None
+            else [Target("frequency_hz", self.frequency_hz, self.frequency_sigma_hz)]
+        )
         return freq, ShapeTarget(self.s_um, self.modes.psi1, self.psi1_sigma, psi0=self.modes.psi0)
 
     def shape_targets(self) -> list[ShapeTarget]:
@@ -97,18 +101,30 @@ class BeatData:
         """
         um = float(um)
         if not (np.isfinite(um) and um >= 0):
-            raise ValueError(f"{self.source}: the basal stretch to exclude must be >= 0 um, got {um!r}")
+            raise ValueError(
+                f"{self.source}: the basal stretch to exclude must be >= 0 um, got {um!r}"
+            )
         keep = self.s_um >= um - 1e-9 * max(1.0, self.length_um)
         if keep.sum() < 4:
-            raise ValueError(f"{self.source}: excluding {um:g} um of the base leaves {int(keep.sum())} points of {self.s_um.size} (length {self.length_um:g} um); need at least 4")
+            raise ValueError(
+                f"{self.source}: excluding {um:g} um of the base leaves {int(keep.sum())} points of {self.s_um.size} (length {self.length_um:g} um); need at least 4"
+            )
 
         def cut(m: FourierModes) -> FourierModes:
             return dataclasses.replace(m, s=m.s[keep], psi0=m.psi0[keep], psi1=m.psi1[keep])
 
-        oop = None if self.out_of_plane is None else (cut(self.out_of_plane[0]), self.out_of_plane[1][keep])
+        oop = (
+            None
+            if self.out_of_plane is None
+            else (cut(self.out_of_plane[0]), self.out_of_plane[1][keep])
+        )
         return dataclasses.replace(
-            self, s_um=self.s_um[keep], modes=cut(self.modes), psi1_sigma=self.psi1_sigma[keep],
-            psi_rad=None if self.psi_rad is None else self.psi_rad[:, keep], out_of_plane=oop,
+            self,
+            s_um=self.s_um[keep],
+            modes=cut(self.modes),
+            psi1_sigma=self.psi1_sigma[keep],
+            psi_rad=None if self.psi_rad is None else self.psi_rad[:, keep],
+            out_of_plane=oop,
             excluded_base_um=max(um, self.excluded_base_um),
             notes=self.notes + (f"basal {um:g} um excluded ({int((~keep).sum())} points)",),
         )
@@ -147,7 +163,11 @@ class BeatData:
             "n_points": int(self.s_um.size),
             "frames": None if self.t_s is None else int(self.t_s.size),
             "cycles": int(self.cycles),
-            "psi1_sigma_rad": {"min": float(self.psi1_sigma.min()), "median": float(np.median(self.psi1_sigma)), "max": float(self.psi1_sigma.max())},
+            "psi1_sigma_rad": {
+                "min": float(self.psi1_sigma.min()),
+                "median": float(np.median(self.psi1_sigma)),
+                "max": float(self.psi1_sigma.max()),
+            },
             "floors": {"frequency_relative": FREQUENCY_REL_FLOOR, "psi1_rad": PSI1_FLOOR_RAD},
             "excluded_base_um": self.excluded_base_um,
             "published_frequency_hz": self.published_frequency_hz,
@@ -170,14 +190,25 @@ def _physical(raw: RawBeat, name: str, given: float | None, flag: str) -> float 
         if not lo <= given <= hi:
             raise ValueError(f"{flag}: must be in [{lo:g}, {hi:g}], got {given!r}")
         if have is not None and abs(have - given) > 1e-9 * max(abs(have), abs(given)):
-            fail(raw.path, f"{name} = {have:g} in the file conflicts with {flag} {given:g}; drop {flag} or fix the file")
+            fail(
+                raw.path,
+                f"{name} = {have:g} in the file conflicts with {flag} {given:g}; drop {flag} or fix the file",
+            )
         return float(given)
     if have is not None and not lo <= have <= hi:
         fail(raw.path, f"{name} = {have:g} in the file is outside [{lo:g}, {hi:g}]")
     return have
 
 
-def read_beat(path: str | pathlib.Path, *, length_um: float | None = None, frame_rate_hz: float | None = None, variables: dict | None = None, cell: int | None = None, planarity_threshold: float = reduction.PLANARITY_THRESHOLD) -> BeatData:
+def read_beat(
+    path: str | pathlib.Path,
+    *,
+    length_um: float | None = None,
+    frame_rate_hz: float | None = None,
+    variables: dict | None = None,
+    cell: int | None = None,
+    planarity_threshold: float = reduction.PLANARITY_THRESHOLD,
+) -> BeatData:
     """Read a beat file and reduce it (formats: :mod:`axojax.fitting.readers`).
 
     Args:
@@ -213,13 +244,19 @@ def read_beat(path: str | pathlib.Path, *, length_um: float | None = None, frame
             length = float(a["s_um"][-1])
         s = a.get("s_um", np.linspace(0, length, psi.shape[1]))
         if s.shape != (psi.shape[1],):
-            fail(raw.path, f"s_um must have one value per column of psi ({psi.shape[1]}), got shape {s.shape}")
+            fail(
+                raw.path,
+                f"s_um must have one value per column of psi ({psi.shape[1]}), got shape {s.shape}",
+            )
         comps = [psi]
     else:
         names = ("x_um", "y_um", "z_um") if raw.kind == "centreline-3d" else ("x_um", "y_um")
         shapes = {a[n].shape for n in names}
         if len(shapes) != 1 or a["x_um"].ndim != 2:
-            fail(raw.path, f"centreline needs {', '.join(names)} of equal shape (frames, points), got {', '.join(str(a[n].shape) for n in names)}")
+            fail(
+                raw.path,
+                f"centreline needs {', '.join(names)} of equal shape (frames, points), got {', '.join(str(a[n].shape) for n in names)}",
+            )
         pts = np.stack([a[n] for n in names], axis=-1)
         if pts.shape[1] < 4:
             fail(raw.path, f"centreline needs at least 4 points per frame, got {pts.shape[1]}")
@@ -235,7 +272,14 @@ def read_beat(path: str | pathlib.Path, *, length_um: float | None = None, frame
         s, comps = reduction.tangent_angles(pts, axes, length, raw.path)
     t = np.arange(comps[0].shape[0]) / rate
     beat = beat_from_kymograph(t, s, comps[0], source=raw.path, extra=comps[1:])
-    return dataclasses.replace(beat, length_um=float(length), kind=raw.kind, planarity=planar, notes=beat.notes + tuple(notes), published_frequency_hz=published)
+    return dataclasses.replace(
+        beat,
+        length_um=float(length),
+        kind=raw.kind,
+        planarity=planar,
+        notes=beat.notes + tuple(notes),
+        published_frequency_hz=published,
+    )
 
 
 def _from_modes(raw: RawBeat, length: float | None, notes: list) -> BeatData:
@@ -268,26 +312,60 @@ def _from_modes(raw: RawBeat, length: float | None, notes: list) -> BeatData:
     elif fs is None:
         fs = FREQUENCY_REL_FLOOR * f
         notes.append(f"no frequency_sigma_hz: the {FREQUENCY_REL_FLOOR:.0%} floor")
-    modes = FourierModes(s=s, psi0=a["psi0_rad"], psi1=psi1, omega=float("nan") if f is None else 2 * np.pi * f)
-    return BeatData(s_um=s, modes=modes, psi1_sigma=sigma, frequency_hz=f, frequency_sigma_hz=fs, length_um=float(length), kind="fourier", source=raw.path, notes=tuple(notes), published_frequency_hz=raw.scalars.get("published_frequency_hz"))
+    modes = FourierModes(
+        s=s, psi0=a["psi0_rad"], psi1=psi1, omega=float("nan") if f is None else 2 * np.pi * f
+    )
+    return BeatData(
+        s_um=s,
+        modes=modes,
+        psi1_sigma=sigma,
+        frequency_hz=f,
+        frequency_sigma_hz=fs,
+        length_um=float(length),
+        kind="fourier",
+        source=raw.path,
+        notes=tuple(notes),
+        published_frequency_hz=raw.scalars.get("published_frequency_hz"),
+    )
 
 
 MIN_POINTS = 3
 """Fewest arc-length points and frames a kymograph may have."""
 
 
-def beat_from_kymograph(t_s: np.ndarray, s_um: np.ndarray, psi_rad: np.ndarray, source: str = "data", extra: list | tuple = ()) -> BeatData:
+def beat_from_kymograph(
+    t_s: np.ndarray,
+    s_um: np.ndarray,
+    psi_rad: np.ndarray,
+    source: str = "data",
+    extra: list | tuple = (),
+) -> BeatData:
     """Frequency, psi_0 and psi_1 (with uncertainties) of a kymograph ``psi_rad`` (T, S)
     sampled at times ``t_s`` (T,) and arc lengths ``s_um`` (S,); ``extra`` angle
     components (each (T, S)) share its beat phase (a 3D beat's out-of-plane angle)."""
     s = np.asarray(s_um, dtype=float)
     psi = np.asarray(psi_rad, dtype=float)
     if psi.ndim != 2 or psi.shape[1] < MIN_POINTS or psi.shape[0] < MIN_POINTS:
-        fail(source, f"needs at least {MIN_POINTS} arc-length points and {MIN_POINTS} frames (a wavelength needs a phase gradient, a frequency a time series), got {psi.shape[1] if psi.ndim == 2 else 0} points x {psi.shape[0] if psi.ndim else 0} frames")
+        fail(
+            source,
+            f"needs at least {MIN_POINTS} arc-length points and {MIN_POINTS} frames (a wavelength needs a phase gradient, a frequency a time series), got {psi.shape[1] if psi.ndim == 2 else 0} points x {psi.shape[0] if psi.ndim else 0} frames",
+        )
     red = reduction.reduce_frames(t_s, s, [psi, *extra], source=source)
     return BeatData(
-        s_um=s, modes=red.modes[0], psi1_sigma=red.psi1_sigma[0], frequency_hz=red.frequency_hz, frequency_sigma_hz=red.frequency_sigma_hz,
-        length_um=float(s[-1]), kind="kymograph", source=str(source), t_s=np.asarray(t_s, dtype=float), psi_rad=psi,
-        cycles=red.cycles, periods_s=red.periods_s, out_of_plane=(red.modes[1], red.psi1_sigma[1]) if extra else None,
-        notes=(f"frequency from {red.cycles} cycles: scatter {red.frequency_scatter_hz:.3g} Hz, sigma {red.frequency_sigma_hz:.3g} Hz (floor {FREQUENCY_REL_FLOOR:.0%})",),
+        s_um=s,
+        modes=red.modes[0],
+        psi1_sigma=red.psi1_sigma[0],
+        frequency_hz=red.frequency_hz,
+        frequency_sigma_hz=red.frequency_sigma_hz,
+        length_um=float(s[-1]),
+        kind="kymograph",
+        source=str(source),
+        t_s=np.asarray(t_s, dtype=float),
+        psi_rad=psi,
+        cycles=red.cycles,
+        periods_s=red.periods_s,
+        out_of_plane=(red.modes[1], red.psi1_sigma[1]) if extra else None,
+        notes=(
+            f"frequency from {red.cycles} cycles: scatter {red.frequency_scatter_hz:.3g} Hz, sigma {red.frequency_sigma_hz:.3g} Hz (floor {FREQUENCY_REL_FLOOR:.0%})",
+        ),
     )

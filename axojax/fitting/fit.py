@@ -28,7 +28,16 @@ from ..params import Params
 from ..units import Units
 from .targets import ShapeTarget, Target
 
-__all__ = ["CYCLE_FAILED", "DEFAULT_BOUNDS", "IDENTIFIABLE_MAX_LOG_SE", "LINEAR", "SHAPE_RMS_OK", "FitResult", "build_problem", "fit"]
+__all__ = [
+    "CYCLE_FAILED",
+    "DEFAULT_BOUNDS",
+    "IDENTIFIABLE_MAX_LOG_SE",
+    "LINEAR",
+    "SHAPE_RMS_OK",
+    "FitResult",
+    "build_problem",
+    "fit",
+]
 
 
 def fit(
@@ -96,15 +105,32 @@ def fit(
         raise ValueError(f"starts must be >= 1, got {starts}")
     optimiser = solver_from_name(method, max_steps)
     problem = build_problem(
-        model, params, targets, free, shape=shape, bounds=bounds, kl_ratio=kl_ratio, units=units, solver=solver, cubic=cubic,
-        orbit_solver=orbit_solver, per_condition=per_condition, shape_floor=shape_floor, exclude_base_um=exclude_base_um, prior=prior,
+        model,
+        params,
+        targets,
+        free,
+        shape=shape,
+        bounds=bounds,
+        kl_ratio=kl_ratio,
+        units=units,
+        solver=solver,
+        cubic=cubic,
+        orbit_solver=orbit_solver,
+        per_condition=per_condition,
+        shape_floor=shape_floor,
+        exclude_base_um=exclude_base_um,
+        prior=prior,
     )
     result = least_squares(problem, optimiser, starts=starts, seed=seed, progress=progress)
     if not result.converged:
         warnings.warn(result.message.split("; ")[0], stacklevel=2)
     bad = [n for n, ok in result.identifiable.items() if not ok]
     if bad:
-        warnings.warn(f"not identifiable from these targets: {', '.join(bad)}" + (f" (at a bound: {', '.join(result.at_bound)})" if result.at_bound else ""), stacklevel=2)
+        warnings.warn(
+            f"not identifiable from these targets: {', '.join(bad)}"
+            + (f" (at a bound: {', '.join(result.at_bound)})" if result.at_bound else ""),
+            stacklevel=2,
+        )
     return result
 
 
@@ -135,13 +161,27 @@ def build_problem(
             raise ValueError("shape: with a list of conditions give each condition its own shape")
         conditions = targets
     elif any(isinstance(t, Condition) for t in targets):
-        raise ValueError("targets: either Target objects (one condition) or Condition objects, not both")
+        raise ValueError(
+            "targets: either Target objects (one condition) or Condition objects, not both"
+        )
     else:
         if not targets and shape is None:
             raise ValueError("targets: give at least one target or a shape")
         conditions = [Condition(targets=targets, shape=shape)]
     params.validate()
     return Problem(
-        model, conditions, free, per_condition=per_condition, params=params, bounds=bounds, kl_ratio=kl_ratio, units=units,
-        solver=solver, cubic=cubic, orbit_solver=orbit_solver, shape_floor=shape_floor, exclude_base_um=exclude_base_um, prior=prior,
+        model,
+        conditions,
+        free,
+        per_condition=per_condition,
+        params=params,
+        bounds=bounds,
+        kl_ratio=kl_ratio,
+        units=units,
+        solver=solver,
+        cubic=cubic,
+        orbit_solver=orbit_solver,
+        shape_floor=shape_floor,
+        exclude_base_um=exclude_base_um,
+        prior=prior,
     )

@@ -33,7 +33,9 @@ OBSERVATIONS: dict[str, dict] = {
 }
 
 
-def observation_targets(name: str, include: tuple[str, ...] = ("frequency_hz", "wavelength_um")) -> list[Target]:
+def observation_targets(
+    name: str, include: tuple[str, ...] = ("frequency_hz", "wavelength_um")
+) -> list[Target]:
     """Targets of a bundled observation (only the scalar observables a fit can use)."""
     if name not in OBSERVATIONS:
         raise ValueError(f"unknown observation {name!r}; choose from {', '.join(OBSERVATIONS)}")

@@ -19,23 +19,35 @@ def plot_beat_data(beat: BeatData) -> plt.Figure:
     (Fourier modes). A non-planar 3D beat shows its out-of-plane component dashed."""
     fig, axes = plt.subplots(2, 2, figsize=(11, 7.5), constrained_layout=True)
     s = beat.s_um
-    comps = [("in plane" if beat.out_of_plane is not None else "psi", beat.modes, beat.psi1_sigma, "-")]
+    comps = [
+        ("in plane" if beat.out_of_plane is not None else "psi", beat.modes, beat.psi1_sigma, "-")
+    ]
     if beat.out_of_plane is not None:
         comps.append(("out of plane", beat.out_of_plane[0], beat.out_of_plane[1], "--"))
     for label, m, sig, ls in comps:
         axes[0, 0].plot(s, m.psi0, ls, label=label)
         amp = np.abs(m.psi1)
-        line, = axes[0, 1].plot(s, amp, ls, label=label)
+        (line,) = axes[0, 1].plot(s, amp, ls, label=label)
         axes[0, 1].fill_between(s, amp - sig, amp + sig, color=line.get_color(), alpha=0.25, lw=0)
         axes[1, 0].plot(s, np.unwrap(np.angle(m.psi1)), ls, label=label)
     phase = np.unwrap(np.angle(beat.modes.psi1))
     fit = np.polyval(np.polyfit(s, phase, 1), s)
     lam = beat.wavelength_um
-    axes[1, 0].plot(s, fit, ":", color="k", label=f"slope: wavelength {lam:.3g} um" if lam else "slope 0: standing wave")
+    axes[1, 0].plot(
+        s,
+        fit,
+        ":",
+        color="k",
+        label=f"slope: wavelength {lam:.3g} um" if lam else "slope 0: standing wave",
+    )
     axes[0, 0].set_title(f"static mode psi_0: slope {beat.static_curvature_rad_per_um:.3g} rad/um")
     axes[0, 1].set_title(f"|psi_1| (band: 1 sigma); mean {beat.dynamic_amplitude_rad:.3g} rad")
     axes[1, 0].set_title("phase of psi_1")
-    for a, ylab in ((axes[0, 0], "psi_0 (rad)"), (axes[0, 1], "|psi_1| (rad)"), (axes[1, 0], "arg psi_1 (rad)")):
+    for a, ylab in (
+        (axes[0, 0], "psi_0 (rad)"),
+        (axes[0, 1], "|psi_1| (rad)"),
+        (axes[1, 0], "arg psi_1 (rad)"),
+    ):
         a.set_xlabel("arc length s (um)")
         a.set_ylabel(ylab)
         a.legend(fontsize=8)
@@ -44,20 +56,35 @@ def plot_beat_data(beat: BeatData) -> plt.Figure:
             a.axvline(beat.excluded_base_um, color="grey", lw=0.8)
     a = axes[1, 1]
     if beat.psi_rad is not None and beat.t_s is not None:
-        n = min(beat.t_s.size, int(np.ceil(3 / beat.frequency_hz / (beat.t_s[1] - beat.t_s[0]))) + 1)
+        n = min(
+            beat.t_s.size, int(np.ceil(3 / beat.frequency_hz / (beat.t_s[1] - beat.t_s[0]))) + 1
+        )
         lim = np.abs(beat.psi_rad[:n]).max() or 1.0
-        im = a.pcolormesh(beat.t_s[:n], s, beat.psi_rad[:n].T, shading="auto", cmap="RdBu_r", vmin=-lim, vmax=lim)
+        im = a.pcolormesh(
+            beat.t_s[:n], s, beat.psi_rad[:n].T, shading="auto", cmap="RdBu_r", vmin=-lim, vmax=lim
+        )
         a.set_xlabel("time (s)")
-        a.set_title("kymograph psi(s, t), first 3 cycles" + (" (in plane)" if beat.out_of_plane is not None else ""))
+        a.set_title(
+            "kymograph psi(s, t), first 3 cycles"
+            + (" (in plane)" if beat.out_of_plane is not None else "")
+        )
     else:
         theta = np.linspace(0, 2 * np.pi, 64)
         rec = beat.modes.psi0[None] + np.real(beat.modes.psi1[None] * np.exp(1j * theta)[:, None])
         lim = np.abs(rec).max() or 1.0
-        im = a.pcolormesh(theta / (2 * np.pi), s, rec.T, shading="auto", cmap="RdBu_r", vmin=-lim, vmax=lim)
+        im = a.pcolormesh(
+            theta / (2 * np.pi), s, rec.T, shading="auto", cmap="RdBu_r", vmin=-lim, vmax=lim
+        )
         a.set_xlabel("phase (cycles)")
         a.set_title("reconstruction psi_0 + Re(psi_1 e^{i theta}), one cycle")
     a.set_ylabel("arc length s (um)")
     fig.colorbar(im, ax=a, label="psi (rad)")
-    freq = "frequency unknown" if beat.frequency_hz is None else f"{beat.frequency_hz:.3f} +- {beat.frequency_sigma_hz:.2g} Hz"
-    fig.suptitle(f"{beat.source.rsplit('/', 1)[-1]}: {beat.kind}, L = {beat.length_um:.3g} um, {freq}")
+    freq = (
+        "frequency unknown"
+        if beat.frequency_hz is None
+        else f"{beat.frequency_hz:.3f} +- {beat.frequency_sigma_hz:.2g} Hz"
+    )
+    fig.suptitle(
+        f"{beat.source.rsplit('/', 1)[-1]}: {beat.kind}, L = {beat.length_um:.3g} um, {freq}"
+    )
     return fig

@@ -33,10 +33,32 @@ import zipfile
 
 import numpy as np
 
-SCALARS = ("frame_rate_hz", "length_um", "frequency_hz", "frequency_sigma_hz", "published_frequency_hz")
-ARRAYS = ("psi", "s_um", "x_um", "y_um", "z_um", "psi0_rad", "psi1_re_rad", "psi1_im_rad", "psi1_sigma_rad")
+SCALARS = (
+    "frame_rate_hz",
+    "length_um",
+    "frequency_hz",
+    "frequency_sigma_hz",
+    "published_frequency_hz",
+)
+ARRAYS = (
+    "psi",
+    "s_um",
+    "x_um",
+    "y_um",
+    "z_um",
+    "psi0_rad",
+    "psi1_re_rad",
+    "psi1_im_rad",
+    "psi1_sigma_rad",
+)
 FOURIER = ("s_um", "psi0_rad", "psi1_re_rad", "psi1_im_rad")
-VECTORS = ("s_um", "psi0_rad", "psi1_re_rad", "psi1_im_rad", "psi1_sigma_rad")  # MATLAB stores them (1, n)
+VECTORS = (
+    "s_um",
+    "psi0_rad",
+    "psi1_re_rad",
+    "psi1_im_rad",
+    "psi1_sigma_rad",
+)  # MATLAB stores them (1, n)
 MATLAB_XYZ = {"X": "x_um", "Y": "y_um", "Z": "z_um"}  # (points, frames) in the file
 
 
@@ -73,7 +95,10 @@ def _kind(arrays: dict, path) -> str:
     if "x_um" in arrays and "y_um" in arrays:
         return "centreline-3d" if "z_um" in arrays else "centreline-2d"
     have = ", ".join(sorted(arrays)) or "nothing"
-    fail(path, f"missing data: need psi (kymograph), x_um and y_um[, z_um] (centreline) or s_um,psi0_rad,psi1_re_rad,psi1_im_rad (Fourier modes); found {have}")
+    fail(
+        path,
+        f"missing data: need psi (kymograph), x_um and y_um[, z_um] (centreline) or s_um,psi0_rad,psi1_re_rad,psi1_im_rad (Fourier modes); found {have}",
+    )
 
 
 def _scalar(path, name: str, value) -> float:
@@ -104,7 +129,12 @@ def _finish(path, arrays: dict, scalars: dict) -> RawBeat:
         if not np.all(np.isfinite(a)):
             fail(path, f"{k} contains NaN or infinite values")
         out[k] = a
-    return RawBeat(kind=kind, arrays=out, scalars={k: _scalar(path, k, v) for k, v in scalars.items()}, path=str(path))
+    return RawBeat(
+        kind=kind,
+        arrays=out,
+        scalars={k: _scalar(path, k, v) for k, v in scalars.items()},
+        path=str(path),
+    )
 
 
 def read_csv(path: pathlib.Path) -> RawBeat:
@@ -133,9 +163,14 @@ def read_csv(path: pathlib.Path) -> RawBeat:
     scalars = {k: meta[k] for k in SCALARS if k in meta}
     col = dict(zip(cols, table.T))
     if all(n in col for n in FOURIER):
-        return _finish(path, {k: col[k] for k in FOURIER + ("psi1_sigma_rad",) if k in col}, scalars)
+        return _finish(
+            path, {k: col[k] for k in FOURIER + ("psi1_sigma_rad",) if k in col}, scalars
+        )
     if "frame" not in col:
-        fail(path, f"missing column 'frame' (header: {','.join(cols)}); a Fourier-mode file needs {','.join(FOURIER)}")
+        fail(
+            path,
+            f"missing column 'frame' (header: {','.join(cols)}); a Fourier-mode file needs {','.join(FOURIER)}",
+        )
     frames = col["frame"].astype(int)
     nf = len(np.unique(frames))
     for names in (("s_um", "psi_rad"), ("x_um", "y_um", "z_um"), ("x_um", "y_um")):
@@ -148,7 +183,10 @@ def read_csv(path: pathlib.Path) -> RawBeat:
             if "psi_rad" in a:
                 return _finish(path, {"psi": a["psi_rad"], "s_um": a["s_um"][0]}, scalars)
             return _finish(path, a, scalars)
-    fail(path, f"missing columns: need frame,s_um,psi_rad or frame,x_um,y_um[,z_um] or {','.join(FOURIER)} (header: {','.join(cols)})")
+    fail(
+        path,
+        f"missing columns: need frame,s_um,psi_rad or frame,x_um,y_um[,z_um] or {','.join(FOURIER)} (header: {','.join(cols)})",
+    )
 
 
 def read_npz(path: pathlib.Path, variables: dict | None = None) -> RawBeat:
@@ -168,7 +206,10 @@ def _rename(path, raw: dict, variables: dict | None) -> dict:
         if ours not in ARRAYS + SCALARS:
             fail(path, f"unknown variable name {ours!r} (known: {', '.join(ARRAYS + SCALARS)})")
         if theirs not in raw:
-            fail(path, f"variable {theirs!r} (for {ours}) not in the file (it has {', '.join(sorted(raw))})")
+            fail(
+                path,
+                f"variable {theirs!r} (for {ours}) not in the file (it has {', '.join(sorted(raw))})",
+            )
         out[ours] = raw[theirs]
     return out
 
@@ -185,12 +226,27 @@ def read_mat(path: pathlib.Path, variables: dict | None = None, cell: int | None
     try:
         raw = {k: v for k, v in scipy.io.loadmat(path).items() if not k.startswith("__")}
     except NotImplementedError:
-        fail(path, "MATLAB v7.3 (HDF5) file: save it with -v7 or read it with h5py and pass arrays to beat_from_kymograph")
-    except (scipy.io.matlab.MatReadError, OSError, ValueError, TypeError, KeyError, EOFError) as err:
+        fail(
+            path,
+            "MATLAB v7.3 (HDF5) file: save it with -v7 or read it with h5py and pass arrays to beat_from_kymograph",
+        )
+    except (
+        scipy.io.matlab.MatReadError,
+        OSError,
+        ValueError,
+        TypeError,
+        KeyError,
+        EOFError,
+    ) as err:
         fail(path, f"cannot read as a MATLAB .mat file ({err})")
     try:
         raw = {k: _pick_cell(path, k, v, cell) for k, v in raw.items()}
-        raw = {k: np.squeeze(v) if k in VECTORS or (variables and k in {variables.get(n) for n in VECTORS}) else v for k, v in raw.items()}
+        raw = {
+            k: np.squeeze(v)
+            if k in VECTORS or (variables and k in {variables.get(n) for n in VECTORS})
+            else v
+            for k, v in raw.items()
+        }
         renamed = set((variables or {}).values())
         for theirs, ours in MATLAB_XYZ.items():  # MATLAB-style (points, frames) columns
             if theirs in raw and ours not in raw and theirs not in renamed:
@@ -208,14 +264,22 @@ def _pick_cell(path, name: str, value, cell: int | None):
     filled = [i for i in range(value.size) if np.asarray(value.flat[i]).size]
     if cell is None:
         if len(filled) != 1:
-            fail(path, f"cell array {name} has {len(filled)} non-empty cells ({', '.join(map(str, filled[:10]))}): choose one with cell=INDEX (0-based)")
+            fail(
+                path,
+                f"cell array {name} has {len(filled)} non-empty cells ({', '.join(map(str, filled[:10]))}): choose one with cell=INDEX (0-based)",
+            )
         cell = filled[0]
     if not 0 <= cell < value.size or cell not in filled:
-        fail(path, f"cell {cell} of {name} is missing or empty (non-empty, 0-based: {', '.join(map(str, filled[:10])) or 'none'})")
+        fail(
+            path,
+            f"cell {cell} of {name} is missing or empty (non-empty, 0-based: {', '.join(map(str, filled[:10])) or 'none'})",
+        )
     return value.flat[cell]
 
 
-def read_file(path: str | pathlib.Path, variables: dict | None = None, cell: int | None = None) -> RawBeat:
+def read_file(
+    path: str | pathlib.Path, variables: dict | None = None, cell: int | None = None
+) -> RawBeat:
     """Read ``path`` (format from its suffix: ``.csv``, ``.npz``, ``.mat``).
 
     Raises:

@@ -76,14 +76,20 @@ class Planarity:
     @property
     def treatment(self) -> str:
         if self.planar:
-            return f"planar (s3/s2 = {self.ratio:.3g} < {self.threshold:g}): angles in the best plane"
+            return (
+                f"planar (s3/s2 = {self.ratio:.3g} < {self.threshold:g}): angles in the best plane"
+            )
         return f"not planar (s3/s2 = {self.ratio:.3g} >= {self.threshold:g}): both transverse components reduced, the in-plane one (largest motion) is the shape target"
 
     def as_dict(self) -> dict:
         s = self.singular_values
         return {
             "singular_values_um": [float(v) for v in s],
-            "ratios": {"s2_over_s1": float(s[1] / s[0]), "s3_over_s1": float(s[2] / s[0]), "s3_over_s2": float(self.ratio)},
+            "ratios": {
+                "s2_over_s1": float(s[1] / s[0]),
+                "s3_over_s1": float(s[2] / s[0]),
+                "s3_over_s2": float(self.ratio),
+            },
             "threshold": self.threshold,
             "planar": bool(self.planar),
             "treatment": self.treatment,
@@ -100,7 +106,9 @@ def planarity(points: np.ndarray, threshold: float = PLANARITY_THRESHOLD) -> Pla
         e[0] = -e[0]
     e[2] = np.cross(e[0], e[1])
     ratio = float(sv[2] / max(sv[1], 1e-300))
-    return Planarity(singular_values=sv, axes=e, ratio=ratio, planar=ratio < threshold, threshold=threshold)
+    return Planarity(
+        singular_values=sv, axes=e, ratio=ratio, planar=ratio < threshold, threshold=threshold
+    )
 
 
 def _interp_extrapolate(x: np.ndarray, xp: np.ndarray, fp: np.ndarray) -> np.ndarray:
@@ -118,7 +126,9 @@ def arc_lengths(points: np.ndarray) -> np.ndarray:
     return seg.sum(axis=1)
 
 
-def tangent_angles(points: np.ndarray, axes: np.ndarray, length_um: float, path="data", n_points: int = N_POINTS) -> tuple[np.ndarray, list[np.ndarray]]:
+def tangent_angles(
+    points: np.ndarray, axes: np.ndarray, length_um: float, path="data", n_points: int = N_POINTS
+) -> tuple[np.ndarray, list[np.ndarray]]:
     """Angles of the tangent of ``points`` (T, P, d) in the planes (axes[0], axes[j]),
     j = 1 .. len(axes) - 1, on a uniform arc length in [0, length_um].
 
@@ -131,7 +141,10 @@ def tangent_angles(points: np.ndarray, axes: np.ndarray, length_um: float, path=
         s (n_points,) um and one (T, n_points) angle array (rad) per transverse axis.
     """
     if points.ndim != 3 or points.shape[1] < 4:
-        fail(path, f"centreline needs (frames, points >= 4) coordinates, got shape {points.shape[:2]}")
+        fail(
+            path,
+            f"centreline needs (frames, points >= 4) coordinates, got shape {points.shape[:2]}",
+        )
     d = np.diff(points, axis=1)
     seg = np.linalg.norm(d, axis=-1)
     if np.any(seg <= 0):
@@ -142,7 +155,9 @@ def tangent_angles(points: np.ndarray, axes: np.ndarray, length_um: float, path=
     out = []
     for j in range(1, comp.shape[-1]):
         angle = np.unwrap(np.arctan2(comp[..., j], comp[..., 0]), axis=1)
-        psi = np.stack([_interp_extrapolate(s / length_um, s_mid[k], angle[k]) for k in range(points.shape[0])])
+        psi = np.stack(
+            [_interp_extrapolate(s / length_um, s_mid[k], angle[k]) for k in range(points.shape[0])]
+        )
         out.append(psi - psi[:, 0].mean())
     return s, out
 
@@ -218,7 +233,9 @@ def _fit_modes(theta: np.ndarray, psi: np.ndarray) -> tuple[np.ndarray, np.ndarr
     return coef[0], coef[1] + 1j * coef[2], float(np.sqrt(np.mean(resid**2)))
 
 
-def reduce_frames(t_s: np.ndarray, s_um: np.ndarray, components: list[np.ndarray], source="data") -> Reduction:
+def reduce_frames(
+    t_s: np.ndarray, s_um: np.ndarray, components: list[np.ndarray], source="data"
+) -> Reduction:
     """Frequency, psi_0, psi_1 and their uncertainties of angle components, each (T, S)
     sampled at times ``t_s`` (T,) (module docstring)."""
     t = np.asarray(t_s, dtype=float)
@@ -265,11 +282,31 @@ def reduce_frames(t_s: np.ndarray, s_um: np.ndarray, components: list[np.ndarray
             cs = np.stack([p[1] for p in per_cycle])
             psi1 = cs.mean(axis=0)
             psi0 = np.stack([p[0] for p in per_cycle]).mean(axis=0)
-            spread = np.sqrt((cs.real.var(axis=0, ddof=1) + cs.imag.var(axis=0, ddof=1)) / 2 / len(per_cycle))
+            spread = np.sqrt(
+                (cs.real.var(axis=0, ddof=1) + cs.imag.var(axis=0, ddof=1)) / 2 / len(per_cycle)
+            )
         else:
             psi1, psi0 = c_all, a0_all
             spread = np.full(psi1.shape, rms * np.sqrt(2.0 / max(int(inside.sum()), 1)))
-        modes.append(FourierModes(s=np.asarray(s_um, dtype=float), psi0=psi0, psi1=psi1, omega=2 * np.pi * f, residual_rms=rms, n_samples=int(inside.sum())))
+        modes.append(
+            FourierModes(
+                s=np.asarray(s_um, dtype=float),
+                psi0=psi0,
+                psi1=psi1,
+                omega=2 * np.pi * f,
+                residual_rms=rms,
+                n_samples=int(inside.sum()),
+            )
+        )
         scatters.append(spread)
         sigmas.append(np.maximum(spread, PSI1_FLOOR_RAD))
-    return Reduction(frequency_hz=f, frequency_sigma_hz=sigma_f, frequency_scatter_hz=scatter, cycles=n, periods_s=periods, modes=modes, psi1_sigma=sigmas, psi1_scatter=scatters)
+    return Reduction(
+        frequency_hz=f,
+        frequency_sigma_hz=sigma_f,
+        frequency_scatter_hz=scatter,
+        cycles=n,
+        periods_s=periods,
+        modes=modes,
+        psi1_sigma=sigmas,
+        psi1_scatter=scatters,
+    )

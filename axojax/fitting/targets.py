@@ -51,10 +51,14 @@ class Target:
 
     def __post_init__(self) -> None:
         if self.source not in SOURCES:
-            raise ValueError(f"unknown target source {self.source!r}; choose from {', '.join(SOURCES)}")
+            raise ValueError(
+                f"unknown target source {self.source!r}; choose from {', '.join(SOURCES)}"
+            )
         names = SCALARS if self.source == "linear" else CYCLE_SCALARS
         if self.name not in names:
-            raise ValueError(f"unknown {self.source} target {self.name!r}; choose from {', '.join(names)}")
+            raise ValueError(
+                f"unknown {self.source} target {self.name!r}; choose from {', '.join(names)}"
+            )
         if not math.isfinite(self.value):
             raise ValueError(f"target {self.name} must be finite, got {self.value!r}")
         if not (math.isfinite(self.sigma) and self.sigma > 0):
@@ -80,7 +84,9 @@ class ShapeTarget:
 
     def __post_init__(self) -> None:
         if self.source not in SOURCES:
-            raise ValueError(f"unknown shape source {self.source!r}; choose from {', '.join(SOURCES)}")
+            raise ValueError(
+                f"unknown shape source {self.source!r}; choose from {', '.join(SOURCES)}"
+            )
         sigma = np.asarray(self.sigma, dtype=float)
         if not (np.all(np.isfinite(sigma)) and np.all(sigma > 0)):
             raise ValueError(f"shape uncertainty must be finite and > 0, got {self.sigma!r}")
@@ -88,7 +94,9 @@ class ShapeTarget:
         if shape != np.asarray(self.psi1).shape:
             raise ValueError("shape target: s_um and psi1 must have the same length")
         if sigma.ndim and sigma.shape != shape:
-            raise ValueError(f"shape target: sigma must be a scalar or have the shape of s_um {shape}, got {sigma.shape}")
+            raise ValueError(
+                f"shape target: sigma must be a scalar or have the shape of s_um {shape}, got {sigma.shape}"
+            )
         if self.psi0 is not None and np.asarray(self.psi0).shape != shape:
             raise ValueError("shape target: psi0 must have the shape of s_um")
 
@@ -104,13 +112,17 @@ def scalar_value(mode: Mode, name: str, units: Units) -> Float[Array, ""]:
         if name == "wavelength_um":
             return wavelength
         return wavelength * mode.frequency_hz(units)
-    return {"frequency_hz": mode.frequency_hz, "growth_rate_per_s": mode.growth_rate_per_s}[name](units)
+    return {"frequency_hz": mode.frequency_hz, "growth_rate_per_s": mode.growth_rate_per_s}[name](
+        units
+    )
 
 
 def model_psi1(model: Model, mode: Mode, s: Float[np.ndarray, " S"]) -> Complex[Array, " S"]:
     """The model's complex psi_1 at ``s`` (units of L) in its beat plane (up to scale)."""
     dphi = jnp.asarray(interpolation_matrix(model.n_elements, np.asarray(s), 1))
-    q = jnp.reshape(mode.eigenvector, (model.n_filaments, model.n_dirs, model.mesh.n_dof)).mean(axis=0)
+    q = jnp.reshape(mode.eigenvector, (model.n_filaments, model.n_dirs, model.mesh.n_dof)).mean(
+        axis=0
+    )
     du = q @ dphi.T  # (d, S)
     if model.n_dirs == 1:
         return du[0]
@@ -118,7 +130,9 @@ def model_psi1(model: Model, mode: Mode, s: Float[np.ndarray, " S"]) -> Complex[
     return jnp.cos(angle) * du[0] + jnp.sin(angle) * du[1]
 
 
-def shape_fit(model: Model, mode: Mode, target: ShapeTarget, units: Units, at_um=None) -> tuple[Array, Array]:
+def shape_fit(
+    model: Model, mode: Mode, target: ShapeTarget, units: Units, at_um=None
+) -> tuple[Array, Array]:
     """(alpha psi_model at ``at_um`` (default the target's s_um), alpha): the model's psi_1
     scaled by the complex alpha that best fits the observed psi_1 in weighted least squares
     (weights 1 / sigma^2) over the target's points."""
@@ -131,7 +145,9 @@ def shape_fit(model: Model, mode: Mode, target: ShapeTarget, units: Units, at_um
     return alpha * model_psi1(model, mode, np.asarray(at_um) / units.length_um), alpha
 
 
-def shape_residuals(model: Model, mode: Mode, target: ShapeTarget, units: Units) -> Float[Array, " 2S"]:
+def shape_residuals(
+    model: Model, mode: Mode, target: ShapeTarget, units: Units
+) -> Float[Array, " 2S"]:
     """(psi_obs - alpha psi_model) / sigma, real and imaginary parts, alpha the best complex scale
     (weighted by 1 / sigma^2 where sigma varies along s)."""
     fitted, _ = shape_fit(model, mode, target, units)
@@ -142,4 +158,8 @@ def shape_residuals(model: Model, mode: Mode, target: ShapeTarget, units: Units)
 
 def cycle_value(cycle, name: str, units: Units) -> Float[Array, ""]:
     """Limit-cycle observable ``name`` (``CYCLE_SCALARS``) in physical units."""
-    return {"frequency_hz": cycle.frequency_hz, "amplitude_um": cycle.amplitude_um, "wavelength_um": cycle.wavelength_um}[name](units)
+    return {
+        "frequency_hz": cycle.frequency_hz,
+        "amplitude_um": cycle.amplitude_um,
+        "wavelength_um": cycle.wavelength_um,
+    }[name](units)

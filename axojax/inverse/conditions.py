@@ -47,14 +47,27 @@ class Condition:
         values = self.params.as_dict() if isinstance(self.params, Params) else dict(self.params)
         for name in values:
             if name not in PARAM_NAMES:
-                raise ValueError(f"condition {self.label or ''}: unknown parameter {name!r}; choose from {', '.join(PARAM_NAMES)}".replace("condition : ", "condition: "))
+                raise ValueError(
+                    f"condition {self.label or ''}: unknown parameter {name!r}; choose from {', '.join(PARAM_NAMES)}".replace(
+                        "condition : ", "condition: "
+                    )
+                )
         object.__setattr__(self, "params", {k: float(v) for k, v in values.items()})
         object.__setattr__(self, "targets", tuple(self.targets))
         for t in self.targets:
             if not isinstance(t, Target):
                 raise TypeError(f"condition targets must be axojax.fitting.Target, got {t!r}")
         if not self.targets and self.shape is None:
-            raise ValueError(f"condition {self.label if self.label is not None else ''}: give at least one target or a shape".replace("condition : ", "condition: "))
+            raise ValueError(
+                f"condition {self.label if self.label is not None else ''}: give at least one target or a shape".replace(
+                    "condition : ", "condition: "
+                )
+            )
 
     def describe(self) -> dict[str, Any]:
-        return {"label": self.label, "params": dict(self.params), "source": self.source, "targets": [{"name": t.key, "value": t.value, "sigma": t.sigma} for t in self.targets]}
+        return {
+            "label": self.label,
+            "params": dict(self.params),
+            "source": self.source,
+            "targets": [{"name": t.key, "value": t.value, "sigma": t.sigma} for t in self.targets],
+        }

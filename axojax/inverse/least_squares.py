@@ -166,8 +166,12 @@ def warm_least_squares(
 
     def cond(carry):
         y, dynamic, starts, k = carry
-        terminate, result = solver.terminate(f, y, (args, starts), options, eqx.combine(dynamic, static), tags)
-        ok = (result == optx.RESULTS.successful) & jnp.all(jnp.array([jnp.all(jnp.isfinite(x)) for x in jax.tree_util.tree_leaves(y)]))
+        terminate, result = solver.terminate(
+            f, y, (args, starts), options, eqx.combine(dynamic, static), tags
+        )
+        ok = (result == optx.RESULTS.successful) & jnp.all(
+            jnp.array([jnp.all(jnp.isfinite(x)) for x in jax.tree_util.tree_leaves(y)])
+        )
         return ~terminate & ok & (k < max_steps)
 
     def body(carry):
@@ -176,8 +180,14 @@ def warm_least_squares(
         return y, eqx.partition(state, eqx.is_array)[0], jax.lax.stop_gradient(state.aux), k + 1
 
     y, dynamic, starts, k = jax.lax.while_loop(cond, body, (y0, dynamic, starts, jnp.array(0)))
-    terminate, result = solver.terminate(f, y, (args, starts), options, eqx.combine(dynamic, static), tags)
-    result = optx.RESULTS.where((result == optx.RESULTS.successful) & ~terminate, optx.RESULTS.nonlinear_max_steps_reached, result)
+    terminate, result = solver.terminate(
+        f, y, (args, starts), options, eqx.combine(dynamic, static), tags
+    )
+    result = optx.RESULTS.where(
+        (result == optx.RESULTS.successful) & ~terminate,
+        optx.RESULTS.nonlinear_max_steps_reached,
+        result,
+    )
     residuals = eqx.combine(dynamic, static).f_info.residual
     return WarmSolution(value=y, residuals=residuals, starts=starts, num_steps=k, result=result)
 
@@ -201,7 +211,9 @@ class LBFGS(LeastSquaresSolver):
         def run(z0):
             def cond(carry):
                 _, _, k, gnorm, value = carry
-                return (k < max_steps) & (gnorm > gtol * jnp.maximum(1.0, value)) & jnp.isfinite(gnorm)
+                return (
+                    (k < max_steps) & (gnorm > gtol * jnp.maximum(1.0, value)) & jnp.isfinite(gnorm)
+                )
 
             def body(carry):
                 z, state, k, _, _ = carry
@@ -248,14 +260,18 @@ class Adam(LeastSquaresSolver):
 METHODS = {"lm": LevenbergMarquardt, "lbfgs": LBFGS, "adam": Adam}
 
 
-def solver_from_name(method: str | LeastSquaresSolver, max_steps: int | None = None) -> LeastSquaresSolver:
+def solver_from_name(
+    method: str | LeastSquaresSolver, max_steps: int | None = None
+) -> LeastSquaresSolver:
     """``"lm"``, ``"lbfgs"``, ``"adam"`` or a solver object (``max_steps`` overrides its own)."""
     if isinstance(method, LeastSquaresSolver):
         solver = method
     elif method in METHODS:
         solver = METHODS[method]()
     else:
-        raise ValueError(f"method must be one of {', '.join(METHODS)} or a least-squares solver object, got {method!r}")
+        raise ValueError(
+            f"method must be one of {', '.join(METHODS)} or a least-squares solver object, got {method!r}"
+        )
     if max_steps is not None:
         if max_steps < 1:
             raise ValueError(f"max_steps must be >= 1, got {max_steps}")
@@ -263,7 +279,14 @@ def solver_from_name(method: str | LeastSquaresSolver, max_steps: int | None = N
     return solver
 
 
-def least_squares(problem: Problem, solver: LeastSquaresSolver | str = "lm", *, starts: int = 4, seed: int = 0, progress: bool = False) -> FitResult:
+def least_squares(
+    problem: Problem,
+    solver: LeastSquaresSolver | str = "lm",
+    *,
+    starts: int = 4,
+    seed: int = 0,
+    progress: bool = False,
+) -> FitResult:
     """Fit ``problem`` by ``solver`` from ``starts`` starts; the report of the best.
 
     Args:
@@ -283,9 +306,25 @@ def least_squares(problem: Problem, solver: LeastSquaresSolver | str = "lm", *, 
     for u in tqdm(initial, desc="fit starts", unit="start", disable=not progress):
         z, value, steps, gnorm = run(problem.to_z(jnp.asarray(u)))
         value = float(value)
-        runs.append({"z": np.asarray(z), "loss": value if math.isfinite(value) else math.inf, "steps": int(steps), "gnorm": float(gnorm)})
+        runs.append(
+            {
+                "z": np.asarray(z),
+                "loss": value if math.isfinite(value) else math.inf,
+                "steps": int(steps),
+                "gnorm": float(gnorm),
+            }
+        )
     wall = time.perf_counter() - t0
     best = min(range(len(runs)), key=lambda i: runs[i]["loss"])
     u_best = np.asarray(problem.to_u(jnp.asarray(runs[best]["z"])))
     start_log = [(problem.values(u), r["loss"]) for u, r in zip(initial, runs)]
-    return build_report(problem, u_best, method=solver.name, loss=runs[best]["loss"], gnorm=runs[best]["gnorm"], iterations=[r["steps"] for r in runs], wall_s=wall, starts=start_log)
+    return build_report(
+        problem,
+        u_best,
+        method=solver.name,
+        loss=runs[best]["loss"],
+        gnorm=runs[best]["gnorm"],
+        iterations=[r["steps"] for r in runs],
+        wall_s=wall,
+        starts=start_log,
+    )

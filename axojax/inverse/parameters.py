@@ -66,12 +66,16 @@ class FreeParameter:
         return math.log(value) if self.log else float(value)
 
 
-def coordinate_bounds(field: str, bounds: dict[str, tuple[float, float]]) -> tuple[bool, float, float]:
+def coordinate_bounds(
+    field: str, bounds: dict[str, tuple[float, float]]
+) -> tuple[bool, float, float]:
     """(log?, lower u, upper u) of ``field`` from value bounds; one-line ValueError if bad."""
     if field not in bounds:
         raise ValueError(f"bounds: no bounds for {field!r}; give bounds={{{field!r}: (low, high)}}")
     a, b = (float(v) for v in bounds[field])
     log = field not in LINEAR
     if not (math.isfinite(a) and math.isfinite(b) and a < b) or (log and a <= 0):
-        raise ValueError(f"bounds of {field} must satisfy 0 < low < high (log) or low < high, got ({a:g}, {b:g})")
+        raise ValueError(
+            f"bounds of {field} must satisfy 0 < low < high (log) or low < high, got ({a:g}, {b:g})"
+        )
     return log, (math.log(a) if log else a), (math.log(b) if log else b)

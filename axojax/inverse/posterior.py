@@ -56,7 +56,9 @@ from . import diagnostics
 
 NPZ_KIND = "posterior"
 SAMPLE_CHUNK = 50  # draws per compiled sampling call: one program for any number of draws (the last chunk's surplus is dropped)
-CENTRE_NEWTON_STEPS = 3  # Gauss-Newton steps on the whole log density after Levenberg-Marquardt (a non-uniform prior)
+CENTRE_NEWTON_STEPS = (
+    3  # Gauss-Newton steps on the whole log density after Levenberg-Marquardt (a non-uniform prior)
+)
 MAX_START_SD_Z = 2.0  # widest start spread in z: about the logistic prior's own width (pi / sqrt 3)
 
 
@@ -125,9 +127,13 @@ class NUTS(eqx.Module):
 
     def __check_init__(self):
         if not (1 <= self.max_num_doublings <= 15):
-            raise ValueError(f"NUTS: max_num_doublings must be in 1..15, got {self.max_num_doublings}")
+            raise ValueError(
+                f"NUTS: max_num_doublings must be in 1..15, got {self.max_num_doublings}"
+            )
         if not (0.0 < self.target_acceptance_rate < 1.0):
-            raise ValueError(f"NUTS: target_acceptance_rate must be in (0, 1), got {self.target_acceptance_rate}")
+            raise ValueError(
+                f"NUTS: target_acceptance_rate must be in (0, 1), got {self.target_acceptance_rate}"
+            )
 
 
 class NormalPrior(eqx.Module):
@@ -151,7 +157,9 @@ def normal_prior(names: Sequence[str], spec: Mapping[str, tuple[float, float]]) 
     names = list(names)
     for name, (mu, sd) in spec.items():
         if name not in names:
-            raise ValueError(f"prior: {name!r} is not a free parameter; choose from {', '.join(names)}")
+            raise ValueError(
+                f"prior: {name!r} is not a free parameter; choose from {', '.join(names)}"
+            )
         if not (math.isfinite(mu) and math.isfinite(sd) and sd > 0):
             raise ValueError(f"prior: {name} needs a finite mean and sd > 0, got ({mu!r}, {sd!r})")
     return NormalPrior(
@@ -344,7 +352,10 @@ class Posterior:
     @property
     def start(self) -> dict[str, float]:
         """The centre of the starts as parameter values (the posterior mode by default)."""
-        return {n: float(math.exp(v) if self.log_coordinate[n] else v) for n, v in zip(self.names, self.start_u)}
+        return {
+            n: float(math.exp(v) if self.log_coordinate[n] else v)
+            for n, v in zip(self.names, self.start_u)
+        }
 
     def to_json(self) -> dict[str, Any]:
         """The ``"posterior"`` block of ``axojax fit --posterior --json`` (INTERFACE.md):
@@ -381,13 +392,21 @@ class Posterior:
             "value_names": list(self.value_names),
             "log_coordinate": self.log_coordinate,
             "truth": None if truth is None else {k: float(v) for k, v in truth.items()},
-            **{f.name: getattr(self, f.name) for f in dataclasses.fields(self) if f.name in _SCALAR_FIELDS},
+            **{
+                f.name: getattr(self, f.name)
+                for f in dataclasses.fields(self)
+                if f.name in _SCALAR_FIELDS
+            },
         }
         from .._io import atomic_path
 
         with atomic_path(path) as tmp:  # a killed run leaves no half-written file
             with open(tmp, "wb") as f:
-                np.savez(f, meta=json.dumps(meta), **{name: np.asarray(getattr(self, name)) for name in _ARRAY_FIELDS})
+                np.savez(
+                    f,
+                    meta=json.dumps(meta),
+                    **{name: np.asarray(getattr(self, name)) for name in _ARRAY_FIELDS},
+                )
 
     @classmethod
     def load(cls, path) -> Posterior:
@@ -395,16 +414,53 @@ class Posterior:
         with np.load(path, allow_pickle=False) as f:
             meta = json.loads(str(f["meta"]))
             if meta.get("kind") != NPZ_KIND:
-                raise ValueError(f"{str(path)!r} is not an axojax posterior (kind {meta.get('kind')!r})")
+                raise ValueError(
+                    f"{str(path)!r} is not an axojax posterior (kind {meta.get('kind')!r})"
+                )
             arrays = {name: np.asarray(f[name]) for name in _ARRAY_FIELDS}
         scalars = {k: meta[k] for k in _SCALAR_FIELDS}
-        return cls(names=tuple(meta["names"]), value_names=tuple(meta["value_names"]), log_coordinate=meta["log_coordinate"], **scalars, **arrays)
+        return cls(
+            names=tuple(meta["names"]),
+            value_names=tuple(meta["value_names"]),
+            log_coordinate=meta["log_coordinate"],
+            **scalars,
+            **arrays,
+        )
 
 
-_ARRAY_FIELDS = ("u", "values", "log_density", "divergent", "lower", "upper", "step_size", "start_u")
+_ARRAY_FIELDS = (
+    "u",
+    "values",
+    "log_density",
+    "divergent",
+    "lower",
+    "upper",
+    "step_size",
+    "start_u",
+)
 _SCALAR_FIELDS = (
-    "mean", "sd", "q05", "q50", "q95", "mean_u", "sd_u", "rhat", "ess", "ess_tail", "divergences", "acceptance", "warmup",
-    "gradients", "seconds", "seconds_compile", "seconds_start", "seconds_warmup", "seconds_sampling", "seconds_per_gradient", "seconds_per_ess", "message",
+    "mean",
+    "sd",
+    "q05",
+    "q50",
+    "q95",
+    "mean_u",
+    "sd_u",
+    "rhat",
+    "ess",
+    "ess_tail",
+    "divergences",
+    "acceptance",
+    "warmup",
+    "gradients",
+    "seconds",
+    "seconds_compile",
+    "seconds_start",
+    "seconds_warmup",
+    "seconds_sampling",
+    "seconds_per_gradient",
+    "seconds_per_ess",
+    "message",
 )
 
 
@@ -463,7 +519,9 @@ def posterior(
     lower = np.asarray(problem.lower, dtype=float).reshape(-1)
     upper = np.asarray(problem.upper, dtype=float).reshape(-1)
     if k == 0 or lower.shape != (k,) or upper.shape != (k,):
-        raise ValueError(f"problem: names, lower and upper must have one entry per free parameter, got {k}, {lower.shape}, {upper.shape}")
+        raise ValueError(
+            f"problem: names, lower and upper must have one entry per free parameter, got {k}, {lower.shape}, {upper.shape}"
+        )
     for name, value in (("draws", draws), ("chains", chains)):
         if not (isinstance(value, (int, np.integer)) and value >= 1):
             raise ValueError(f"{name} must be an integer >= 1, got {value!r}")
@@ -476,7 +534,9 @@ def posterior(
     if isinstance(prior, Mapping):
         prior = normal_prior(names, prior)
     elif prior is not None and not callable(prior):
-        raise TypeError(f"prior must be a callable log_prior(u), a {{name: (mean_u, sd_u)}} mapping or None, got {type(prior).__name__}")
+        raise TypeError(
+            f"prior must be a callable log_prior(u), a {{name: (mean_u, sd_u)}} mapping or None, got {type(prior).__name__}"
+        )
     target = _Target(problem, prior)
     compile_s = [0.0]
 
@@ -499,7 +559,15 @@ def posterior(
         sampled, x_start, x_c, cov_x = target, z_start, z_c, cov
     imm0 = cov_x if sampler.dense_mass else jnp.diag(cov_x)
     if warmup > 0:
-        states, step_size, imm, warm_grads = call(_warmup, (sampler, int(warmup), bool(vectorize)), sampled, jax.random.split(key_warm, chains), x_start, x_c, imm0)
+        states, step_size, imm, warm_grads = call(
+            _warmup,
+            (sampler, int(warmup), bool(vectorize)),
+            sampled,
+            jax.random.split(key_warm, chains),
+            x_start,
+            x_c,
+            imm0,
+        )
     else:  # no adaptation: the Laplace covariance as mass matrix, a moderate step
         states = call(_init_states, None, sampled, x_start, x_c)
         step_size = jnp.full(chains, 0.5)
@@ -510,15 +578,21 @@ def posterior(
 
     chunk = SAMPLE_CHUNK
     n_chunks = -(-draws // chunk)
-    keys = jax.random.split(key_sample, n_chunks * chains * chunk).reshape(n_chunks, chains, chunk, -1)
+    keys = jax.random.split(key_sample, n_chunks * chains * chunk).reshape(
+        n_chunks, chains, chunk, -1
+    )
     t0 = time.perf_counter()
     outs = []
     for i in tqdm(range(n_chunks), desc="posterior", unit="chunk", disable=not progress):
-        states, out = call(_sample, (sampler, bool(vectorize)), sampled, states, step_size, imm, keys[i])
+        states, out = call(
+            _sample, (sampler, bool(vectorize)), sampled, states, step_size, imm, keys[i]
+        )
         outs.append(jax.device_get(out))
     seconds_sampling = time.perf_counter() - t0
     compile_chains = compile_s[0] - compile_start
-    z, logd, divergent, n_steps, accept = (np.concatenate([o[j] for o in outs], axis=1)[:, :draws] for j in range(5))
+    z, logd, divergent, n_steps, accept = (
+        np.concatenate([o[j] for o in outs], axis=1)[:, :draws] for j in range(5)
+    )
     if sampler.whiten:
         z = np.asarray(sampled.to_z(jnp.asarray(z)))
 
@@ -527,9 +601,19 @@ def posterior(
     value_names = list(names) + [n for n in values_dict if n not in names]
     cols = []
     for i, n in enumerate(value_names):
-        cols.append(np.asarray(values_dict[n], dtype=float).reshape(chains, draws) if n in values_dict else u[..., i])
+        cols.append(
+            np.asarray(values_dict[n], dtype=float).reshape(chains, draws)
+            if n in values_dict
+            else u[..., i]
+        )
     values = np.stack(cols, axis=-1)
-    log_coordinate = {n: bool(np.all(values[..., i] > 0) and np.allclose(np.log(values[..., i]), u[..., i], rtol=1e-9, atol=1e-9)) for i, n in enumerate(names)}
+    log_coordinate = {
+        n: bool(
+            np.all(values[..., i] > 0)
+            and np.allclose(np.log(values[..., i]), u[..., i], rtol=1e-9, atol=1e-9)
+        )
+        for i, n in enumerate(names)
+    }
 
     summ = diagnostics.summary(values[..., :k])
     flat_u = u.reshape(-1, k)
@@ -539,16 +623,30 @@ def posterior(
     per = lambda key: {n: float(summ[key][i]) for i, n in enumerate(names)}
 
     notes = []
-    bad_rhat = [f"{n} {summ['rhat'][i]:.3f}" for i, n in enumerate(names) if not summ["rhat"][i] <= diagnostics.RHAT_MAX]
+    bad_rhat = [
+        f"{n} {summ['rhat'][i]:.3f}"
+        for i, n in enumerate(names)
+        if not summ["rhat"][i] <= diagnostics.RHAT_MAX
+    ]
     if bad_rhat:
-        notes.append(f"R-hat above {diagnostics.RHAT_MAX}: {', '.join(bad_rhat)} (chains disagree; run longer or look for several modes)")
+        notes.append(
+            f"R-hat above {diagnostics.RHAT_MAX}: {', '.join(bad_rhat)} (chains disagree; run longer or look for several modes)"
+        )
     ess_floor = diagnostics.ESS_MIN_PER_CHAIN * chains
-    low = [f"{n} {min(summ['ess_bulk'][i], summ['ess_tail'][i]):.0f}" for i, n in enumerate(names) if not min(summ["ess_bulk"][i], summ["ess_tail"][i]) >= ess_floor]
+    low = [
+        f"{n} {min(summ['ess_bulk'][i], summ['ess_tail'][i]):.0f}"
+        for i, n in enumerate(names)
+        if not min(summ["ess_bulk"][i], summ["ess_tail"][i]) >= ess_floor
+    ]
     if low:
-        notes.append(f"effective sample size below {ess_floor} ({diagnostics.ESS_MIN_PER_CHAIN} per chain): {', '.join(low)} (run more draws)")
+        notes.append(
+            f"effective sample size below {ess_floor} ({diagnostics.ESS_MIN_PER_CHAIN} per chain): {', '.join(low)} (run more draws)"
+        )
     n_div = int(np.sum(divergent))
     if n_div:
-        notes.append(f"{n_div} divergent transitions of {chains * draws} (try NUTS(target_acceptance_rate=0.95), or check the bounds)")
+        notes.append(
+            f"{n_div} divergent transitions of {chains * draws} (try NUTS(target_acceptance_rate=0.95), or check the bounds)"
+        )
     for note in notes:
         warnings.warn("posterior: " + note, stacklevel=2)
     work = seconds_warmup + seconds_sampling - compile_chains
@@ -627,7 +725,12 @@ def _compiled(fn, static, dynamic: tuple) -> tuple[Any, float]:
     target, *rest = dynamic
     dyn, stat = eqx.partition(target, eqx.is_array)
     leaves, treedef = jax.tree.flatten((dyn, rest))
-    key = (fn, _Static((stat, static)), treedef, tuple((jnp.shape(x), jnp.result_type(x)) for x in leaves))
+    key = (
+        fn,
+        _Static((stat, static)),
+        treedef,
+        tuple((jnp.shape(x), jnp.result_type(x)) for x in leaves),
+    )
     seconds = 0.0
     if key not in _CACHE:
         t0 = time.perf_counter()
@@ -636,7 +739,9 @@ def _compiled(fn, static, dynamic: tuple) -> tuple[Any, float]:
             stat_, fixed = static_.obj
             return fn(fixed, eqx.combine(dyn_, stat_), *rest_)
 
-        _CACHE[key] = jax.jit(run, static_argnums=0).lower(_Static((stat, static)), dyn, rest).compile()
+        _CACHE[key] = (
+            jax.jit(run, static_argnums=0).lower(_Static((stat, static)), dyn, rest).compile()
+        )
         seconds = time.perf_counter() - t0
         while len(_CACHE) > _CACHE_SIZE:
             _CACHE.pop(next(iter(_CACHE)))
@@ -669,7 +774,9 @@ def _centre(settings, target, z0):
         return problem.residuals(problem.to_u(z))
 
     def rest(z):
-        return target.log_prior(problem.to_u(z)) + jnp.linalg.slogdet(jax.jacfwd(problem.to_u)(z))[1]
+        return (
+            target.log_prior(problem.to_u(z)) + jnp.linalg.slogdet(jax.jacfwd(problem.to_u)(z))[1]
+        )
 
     def precision(z):
         J = (jax.jacfwd if forward else jax.jacrev)(r)(z)
@@ -679,7 +786,13 @@ def _centre(settings, target, z0):
         return jnp.all(jnp.isfinite(z_new)) & (target(z_new) >= target(z_old))
 
     if optimise:
-        lm = optx.least_squares(lambda z, _: jnp.concatenate([r(z), _logistic_residuals(z)]), optx.LevenbergMarquardt(rtol=1e-8, atol=1e-8), z0, max_steps=200, throw=False)
+        lm = optx.least_squares(
+            lambda z, _: jnp.concatenate([r(z), _logistic_residuals(z)]),
+            optx.LevenbergMarquardt(rtol=1e-8, atol=1e-8),
+            z0,
+            max_steps=200,
+            throw=False,
+        )
         z0 = jnp.where(better(lm.value, z0), lm.value, z0)
 
         def newton(_, z):
@@ -708,13 +821,20 @@ def _warmup(settings, target, keys, z0, z_c, imm0):
         is_mass_matrix_diagonal=not sampler.dense_mass,
         initial_inverse_mass_matrix=imm0,
         target_acceptance_rate=sampler.target_acceptance_rate,
-        adaptation_info_fn=blackjax.adaptation.base.get_filter_adapt_info_fn(info_keys={"num_integration_steps"}),
+        adaptation_info_fn=blackjax.adaptation.base.get_filter_adapt_info_fn(
+            info_keys={"num_integration_steps"}
+        ),
         max_num_doublings=sampler.max_num_doublings,
     )
 
     def one(key, z):
         (state, params), info = adapt.run(key, z, num_steps=num_steps)
-        return state, params["step_size"], params["inverse_mass_matrix"], jnp.sum(info.info.num_integration_steps)
+        return (
+            state,
+            params["step_size"],
+            params["inverse_mass_matrix"],
+            jnp.sum(info.info.num_integration_steps),
+        )
 
     return _over_chains(one, vectorize, keys, z0)
 
@@ -737,11 +857,23 @@ def _sample(settings, target, states, step_size, imm, keys):
     sampler, vectorize = settings
 
     def chain(state, eps, m, keys_c):
-        kernel = blackjax.nuts(target, eps, m, max_num_doublings=sampler.max_num_doublings, divergence_threshold=sampler.divergence_threshold)
+        kernel = blackjax.nuts(
+            target,
+            eps,
+            m,
+            max_num_doublings=sampler.max_num_doublings,
+            divergence_threshold=sampler.divergence_threshold,
+        )
 
         def step(state, key):
             state, info = kernel.step(key, state)
-            return state, (state.position, state.logdensity, info.is_divergent, info.num_integration_steps, info.acceptance_rate)
+            return state, (
+                state.position,
+                state.logdensity,
+                info.is_divergent,
+                info.num_integration_steps,
+                info.acceptance_rate,
+            )
 
         return jax.lax.scan(step, state, keys_c)
 
@@ -761,7 +893,10 @@ def _values(problem, u: np.ndarray, call) -> dict[str, np.ndarray]:
     """``problem.values`` of every row of u (n, k): vmapped where it is traceable, else
     one call per draw (a ``values`` written in numpy for concrete u)."""
     try:
-        return {n: np.asarray(v, dtype=float) for n, v in call(_values_batch, None, _Target(problem), jnp.asarray(u)).items()}
+        return {
+            n: np.asarray(v, dtype=float)
+            for n, v in call(_values_batch, None, _Target(problem), jnp.asarray(u)).items()
+        }
     except TypeError:  # jax's concretisation errors: values() needs concrete u
         rows = [problem.values(x) for x in u]
         return {n: np.array([float(r[n]) for r in rows]) for n in rows[0]}
@@ -782,9 +917,13 @@ def _starts(target, init, chains: int, key, call) -> tuple[Array, Array, Array, 
         else:
             given = np.asarray(init, dtype=float)
         if given.shape not in ((k,), (chains, k)):
-            raise ValueError(f"init must be a point (k={k},) or one per chain ({chains}, {k}) in the fitted coordinate, got shape {given.shape}")
+            raise ValueError(
+                f"init must be a point (k={k},) or one per chain ({chains}, {k}) in the fitted coordinate, got shape {given.shape}"
+            )
         if not (np.all(np.isfinite(given)) and np.all(given > lower) and np.all(given < upper)):
-            raise ValueError("init: every start must lie strictly inside the bounds (lower, upper) of the fitted coordinate")
+            raise ValueError(
+                "init: every start must lie strictly inside the bounds (lower, upper) of the fitted coordinate"
+            )
         z_c = jnp.asarray(problem.to_z(jnp.asarray(given.reshape(-1, k).mean(axis=0))), dtype=float)
     try:
         z_c, precision = call(_centre, (init is None, True), target, z_c)
@@ -792,7 +931,12 @@ def _starts(target, init, chains: int, key, call) -> tuple[Array, Array, Array, 
         z_c, precision = call(_centre, (init is None, False), target, z_c)
     cov = _covariance(np.asarray(precision, dtype=float))
     if given is not None and given.ndim == 2:
-        return jnp.asarray(jax.vmap(problem.to_z)(jnp.asarray(given)), dtype=float), z_c, cov, given.mean(axis=0)
+        return (
+            jnp.asarray(jax.vmap(problem.to_z)(jnp.asarray(given)), dtype=float),
+            z_c,
+            cov,
+            given.mean(axis=0),
+        )
     z = z_c + jax.random.normal(key, (chains, k), dtype=float) @ jnp.linalg.cholesky(cov).T
     return z, z_c, cov, np.asarray(problem.to_u(z_c), dtype=float)
 
@@ -803,7 +947,15 @@ def _fitted_u(result, names, lower, upper) -> np.ndarray:
     missing = [n for n in names if n not in result.params]
     if missing:
         raise ValueError(f"init: the fit result has no value of {', '.join(missing)}")
-    u = np.array([math.log(result.params[n]) if result.coordinate.get(n, "log") == "log" else result.params[n] for n in names], dtype=float)
+    u = np.array(
+        [
+            math.log(result.params[n])
+            if result.coordinate.get(n, "log") == "log"
+            else result.params[n]
+            for n in names
+        ],
+        dtype=float,
+    )
     span = upper - lower
     return np.clip(u, lower + 1e-6 * span, upper - 1e-6 * span)
 

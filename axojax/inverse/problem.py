@@ -62,7 +62,12 @@ WARM_STEPS = 10  # Newton iterations a warm-started orbit gets before the Hopf g
 
 
 def _stack(params: Sequence[Params]) -> Params:
-    return Params(**{k: jnp.stack([jnp.asarray(getattr(p, k), dtype=float) for p in params]) for k in PARAM_NAMES})
+    return Params(
+        **{
+            k: jnp.stack([jnp.asarray(getattr(p, k), dtype=float) for p in params])
+            for k in PARAM_NAMES
+        }
+    )
 
 
 @dataclasses.dataclass(frozen=True)
@@ -137,10 +142,14 @@ class Problem:
             raise ValueError("free: name at least one parameter to fit")
         for name in free + per_condition:
             if name not in PARAM_NAMES and name not in ORBIT_FIELDS:
-                raise ValueError(f"free: unknown parameter {name!r}; choose from {', '.join((*PARAM_NAMES, *sorted(ORBIT_FIELDS)))}")
+                raise ValueError(
+                    f"free: unknown parameter {name!r}; choose from {', '.join((*PARAM_NAMES, *sorted(ORBIT_FIELDS)))}"
+                )
         both = set(free) & set(per_condition)
         if both or len(set(free)) < len(free) or len(set(per_condition)) < len(per_condition):
-            raise ValueError(f"free: each parameter once, shared or per condition (repeated: {', '.join(sorted(both)) or 'a name'})")
+            raise ValueError(
+                f"free: each parameter once, shared or per condition (repeated: {', '.join(sorted(both)) or 'a name'})"
+            )
         if kl_ratio is not None:
             if not (math.isfinite(kl_ratio) and kl_ratio > 0):
                 raise ValueError(f"kl_ratio must be > 0, got {kl_ratio!r}")
@@ -155,7 +164,11 @@ class Problem:
             raise ValueError(f"conditions: labels must differ, got {labels}")
         self.model, self.units, self.solver = model, units, solver
         self.conditions, self.labels = conditions, labels
-        self.kl_ratio, self.shape_floor, self.exclude_base_um = kl_ratio, float(shape_floor), float(exclude_base_um)
+        self.kl_ratio, self.shape_floor, self.exclude_base_um = (
+            kl_ratio,
+            float(shape_floor),
+            float(exclude_base_um),
+        )
         self.prior = prior
         self.free_shared, self.free_per_condition = tuple(free), tuple(per_condition)
         self.bounds = {**DEFAULT_BOUNDS, **(bounds or {})}
@@ -163,7 +176,9 @@ class Problem:
         self.models = [c.model if c.model is not None else model for c in conditions]
 
         # Free parameters and the start (cubic starts at ``cubic``).
-        start_of = lambda prm, name: float(cubic) if name in ORBIT_FIELDS else float(getattr(prm, name))  # noqa: E731
+        start_of = lambda prm, name: (
+            float(cubic) if name in ORBIT_FIELDS else float(getattr(prm, name))
+        )  # noqa: E731
         out, u0 = [], []
         for name in free:
             log, lo, hi = coordinate_bounds(name, self.bounds)
@@ -187,27 +202,48 @@ class Problem:
         self.shapes: list[ShapeTarget | None] = []
         self.shapes_excluded: list[ShapeTarget | None] = []
         for c in conditions:
-            self.shapes.append(None if c.shape is None else self._prepare_shape(c.shape, keep=True, label=c.label))
-            self.shapes_excluded.append(None if c.shape is None else self._prepare_shape(c.shape, keep=False, label=c.label))
+            self.shapes.append(
+                None if c.shape is None else self._prepare_shape(c.shape, keep=True, label=c.label)
+            )
+            self.shapes_excluded.append(
+                None if c.shape is None else self._prepare_shape(c.shape, keep=False, label=c.label)
+            )
         self.scalar_targets = [list(c.targets) for c in conditions]
         cycle_shape = [c.shape is not None and c.shape.source == "limit_cycle" for c in conditions]
-        self.needs_mode = [any(t.source == "linear" for t in c.targets) or (c.shape is not None and not cs) for c, cs in zip(conditions, cycle_shape)]
-        self.needs_cycle = [any(t.source == "limit_cycle" for t in c.targets) or cs for c, cs in zip(conditions, cycle_shape)]
+        self.needs_mode = [
+            any(t.source == "linear" for t in c.targets) or (c.shape is not None and not cs)
+            for c, cs in zip(conditions, cycle_shape)
+        ]
+        self.needs_cycle = [
+            any(t.source == "limit_cycle" for t in c.targets) or cs
+            for c, cs in zip(conditions, cycle_shape)
+        ]
         if any(self.needs_cycle):
             if not (math.isfinite(cubic) and cubic > 0):
-                raise ValueError(f"cubic must be a finite number > 0 for limit-cycle targets, got {cubic!r}")
+                raise ValueError(
+                    f"cubic must be a finite number > 0 for limit-cycle targets, got {cubic!r}"
+                )
             for m, need in zip(self.models, self.needs_cycle):
                 if need and m.link_B.shape[0] == 0:
-                    raise ValueError(f"limit-cycle targets need a model with links; {m.name!r} has none")
+                    raise ValueError(
+                        f"limit-cycle targets need a model with links; {m.name!r} has none"
+                    )
             orbit_solver = _without_floquet(orbit_solver)  # stability is not fitted: skip it
         elif set(free + per_condition) & ORBIT_FIELDS:
-            raise ValueError("free: cubic is the limit cycle's stiffening; only limit-cycle targets (source='limit_cycle') depend on it")
+            raise ValueError(
+                "free: cubic is the limit cycle's stiffening; only limit-cycle targets (source='limit_cycle') depend on it"
+            )
         self.cubic, self.orbit_solver = cubic, orbit_solver
         layout, start = [], 0
         for i in range(len(conditions)):
             n_scalar = len(self.scalar_targets[i])
             sh = self.shapes[i]
-            n_shape = 0 if sh is None else (2 + (sh.source == "limit_cycle" and sh.psi0 is not None)) * len(np.asarray(sh.s_um))
+            n_shape = (
+                0
+                if sh is None
+                else (2 + (sh.source == "limit_cycle" and sh.psi0 is not None))
+                * len(np.asarray(sh.s_um))
+            )
             layout.append(_Layout(start, n_scalar, n_shape))
             start += n_scalar + n_shape
         self.layout, self.n_residuals = layout, start
@@ -217,7 +253,9 @@ class Problem:
             if self.needs_mode[i]:
                 groups.setdefault(m, []).append(i)
         self._groups = list(groups.values())
-        self._solvers = {self.models[g[0]]: solver.resolve(self.models[g[0]], len(g)) for g in self._groups}
+        self._solvers = {
+            self.models[g[0]]: solver.resolve(self.models[g[0]], len(g)) for g in self._groups
+        }
         self._jit_residuals = jax.jit(self.residuals)
         self._jit_jacobian = jax.jit(jax.jacfwd(self.residuals))
         self._jit_evaluate = None
@@ -227,7 +265,9 @@ class Problem:
         s = np.asarray(shape.s_um, dtype=float)
         mask = s >= self.exclude_base_um if keep else s < self.exclude_base_um
         if keep and mask.sum() < 2:
-            raise ValueError(f"exclude_base_um: {self.exclude_base_um:g} um leaves fewer than 2 shape points (condition {label}); the data end at {s.max():g} um")
+            raise ValueError(
+                f"exclude_base_um: {self.exclude_base_um:g} um leaves fewer than 2 shape points (condition {label}); the data end at {s.max():g} um"
+            )
         if not mask.any():
             return None
         sigma = np.broadcast_to(np.asarray(shape.sigma, dtype=float), s.shape)
@@ -288,7 +328,11 @@ class Problem:
 
     def _fitted_values(self, u, i: int) -> dict:
         """{field: value} of the free parameters that act in condition ``i`` at ``u``."""
-        return {p.field: p.to_value(u[j]) for j, p in enumerate(self.parameters) if p.condition is None or p.condition == i}
+        return {
+            p.field: p.to_value(u[j])
+            for j, p in enumerate(self.parameters)
+            if p.condition is None or p.condition == i
+        }
 
     # -- the model's predictions -----------------------------------------------------
     def modes(self, u) -> list:
@@ -301,7 +345,9 @@ class Problem:
             if len(group) == 1:
                 out[group[0]] = dominant_mode_impl(model, prms[0], solver)
                 continue
-            batch = jax.vmap(lambda prm, model=model, solver=solver: dominant_mode_impl(model, prm, solver))(_stack(prms))
+            batch = jax.vmap(
+                lambda prm, model=model, solver=solver: dominant_mode_impl(model, prm, solver)
+            )(_stack(prms))
             for k, i in enumerate(group):
                 out[i] = jax.tree_util.tree_map(lambda x, k=k: x[k], batch)
         return out
@@ -325,7 +371,10 @@ class Problem:
         starts = [None] * self.n_conditions if starts is None else list(starts)
         if len(starts) != self.n_conditions:
             raise ValueError(f"starts: one per condition ({self.n_conditions}), got {len(starts)}")
-        return [self._cycle(i, u, starts[i]) if need else None for i, need in enumerate(self.needs_cycle)]
+        return [
+            self._cycle(i, u, starts[i]) if need else None
+            for i, need in enumerate(self.needs_cycle)
+        ]
 
     def _cycle(self, i: int, u, start: LimitCycle | None) -> LimitCycle:
         prm, kappa = self.condition_params(u, i), self.condition_cubic(u, i)
@@ -333,13 +382,17 @@ class Problem:
             return self.orbit_solver.solve(self.models[i], prm, kappa)
         return WarmStart(self.orbit_solver, WARM_STEPS).solve(self.models[i], prm, kappa, start)
 
-    def residuals(self, u: Float[Array | np.ndarray, " k"], starts: Sequence[LimitCycle | None] | None = None) -> Float[Array, " m"]:
+    def residuals(
+        self, u: Float[Array | np.ndarray, " k"], starts: Sequence[LimitCycle | None] | None = None
+    ) -> Float[Array, " m"]:
         """Normalised residuals (model - observed) / sigma of every target of every
         condition, in condition order: scalar targets, then Re and Im of the shape.
         ``starts``: warm starts of the limit cycles (:meth:`cycles`; None: cold)."""
         return self.residuals_and_cycles(u, starts)[0]
 
-    def residuals_and_cycles(self, u: Float[Array | np.ndarray, " k"], starts: Sequence[LimitCycle | None] | None = None) -> tuple[Float[Array, " m"], list]:
+    def residuals_and_cycles(
+        self, u: Float[Array | np.ndarray, " k"], starts: Sequence[LimitCycle | None] | None = None
+    ) -> tuple[Float[Array, " m"], list]:
         """(:meth:`residuals`, :meth:`cycles`) at ``u``: the orbits are those a fit
         passes back as the next evaluation's ``starts``."""
         u = jnp.asarray(u)
@@ -352,12 +405,16 @@ class Problem:
                     r = (cycle_value(cycle, t.name, self.units) - t.value) / t.sigma
                     parts.append(jnp.where(cycle.converged, r, CYCLE_FAILED)[None])
                 else:
-                    parts.append(((scalar_value(mode, t.name, self.units) - t.value) / t.sigma)[None])
+                    parts.append(
+                        ((scalar_value(mode, t.name, self.units) - t.value) / t.sigma)[None]
+                    )
             shape = self.shapes[i]
             if shape is not None and shape.source == "limit_cycle":
                 # The whole waveform against the orbit: psi_0, psi_1 in absolute amplitude.
                 measures = cycle_measures(cycle, np.asarray(shape.s_um, dtype=float), self.units)
-                parts.append(jnp.where(cycle.converged, cycle_shape_residuals(measures, shape), CYCLE_FAILED))
+                parts.append(
+                    jnp.where(cycle.converged, cycle_shape_residuals(measures, shape), CYCLE_FAILED)
+                )
             elif shape is not None:
                 fitted, _ = shape_fit(self.models[i], mode, shape, self.units)
                 r = (jnp.asarray(shape.psi1) - fitted) / jnp.asarray(shape.sigma)
@@ -381,9 +438,15 @@ class Problem:
         residuals, Jacobian, every condition's scalar observables and, for shapes, the
         fitted psi_1 on all observed points (the excluded basal stretch included)."""
         if self._jit_evaluate is None:
-            self._jit_evaluate = jax.jit(lambda u: (self.residuals(u), jax.jacfwd(self.residuals)(u), self._predictions(u)))
+            self._jit_evaluate = jax.jit(
+                lambda u: (self.residuals(u), jax.jacfwd(self.residuals)(u), self._predictions(u))
+            )
         r, J, preds = self._jit_evaluate(jnp.asarray(u, dtype=float))
-        return {"r": np.asarray(r), "J": np.asarray(J), "conditions": jax.tree_util.tree_map(np.asarray, preds)}
+        return {
+            "r": np.asarray(r),
+            "J": np.asarray(J),
+            "conditions": jax.tree_util.tree_map(np.asarray, preds),
+        }
 
     def _predictions(self, u) -> list[dict[str, Any]]:
         modes, cycles = self.modes(u), self.cycles(u)
@@ -392,22 +455,40 @@ class Problem:
             d: dict[str, Any] = {}
             if modes[i] is not None:
                 achieved = {k: scalar_value(modes[i], k, self.units) for k in SCALARS}
-                travels = modes[i].direction != 0  # else no wavelength, as `axojax modes` says (NaN -> null)
+                travels = (
+                    modes[i].direction != 0
+                )  # else no wavelength, as `axojax modes` says (NaN -> null)
                 for k in ("wavelength_um", "velocity_um_per_s"):
                     achieved[k] = jnp.where(travels, achieved[k], jnp.nan)
                 d["achieved"] = achieved
                 shape = self.conditions[i].shape
                 if shape is not None:
-                    fitted, alpha = shape_fit(self.models[i], modes[i], self.shapes[i], self.units, at_um=np.asarray(shape.s_um))
+                    fitted, alpha = shape_fit(
+                        self.models[i],
+                        modes[i],
+                        self.shapes[i],
+                        self.units,
+                        at_um=np.asarray(shape.s_um),
+                    )
                     d["psi1_fit"], d["alpha"] = fitted, alpha
             if cycles[i] is not None:
-                d["cycle"] = {k: cycle_value(cycles[i], k, self.units) for k in ("frequency_hz", "amplitude_um", "wavelength_um")}
+                d["cycle"] = {
+                    k: cycle_value(cycles[i], k, self.units)
+                    for k in ("frequency_hz", "amplitude_um", "wavelength_um")
+                }
                 d["cycle_converged"] = cycles[i].converged
                 shape = self.conditions[i].shape
                 if shape is not None and shape.source == "limit_cycle":
-                    every = cycle_measures(cycles[i], np.asarray(shape.s_um, dtype=float), self.units)
-                    kept = cycle_measures(cycles[i], np.asarray(self.shapes[i].s_um, dtype=float), self.units)
-                    d["psi1_fit"], d["psi0_fit"] = aligned_psi1(kept, self.shapes[i], at=every), every.psi0
+                    every = cycle_measures(
+                        cycles[i], np.asarray(shape.s_um, dtype=float), self.units
+                    )
+                    kept = cycle_measures(
+                        cycles[i], np.asarray(self.shapes[i].s_um, dtype=float), self.units
+                    )
+                    d["psi1_fit"], d["psi0_fit"] = (
+                        aligned_psi1(kept, self.shapes[i], at=every),
+                        every.psi0,
+                    )
             out.append(d)
         return out
 
@@ -434,10 +515,18 @@ class Problem:
         """Plain-Python summary of the problem (names, bounds in values, conditions)."""
         return {
             "names": list(self.names),
-            "bounds": {p.name: [float(np.exp(p.lower) if p.log else p.lower), float(np.exp(p.upper) if p.log else p.upper)] for p in self.parameters},
+            "bounds": {
+                p.name: [
+                    float(np.exp(p.lower) if p.log else p.lower),
+                    float(np.exp(p.upper) if p.log else p.upper),
+                ]
+                for p in self.parameters
+            },
             "coordinate": {p.name: "log" if p.log else "linear" for p in self.parameters},
             "kl_ratio": self.kl_ratio,
             "shape_floor_rad": self.shape_floor,
             "exclude_base_um": self.exclude_base_um,
-            "conditions": [dict(c.describe(), label=lab) for c, lab in zip(self.conditions, self.labels)],
+            "conditions": [
+                dict(c.describe(), label=lab) for c, lab in zip(self.conditions, self.labels)
+            ],
         }

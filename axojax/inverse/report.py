@@ -162,7 +162,17 @@ def _fmt(x: float) -> str:
     return f"{x:.3g}"
 
 
-def build_report(problem: Problem, u, *, method: str = "", loss: float | None = None, gnorm: float = math.nan, iterations=(), wall_s: float = 0.0, starts=()) -> FitResult:
+def build_report(
+    problem: Problem,
+    u,
+    *,
+    method: str = "",
+    loss: float | None = None,
+    gnorm: float = math.nan,
+    iterations=(),
+    wall_s: float = 0.0,
+    starts=(),
+) -> FitResult:
     """The :class:`FitResult` of ``problem`` at the fitted coordinates ``u`` (k,)."""
     u = np.asarray(u, dtype=float)
     ev = problem.evaluate(u)
@@ -176,7 +186,9 @@ def build_report(problem: Problem, u, *, method: str = "", loss: float | None = 
     # Standard errors in u from the Gauss-Newton matrix.
     fisher = J.T @ J
     if np.all(np.isfinite(fisher)):
-        ridge = 1e-12 * max(float(np.abs(fisher).max()), 1e-300)  # a singular direction gets a huge, finite variance
+        ridge = 1e-12 * max(
+            float(np.abs(fisher).max()), 1e-300
+        )  # a singular direction gets a huge, finite variance
         cov = np.linalg.inv(fisher + ridge * np.eye(k))
     else:
         cov = np.full((k, k), np.inf)
@@ -185,7 +197,9 @@ def build_report(problem: Problem, u, *, method: str = "", loss: float | None = 
         corr = cov / np.outer(se_u, se_u)
     corr = np.where(np.isfinite(corr), corr, np.nan)
     frac = (u - problem.lower) / span
-    at_bound = [n for n, f in zip(names, frac) if f <= AT_BOUND_FRACTION or f >= 1 - AT_BOUND_FRACTION]
+    at_bound = [
+        n for n, f in zip(names, frac) if f <= AT_BOUND_FRACTION or f >= 1 - AT_BOUND_FRACTION
+    ]
     stderr, ident = {}, {}
     for i, n in enumerate(names):
         v = values[n]
@@ -197,7 +211,9 @@ def build_report(problem: Problem, u, *, method: str = "", loss: float | None = 
     conditions, achieved_all, res_all, shape_sq, shape_n = [], {}, {}, 0.0, 0
     multi = problem.n_conditions > 1
     reproduced, off = True, []
-    for i, (cond, lay, pred) in enumerate(zip(problem.conditions, problem.layout, ev["conditions"])):
+    for i, (cond, lay, pred) in enumerate(
+        zip(problem.conditions, problem.layout, ev["conditions"])
+    ):
         label = problem.labels[i]
         suffix = f"@{label}" if multi else ""
         full = problem.condition_params(u, i)
@@ -210,14 +226,29 @@ def build_report(problem: Problem, u, *, method: str = "", loss: float | None = 
         targets, residuals = [], {}
         for t, rv in zip(problem.scalar_targets[i], rs):
             a = achieved.get(t.key, math.nan)
-            targets.append({"name": t.key, "value": t.value, "sigma": t.sigma, "achieved": a, "residual": float(rv)})
+            targets.append(
+                {
+                    "name": t.key,
+                    "value": t.value,
+                    "sigma": t.sigma,
+                    "achieved": a,
+                    "residual": float(rv),
+                }
+            )
             residuals[t.key] = float(rv)
             if not abs(rv) <= SCALAR_SIGMA_OK:
                 reproduced = False
-                off.append(f"{t.key}{suffix} {a:.4g} vs {t.value:.4g} +- {t.sigma:.3g} ({rv:+.1f} sigma)")
+                off.append(
+                    f"{t.key}{suffix} {a:.4g} vs {t.value:.4g} +- {t.sigma:.3g} ({rv:+.1f} sigma)"
+                )
         entry: dict[str, Any] = {
             "label": label,
-            "params": {f: float(np.asarray(getattr(full, f))) for f in PARAM_NAMES} | ({"cubic": float(np.asarray(problem.condition_cubic(u, i)))} if problem.needs_cycle[i] else {}),
+            "params": {f: float(np.asarray(getattr(full, f))) for f in PARAM_NAMES}
+            | (
+                {"cubic": float(np.asarray(problem.condition_cubic(u, i)))}
+                if problem.needs_cycle[i]
+                else {}
+            ),
             "fixed": dict(cond.params),
             "source": cond.source,
             "achieved": achieved,
@@ -249,15 +280,27 @@ def build_report(problem: Problem, u, *, method: str = "", loss: float | None = 
 
     notes = _notes(problem, names, values, se_u, stderr, ident, at_bound, corr, log, span, u)
     if converged:
-        head = f"targets reproduced (loss {loss:.3g}" + (f", chi2/dof {chi2:.3g}" if chi2 is not None else "") + ")"
+        head = (
+            f"targets reproduced (loss {loss:.3g}"
+            + (f", chi2/dof {chi2:.3g}" if chi2 is not None else "")
+            + ")"
+        )
     else:
-        head = "targets not reproduced within their uncertainty (infeasible for this model and bounds?): " + "; ".join(off)
-    failed = [problem.labels[i] for i, pred in enumerate(ev["conditions"]) if "cycle" in pred and not bool(pred["cycle_converged"])]
+        head = (
+            "targets not reproduced within their uncertainty (infeasible for this model and bounds?): "
+            + "; ".join(off)
+        )
+    failed = [
+        problem.labels[i]
+        for i, pred in enumerate(ev["conditions"])
+        if "cycle" in pred and not bool(pred["cycle_converged"])
+    ]
     if failed:
-        notes.insert(0,
+        notes.insert(
+            0,
             f"no limit cycle found{' in condition(s) ' + ', '.join(failed) if multi else ''} at these parameters (Newton from the Hopf normal form "
             f"did not converge, or the straight state does not beat there): its targets count {CYCLE_FAILED:g} sigma and give no gradient, so the fit "
-            "could not move; start nearer a beating state (p a little above the Hopf point of `axojax critical`), or follow the branch with `axojax orbit --p a:b:n`"
+            "could not move; start nearer a beating state (p a little above the Hopf point of `axojax critical`), or follow the branch with `axojax orbit --p a:b:n`",
         )
     for c in conditions:
         ex = c["excluded_base"]
@@ -305,7 +348,9 @@ def _shape_data(problem: Problem, i: int, pred) -> tuple[dict, dict | None]:
     s = np.asarray(shape.s_um, dtype=float)
     obs = np.asarray(shape.psi1)
     fit = np.asarray(pred["psi1_fit"])
-    sigma = np.sqrt(np.broadcast_to(np.asarray(shape.sigma, dtype=float), s.shape) ** 2 + problem.shape_floor**2)
+    sigma = np.sqrt(
+        np.broadcast_to(np.asarray(shape.sigma, dtype=float), s.shape) ** 2 + problem.shape_floor**2
+    )
     kept = s >= problem.exclude_base_um
     data = {
         "s_um": s,
@@ -371,7 +416,9 @@ def _notes(problem, names, values, se_u, stderr, ident, at_bound, corr, log, spa
             else:
                 parts.append(f"{n} (+- {_fmt(se_u[i])}, {se_u[i] / span[i]:.0%} of its range)")
         notes.append(
-            "not identifiable from these targets: " + ", ".join(parts) + " (standard error over a factor e, or over 5 % of a linear range); fix them or add targets"
+            "not identifiable from these targets: "
+            + ", ".join(parts)
+            + " (standard error over a factor e, or over 5 % of a linear range); fix them or add targets"
         )
     pairs = []
     for i in range(len(names)):

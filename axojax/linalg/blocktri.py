@@ -68,10 +68,14 @@ class BlockTridiagonal(eqx.Module):
         return (n, n)
 
     def __add__(self, other: "BlockTridiagonal") -> "BlockTridiagonal":
-        return BlockTridiagonal(self.lower + other.lower, self.diag + other.diag, self.upper + other.upper)
+        return BlockTridiagonal(
+            self.lower + other.lower, self.diag + other.diag, self.upper + other.upper
+        )
 
     def __sub__(self, other: "BlockTridiagonal") -> "BlockTridiagonal":
-        return BlockTridiagonal(self.lower - other.lower, self.diag - other.diag, self.upper - other.upper)
+        return BlockTridiagonal(
+            self.lower - other.lower, self.diag - other.diag, self.upper - other.upper
+        )
 
     def scale(self, factor) -> "BlockTridiagonal":
         return BlockTridiagonal(factor * self.lower, factor * self.diag, factor * self.upper)
@@ -83,7 +87,9 @@ class BlockTridiagonal(eqx.Module):
         return BlockTridiagonal(tr(self.upper), tr(self.diag), tr(self.lower))
 
     def astype(self, dtype) -> "BlockTridiagonal":
-        return BlockTridiagonal(self.lower.astype(dtype), self.diag.astype(dtype), self.upper.astype(dtype))
+        return BlockTridiagonal(
+            self.lower.astype(dtype), self.diag.astype(dtype), self.upper.astype(dtype)
+        )
 
     def matvec(self, x: Inexact[Array, " n"]) -> Inexact[Array, " n"]:
         """``M @ x`` for a flat (N b,) vector."""
@@ -150,7 +156,9 @@ class BlockLU(eqx.Module):
     def solve(self, rhs: Inexact[Array, " n"]) -> Inexact[Array, " n"]:
         """``M^{-1} rhs`` for a flat (N b,) vector."""
         N, b = self.n_blocks, self.uinv.shape[-1]
-        R = jnp.concatenate([rhs.reshape(N, b), jnp.zeros((1, b), rhs.dtype)]).astype(self.uinv.dtype)
+        R = jnp.concatenate([rhs.reshape(N, b), jnp.zeros((1, b), rhs.dtype)]).astype(
+            self.uinv.dtype
+        )
 
         def forward(carry, k):
             out = self.fwd[k] @ jnp.concatenate([carry, R[k + 1]])
@@ -220,7 +228,9 @@ def lu_factor(M: BlockTridiagonal, kernels: str = "lapack") -> BlockLU:
         l11 = jnp.tril(lu[:b], -1) + eye
         u11 = jnp.triu(lu[:b])
         l21 = lu[b:]
-        right = jnp.block([[row_k1, jnp.zeros((b, b), lu.dtype)], [P.diag[k + 1], P.upper[k + 1]]])[perm]
+        right = jnp.block([[row_k1, jnp.zeros((b, b), lu.dtype)], [P.diag[k + 1], P.upper[k + 1]]])[
+            perm
+        ]
         if kernels == "jnp":
             l11inv = small.triangular_inverse(l11, lower=True, unit_diagonal=True)
             u1 = l11inv @ right[:b]

@@ -72,7 +72,9 @@ def cholesky_lower(a: Inexact[Array, "b b"]) -> Inexact[Array, "b b"]:
     return jax.lax.fori_loop(0, b, step, a)
 
 
-def triangular_inverse(t: Inexact[Array, "b b"], lower: bool, unit_diagonal: bool = False) -> Inexact[Array, "b b"]:
+def triangular_inverse(
+    t: Inexact[Array, "b b"], lower: bool, unit_diagonal: bool = False
+) -> Inexact[Array, "b b"]:
     """Inverse of a triangular matrix (only its triangle is read), row by row:
     ``X[i] = (e_i - T[i, others] @ X) / T[i, i]`` in substitution order."""
     b = t.shape[-1]

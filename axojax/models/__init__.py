@@ -10,13 +10,30 @@ from .presets import PRESETS, beck, four, nine, preset, seven, single, two
 from .section import IMBALANCE_KINDS, ActivePair, CrossSection, Link, Model, build_model
 
 
-def from_file(path, n_elements: int = 10, profiles: Profiles = Profiles(), imbalance_kind: str = "moment") -> Model:
+def from_file(
+    path, n_elements: int = 10, profiles: Profiles = Profiles(), imbalance_kind: str = "moment"
+) -> Model:
     """Build a model from a TOML/JSON cross-section file (see :mod:`axojax.models.io`)."""
     return build_model(load_section(path), n_elements, profiles, imbalance_kind)
 
 
 __all__ = [
-    "IMBALANCE_KINDS", "ActivePair", "CrossSection", "Link", "Model", "Profiles", "PRESETS",
-    "beck", "build_model", "four", "from_file", "load_section", "nine", "preset",
-    "section_from_dict", "seven", "single", "two",
+    "IMBALANCE_KINDS",
+    "ActivePair",
+    "CrossSection",
+    "Link",
+    "Model",
+    "Profiles",
+    "PRESETS",
+    "beck",
+    "build_model",
+    "four",
+    "from_file",
+    "load_section",
+    "nine",
+    "preset",
+    "section_from_dict",
+    "seven",
+    "single",
+    "two",
 ]

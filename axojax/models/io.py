@@ -38,8 +38,14 @@ def _pair(entry: Any, where: str) -> tuple[int, int]:
     if not isinstance(entry, dict) or "between" not in entry:
         raise ValueError(f"{where} needs a 'between = [i, j]' entry")
     between = entry["between"]
-    if not isinstance(between, list) or len(between) != 2 or not all(isinstance(v, int) and not isinstance(v, bool) for v in between):
-        raise ValueError(f"{where}: 'between' must be two integer filament indices, got {between!r}")
+    if (
+        not isinstance(between, list)
+        or len(between) != 2
+        or not all(isinstance(v, int) and not isinstance(v, bool) for v in between)
+    ):
+        raise ValueError(
+            f"{where}: 'between' must be two integer filament indices, got {between!r}"
+        )
     return between[0], between[1]
 
 
@@ -55,10 +61,16 @@ def section_from_dict(data: dict, default_name: str = "custom") -> CrossSection:
         if not isinstance(f, dict) or "position" not in f:
             raise ValueError(f"filament {k} needs a 'position = [y, z]' entry")
         pos = f["position"]
-        if not isinstance(pos, list) or len(pos) not in (1, 2) or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in pos):
+        if (
+            not isinstance(pos, list)
+            or len(pos) not in (1, 2)
+            or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in pos)
+        ):
             raise ValueError(f"filament {k}: position must be [y, z] numbers, got {pos!r}")
         if not all(abs(v) <= MAX_COORDINATE for v in pos):
-            raise ValueError(f"filament {k}: position must be finite numbers of magnitude <= {MAX_COORDINATE:g}, got {pos!r}")
+            raise ValueError(
+                f"filament {k}: position must be finite numbers of magnitude <= {MAX_COORDINATE:g}, got {pos!r}"
+            )
         positions.append([float(pos[0]), float(pos[1]) if len(pos) == 2 else 0.0])
         for key, store in (("ei", ei), ("drag", drag)):
             v = f.get(key, 1.0)
@@ -67,7 +79,9 @@ def section_from_dict(data: dict, default_name: str = "custom") -> CrossSection:
             store.append(float(v))
     for key, kind in (("links", list), ("active_pairs", list), ("name", str), ("load", str)):
         if key in data and not isinstance(data[key], kind):
-            raise ValueError(f"model file: {key!r} must be a {'list of tables' if kind is list else 'string'}, got {data[key]!r}")
+            raise ValueError(
+                f"model file: {key!r} must be a {'list of tables' if kind is list else 'string'}, got {data[key]!r}"
+            )
     dims = data.get("dimensions", 2)
     if not _is_int(dims) or dims not in (1, 2):
         raise ValueError(f"model file: 'dimensions' must be the integer 1 or 2, got {dims!r}")

@@ -32,7 +32,9 @@ def _ring(angles_deg: list[float], central: bool, rotation_deg: float = 0.0) -> 
 
 def _planar(rotation_deg: float, name: str) -> None:
     if rotation_deg != 0.0:
-        raise ValueError(f"the planar preset {name!r} has no cross-section to rotate (rotation_deg must be 0, got {rotation_deg:g})")
+        raise ValueError(
+            f"the planar preset {name!r} has no cross-section to rotate (rotation_deg must be 0, got {rotation_deg:g})"
+        )
 
 
 def single_section(rotation_deg: float = 0.0) -> CrossSection:
@@ -47,7 +49,13 @@ def beck_section(rotation_deg: float = 0.0) -> CrossSection:
 
 def two_section(rotation_deg: float = 0.0) -> CrossSection:
     _planar(rotation_deg, "two")
-    return CrossSection("two", np.array([[0.0, 0.0], [1.0, 0.0]]), links=(Link(0, 1, "link"),), active_pairs=(ActivePair(0, 1, 0),), n_dirs=1)
+    return CrossSection(
+        "two",
+        np.array([[0.0, 0.0], [1.0, 0.0]]),
+        links=(Link(0, 1, "link"),),
+        active_pairs=(ActivePair(0, 1, 0),),
+        n_dirs=1,
+    )
 
 
 FOUR_ANGLES_DEG = (-45.0, 45.0, 135.0, -135.0)
@@ -72,20 +80,31 @@ def four_section(rotation_deg: float = 0.0) -> CrossSection:
     )
 
 
-def _central_ring(name: str, angles: tuple[float, ...], pairs: list[tuple[int, int, int]], rotation_deg: float) -> CrossSection:
+def _central_ring(
+    name: str, angles: tuple[float, ...], pairs: list[tuple[int, int, int]], rotation_deg: float
+) -> CrossSection:
     m = len(angles)
     spokes = [Link(0, k, "spoke") for k in range(1, m + 1)]
     ring = [Link(k, k % m + 1, "link") for k in range(1, m + 1)]
     positions = _ring(list(angles), central=True, rotation_deg=rotation_deg)
-    return CrossSection(name, positions, links=tuple(spokes + ring), active_pairs=tuple(ActivePair(*p) for p in pairs))
+    return CrossSection(
+        name,
+        positions,
+        links=tuple(spokes + ring),
+        active_pairs=tuple(ActivePair(*p) for p in pairs),
+    )
 
 
 def seven_section(rotation_deg: float = 0.0) -> CrossSection:
-    return _central_ring("seven", SEVEN_ANGLES_DEG, [(1, 2, 0), (2, 3, 0), (4, 5, 1), (5, 6, 1)], rotation_deg)
+    return _central_ring(
+        "seven", SEVEN_ANGLES_DEG, [(1, 2, 0), (2, 3, 0), (4, 5, 1), (5, 6, 1)], rotation_deg
+    )
 
 
 def nine_section(rotation_deg: float = 0.0) -> CrossSection:
-    return _central_ring("nine", NINE_ANGLES_DEG, [(2, 3, 0), (3, 4, 0), (7, 8, 1), (8, 9, 1)], rotation_deg)
+    return _central_ring(
+        "nine", NINE_ANGLES_DEG, [(2, 3, 0), (3, 4, 0), (7, 8, 1), (8, 9, 1)], rotation_deg
+    )
 
 
 SECTIONS = {
@@ -100,7 +119,12 @@ PRESETS = tuple(SECTIONS)
 
 
 def _preset(name: str):
-    def make(n_elements: int = 10, profiles: Profiles = Profiles(), rotation_deg: float = 0.0, imbalance_kind: str = DEFAULT_IMBALANCE_KIND) -> Model:
+    def make(
+        n_elements: int = 10,
+        profiles: Profiles = Profiles(),
+        rotation_deg: float = 0.0,
+        imbalance_kind: str = DEFAULT_IMBALANCE_KIND,
+    ) -> Model:
         return build_model(SECTIONS[name](rotation_deg), n_elements, profiles, imbalance_kind)
 
     make.__name__ = name
@@ -131,8 +155,13 @@ def preset_section(name: str, rotation_deg: float = 0.0) -> CrossSection:
     return SECTIONS[name](rotation_deg)
 
 
-def preset(name: str, n_elements: int = 10, profiles: Profiles = Profiles(), rotation_deg: float = 0.0,
-           imbalance_kind: str = DEFAULT_IMBALANCE_KIND) -> Model:
+def preset(
+    name: str,
+    n_elements: int = 10,
+    profiles: Profiles = Profiles(),
+    rotation_deg: float = 0.0,
+    imbalance_kind: str = DEFAULT_IMBALANCE_KIND,
+) -> Model:
     """Build a preset by name; unknown names (or a rotation of a planar preset) raise a
     one-line ``ValueError``."""
     return build_model(preset_section(name, rotation_deg), n_elements, profiles, imbalance_kind)

@@ -88,7 +88,9 @@ class CrossSection:
     load: LoadKind = "pairs"
 
     def __post_init__(self) -> None:
-        pos = np.array(self.positions, dtype=float)  # a copy: the model freezes its arrays (Model.__post_init__)
+        pos = np.array(
+            self.positions, dtype=float
+        )  # a copy: the model freezes its arrays (Model.__post_init__)
         if pos.ndim == 1:
             pos = np.stack([pos, np.zeros_like(pos)], axis=1)
         if pos.ndim != 2 or pos.shape[1] != 2 or pos.shape[0] < 1:
@@ -99,14 +101,20 @@ class CrossSection:
         object.__setattr__(self, "positions", pos)
         for field, default in (("ei", 1.0), ("drag", 1.0)):
             val = getattr(self, field)
-            arr = np.full(n, default) if val is None else np.array(val, dtype=float).reshape(-1)  # a copy, as positions
+            arr = (
+                np.full(n, default) if val is None else np.array(val, dtype=float).reshape(-1)
+            )  # a copy, as positions
             if arr.shape != (n,):
-                raise ValueError(f"{field} must have one value per filament ({n}), got {arr.shape[0]}")
+                raise ValueError(
+                    f"{field} must have one value per filament ({n}), got {arr.shape[0]}"
+                )
             if not np.all(np.isfinite(arr)) or np.any(arr <= 0):
                 raise ValueError(f"{field} must be finite and positive, got {arr.tolist()}")
             object.__setattr__(self, field, arr)
         if not _is_int(self.n_dirs) or self.n_dirs not in (1, 2):
-            raise ValueError(f"n_dirs (a model file's 'dimensions') must be the integer 1 or 2, got {self.n_dirs!r}")
+            raise ValueError(
+                f"n_dirs (a model file's 'dimensions') must be the integer 1 or 2, got {self.n_dirs!r}"
+            )
         if self.load not in LOADS:
             raise ValueError(f"load must be one of {LOADS}, got {self.load!r}")
         links = tuple(l if isinstance(l, Link) else Link(*l) for l in self.links)
@@ -116,21 +124,33 @@ class CrossSection:
         for what, items in (("link", links), ("active pair", pairs)):
             for it in items:
                 for idx in (it.i, it.j):
-                    if isinstance(idx, bool) or not isinstance(idx, (int, np.integer)) or not 0 <= idx < n:
+                    if (
+                        isinstance(idx, bool)
+                        or not isinstance(idx, (int, np.integer))
+                        or not 0 <= idx < n
+                    ):
                         raise ValueError(
                             f"{what} ({it.i}, {it.j}) of {self.name!r} names filament {idx!r}, "
                             f"but filaments are 0..{n - 1}"
                         )
                 if it.i == it.j:
-                    raise ValueError(f"{what} ({it.i}, {it.j}) of {self.name!r} joins a filament to itself")
+                    raise ValueError(
+                        f"{what} ({it.i}, {it.j}) of {self.name!r} joins a filament to itself"
+                    )
                 if self.n_dirs == 2 and np.allclose(pos[it.i], pos[it.j]):
-                    raise ValueError(f"{what} ({it.i}, {it.j}) of {self.name!r} joins coincident filaments")
+                    raise ValueError(
+                        f"{what} ({it.i}, {it.j}) of {self.name!r} joins coincident filaments"
+                    )
         for l in links:
             if l.kind not in KINDS:
-                raise ValueError(f"link ({l.i}, {l.j}) has kind {l.kind!r}; expected one of {KINDS}")
+                raise ValueError(
+                    f"link ({l.i}, {l.j}) has kind {l.kind!r}; expected one of {KINDS}"
+                )
         for a in pairs:
             if not _is_int(a.group) or a.group not in (0, 1):
-                raise ValueError(f"active pair ({a.i}, {a.j}) has group {a.group!r}; expected 0 or 1")
+                raise ValueError(
+                    f"active pair ({a.i}, {a.j}) has group {a.group!r}; expected 0 or 1"
+                )
         if self.load == "pairs" and self.n_dirs == 1:
             ys = pos[:, 0]
             for it in links + pairs:
@@ -210,11 +230,15 @@ class Model:
     pair_follow: np.ndarray
     pair_sign: np.ndarray
     pair_group: np.ndarray
-    imbalance_kind: str = DEFAULT_IMBALANCE_KIND  # an ImbalanceKind; any other string is a ValueError (__post_init__)
+    imbalance_kind: str = (
+        DEFAULT_IMBALANCE_KIND  # an ImbalanceKind; any other string is a ValueError (__post_init__)
+    )
 
     def __post_init__(self) -> None:
         if self.imbalance_kind not in IMBALANCE_KINDS:
-            raise ValueError(f"imbalance_kind must be one of {', '.join(IMBALANCE_KINDS)}, got {self.imbalance_kind!r}")
+            raise ValueError(
+                f"imbalance_kind must be one of {', '.join(IMBALANCE_KINDS)}, got {self.imbalance_kind!r}"
+            )
         _freeze(self)  # compiled programs hold these values: an edit in place would not reach them
 
     def _value_key(self) -> tuple:
@@ -287,7 +311,11 @@ class Model:
         return (
             f"Model({self.name!r}, filaments={self.n_filaments}, dirs={self.n_dirs}, "
             f"elements={self.n_elements}, n_dof={self.n_dof}, load={self.section.load!r}"
-            + (f", imbalance_kind={self.imbalance_kind!r})" if self.imbalance_kind != DEFAULT_IMBALANCE_KIND else ")")
+            + (
+                f", imbalance_kind={self.imbalance_kind!r})"
+                if self.imbalance_kind != DEFAULT_IMBALANCE_KIND
+                else ")"
+            )
         )
 
 
@@ -307,9 +335,16 @@ def _key_of(obj) -> object:
     """A hashable stand-in for ``obj`` that is equal exactly when ``obj``'s values are
     (see :meth:`Model._value_key`)."""
     if isinstance(obj, np.ndarray):
-        return ("array", obj.shape, obj.dtype.str, hashlib.blake2b(obj.tobytes(), digest_size=16).digest())
+        return (
+            "array",
+            obj.shape,
+            obj.dtype.str,
+            hashlib.blake2b(obj.tobytes(), digest_size=16).digest(),
+        )
     if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
-        return (type(obj).__qualname__,) + tuple((f.name, _key_of(getattr(obj, f.name))) for f in dataclasses.fields(obj))
+        return (type(obj).__qualname__,) + tuple(
+            (f.name, _key_of(getattr(obj, f.name))) for f in dataclasses.fields(obj)
+        )
     if isinstance(obj, (tuple, list)):
         return (type(obj).__name__,) + tuple(_key_of(x) for x in obj)
     if obj is None or isinstance(obj, (str, int, float, bool, complex, np.generic)):
@@ -317,8 +352,12 @@ def _key_of(obj) -> object:
     return ("id", id(obj))  # a profile function: by identity (the model keeps it alive)
 
 
-def build_model(section: CrossSection, n_elements: int = 10, profiles: Profiles = Profiles(),
-                imbalance_kind: str = DEFAULT_IMBALANCE_KIND) -> Model:
+def build_model(
+    section: CrossSection,
+    n_elements: int = 10,
+    profiles: Profiles = Profiles(),
+    imbalance_kind: str = DEFAULT_IMBALANCE_KIND,
+) -> Model:
     """Discretise ``section`` with ``n_elements`` cubic Hermite elements per filament
     (``imbalance_kind``: see :class:`Model`)."""
     mesh = make_mesh(n_elements)
@@ -337,7 +376,9 @@ def build_model(section: CrossSection, n_elements: int = 10, profiles: Profiles 
         return row.ravel()
 
     active = {frozenset((a.i, a.j)) for a in section.active_pairs}
-    link_B = np.array([spread(-dirvec(l.i, l.j), l.i, dirvec(l.i, l.j), l.j) for l in section.links]).reshape(-1, nfd)
+    link_B = np.array(
+        [spread(-dirvec(l.i, l.j), l.i, dirvec(l.i, l.j), l.j) for l in section.links]
+    ).reshape(-1, nfd)
     is_spoke = np.array([l.kind == "spoke" for l in section.links], dtype=bool)
     is_active = np.array([frozenset((l.i, l.j)) in active for l in section.links], dtype=bool)
     eye_d = np.eye(d)

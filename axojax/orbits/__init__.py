@@ -10,4 +10,15 @@ from .limit_cycle import limit_cycle
 from .measures import CycleMeasures, cycle_measures
 from .solvers import AbstractOrbitSolver, HarmonicBalance, OrbitSolver, Recording, WarmStart
 
-__all__ = ["AbstractOrbitSolver", "CycleMeasures", "HarmonicBalance", "LimitCycle", "OrbitSolver", "Recording", "WarmStart", "cycle_measures", "limit_cycle", "solve_jit"]
+__all__ = [
+    "AbstractOrbitSolver",
+    "CycleMeasures",
+    "HarmonicBalance",
+    "LimitCycle",
+    "OrbitSolver",
+    "Recording",
+    "WarmStart",
+    "cycle_measures",
+    "limit_cycle",
+    "solve_jit",
+]

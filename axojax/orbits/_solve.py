@@ -11,7 +11,13 @@ from .cycle import LimitCycle
 from .solvers import AbstractOrbitSolver
 
 
-def _solve(model: Model, params: Params, kappa, solver: AbstractOrbitSolver, start: LimitCycle | None = None) -> LimitCycle:
+def _solve(
+    model: Model,
+    params: Params,
+    kappa,
+    solver: AbstractOrbitSolver,
+    start: LimitCycle | None = None,
+) -> LimitCycle:
     return solver.solve(model, params, kappa, start)
 
 

@@ -44,7 +44,9 @@ def _eq_eigenvalue(model: Model, params: Params, kappa):
 _eq_eigenvalue_jit = jax.jit(_eq_eigenvalue, static_argnums=0)
 
 
-def hopf_point(model: Model, params: Params, kappa: float, *, rtol: float = 1e-10) -> tuple[float, complex]:
+def hopf_point(
+    model: Model, params: Params, kappa: float, *, rtol: float = 1e-10
+) -> tuple[float, complex]:
     """(p_H, eigenvalue there): the first p (from the straight state's p_c upwards or
     downwards) where the equilibrium's dominant growth rate crosses 0.
 
@@ -54,7 +56,9 @@ def hopf_point(model: Model, params: Params, kappa: float, *, rtol: float = 1e-1
     p_c = float(critical_force(model, params).p)
     if not math.isfinite(p_c):
         raise ValueError("no Hopf point: the straight state stays stable for every p up to 1e7")
-    g = lambda p: float(jnp.real(_eq_eigenvalue_jit(model, params.replace(p=p), jnp.asarray(kappa, float))))
+    g = lambda p: float(
+        jnp.real(_eq_eigenvalue_jit(model, params.replace(p=p), jnp.asarray(kappa, float)))
+    )
     lo, hi = p_c, p_c
     glo = ghi = g(p_c)
     step = 1.0 + 1e-3
@@ -78,7 +82,9 @@ def _solve(model, params, kappa, solver, start):
     return solve_jit(model, params, jnp.asarray(kappa, float), solver, start)
 
 
-def _predict(prev: LimitCycle, prev2: LimitCycle | None, p_prev: float, p_prev2: float | None, p: float) -> LimitCycle:
+def _predict(
+    prev: LimitCycle, prev2: LimitCycle | None, p_prev: float, p_prev2: float | None, p: float
+) -> LimitCycle:
     """Secant predictor: linear extrapolation of coefficients and omega in p."""
     if prev2 is None:
         return prev
@@ -88,8 +94,17 @@ def _predict(prev: LimitCycle, prev2: LimitCycle | None, p_prev: float, p_prev2:
     return eqx.tree_at(lambda c: (c.coefficients, c.omega), prev, (X, w))
 
 
-def continue_to(model: Model, params: Params, kappa: float, solver: AbstractOrbitSolver, p_targets: Sequence[float] | np.ndarray, *,
-                p_hopf: float | None = None, max_halvings: int = 8, callback: Callable | None = None) -> list[LimitCycle | None]:
+def continue_to(
+    model: Model,
+    params: Params,
+    kappa: float,
+    solver: AbstractOrbitSolver,
+    p_targets: Sequence[float] | np.ndarray,
+    *,
+    p_hopf: float | None = None,
+    max_halvings: int = 8,
+    callback: Callable | None = None,
+) -> list[LimitCycle | None]:
     """Limit cycles at the increasing forces ``p_targets`` (None where there is none),
     continued from the Hopf point; intermediate points are inserted where a step fails."""
     if p_hopf is None:
@@ -106,7 +121,9 @@ def continue_to(model: Model, params: Params, kappa: float, solver: AbstractOrbi
             if bool(first.converged):
                 prev, p_prev = first, p_start
         if p > p_hopf and prev is not None:
-            marched = _march(model, params, kappa, solver, prev, prev2, p_prev, p_prev2, p, max_halvings)
+            marched = _march(
+                model, params, kappa, solver, prev, prev2, p_prev, p_prev2, p, max_halvings
+            )
             if marched is not None:
                 cyc, prev2, p_prev2 = marched
                 prev, p_prev = cyc, p
@@ -116,15 +133,21 @@ def continue_to(model: Model, params: Params, kappa: float, solver: AbstractOrbi
     return out
 
 
-def _march(model, params, kappa, solver, prev, prev2, p_prev, p_prev2, p, max_halvings, first_step=0.05):
+def _march(
+    model, params, kappa, solver, prev, prev2, p_prev, p_prev2, p, max_halvings, first_step=0.05
+):
     """From the orbit at p_prev to p by adaptive steps (grown by 1.5 after a success,
     halved after a failure, given up after ``max_halvings`` failures in a row).
     Returns (orbit at p, orbit before it, its p) or None."""
-    h = min(p - p_prev, first_step * p_prev if prev2 is None else max(p - p_prev, abs(p_prev - p_prev2)))
+    h = min(
+        p - p_prev, first_step * p_prev if prev2 is None else max(p - p_prev, abs(p_prev - p_prev2))
+    )
     fails = 0
     while p_prev < p:
         q = min(p, p_prev + h)
-        cyc = _solve(model, params.replace(p=q), kappa, solver, _predict(prev, prev2, p_prev, p_prev2, q))
+        cyc = _solve(
+            model, params.replace(p=q), kappa, solver, _predict(prev, prev2, p_prev, p_prev2, q)
+        )
         if bool(cyc.converged):
             prev2, p_prev2, prev, p_prev = prev, p_prev, cyc, q
             h *= 1.5
@@ -156,8 +179,11 @@ class Branch:
 
     def report(self) -> dict:
         """The ``axojax orbit --json`` document."""
-        return {"orbits": [c for c in self.cycles if c is not None], "hopf": {"p": self.p_hopf, "frequency_hz": self.hopf_frequency_hz},
-                "missing": [float(p) for p, c in zip(self.p, self.cycles) if c is None]}
+        return {
+            "orbits": [c for c in self.cycles if c is not None],
+            "hopf": {"p": self.p_hopf, "frequency_hz": self.hopf_frequency_hz},
+            "missing": [float(p) for p, c in zip(self.p, self.cycles) if c is None],
+        }
 
     def arrays(self) -> dict[str, np.ndarray]:
         def col(key, default=np.nan):
@@ -176,13 +202,23 @@ class Branch:
             "tip_amplitude_um": col("tip_amplitude_um"),
             "wavelength_um": col("wavelength_um"),
             # 1 stable, 0 unstable, 2 unknown (no multipliers), -1 no orbit
-            "stable": np.array([-1 if c is None else (2 if c["stable"] is None else int(c["stable"])) for c in self.cycles]),
+            "stable": np.array(
+                [
+                    -1 if c is None else (2 if c["stable"] is None else int(c["stable"]))
+                    for c in self.cycles
+                ]
+            ),
             "floquet_real": fl.real,
             "floquet_imag": fl.imag,
         }
 
     def save(self, path: str | pathlib.Path) -> None:
-        meta = {**self.meta, "kind": "orbit_branch", "p_hopf": self.p_hopf, "hopf_frequency_hz": self.hopf_frequency_hz}
+        meta = {
+            **self.meta,
+            "kind": "orbit_branch",
+            "p_hopf": self.p_hopf,
+            "hopf_frequency_hz": self.hopf_frequency_hz,
+        }
         np.savez_compressed(path, **self.arrays(), meta=np.array(json.dumps(meta)))
 
     @staticmethod
@@ -195,17 +231,41 @@ class Branch:
             return {k: f[k] for k in f.files if k != "meta"}, meta
 
 
-def branch(model: Model, params: Params, kappa: float, p_values: Sequence[float] | np.ndarray, *, solver: AbstractOrbitSolver,
-           units: Units = Units(), callback: Callable | None = None) -> Branch:
+def branch(
+    model: Model,
+    params: Params,
+    kappa: float,
+    p_values: Sequence[float] | np.ndarray,
+    *,
+    solver: AbstractOrbitSolver,
+    units: Units = Units(),
+    callback: Callable | None = None,
+) -> Branch:
     """Continue the limit cycle over ``p_values`` (sorted ascending) from the Hopf point."""
     p_values = np.sort(np.asarray(p_values, dtype=float))
     p_h, lam = hopf_point(model, params, kappa)
     cycles = continue_to(model, params, kappa, solver, p_values, p_hopf=p_h, callback=callback)
-    reports = [None if c is None else {"p": float(p), **c.report(units)} for p, c in zip(p_values, cycles)]
+    reports = [
+        None if c is None else {"p": float(p), **c.report(units)} for p, c in zip(p_values, cycles)
+    ]
     meta = {
-        "model": model.name, "n_elements": model.n_elements, "imbalance_kind": model.imbalance_kind, "cubic": float(kappa),
+        "model": model.name,
+        "n_elements": model.n_elements,
+        "imbalance_kind": model.imbalance_kind,
+        "cubic": float(kappa),
         "params": {k: float(v) for k, v in params.as_dict().items() if k != "p"},
-        "units": {"length_um": units.length_um, "ei_pn_um2": units.ei_pn_um2, "cn_pn_s_um2": units.cn_pn_s_um2, "tau_s": units.tau_s},
+        "units": {
+            "length_um": units.length_um,
+            "ei_pn_um2": units.ei_pn_um2,
+            "cn_pn_s_um2": units.cn_pn_s_um2,
+            "tau_s": units.tau_s,
+        },
         "solver": repr(solver),
     }
-    return Branch(p=p_values, cycles=reports, p_hopf=p_h, hopf_frequency_hz=abs(lam.imag) / (2 * math.pi * units.tau_s), meta=meta)
+    return Branch(
+        p=p_values,
+        cycles=reports,
+        p_hopf=p_h,
+        hopf_frequency_hz=abs(lam.imag) / (2 * math.pi * units.tau_s),
+        meta=meta,
+    )

@@ -106,7 +106,9 @@ class LimitCycle(eqx.Module):
         q = evaluate(self.coefficients, jnp.asarray(theta))
         return theta / float(self.omega), np.asarray(q)
 
-    def centreline_beat(self, x: np.ndarray, n_frames: int = 64, derivative: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    def centreline_beat(
+        self, x: np.ndarray, n_frames: int = 64, derivative: int = 0
+    ) -> tuple[np.ndarray, np.ndarray]:
         """(t (T,) tau, centreline (or slope) along the beat direction (T, S), L or rad)."""
         t, q = self.states(n_frames)
         u = centreline(self.model, q, np.asarray(x, dtype=float), derivative)  # (T, d, S)
@@ -120,7 +122,12 @@ class LimitCycle(eqx.Module):
         H = self.harmonics
         slope = centreline(self.model, np.stack([X[0], X[1], X[H + 1]]), x, 1)
         psi = _along(slope, float(self.beat_angle))  # (3, S)
-        return FourierModes(s=x * units.length_um, psi0=psi[0], psi1=psi[1] - 1j * psi[2], omega=float(self.frequency_hz(units)) * 2 * np.pi)
+        return FourierModes(
+            s=x * units.length_um,
+            psi0=psi[0],
+            psi1=psi[1] - 1j * psi[2],
+            omega=float(self.frequency_hz(units)) * 2 * np.pi,
+        )
 
     def report(self, units: Units = Units()) -> dict[str, Any]:
         """Plain-Python summary in physical units (``axojax orbit --json``)."""

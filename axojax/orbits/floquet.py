@@ -24,7 +24,16 @@ from .fourier import Problem
 from .linear import factor
 
 
-def floquet_multipliers(prob: Problem, X, omega, *, count: int = 8, krylov: int = 60, shift: float = 0.05, tol: float = 1e-8):
+def floquet_multipliers(
+    prob: Problem,
+    X,
+    omega,
+    *,
+    count: int = 8,
+    krylov: int = 60,
+    shift: float = 0.05,
+    tol: float = 1e-8,
+):
     """The ``count`` multipliers of largest modulus (complex, NaN-padded), largest first.
 
     Args:
@@ -49,7 +58,11 @@ def floquet_multipliers(prob: Problem, X, omega, *, count: int = 8, krylov: int 
     resid = jnp.abs(Hm[k, k - 1]) * jnp.abs(Y[k - 1, :])
     nu = s + 1.0 / theta
     mu = -nu
-    good = (resid <= tol * jnp.abs(theta)) & (jnp.abs(jnp.imag(mu)) <= 0.5 * omega * (1 + 1e-9)) & jnp.isfinite(mu)
+    good = (
+        (resid <= tol * jnp.abs(theta))
+        & (jnp.abs(jnp.imag(mu)) <= 0.5 * omega * (1 + 1e-9))
+        & jnp.isfinite(mu)
+    )
     rho = jnp.exp(mu * 2 * jnp.pi / omega)
     key = jnp.where(good, jnp.abs(rho), -1.0)
     order = jnp.argsort(-key)

@@ -48,7 +48,9 @@ def basis(harmonics: int, samples: int) -> tuple[np.ndarray, np.ndarray, np.ndar
     H, N = harmonics, samples
     theta = 2 * np.pi * np.arange(N) / N
     k = np.arange(1, H + 1)
-    E = np.concatenate([np.ones((N, 1)), np.cos(np.outer(theta, k)), np.sin(np.outer(theta, k))], axis=1)
+    E = np.concatenate(
+        [np.ones((N, 1)), np.cos(np.outer(theta, k)), np.sin(np.outer(theta, k))], axis=1
+    )
     P = (np.concatenate([[1.0], 2.0 * np.ones(2 * H)]) / N)[:, None] * E.T
     D = np.zeros((2 * H + 1, 2 * H + 1))
     D[1 : H + 1, H + 1 :] = np.diag(k)  # (D X)[cos k] = k b_k
@@ -60,7 +62,10 @@ def evaluate(X: Float[Array, "m n"], theta: Float[Array, " T"]) -> Float[Array, 
     """q(theta) of the coefficients X (2H+1, n) at phases theta (any shape (T,))."""
     H = (X.shape[0] - 1) // 2
     k = jnp.arange(1, H + 1)
-    Et = jnp.concatenate([jnp.ones(theta.shape + (1,)), jnp.cos(theta[:, None] * k), jnp.sin(theta[:, None] * k)], axis=1)
+    Et = jnp.concatenate(
+        [jnp.ones(theta.shape + (1,)), jnp.cos(theta[:, None] * k), jnp.sin(theta[:, None] * k)],
+        axis=1,
+    )
     return Et @ X
 
 
@@ -76,7 +81,9 @@ class Problem:
     exact Jacobian in the flat unknown ``x = [X.ravel(), omega]``, with the phase
     condition ``ref . b_1 = 0`` as the last equation."""
 
-    def __init__(self, model: Model, params: Params, system: System, kappa, harmonics: int, samples: int):
+    def __init__(
+        self, model: Model, params: Params, system: System, kappa, harmonics: int, samples: int
+    ):
         self.model, self.params, self.s, self.kappa = model, params, system, kappa
         self.H, self.N = harmonics, samples
         E, P, D = basis(harmonics, samples)
@@ -106,7 +113,9 @@ class Problem:
 
     def residual(self, x, ref):
         X, omega = self.split(x)
-        return jnp.concatenate([jnp.ravel(self.harmonic_residual(X, omega)), (ref @ X[self.H + 1])[None]])
+        return jnp.concatenate(
+            [jnp.ravel(self.harmonic_residual(X, omega)), (ref @ X[self.H + 1])[None]]
+        )
 
     def harmonic_jacobian(self, X, omega):
         """d R / d X, shape (m n, m n): omega D (x) C + I (x) A + Galerkin of d f_nl."""
@@ -130,11 +139,16 @@ class Problem:
     def to_nodes(self, v):
         """Flat (m n,) harmonic-major, filament-major vector -> node layout (N_e m b,)."""
         V = jnp.reshape(v, (self.m, self.n))[:, self.perm]
-        return jnp.reshape(jnp.swapaxes(jnp.reshape(V, (self.m, self.n_blocks, self.block)), 0, 1), (-1,))
+        return jnp.reshape(
+            jnp.swapaxes(jnp.reshape(V, (self.m, self.n_blocks, self.block)), 0, 1), (-1,)
+        )
 
     def from_nodes(self, w):
         """Inverse of :meth:`to_nodes`."""
-        V = jnp.reshape(jnp.swapaxes(jnp.reshape(w, (self.n_blocks, self.m, self.block)), 0, 1), (self.m, self.n))
+        V = jnp.reshape(
+            jnp.swapaxes(jnp.reshape(w, (self.n_blocks, self.m, self.block)), 0, 1),
+            (self.m, self.n),
+        )
         return jnp.ravel(V[:, self.inverse_perm])
 
     def _node_blocks(self, M):
@@ -155,17 +169,25 @@ class Problem:
 
         def combine(c, a, d):
             # block (node k, node k'): [(harm, dof), (harm, dof)]
-            out = omega * jnp.einsum("ml,kab->kmalb", Dm, c) + jnp.einsum("ml,kab->kmalb", I, a) + jnp.einsum("jml,kjab->kmalb", W, d)
+            out = (
+                omega * jnp.einsum("ml,kab->kmalb", Dm, c)
+                + jnp.einsum("ml,kab->kmalb", I, a)
+                + jnp.einsum("jml,kjab->kmalb", W, d)
+            )
             return jnp.reshape(out, (-1, m * b, m * b))
 
         dl, dd, du = self._node_blocks(Df)  # each (K, N_t, b, b)
         return BlockTridiagonal(
-            combine(sb.C.lower, sb.A.lower, dl), combine(sb.C.diag, sb.A.diag, dd), combine(sb.C.upper, sb.A.upper, du)
+            combine(sb.C.lower, sb.A.lower, dl),
+            combine(sb.C.diag, sb.A.diag, dd),
+            combine(sb.C.upper, sb.A.upper, du),
         )
 
     def mass_blocks(self) -> BlockTridiagonal:
         """I_m (x) C in the node layout."""
         m, b = self.m, self.block
         C = assemble_blocks(self.model, self.params).C
-        widen = lambda c: jnp.reshape(jnp.einsum("ml,kab->kmalb", jnp.eye(m), c), (-1, m * b, m * b))
+        widen = lambda c: jnp.reshape(
+            jnp.einsum("ml,kab->kmalb", jnp.eye(m), c), (-1, m * b, m * b)
+        )
         return BlockTridiagonal(widen(C.lower), widen(C.diag), widen(C.upper))

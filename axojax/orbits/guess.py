@@ -74,7 +74,9 @@ def hopf_guess(prob: Problem):
     vb = jnp.conj(v)
     h11 = -jnp.linalg.solve(Ae, jnp.real(d2(qc, v, vb)))
     h20 = -jnp.linalg.solve(Ae + 2 * lam * s.C, d2(qc, v, v))
-    g21 = -jnp.vdot(w, d3(v, v, vb) + 2 * d2(qc, v, h11.astype(v.dtype)) + d2(qc, vb, h20)) / jnp.vdot(w, s.C @ v)
+    g21 = -jnp.vdot(
+        w, d3(v, v, vb) + 2 * d2(qc, v, h11.astype(v.dtype)) + d2(qc, vb, h20)
+    ) / jnp.vdot(w, s.C @ v)
     ok = (jnp.real(lam) > 0) & (jnp.real(g21) < 0) & (jnp.abs(jnp.imag(lam)) > 0)
     z2 = jnp.where(ok, -jnp.real(lam) / jnp.where(ok, 0.5 * jnp.real(g21), -1.0), jnp.nan)
     z = jnp.sqrt(z2)
@@ -85,6 +87,14 @@ def hopf_guess(prob: Problem):
     if H >= 2:
         X = X.at[2].set(z2 * jnp.real(h20)).at[H + 2].set(-z2 * jnp.imag(h20))
     ref = jnp.zeros(n).at[i].set(1.0)
-    small = jnp.zeros((prob.m, n)).at[0].set(qe).at[1].set(1e-3 * jnp.real(v)).at[H + 1].set(-1e-3 * jnp.imag(v))
+    small = (
+        jnp.zeros((prob.m, n))
+        .at[0]
+        .set(qe)
+        .at[1]
+        .set(1e-3 * jnp.real(v))
+        .at[H + 1]
+        .set(-1e-3 * jnp.imag(v))
+    )
     fallback = jnp.concatenate([jnp.ravel(small), jnp.abs(jnp.imag(lam))[None]])
     return jnp.concatenate([jnp.ravel(X), omega[None]]), ref, lam, fallback

@@ -47,11 +47,17 @@ def limit_cycle(
     params = params.validate()
     kappa = float(kappa)
     if not math.isfinite(kappa) or kappa <= 0:
-        raise ValueError(f"kappa must be a finite number > 0 (the cubic stiffening that bounds the beat), got {kappa!r}")
+        raise ValueError(
+            f"kappa must be a finite number > 0 (the cubic stiffening that bounds the beat), got {kappa!r}"
+        )
     if model.link_B.shape[0] == 0:
-        raise ValueError(f"model {model.name!r} has no links: the cubic link force cannot bound a beat (limit cycles need links)")
+        raise ValueError(
+            f"model {model.name!r} has no links: the cubic link force cannot bound a beat (limit cycles need links)"
+        )
     if not isinstance(solver, AbstractOrbitSolver):
-        raise ValueError(f"solver must be an axojax.orbits solver (e.g. HarmonicBalance()), got {solver!r}")
+        raise ValueError(
+            f"solver must be an axojax.orbits solver (e.g. HarmonicBalance()), got {solver!r}"
+        )
     cycle = solve_jit(model, params, kappa, solver, start)
     if not bool(cycle.converged) and start is None and complex(cycle.linear_eigenvalue).real > 0:
         # Far from the Hopf point the normal form is no start: continue from it instead.

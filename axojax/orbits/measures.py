@@ -43,7 +43,11 @@ def _xp(*arrays):
     return jnp if any(isinstance(a, jax.Array) for a in arrays) else np
 
 
-def ls_slope(s: Float[Array | np.ndarray, " S"], y: Float[Array | np.ndarray, " S"], weight: Float[Array | np.ndarray, " S"] | None = None) -> Float[ArrayLike, ""]:
+def ls_slope(
+    s: Float[Array | np.ndarray, " S"],
+    y: Float[Array | np.ndarray, " S"],
+    weight: Float[Array | np.ndarray, " S"] | None = None,
+) -> Float[ArrayLike, ""]:
     """(Weighted) least-squares slope of y(s), shape ()."""
     xp = _xp(s, y, weight)
     w = xp.ones_like(s) if weight is None else weight
@@ -52,7 +56,9 @@ def ls_slope(s: Float[Array | np.ndarray, " S"], y: Float[Array | np.ndarray, " 
     return xp.sum(w * (s - sb) * (y - yb)) / xp.sum(w * (s - sb) ** 2)
 
 
-def static_curvature(s_um: Float[Array | np.ndarray, " S"], psi0: Float[Array | np.ndarray, " S"]) -> Float[ArrayLike, ""]:
+def static_curvature(
+    s_um: Float[Array | np.ndarray, " S"], psi0: Float[Array | np.ndarray, " S"]
+) -> Float[ArrayLike, ""]:
     """Least-squares slope of psi_0(s), rad per unit of s (rad/um for s in um)."""
     return ls_slope(s_um, psi0)
 
@@ -70,7 +76,9 @@ def _safe_angle(z, xp):
     return xp.where(ok, xp.arctan2(xp.imag(zs), xp.real(zs)), 0.0)
 
 
-def unwrapped_phase(psi1: Complex[Array | np.ndarray, " S"]) -> tuple[Float[Array | np.ndarray, " S"], Float[Array | np.ndarray, " S"]]:
+def unwrapped_phase(
+    psi1: Complex[Array | np.ndarray, " S"],
+) -> tuple[Float[Array | np.ndarray, " S"], Float[Array | np.ndarray, " S"]]:
     """(phase (S,), weight (S,)): the phase of psi_1 unwrapped as the cumulative sum of
     the angles between neighbours (0 at the first point with psi_1 != 0), and a 0/1
     weight that drops points where psi_1 = 0 exactly (the clamped base of a model),
@@ -88,26 +96,34 @@ def unwrapped_phase(psi1: Complex[Array | np.ndarray, " S"]) -> tuple[Float[Arra
     return phase, live.astype(float)
 
 
-def phase_slope(s: Float[Array | np.ndarray, " S"], psi1: Complex[Array | np.ndarray, " S"]) -> Float[ArrayLike, ""]:
+def phase_slope(
+    s: Float[Array | np.ndarray, " S"], psi1: Complex[Array | np.ndarray, " S"]
+) -> Float[ArrayLike, ""]:
     """Least-squares slope of the unwrapped phase of psi_1 (rad per unit of s; negative
     for a wave travelling towards larger s with psi ~ Re(psi_1 e^{i omega t}))."""
     phase, w = unwrapped_phase(psi1)
     return ls_slope(s, phase, w)
 
 
-def phase_wavelength(s_um: Float[Array | np.ndarray, " S"], psi1: Complex[Array | np.ndarray, " S"]) -> Float[ArrayLike, ""]:
+def phase_wavelength(
+    s_um: Float[Array | np.ndarray, " S"], psi1: Complex[Array | np.ndarray, " S"]
+) -> Float[ArrayLike, ""]:
     """2 pi / |least-squares slope of the unwrapped phase of psi_1(s)| (units of s)."""
     xp = _xp(s_um, psi1)
     return 2 * xp.pi / xp.abs(phase_slope(s_um, psi1))
 
 
-def tangent_modes(cycle: LimitCycle, s_um: Float[ArrayLike, " S"] | None = None, units: Units = Units()) -> tuple[Float[Array, " S"], Float[Array, " S"], Complex[Array, " S"]]:
+def tangent_modes(
+    cycle: LimitCycle, s_um: Float[ArrayLike, " S"] | None = None, units: Units = Units()
+) -> tuple[Float[Array, " S"], Float[Array, " S"], Complex[Array, " S"]]:
     """(s_um (S,), psi_0 (S,) rad, psi_1 (S,) complex rad) of the orbit along its beat
     direction at the concrete arc lengths ``s_um`` (um, in [0, L]; default 41 uniform points)
     psi = psi_0 + Re(psi_1 e^{i theta}) + higher harmonics, theta = omega t
     (the orbit's phase: theta = 0 where its phase condition holds)."""
     L = units.length_um
-    s_np = np.linspace(0.0, L, N_POINTS) if s_um is None else np.asarray(s_um, dtype=float)  # concrete (static)
+    s_np = (
+        np.linspace(0.0, L, N_POINTS) if s_um is None else np.asarray(s_um, dtype=float)
+    )  # concrete (static)
     X = cycle.coefficients
     H = cycle.harmonics
     slope = centreline(cycle.model, jnp.stack([X[0], X[1], X[H + 1]]), s_np / L, 1)  # (3, d, S)
@@ -159,19 +175,30 @@ class CycleMeasures(eqx.Module):
     dynamic_amplitude_rad: Float[Array, ""]
     out_of_plane: Float[Array, ""]
 
-    SCALARS = ("frequency_hz", "tip_amplitude_um", "wavelength_um", "static_curvature_rad_per_um", "dynamic_amplitude_rad", "out_of_plane")
+    SCALARS = (
+        "frequency_hz",
+        "tip_amplitude_um",
+        "wavelength_um",
+        "static_curvature_rad_per_um",
+        "dynamic_amplitude_rad",
+        "out_of_plane",
+    )
 
     def scalars(self) -> dict[str, float]:
         """The scalar measures as Python floats."""
         return {k: float(getattr(self, k)) for k in self.SCALARS}
 
 
-def cycle_measures(cycle: LimitCycle, s_um: Float[ArrayLike, " S"] | None = None, units: Units = Units()) -> CycleMeasures:
+def cycle_measures(
+    cycle: LimitCycle, s_um: Float[ArrayLike, " S"] | None = None, units: Units = Units()
+) -> CycleMeasures:
     """All measures of ``cycle`` at arc lengths ``s_um`` (default: 41 uniform points on
     [0, L], as ``axojax data``). Jit-able and differentiable (see the module docstring)."""
     s, psi0, psi1 = tangent_modes(cycle, s_um, units)
     return CycleMeasures(
-        s_um=s, psi0=psi0, psi1=psi1,
+        s_um=s,
+        psi0=psi0,
+        psi1=psi1,
         frequency_hz=cycle.frequency_hz(units),
         tip_amplitude_um=cycle.amplitude_um(units),
         wavelength_um=phase_wavelength(s, psi1),

@@ -26,7 +26,10 @@ import jax.numpy as jnp
 def _scaled(dx, x):
     dX, dw = dx[:-1], dx[-1]
     X, w = x[:-1], x[-1]
-    return jnp.maximum(jnp.linalg.norm(dX) / jnp.maximum(jnp.linalg.norm(X), 1e-300), jnp.abs(dw) / jnp.maximum(jnp.abs(w), 1e-300))
+    return jnp.maximum(
+        jnp.linalg.norm(dX) / jnp.maximum(jnp.linalg.norm(X), 1e-300),
+        jnp.abs(dw) / jnp.maximum(jnp.abs(w), 1e-300),
+    )
 
 
 class Restart(NamedTuple):
@@ -43,8 +46,18 @@ class Restart(NamedTuple):
     after: int
 
 
-def newton(residual: Callable, factor: Callable, x0, aux=None, *, rtol: float, max_steps: int, min_damping: float = 1.0 / 64,
-           restart: Restart | None = None, accept: Callable | None = None):
+def newton(
+    residual: Callable,
+    factor: Callable,
+    x0,
+    aux=None,
+    *,
+    rtol: float,
+    max_steps: int,
+    min_damping: float = 1.0 / 64,
+    restart: Restart | None = None,
+    accept: Callable | None = None,
+):
     """Solve ``residual(x, aux) = 0`` from ``x0``; ``factor(x, aux)`` returns an object
     whose ``solve(r)`` applies the inverse Jacobian at x. With ``restart``: a second
     attempt from ``restart.x`` (see :class:`Restart`); ``accept(x)`` (default: any) says
@@ -65,7 +78,9 @@ def newton(residual: Callable, factor: Callable, x0, aux=None, *, rtol: float, m
     def body(state):
         x, a, k, _, err, restarted, stop = state
         if restart is not None:
-            switch = ~restarted & ((k >= stop) | ~jnp.isfinite(err))  # the first attempt failed: start again
+            switch = ~restarted & (
+                (k >= stop) | ~jnp.isfinite(err)
+            )  # the first attempt failed: start again
             x = jnp.where(switch, restart.x, x)
             a = jax.tree_util.tree_map(lambda u, v: jnp.where(switch, u, v), restart.aux, a)
             stop = jnp.where(switch, k + max_steps, stop)
@@ -93,19 +108,40 @@ def newton(residual: Callable, factor: Callable, x0, aux=None, *, rtol: float, m
         lam, _ = jax.lax.while_loop(ls_cond, ls_body, (1.0, small | _monotone(1.0)))
         x = x - lam * dx
         done = (err < rtol) & (lam == 1.0)
-        if restart is not None and accept is not None:  # a refused point of the first attempt: start again (err NaN)
+        if (
+            restart is not None and accept is not None
+        ):  # a refused point of the first attempt: start again (err NaN)
             refused = done & ~restarted & ~accept(x)
             done, err = done & ~refused, jnp.where(refused, jnp.nan, err)
         return x, a, k + 1, done, err, restarted, stop
 
-    state = (x0, aux, jnp.array(0), jnp.array(False), jnp.array(1e300), restarted0, jnp.array(stop0))
+    state = (
+        x0,
+        aux,
+        jnp.array(0),
+        jnp.array(False),
+        jnp.array(1e300),
+        restarted0,
+        jnp.array(stop0),
+    )
     x, a, k, done, err, restarted, _ = jax.lax.while_loop(cond, body, state)
     ok = done & jnp.all(jnp.isfinite(x))
     return x, a, ok, k, err, restarted & (restart is not None)
 
 
-def implicit_solve(make: Callable, factor: Callable, theta, x0, aux, *, rtol: float, max_steps: int, fallback=None,
-                   restart: Restart | None = None, accept: Callable | None = None):
+def implicit_solve(
+    make: Callable,
+    factor: Callable,
+    theta,
+    x0,
+    aux,
+    *,
+    rtol: float,
+    max_steps: int,
+    fallback=None,
+    restart: Restart | None = None,
+    accept: Callable | None = None,
+):
     """x* with ``make(theta).residual(x*, aux) = 0`` found by :func:`newton` from ``x0``,
     differentiable in ``theta`` (a pytree) by the implicit function theorem.
 
@@ -137,10 +173,22 @@ def implicit_solve(make: Callable, factor: Callable, theta, x0, aux, *, rtol: fl
         prob = make(theta)
         restart = None if second is None else Restart(*second, after)
         ok_fn = None if accept is None else (lambda x: accept(prob, x))
-        x, a, ok, k, err, restarted = newton(prob.residual, lambda x, a: factor(prob, x, a), x0, aux, rtol=rtol, max_steps=max_steps,
-                                             restart=restart, accept=ok_fn)
+        x, a, ok, k, err, restarted = newton(
+            prob.residual,
+            lambda x, a: factor(prob, x, a),
+            x0,
+            aux,
+            rtol=rtol,
+            max_steps=max_steps,
+            restart=restart,
+            accept=ok_fn,
+        )
         fb = fallback if restart is None else jnp.where(restarted, restart.fallback, fallback)
-        return jnp.where(ok, x, fb), jnp.stack([ok.astype(float), k.astype(float), err, restarted.astype(float)]), a
+        return (
+            jnp.where(ok, x, fb),
+            jnp.stack([ok.astype(float), k.astype(float), err, restarted.astype(float)]),
+            a,
+        )
 
     @solve.defjvp
     def solve_jvp(primals, tangents):
@@ -154,11 +202,16 @@ def implicit_solve(make: Callable, factor: Callable, theta, x0, aux, *, rtol: fl
         matvec = lambda v: jax.jvp(lambda y: prob.residual(y, aux), (x,), (v,))[1]
         # Masked solves: a failed point has zero derivative, never NaN (also in reverse mode).
         dx = -jax.lax.custom_linear_solve(
-            matvec, dR,
+            matvec,
+            dR,
             solve=lambda _, r: jnp.where(ok, lu.solve(r), 0.0),
             transpose_solve=lambda _, r: jnp.where(ok, lu.solve_transpose(r), 0.0),
         )
-        return (x, info, aux), (dx, jnp.zeros_like(info), jax.tree_util.tree_map(jnp.zeros_like, aux))
+        return (x, info, aux), (
+            dx,
+            jnp.zeros_like(info),
+            jax.tree_util.tree_map(jnp.zeros_like, aux),
+        )
 
     sg = jax.lax.stop_gradient
     second = None if restart is None else sg((restart.x, restart.aux, restart.fallback))

@@ -27,7 +27,12 @@ def plot_branch(path_or_arrays, meta: dict | None = None) -> plt.Figure:
         arrays, meta = Branch.load(path_or_arrays)
     else:
         arrays = path_or_arrays
-    p, amp, freq, stable = arrays["p"], arrays["tip_amplitude_um"], arrays["frequency_hz"], arrays["stable"]
+    p, amp, freq, stable = (
+        arrays["p"],
+        arrays["tip_amplitude_um"],
+        arrays["frequency_hz"],
+        arrays["stable"],
+    )
     rho = arrays["floquet_real"] + 1j * arrays["floquet_imag"]
     fig, axes = plt.subplots(1, 3, figsize=(12, 3.6), constrained_layout=True)
     ok = stable >= 0
@@ -35,9 +40,18 @@ def plot_branch(path_or_arrays, meta: dict | None = None) -> plt.Figure:
     for ax, y, label in ((axes[0], amp, "tip amplitude (um)"), (axes[1], freq, "frequency (Hz)")):
         ax.plot(p[ok], y[ok], "-", color="0.6", lw=1, zorder=1)
         ax.plot(p[stable == 1], y[stable == 1], "o", color="tab:blue", ms=4, label="stable")
-        ax.plot(p[stable == 0], y[stable == 0], "o", mfc="none", color="tab:red", ms=4, label="unstable")
+        ax.plot(
+            p[stable == 0], y[stable == 0], "o", mfc="none", color="tab:red", ms=4, label="unstable"
+        )
         if np.any(stable == 2):
-            ax.plot(p[stable == 2], y[stable == 2], "o", color="0.5", ms=4, label="stability not computed")
+            ax.plot(
+                p[stable == 2],
+                y[stable == 2],
+                "o",
+                color="0.5",
+                ms=4,
+                label="stability not computed",
+            )
         ax.set_xlabel("dynein force p (dimensionless)")
         ax.set_ylabel(label)
     if ph is not None and np.isfinite(ph):
@@ -45,17 +59,31 @@ def plot_branch(path_or_arrays, meta: dict | None = None) -> plt.Figure:
         axes[1].plot([ph], [meta.get("hopf_frequency_hz", np.nan)], "k*", ms=9)
     axes[0].legend(frameon=False, fontsize=8)
     with warnings.catch_warnings(), np.errstate(invalid="ignore"):
-        warnings.simplefilter("ignore", RuntimeWarning)  # rows of points without an orbit are all NaN
-        trivial = np.nanargmin(np.where(np.isfinite(rho), np.abs(rho - 1), np.inf), axis=1) if rho.shape[1] else np.zeros(len(p), int)
+        warnings.simplefilter(
+            "ignore", RuntimeWarning
+        )  # rows of points without an orbit are all NaN
+        trivial = (
+            np.nanargmin(np.where(np.isfinite(rho), np.abs(rho - 1), np.inf), axis=1)
+            if rho.shape[1]
+            else np.zeros(len(p), int)
+        )
         mod = np.abs(rho)
         mod[np.arange(len(p)), trivial] = np.nan
-        second = np.nanmax(np.where(np.isfinite(mod), mod, np.nan), axis=1) if rho.shape[1] > 1 else np.full(len(p), np.nan)
+        second = (
+            np.nanmax(np.where(np.isfinite(mod), mod, np.nan), axis=1)
+            if rho.shape[1] > 1
+            else np.full(len(p), np.nan)
+        )
     axes[2].axhline(1.0, color="0.6", lw=1)
     axes[2].plot(p[ok], second[ok], "o-", color="tab:purple", ms=4)
     axes[2].set_xlabel("dynein force p (dimensionless)")
     axes[2].set_ylabel("largest non-trivial |Floquet multiplier|")
-    axes[2].set_ylim(0, 1.1 * max(1.0, float(np.nanmax(second[ok])) if np.any(ok & np.isfinite(second)) else 1.0))
-    fig.suptitle(f"limit cycles of {meta.get('model', '')} ({meta.get('n_elements', '')} elements), cubic {meta.get('cubic', '')}")
+    axes[2].set_ylim(
+        0, 1.1 * max(1.0, float(np.nanmax(second[ok])) if np.any(ok & np.isfinite(second)) else 1.0)
+    )
+    fig.suptitle(
+        f"limit cycles of {meta.get('model', '')} ({meta.get('n_elements', '')} elements), cubic {meta.get('cubic', '')}"
+    )
     return fig
 
 
@@ -64,8 +92,12 @@ def plot_orbit(cycle: LimitCycle, units: Units = Units(), n_frames: int = 16) ->
     x = np.linspace(0.0, 1.0, 101)
     t, u = cycle.centreline_beat(x, n_frames)
     fig, axes = plt.subplots(1, 2, figsize=(8, 4), constrained_layout=True)
-    plot_waveform(axes[0], x * units.length_um, np.asarray(u) * units.length_um,
-                  f"{float(cycle.frequency_hz(units)):.2f} Hz, tip amplitude {float(cycle.amplitude_um(units)):.2f} um")
+    plot_waveform(
+        axes[0],
+        x * units.length_um,
+        np.asarray(u) * units.length_um,
+        f"{float(cycle.frequency_hz(units)):.2f} Hz, tip amplitude {float(cycle.amplitude_um(units)):.2f} um",
+    )
     tt, uu = cycle.centreline_beat(np.array([1.0]), 200)
     axes[1].plot(np.asarray(tt) * units.tau_s * 1e3, np.asarray(uu)[:, 0] * units.length_um)
     axes[1].set_xlabel("time (ms)")

@@ -42,14 +42,18 @@ class AbstractOrbitSolver(eqx.Module):
     """Finds the periodic orbit of ``C dq/dt = -A q - f_nl(q) + b``."""
 
     @abc.abstractmethod
-    def solve(self, model: Model, params: Params, kappa, start: LimitCycle | None = None) -> LimitCycle:
+    def solve(
+        self, model: Model, params: Params, kappa, start: LimitCycle | None = None
+    ) -> LimitCycle:
         """The orbit, started from the Hopf normal form (``start=None``, or a ``start``
         that did not converge, or parameters before the Hopf point) or from a nearby orbit
         (continuation; where Newton fails from it, the returned stand-in is the start
         itself). Differentiable in ``params``
         and ``kappa``; the start is data, never differentiated."""
 
-    def solve_from(self, model: Model, params: Params, kappa, start: LimitCycle, warm_steps: int) -> LimitCycle:
+    def solve_from(
+        self, model: Model, params: Params, kappa, start: LimitCycle, warm_steps: int
+    ) -> LimitCycle:
         """The orbit from ``start`` within ``warm_steps`` Newton iterations; where that
         fails, :meth:`solve` from the Hopf normal form with the full budget (``steps``
         counts both attempts). This default traces both attempts (a ``lax.cond``);
@@ -94,7 +98,9 @@ class HarmonicBalance(AbstractOrbitSolver):
         if int(self.harmonics) < 1:
             raise ValueError(f"harmonics must be an integer >= 1, got {self.harmonics!r}")
         if self.samples is not None and int(self.samples) < 2 * int(self.harmonics) + 1:
-            raise ValueError(f"samples must be >= 2 harmonics + 1 = {2 * int(self.harmonics) + 1}, got {self.samples!r}")
+            raise ValueError(
+                f"samples must be >= 2 harmonics + 1 = {2 * int(self.harmonics) + 1}, got {self.samples!r}"
+            )
 
     def _problem(self, model: Model, H: int):
         samples = self.samples if (self.samples is not None and H == self.harmonics) else 4 * H + 2
@@ -118,7 +124,9 @@ class HarmonicBalance(AbstractOrbitSolver):
         theta = (params, jnp.asarray(kappa, dtype=float))
         make = self._problem(model, H)
         prob = make(theta)
-        fixed = make(jax.lax.stop_gradient(theta))  # the start and the multipliers are not differentiated
+        fixed = make(
+            jax.lax.stop_gradient(theta)
+        )  # the start and the multipliers are not differentiated
         x_hopf, ref_hopf, lam, fallback_hopf = hopf_guess(fixed)
         x0, ref, fallback, restart, accept = x_hopf, ref_hopf, fallback_hopf, None, None
         if start is not None:
@@ -135,22 +143,52 @@ class HarmonicBalance(AbstractOrbitSolver):
             if warm_steps is not None:  # where the start fails: the Hopf guess, full budget
                 restart = Restart(x_hopf, ref_hopf, fallback_hopf, warm_steps)
                 accept = lambda p, x: _nontrivial(p.split(x)[0])
-        x, info, ref = implicit_solve(make, BorderedSolver, theta, x0, ref, rtol=self.rtol, max_steps=self.max_steps, fallback=fallback,
-                                      restart=restart, accept=accept)
+        x, info, ref = implicit_solve(
+            make,
+            BorderedSolver,
+            theta,
+            x0,
+            ref,
+            rtol=self.rtol,
+            max_steps=self.max_steps,
+            fallback=fallback,
+            restart=restart,
+            accept=accept,
+        )
         X, omega = prob.split(x)
         # Newton may also land on the equilibrium (zero amplitude, any omega): not an orbit.
         info = info.at[0].set(jnp.where(_nontrivial(X), info[0], 0.0))
         started = jnp.where(info[3] > 0.5, jnp.all(jnp.isfinite(x_hopf)), jnp.all(jnp.isfinite(x0)))
         amplitude, angle, k = measures(model, X)
         if self.floquet > 0:
-            rho = floquet_multipliers(fixed, jax.lax.stop_gradient(X), jax.lax.stop_gradient(omega), count=self.floquet, krylov=self.krylov)
+            rho = floquet_multipliers(
+                fixed,
+                jax.lax.stop_gradient(X),
+                jax.lax.stop_gradient(omega),
+                count=self.floquet,
+                krylov=self.krylov,
+            )
         else:
             rho = jnp.full((0,), jnp.nan + 0j)
         return LimitCycle(
-            model=model, coefficients=X, omega=omega, amplitude=amplitude, beat_angle=angle, wavenumber=k,
-            floquet=rho, converged=info[0] > 0.5, started=started, steps=info[1].astype(int), correction=info[2],
-            linear_eigenvalue=lam, phase_ref=ref,
-            result=RESULTS.where(info[0] > 0.5, RESULTS.successful, RESULTS.where(started, RESULTS.nonlinear_max_steps_reached, RESULTS.no_start)),
+            model=model,
+            coefficients=X,
+            omega=omega,
+            amplitude=amplitude,
+            beat_angle=angle,
+            wavenumber=k,
+            floquet=rho,
+            converged=info[0] > 0.5,
+            started=started,
+            steps=info[1].astype(int),
+            correction=info[2],
+            linear_eigenvalue=lam,
+            phase_ref=ref,
+            result=RESULTS.where(
+                info[0] > 0.5,
+                RESULTS.successful,
+                RESULTS.where(started, RESULTS.nonlinear_max_steps_reached, RESULTS.no_start),
+            ),
         )
 
 
@@ -185,7 +223,9 @@ class WarmStart(AbstractOrbitSolver):
     def solve(self, model, params, kappa, start=None):
         if start is None:
             return self.solver.solve(model, params, kappa)
-        return self.solver.solve_from(model, params, kappa, jax.lax.stop_gradient(start), int(self.warm_steps))
+        return self.solver.solve_from(
+            model, params, kappa, jax.lax.stop_gradient(start), int(self.warm_steps)
+        )
 
 
 class Recording(AbstractOrbitSolver):

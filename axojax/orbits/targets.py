@@ -54,7 +54,9 @@ class CycleTarget:
         name = ALIASES.get(self.name, self.name)
         object.__setattr__(self, "name", name)
         if name not in CYCLE_TARGETS:
-            raise ValueError(f"unknown limit-cycle target {self.name!r}; choose from {', '.join(CYCLE_TARGETS)}")
+            raise ValueError(
+                f"unknown limit-cycle target {self.name!r}; choose from {', '.join(CYCLE_TARGETS)}"
+            )
         if not math.isfinite(self.value):
             raise ValueError(f"target {self.name} must be finite, got {self.value!r}")
         if not (math.isfinite(self.sigma) and self.sigma > 0):
@@ -99,7 +101,9 @@ def aligned_psi1(measures: CycleMeasures, shape: ShapeTarget, at: CycleMeasures 
     return _phase(measures, shape) * (measures if at is None else at).psi1
 
 
-def scalar_residuals(measures: CycleMeasures, scalars: Sequence[CycleTarget | Target]) -> Float[Array, " k"]:
+def scalar_residuals(
+    measures: CycleMeasures, scalars: Sequence[CycleTarget | Target]
+) -> Float[Array, " k"]:
     """(measure - value) / sigma for each scalar target."""
     ts = [CycleTarget.of(t) for t in scalars]
     if not ts:
@@ -140,7 +144,9 @@ def waveform_residuals(
     cyc = solver.solve(model, params, kappa, start)
     parts = []
     if shape is not None:
-        parts.append(shape_residuals(cycle_measures(cyc, np.asarray(shape.s_um, dtype=float), units), shape))
+        parts.append(
+            shape_residuals(cycle_measures(cyc, np.asarray(shape.s_um, dtype=float), units), shape)
+        )
     if scalars:
         parts.append(scalar_residuals(cycle_measures(cyc, None, units), scalars))
     if not parts:

@@ -80,7 +80,12 @@ class BeatRun:
     onset_hz: float
 
 
-def run_beat(settings: BeatSettings = FULL, units: Units = Units(), progress: bool = False, saved: str | pathlib.Path | None = None) -> BeatRun:
+def run_beat(
+    settings: BeatSettings = FULL,
+    units: Units = Units(),
+    progress: bool = False,
+    saved: str | pathlib.Path | None = None,
+) -> BeatRun:
     """Simulate the asymmetric beat.
 
     ``saved``: a ``.npz`` path; a simulation saved there with the same model, parameters,
@@ -94,23 +99,39 @@ def run_beat(settings: BeatSettings = FULL, units: Units = Units(), progress: bo
     params = base.replace(p=settings.p_factor * p_c)
     sim = _load_matching(saved, model.n_elements, params, settings) if saved else None
     if sim is None:
-        sim = simulate(model, params, settings.t_end_s, cubic=settings.cubic, units=units, perturbation_um=settings.perturbation_um, progress=progress)
+        sim = simulate(
+            model,
+            params,
+            settings.t_end_s,
+            cubic=settings.cubic,
+            units=units,
+            perturbation_um=settings.perturbation_um,
+            progress=progress,
+        )
         if saved:
             sim.save(saved)
     return BeatRun(sim, params, p_c, float(crit.frequency_hz(units)))
 
 
-def _load_matching(path: str | pathlib.Path, n_elements: int, params: Params, settings: BeatSettings) -> Simulation | None:
+def _load_matching(
+    path: str | pathlib.Path, n_elements: int, params: Params, settings: BeatSettings
+) -> Simulation | None:
     path = pathlib.Path(path)
     if not path.is_file():
         return None
     sim = Simulation.load(path)
     m = sim.meta
     same = (
-        m["model"] == "seven" and m["n_elements"] == n_elements and m["cubic"] == settings.cubic
+        m["model"] == "seven"
+        and m["n_elements"] == n_elements
+        and m["cubic"] == settings.cubic
         and m.get("imbalance_kind", "force") == settings.imbalance_kind
-        and m["t_end_s"] == settings.t_end_s and m["perturbation_um"] == settings.perturbation_um
-        and all(np.isclose(m["params"][k], float(v), rtol=1e-9, atol=0.0) for k, v in params.as_dict().items())
+        and m["t_end_s"] == settings.t_end_s
+        and m["perturbation_um"] == settings.perturbation_um
+        and all(
+            np.isclose(m["params"][k], float(v), rtol=1e-9, atol=0.0)
+            for k, v in params.as_dict().items()
+        )
     )
     return sim if same else None
 
@@ -142,7 +163,13 @@ def beat_measures(sim: Simulation) -> dict[str, float] | None:
     }
 
 
-def beat_rows(claims: Sequence[Claim], settings: BeatSettings = FULL, units: Units = Units(), progress: bool = False, saved: str | pathlib.Path | None = None) -> list[Row]:
+def beat_rows(
+    claims: Sequence[Claim],
+    settings: BeatSettings = FULL,
+    units: Units = Units(),
+    progress: bool = False,
+    saved: str | pathlib.Path | None = None,
+) -> list[Row]:
     """Rows for the ``kind == "beat"`` claims (``saved``: see :func:`run_beat`).
 
     Frequency and wavelength rows carry the elasticities of the linear dominant mode at
@@ -152,7 +179,11 @@ def beat_rows(claims: Sequence[Claim], settings: BeatSettings = FULL, units: Uni
         return []
     run = run_beat(settings, units, progress, saved)
     m = beat_measures(run.sim)
-    linear = evaluate(preset_model("seven", settings.n_elements).with_imbalance_kind(settings.imbalance_kind), [run.params], units=units)
+    linear = evaluate(
+        preset_model("seven", settings.n_elements).with_imbalance_kind(settings.imbalance_kind),
+        [run.params],
+        units=units,
+    )
     context = settings.describe(units)
     rows = []
     for c in claims:
@@ -174,13 +205,21 @@ def beat_rows(claims: Sequence[Claim], settings: BeatSettings = FULL, units: Uni
         if c.quantity == "wavelength_um":
             span = m["phase_span_rad"]
             note.append(
-                ("a near-standing wave: " if span < np.pi else "") + f"the phase of u_1 turns {span:.1f} rad along the cilium, running "
+                ("a near-standing wave: " if span < np.pi else "")
+                + f"the phase of u_1 turns {span:.1f} rad along the cilium, running "
                 f"{'base to tip' if m['direction'] > 0 else 'tip to base'} (L 2 pi / {span:.1f} = {units.length_um * 2 * np.pi / span:.1f} um)"
             )
         if c.quantity in ("dynamic_amplitude_rad", "static_curvature_rad_per_um"):
-            note.append("the amplitude is set by the unstated nonlinearity and p, the static bend by the moment p a0 (1 - 1/imbalance)")
+            note.append(
+                "the amplitude is set by the unstated nonlinearity and p, the static bend by the moment p a0 (1 - 1/imbalance)"
+            )
         if c.quantity == "static_curvature_rad_per_um":
             note.append("its sign depends on which side carries the larger force")
-        digits = {"frequency_hz": 2, "wavelength_um": 1, "dynamic_amplitude_rad": 2, "static_curvature_rad_per_um": 3}[c.quantity]
+        digits = {
+            "frequency_hz": 2,
+            "wavelength_um": 1,
+            "dynamic_amplitude_rad": 2,
+            "static_curvature_rad_per_um": 3,
+        }[c.quantity]
         rows.append(Row(c, float(value), f"{value:.{digits}f} {c.unit}", elast, "; ".join(note)))
     return rows

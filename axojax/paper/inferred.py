@@ -60,7 +60,11 @@ class Inferred:
     how: str = ""
 
     def as_json(self) -> dict[str, Any]:
-        out: dict[str, Any] = {"model": self.model, "params": dict(self.params), "elements": self.elements}
+        out: dict[str, Any] = {
+            "model": self.model,
+            "params": dict(self.params),
+            "elements": self.elements,
+        }
         if self.imbalance is not None:
             out.update(imbalance=self.imbalance, imbalance_kind=self.imbalance_kind)
         if self.cubic is not None:
@@ -72,14 +76,24 @@ class Inferred:
 
     def build(self, rotation_deg: float = 0.0):
         """(model, params) of this set."""
-        model = preset(self.model, n_elements=self.elements, rotation_deg=rotation_deg, imbalance_kind=self.imbalance_kind or "moment")
+        model = preset(
+            self.model,
+            n_elements=self.elements,
+            rotation_deg=rotation_deg,
+            imbalance_kind=self.imbalance_kind or "moment",
+        )
         params = Params().replace(**self.params)
         if self.imbalance is not None:
             params = params.replace(imbalance=self.imbalance)
         return model, params
 
 
-FIG12_TARGETS = {"wavelength_um": 17.0, "frequency_hz": 17.0, "dynamic_amplitude_rad": 0.71, "static_curvature_rad_per_um": -0.044}
+FIG12_TARGETS = {
+    "wavelength_um": 17.0,
+    "frequency_hz": 17.0,
+    "dynamic_amplitude_rad": 0.71,
+    "static_curvature_rad_per_um": -0.044,
+}
 """Figure 12b's beat (paper, section 3.7.1)."""
 
 INFERRED: dict[str, Inferred] = {
@@ -93,7 +107,13 @@ INFERRED: dict[str, Inferred] = {
     ),
     "fig12": Inferred(
         model="seven",
-        params={"p": 307.72683875820366, "ks": 1e6, "kl": 1866.4863981078927, "cl": 1.5620572931203558, "a0": 0.021091102991552795},
+        params={
+            "p": 307.72683875820366,
+            "ks": 1e6,
+            "kl": 1866.4863981078927,
+            "cl": 1.5620572931203558,
+            "a0": 0.021091102991552795,
+        },
         elements=10,
         imbalance=5.0,
         imbalance_kind="moment",
@@ -118,7 +138,9 @@ def fig12_measures(units: Units = Units(), rotation_deg: float = 0.0):
 
     inf = INFERRED["fig12"]
     model, params = inf.build(rotation_deg)
-    cyc = limit_cycle(model, params, inf.cubic, solver=HarmonicBalance(harmonics=inf.harmonics or 10, floquet=4))
+    cyc = limit_cycle(
+        model, params, inf.cubic, solver=HarmonicBalance(harmonics=inf.harmonics or 10, floquet=4)
+    )
     return cycle_measures(cyc, None, units), cyc
 
 
@@ -128,12 +150,18 @@ def _fig7_rows(claims: Sequence[Claim], units: Units) -> list[Row]:
 
     inf = INFERRED["fig7"]
     model = preset(inf.model, n_elements=inf.elements)
-    context = "inferred: " + ", ".join(f"{k} = {v:.4g}" for k, v in inf.params.items()) + f", N_e = {inf.elements} (one set for all five panels)"
+    context = (
+        "inferred: "
+        + ", ".join(f"{k} = {v:.4g}" for k, v in inf.params.items())
+        + f", N_e = {inf.elements} (one set for all five panels)"
+    )
     rows = []
     for c in claims:
         mode = dominant_mode(model, Params(**c.params))
         value = float(mode.frequency_hz(units)) if int(mode.classification) == 1 else None
-        rows.append(Row(c, value, f"{value:.2f} Hz" if value is not None else "no flutter", None, context))
+        rows.append(
+            Row(c, value, f"{value:.2f} Hz" if value is not None else "no flutter", None, context)
+        )
     return rows
 
 
@@ -156,9 +184,22 @@ def inferred_rows(claims: Sequence[Claim], units: Units = Units(), measured=None
     )
     for c in claims:
         value = float(getattr(m, c.quantity))
-        digits = {"frequency_hz": 2, "wavelength_um": 1, "dynamic_amplitude_rad": 2, "static_curvature_rad_per_um": 3}[c.quantity]
+        digits = {
+            "frequency_hz": 2,
+            "wavelength_um": 1,
+            "dynamic_amplitude_rad": 2,
+            "static_curvature_rad_per_um": 3,
+        }[c.quantity]
         note = context
         if c.quantity == "wavelength_um":
             note += "; wavelength from the least-squares slope of the phase of psi_1(s) (as axojax data measures a beat)"
-        rows.append(Row(c, value if math.isfinite(value) else None, f"{value:.{digits}f} {c.unit}", None, note))
+        rows.append(
+            Row(
+                c,
+                value if math.isfinite(value) else None,
+                f"{value:.{digits}f} {c.unit}",
+                None,
+                note,
+            )
+        )
     return rows

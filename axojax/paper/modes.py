@@ -52,8 +52,12 @@ def without_follower(model: Model) -> Model:
     if model.section.load == "pairs":
         return dataclasses.replace(model, pair_follow=np.zeros_like(model.pair_follow))
     if model.section.load == "distributed":  # A = K0 - p G0 + p F0: F0 is the follower part
-        return dataclasses.replace(model, matrices=dataclasses.replace(model.matrices, F0=np.zeros_like(model.matrices.F0)))
-    raise ValueError(f"the follower part of the {model.section.load!r} load of {model.name!r} is not separated")
+        return dataclasses.replace(
+            model, matrices=dataclasses.replace(model.matrices, F0=np.zeros_like(model.matrices.F0))
+        )
+    raise ValueError(
+        f"the follower part of the {model.section.load!r} load of {model.name!r} is not separated"
+    )
 
 
 @dataclasses.dataclass(frozen=True)
@@ -82,7 +86,14 @@ def _evaluator(model: Model, units: Units):
         full, rest = assemble(model, prm), assemble(reduced, prm)
         lam, v = dominant_eigenpair(rest.A + jnp.exp(logs[3]) * (full.A - rest.A), full.C)
         mode = mode_from_eigenpair(model, lam, v)
-        values = jnp.stack([mode.frequency_hz(units), mode.wavelength_um(units), mode.velocity_um_per_s(units), mode.out_of_plane_ratio])
+        values = jnp.stack(
+            [
+                mode.frequency_hz(units),
+                mode.wavelength_um(units),
+                mode.velocity_um_per_s(units),
+                mode.out_of_plane_ratio,
+            ]
+        )
         return jnp.log(values), (values, lam, mode.classification)
 
     def one(params, follower):
@@ -92,12 +103,19 @@ def _evaluator(model: Model, units: Units):
     return jax.jit(jax.vmap(one))
 
 
-def evaluate(model: Model, points: Sequence[Params], follower: Sequence[float] | None = None, units: Units = Units()) -> Evaluation:
+def evaluate(
+    model: Model,
+    points: Sequence[Params],
+    follower: Sequence[float] | None = None,
+    units: Units = Units(),
+) -> Evaluation:
     """Dominant modes and elasticities at ``points`` (one compilation per model and batch
     size); ``follower`` scales the follower-force term at each point (default 1)."""
     for prm in points:
         prm.validate()
-    batch = Params(**{k: np.array([float(getattr(prm, k)) for prm in points]) for k in Params().as_dict()})
+    batch = Params(
+        **{k: np.array([float(getattr(prm, k)) for prm in points]) for k in Params().as_dict()}
+    )
     scale = np.ones(len(points)) if follower is None else np.asarray(follower, dtype=float)
     jac, (values, lam, cls) = _evaluator(model, units)(batch, scale)
     jac, values = np.asarray(jac), np.asarray(values)
@@ -140,7 +158,12 @@ def mode_rows(claims: Sequence[Claim], scan=None, units: Units = Units()) -> lis
 
     def get(key: str, quantity: str = "frequency_hz"):
         ev, k = results[key]
-        return ev.values[quantity][k], ev.elasticity[quantity][k], complex(ev.eigenvalue[k]), int(ev.classification[k])
+        return (
+            ev.values[quantity][k],
+            ev.elasticity[quantity][k],
+            complex(ev.eigenvalue[k]),
+            int(ev.classification[k]),
+        )
 
     rows = []
     for c in claims:
@@ -150,7 +173,12 @@ def mode_rows(claims: Sequence[Claim], scan=None, units: Units = Units()) -> lis
             shown = f"{value:.3f}"
         else:
             shown = _fmt(value, c.unit) if oscillating else _mode_text(lam, cls)
-        row = Row(c, float(value) if oscillating else None, shown, dict(zip(ELASTICITIES, map(float, elast))) if oscillating else None)
+        row = Row(
+            c,
+            float(value) if oscillating else None,
+            shown,
+            dict(zip(ELASTICITIES, map(float, elast))) if oscillating else None,
+        )
         rows.append(dataclasses.replace(row, note=_note(row, lam, get, scan, units)))
     return rows
 
@@ -160,7 +188,9 @@ def _note(row: Row, lam: complex, get, scan, units: Units) -> str:
     parts = []
     if c.key == "7b":
         low, high = (get(f"7b@{s}")[0] for s in (0.98, 1.02))
-        coarse = float(dominant_mode(preset_model("two", 6), Params(**c.params)).frequency_hz(units))
+        coarse = float(
+            dominant_mode(preset_model("two", 6), Params(**c.params)).frequency_hz(units)
+        )
         parts.append(
             f"ill-conditioned: Re lambda is {lam.real / lam.imag:.0f}x Im lambda, just past the merger of two real "
             f"eigenvalues; +-2 % of the follower load moves it over {low:.0f}-{high:.0f} Hz and N_e = 6 gives "
@@ -175,7 +205,9 @@ def _note(row: Row, lam: complex, get, scan, units: Units) -> str:
             f"square, so four = two (eigenvalues {same})"
         )
     if c.unstated:
-        parts.append(f"{c.unstated}; shown at the stated defaults k_s = {sci(c.params['ks'])}, k_l = {sci(c.params['kl'])}")
+        parts.append(
+            f"{c.unstated}; shown at the stated defaults k_s = {sci(c.params['ks'])}, k_l = {sci(c.params['kl'])}"
+        )
         if scan is not None:
             parts.append(_scan_text(c, scan))
     if not parts:
@@ -189,7 +221,11 @@ def _scan_text(c: Claim, scan) -> str:
     if not np.any(flutter):
         return f"stable for every k_s = {sci(ks[0])}..{sci(ks[-1])} at this p"
     text = f"over the map's k_s = {sci(ks[0])}..{sci(ks[-1])} (k_l = k_s/1e3) axojax gives {np.min(f[flutter]):.0f}-{np.max(f[flutter]):.0f} Hz at this p"
-    cross = [k for k in range(len(ks) - 1) if flutter[k] and flutter[k + 1] and (f[k] - c.paper) * (f[k + 1] - c.paper) < 0]
+    cross = [
+        k
+        for k in range(len(ks) - 1)
+        if flutter[k] and flutter[k + 1] and (f[k] - c.paper) * (f[k + 1] - c.paper) < 0
+    ]
     if not cross:
         return text + f", never {c.paper:g} Hz"
     spans = ", ".join(f"{sci(ks[k])} and {sci(ks[k + 1])}" for k in cross)

@@ -30,7 +30,13 @@ MAP_RATIO = 1e3
 @functools.lru_cache(maxsize=None)
 def map_sweep() -> SweepResult:
     """The seven-filament map (p along axis 0, k_s along axis 1), computed once."""
-    return sweep(preset_model("seven"), Params(), {"p": MAP_P, "ks": MAP_KS}, kl_ratio=MAP_RATIO, progress=False)
+    return sweep(
+        preset_model("seven"),
+        Params(),
+        {"p": MAP_P, "ks": MAP_KS},
+        kl_ratio=MAP_RATIO,
+        progress=False,
+    )
 
 
 def ks_scan(p: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -59,7 +65,10 @@ def survey_rows(claims: Sequence[Claim]) -> list[Row]:
         note = [c.unstated, grid]
         if c.quantity == "anterograde_fraction":
             ante = int(np.sum(flutter & (r.data["direction"] == 1)))
-            value, shown = ante / max(int(flutter.sum()), 1), f"{ante} of {flutter.sum()} flutter points"
+            value, shown = (
+                ante / max(int(flutter.sum()), 1),
+                f"{ante} of {flutter.sum()} flutter points",
+            )
         else:
             data = np.where(flutter, r.data[c.quantity], np.nan)
             lo, hi = np.nanargmin(data), np.nanargmax(data)
@@ -68,9 +77,13 @@ def survey_rows(claims: Sequence[Claim]) -> list[Row]:
             shown = f"{value[0]:.{digits}f}-{value[1]:.{digits}f} {c.unit}"
             note.append(f"lowest at {_where(r, data, lo)}, highest at {_where(r, data, hi)}")
             if c.quantity == "wavelength_um":
-                note.append("the wavelength grows towards the Hopf boundary, so the range depends on how near the grid comes to it")
+                note.append(
+                    "the wavelength grows towards the Hopf boundary, so the range depends on how near the grid comes to it"
+                )
             if c.quantity == "velocity_um_per_s":
                 f = r.data["frequency_hz"][flutter]
-                note.append(f"velocity = wavelength x frequency, and the map's frequencies span {f.min():.0f}-{f.max():.0f} Hz (fig. 7 rows for the paper's)")
+                note.append(
+                    f"velocity = wavelength x frequency, and the map's frequencies span {f.min():.0f}-{f.max():.0f} Hz (fig. 7 rows for the paper's)"
+                )
         rows.append(Row(c, value, shown, None, "; ".join(note)))
     return rows

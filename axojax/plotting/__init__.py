@@ -6,6 +6,12 @@ from .maps import plot_sweep
 from .section import group_bending_directions, plot_section
 
 __all__ = [
-    "animate_frames", "animate_simulation", "group_bending_directions", "plot_mode", "plot_section",
-    "plot_simulation", "plot_sweep", "plot_waveform",
+    "animate_frames",
+    "animate_simulation",
+    "group_bending_directions",
+    "plot_mode",
+    "plot_section",
+    "plot_simulation",
+    "plot_sweep",
+    "plot_waveform",
 ]

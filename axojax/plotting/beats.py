@@ -46,12 +46,22 @@ def plot_simulation(sim: Simulation | str | pathlib.Path) -> plt.Figure:
     state = sim.state.replace("_", " ")
     if sim.limit_cycle:
         state += f": {sim.limit_cycle['frequency_hz']:.2f} Hz, amplitude {sim.limit_cycle['tip_amplitude_um']:.2f} um"
-    a.set_title(f"{sim.meta['model']} model, p = {sim.meta['params']['p']:.4g}, cubic {sim.meta['cubic']:g}\n{state}")
+    a.set_title(
+        f"{sim.meta['model']} model, p = {sim.meta['params']['p']:.4g}, cubic {sim.meta['cubic']:g}\n{state}"
+    )
 
     idx = _last_cycles(sim, 3)
     a = axes[0, 1]
     lim = np.nanmax(np.abs(sim.psi_rad[idx])) or 1.0
-    im = a.pcolormesh(sim.t_s[idx], sim.x_um, sim.psi_rad[idx].T, shading="auto", cmap="RdBu_r", vmin=-lim, vmax=lim)
+    im = a.pcolormesh(
+        sim.t_s[idx],
+        sim.x_um,
+        sim.psi_rad[idx].T,
+        shading="auto",
+        cmap="RdBu_r",
+        vmin=-lim,
+        vmax=lim,
+    )
     fig.colorbar(im, ax=a, label="tangent angle psi (rad)")
     a.set_xlabel("time (s)")
     a.set_ylabel("arc length x (um)")
@@ -94,7 +104,9 @@ def plot_mode(x_um: np.ndarray, frames_um: np.ndarray, title: str = "") -> plt.F
     a3.set_ylabel("z (um)")
     a3.set_zlabel("x (um)")
     a3.set_title(title)
-    for k, (i, j, li, lj) in enumerate(((0, None, "y", "x"), (1, None, "z", "x"), (0, 1, "y", "z"))):
+    for k, (i, j, li, lj) in enumerate(
+        ((0, None, "y", "x"), (1, None, "z", "x"), (0, 1, "y", "z"))
+    ):
         a = fig.add_subplot(1, 4, k + 2)
         for f, c in zip(frames_um, colors):
             a.plot(f[i], x_um if j is None else f[j], color=c, lw=1)
@@ -105,7 +117,13 @@ def plot_mode(x_um: np.ndarray, frames_um: np.ndarray, title: str = "") -> plt.F
     return fig
 
 
-def animate_frames(x_um: np.ndarray, frames_um: np.ndarray, path: str | pathlib.Path, title: str = "", fps: int = 20) -> pathlib.Path:
+def animate_frames(
+    x_um: np.ndarray,
+    frames_um: np.ndarray,
+    path: str | pathlib.Path,
+    title: str = "",
+    fps: int = 20,
+) -> pathlib.Path:
     """Animated GIF of centreline frames (N, S) in the beat plane (Pillow writer)."""
     fig, a = plt.subplots(figsize=(3.6, 4.8), constrained_layout=True)
     lim = max(np.abs(frames_um).max(), 1e-12) * 1.1
@@ -128,10 +146,17 @@ def animate_frames(x_um: np.ndarray, frames_um: np.ndarray, path: str | pathlib.
     return path
 
 
-def animate_simulation(sim: Simulation, path: str | pathlib.Path, cycles: int = 2, frames_per_cycle: int = 24) -> pathlib.Path:
+def animate_simulation(
+    sim: Simulation, path: str | pathlib.Path, cycles: int = 2, frames_per_cycle: int = 24
+) -> pathlib.Path:
     """Animated GIF of the last ``cycles`` beat cycles (the last 20% of the record when
     there is no limit cycle)."""
     idx = _last_cycles(sim, cycles)
     n = cycles * frames_per_cycle if sim.limit_cycle else 48
     pick = idx[np.linspace(0, len(idx) - 1, min(n, len(idx))).astype(int)]
-    return animate_frames(sim.x_um, sim.centreline_beat_um[pick], path, title=f"{sim.meta['model']}: {sim.state.replace('_', ' ')}")
+    return animate_frames(
+        sim.x_um,
+        sim.centreline_beat_um[pick],
+        path,
+        title=f"{sim.meta['model']}: {sim.state.replace('_', ' ')}",
+    )

@@ -55,7 +55,9 @@ def plot_corner(
     names = tuple(post.names if names is None else names)
     for n in names:
         if n not in post.names:
-            raise ValueError(f"names: {n!r} is not a free parameter of this posterior ({', '.join(post.names)})")
+            raise ValueError(
+                f"names: {n!r} is not a free parameter of this posterior ({', '.join(post.names)})"
+            )
     optimum = post.start if optimum is None else optimum
     k = len(names)
     draws = {n: post.value_draws(n).reshape(-1) for n in names}
@@ -72,7 +74,11 @@ def plot_corner(
             log_x = post.log_coordinate.get(nj, False)
             if i == j:
                 x = draws[ni]
-                edges = np.geomspace(x.min(), x.max(), bins + 1) if log_x and x.min() > 0 and x.max() > x.min() else bins
+                edges = (
+                    np.geomspace(x.min(), x.max(), bins + 1)
+                    if log_x and x.min() > 0 and x.max() > x.min()
+                    else bins
+                )
                 ax.hist(x, bins=edges, color="tab:blue", alpha=0.7)
                 for q, style in ((post.q05[ni], ":"), (post.q50[ni], "--"), (post.q95[ni], ":")):
                     ax.axvline(q, color="tab:blue", ls=style, lw=1)
@@ -81,11 +87,16 @@ def plot_corner(
                 if optimum and ni in optimum:
                     ax.axvline(optimum[ni], color=START, lw=1, ls="-.")
                 ax.set_yticks([])
-                ax.set_title(f"{ni} = {post.q50[ni]:.3g} [{post.q05[ni]:.3g}, {post.q95[ni]:.3g}]", fontsize=8)
+                ax.set_title(
+                    f"{ni} = {post.q50[ni]:.3g} [{post.q05[ni]:.3g}, {post.q95[ni]:.3g}]",
+                    fontsize=8,
+                )
             else:
                 x, y = draws[nj], draws[ni]
                 ok = ~divergent
-                ax.scatter(x[ok][::step], y[ok][::step], s=2, alpha=0.3, color="tab:blue", rasterized=True)
+                ax.scatter(
+                    x[ok][::step], y[ok][::step], s=2, alpha=0.3, color="tab:blue", rasterized=True
+                )
                 if divergent.any():
                     ax.scatter(x[divergent], y[divergent], s=6, color=DIVERGENT, label="divergent")
                 if truth and ni in truth and nj in truth:
@@ -108,7 +119,10 @@ def plot_corner(
                 ax.set_yticklabels([])
     worst = max(post.rhat[n] for n in names)
     fewest = min(post.ess[n] for n in names)
-    fig.suptitle(f"posterior: {post.chains} chains x {post.draws} draws, R-hat <= {worst:.3f}, ESS >= {fewest:.0f}, {post.divergences} divergent", fontsize=9)
+    fig.suptitle(
+        f"posterior: {post.chains} chains x {post.draws} draws, R-hat <= {worst:.3f}, ESS >= {fewest:.0f}, {post.divergences} divergent",
+        fontsize=9,
+    )
     fig.tight_layout()
     if out is not None:
         fig.savefig(out, dpi=130)

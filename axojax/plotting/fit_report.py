@@ -23,7 +23,9 @@ import numpy as np
 PHASES = 12
 
 
-def _centrelines(s: np.ndarray, psi0: np.ndarray, psi1: np.ndarray, n: int = PHASES) -> tuple[np.ndarray, np.ndarray]:
+def _centrelines(
+    s: np.ndarray, psi0: np.ndarray, psi1: np.ndarray, n: int = PHASES
+) -> tuple[np.ndarray, np.ndarray]:
     """(x, y) (n, S) of the waveform at n phases over one cycle (trapezoidal integration)."""
     x, y = [], []
     for ph in np.linspace(0, 2 * np.pi, n, endpoint=False):
@@ -43,7 +45,9 @@ def plot_fit_report(report: dict | str | pathlib.Path) -> plt.Figure:
     if not isinstance(report, dict):
         report = json.loads(pathlib.Path(report).read_text())
     shaped = [c for c in report.get("conditions", []) if c.get("shape")]
-    title = f"{report.get('method', '')} fit: loss {report['loss']:.4g}" + (f", chi2/dof {report['chi2_per_dof']:.3g}" if report.get("chi2_per_dof") is not None else "")
+    title = f"{report.get('method', '')} fit: loss {report['loss']:.4g}" + (
+        f", chi2/dof {report['chi2_per_dof']:.3g}" if report.get("chi2_per_dof") is not None else ""
+    )
     title += f", {'converged' if report['converged'] else 'targets NOT reproduced'}"
     if report.get("at_bound"):
         title += f"; at bound: {', '.join(report['at_bound'])}"
@@ -85,17 +89,26 @@ def plot_fit_report(report: dict | str | pathlib.Path) -> plt.Figure:
             a_psi0.legend(fontsize=8)
         a_psi0.set(xlabel="s (um)", ylabel="psi_0 (rad)", title="static mode psi_0")
     else:
-        a_psi0.text(0.5, 0.5, "no psi_0 observed", ha="center", va="center", transform=a_psi0.transAxes)
+        a_psi0.text(
+            0.5, 0.5, "no psi_0 observed", ha="center", va="center", transform=a_psi0.transAxes
+        )
         a_psi0.set_axis_off()
     shade(a_res)
     d = (obs - fit) / sigma
     a_res.plot(s, d.real, "o-", ms=3, label="Re")
     a_res.plot(s, d.imag, "s-", ms=3, label="Im")
     a_res.axhline(0, color="k", lw=0.5)
-    a_res.set(xlabel="s (um)", ylabel="(observed - fitted) / sigma", title=f"normalised residuals (shape rms {c['shape_rms']:.2f})")
+    a_res.set(
+        xlabel="s (um)",
+        ylabel="(observed - fitted) / sigma",
+        title=f"normalised residuals (shape rms {c['shape_rms']:.2f})",
+    )
     a_res.legend(fontsize=8)
     base = np.zeros_like(s) if psi0 is None else psi0
-    for ax, psi1, name, b in ((a_obs, obs, "observed", base), (a_fit, fit, "fitted", base if psi0_fit is None else psi0_fit)):
+    for ax, psi1, name, b in (
+        (a_obs, obs, "observed", base),
+        (a_fit, fit, "fitted", base if psi0_fit is None else psi0_fit),
+    ):
         x, y = _centrelines(s, b, psi1)
         colors = plt.cm.viridis(np.linspace(0, 1, len(x)))
         for xi, yi, col in zip(x, y, colors):
@@ -111,7 +124,11 @@ def _values_line(report: dict) -> str:
     parts = []
     for k, v in report.get("fitted", report.get("params", {})).items():
         se = report.get("stderr", {}).get(k)
-        flag = " (bound)" if k in report.get("at_bound", []) else ("" if report.get("identifiable", {}).get(k) else " (n.i.)")
+        flag = (
+            " (bound)"
+            if k in report.get("at_bound", [])
+            else ("" if report.get("identifiable", {}).get(k) else " (n.i.)")
+        )
         parts.append(f"{k} = {v:.4g}" + (f" +- {se:.2g}" if se is not None else "") + flag)
     return ", ".join(parts)
 
@@ -127,10 +144,24 @@ def _scalar_figure(report: dict, title: str) -> plt.Figure:
     for name in names:
         sel = [(lab, t) for lab, t in rows if t["name"] == name]
         x = np.arange(len(sel))
-        a_val.errorbar(x, [t["value"] for _, t in sel], yerr=[t["sigma"] for _, t in sel], fmt="o", label=f"{name} observed")
-        a_val.plot(x, [np.nan if t["achieved"] is None else t["achieved"] for _, t in sel], "x", ms=9, label=f"{name} fitted")
+        a_val.errorbar(
+            x,
+            [t["value"] for _, t in sel],
+            yerr=[t["sigma"] for _, t in sel],
+            fmt="o",
+            label=f"{name} observed",
+        )
+        a_val.plot(
+            x,
+            [np.nan if t["achieved"] is None else t["achieved"] for _, t in sel],
+            "x",
+            ms=9,
+            label=f"{name} fitted",
+        )
         a_val.set_xticks(x, [lab for lab, _ in sel])
-    a_val.set(xlabel="condition", ylabel="value (physical units)", title="targets and fitted values")
+    a_val.set(
+        xlabel="condition", ylabel="value (physical units)", title="targets and fitted values"
+    )
     if all(t["value"] > 0 for _, t in rows) and rows:
         a_val.set_yscale("log")
     a_val.legend(fontsize=8)

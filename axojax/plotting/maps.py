@@ -24,7 +24,9 @@ def _spaced(name: str, values: np.ndarray) -> bool | np.bool_:
     return name in LOG_AXES and np.all(values > 0) and values.max() / values.min() > 50
 
 
-def plot_sweep(result: SweepResult, panels=("frequency_hz", "wavelength_um", "velocity_um_per_s")) -> plt.Figure:
+def plot_sweep(
+    result: SweepResult, panels=("frequency_hz", "wavelength_um", "velocity_um_per_s")
+) -> plt.Figure:
     """2-D sweeps: one map per metric over (axis 0 horizontal, axis 1 vertical), unstable
     region coloured, Hopf boundary (growth rate = 0) in red, divergence hatched grey.
     1-D sweeps: metric against the axis with the boundary marked. Higher-dimensional
@@ -40,7 +42,13 @@ def plot_sweep(result: SweepResult, panels=("frequency_hz", "wavelength_um", "ve
     title = f"{result.meta['model']} model"
     if len(names) == 1:
         x = result.coords[names[0]]
-        fig, axes = plt.subplots(len(panels) + 1, 1, figsize=(6, 2.2 * (len(panels) + 1)), sharex=True, constrained_layout=True)
+        fig, axes = plt.subplots(
+            len(panels) + 1,
+            1,
+            figsize=(6, 2.2 * (len(panels) + 1)),
+            sharex=True,
+            constrained_layout=True,
+        )
         for a, key in zip(axes, ("growth_rate_per_s",) + tuple(panels)):
             a.plot(x, data[key], "-o", ms=3)
             a.set_ylabel(LABELS[key])
@@ -51,7 +59,9 @@ def plot_sweep(result: SweepResult, panels=("frequency_hz", "wavelength_um", "ve
         axes[0].set_title(title)
         return fig
     x, y = result.coords[names[0]], result.coords[names[1]]
-    fig, axes = plt.subplots(1, len(panels), figsize=(5.2 * len(panels), 4.2), constrained_layout=True)
+    fig, axes = plt.subplots(
+        1, len(panels), figsize=(5.2 * len(panels), 4.2), constrained_layout=True
+    )
     axes = np.atleast_1d(axes)
     for a, key in zip(axes, panels):
         z = np.where(cls == 1, data[key], np.nan).T

@@ -37,7 +37,9 @@ def _axial_sign(section: CrossSection) -> np.ndarray:
     return np.sign(nu)
 
 
-def plot_section(section: CrossSection | Model, ax: plt.Axes | None = None, title: str | None = None) -> plt.Figure:
+def plot_section(
+    section: CrossSection | Model, ax: plt.Axes | None = None, title: str | None = None
+) -> plt.Figure:
     """Draw a cross-section in the (y, z) plane, y horizontal.
 
     Ring links are solid grey lines, spokes dotted; each active pair (i, j) is an arrow
@@ -70,13 +72,29 @@ def plot_section(section: CrossSection | Model, ax: plt.Axes | None = None, titl
     ax.text(lo[0], 0.0, " beat plane (z = 0)", color="tab:blue", va="bottom", ha="left", fontsize=8)
     for l in section.links:
         (y0, z0), (y1, z1) = pos[l.i], pos[l.j]
-        style = dict(color="0.55", lw=1.0, ls=":") if l.kind == "spoke" else dict(color="0.35", lw=2.0, ls="-")
+        style = (
+            dict(color="0.55", lw=1.0, ls=":")
+            if l.kind == "spoke"
+            else dict(color="0.35", lw=2.0, ls="-")
+        )
         ax.plot([y0, y1], [z0, z1], zorder=1, **style)
     for a in section.active_pairs:
         color = GROUP_COLORS[a.group % len(GROUP_COLORS)]
         n = (pos[a.j] - pos[a.i]) / np.linalg.norm(pos[a.j] - pos[a.i])
         start, end = pos[a.i] + 1.15 * radius * n, pos[a.j] - 1.15 * radius * n
-        ax.add_patch(FancyArrowPatch(start, end, arrowstyle="-|>", mutation_scale=16, lw=2.2, color=color, shrinkA=0, shrinkB=0, zorder=3))
+        ax.add_patch(
+            FancyArrowPatch(
+                start,
+                end,
+                arrowstyle="-|>",
+                mutation_scale=16,
+                lw=2.2,
+                color=color,
+                shrinkA=0,
+                shrinkB=0,
+                zorder=3,
+            )
+        )
     groups = group_bending_directions(section)
     for g, direction in sorted(groups.items()):
         members = sorted({f for a in section.active_pairs if a.group == g for f in (a.i, a.j)})
@@ -84,28 +102,72 @@ def plot_section(section: CrossSection | Model, ax: plt.Axes | None = None, titl
         centre = centre + 0.45 * (pos.mean(axis=0) - centre)  # inside the ring, clear of the pairs
         n = direction / max(np.linalg.norm(direction), 1e-300)
         color = GROUP_COLORS[g % len(GROUP_COLORS)]
-        ax.add_patch(FancyArrowPatch(centre - 0.2 * span * n, centre + 0.2 * span * n, arrowstyle="simple", mutation_scale=22, color=color, alpha=0.55, zorder=2))
+        ax.add_patch(
+            FancyArrowPatch(
+                centre - 0.2 * span * n,
+                centre + 0.2 * span * n,
+                arrowstyle="simple",
+                mutation_scale=22,
+                color=color,
+                alpha=0.55,
+                zorder=2,
+            )
+        )
     sign = _axial_sign(section)
     for f, (y, z) in enumerate(pos):
         ax.add_patch(Circle((y, z), radius, facecolor="white", edgecolor="black", lw=1.2, zorder=4))
         ax.text(y, z, str(f), ha="center", va="center", fontsize=10, zorder=5)
         if sign[f]:
-            ax.plot(y + 0.8 * radius, z + 0.8 * radius, marker="o" if sign[f] < 0 else "X", ms=5, color="black", mfc="black" if sign[f] < 0 else "white", zorder=6)
+            ax.plot(
+                y + 0.8 * radius,
+                z + 0.8 * radius,
+                marker="o" if sign[f] < 0 else "X",
+                ms=5,
+                color="black",
+                mfc="black" if sign[f] < 0 else "white",
+                zorder=6,
+            )
 
     handles = [
         Line2D([], [], color="0.35", lw=2.0, label="link (k_l)"),
         Line2D([], [], color="0.55", lw=1.0, ls=":", label="spoke (k_s)"),
-        *(Line2D([], [], color=GROUP_COLORS[g % 2], lw=2.2, marker=">", label=f"active pair i -> j, group {g}") for g in sorted(groups)),
-        *(Line2D([], [], color=GROUP_COLORS[g % 2], lw=6, alpha=0.55, label=f"group {g} net bending direction") for g in sorted(groups)),
+        *(
+            Line2D(
+                [],
+                [],
+                color=GROUP_COLORS[g % 2],
+                lw=2.2,
+                marker=">",
+                label=f"active pair i -> j, group {g}",
+            )
+            for g in sorted(groups)
+        ),
+        *(
+            Line2D(
+                [],
+                [],
+                color=GROUP_COLORS[g % 2],
+                lw=6,
+                alpha=0.55,
+                label=f"group {g} net bending direction",
+            )
+            for g in sorted(groups)
+        ),
         Line2D([], [], color="tab:blue", ls="--", label="beat plane (z = 0)"),
         Line2D([], [], ls="", marker="o", color="black", ms=5, label="pulled baseward"),
         Line2D([], [], ls="", marker="X", color="black", mfc="white", ms=5, label="pulled tipward"),
     ]
-    ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
+    ax.legend(
+        handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False
+    )
     ax.set_xlim(lo[0], hi[0])
     ax.set_ylim(lo[1], hi[1])
     ax.set_aspect("equal")
     ax.set_xlabel("y (beat-plane direction)")
     ax.set_ylabel("z")
-    ax.set_title(title if title is not None else f"{section.name}: {section.n_filaments} filaments, {len(section.active_pairs)} active pairs")
+    ax.set_title(
+        title
+        if title is not None
+        else f"{section.name}: {section.n_filaments} filaments, {len(section.active_pairs)} active pairs"
+    )
     return fig

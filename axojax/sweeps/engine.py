@@ -54,7 +54,9 @@ from .processes import Share, barrier, wait_for_files
 from .result import METRICS, SweepResult
 
 
-def _metrics(model: Model, params: Params, units: Units, solver: AbstractEigenSolver) -> dict[str, jax.Array]:
+def _metrics(
+    model: Model, params: Params, units: Units, solver: AbstractEigenSolver
+) -> dict[str, jax.Array]:
     mode = dominant_mode_impl(model, params, solver)
     osc = mode.direction != 0
     nan = jnp.nan
@@ -73,7 +75,14 @@ def _metrics(model: Model, params: Params, units: Units, solver: AbstractEigenSo
 
 
 @functools.lru_cache(maxsize=32)
-def _compiled(model: Model, names: tuple[str, ...], tie: bool, units: Units, n_dev: int, solver: AbstractEigenSolver):
+def _compiled(
+    model: Model,
+    names: tuple[str, ...],
+    tie: bool,
+    units: Units,
+    n_dev: int,
+    solver: AbstractEigenSolver,
+):
     """One jitted evaluator per (model, axes, tie, units, devices, solver); the fixed
     parameters and the kl ratio are traced arguments, so new values do not recompile.
     Points run one after another on each CPU device (``lax.map``; ``vmap`` on GPUs and
@@ -82,11 +91,18 @@ def _compiled(model: Model, names: tuple[str, ...], tie: bool, units: Units, n_d
 
     # A solver with a batched path (ax.eigen.Arnoldi(batched=True): plain jnp block
     # kernels) is vmapped on every platform.
-    loop = jax.local_devices()[0].platform == "cpu" and not getattr(getattr(solver, "options", None), "batched", False)
+    loop = jax.local_devices()[0].platform == "cpu" and not getattr(
+        getattr(solver, "options", None), "batched", False
+    )
 
     def batched(params, ratio, rows):
         def one(row):
-            return _metrics(model, params.with_values(dict(zip(names, row)), ratio if tie else None), units, solver)
+            return _metrics(
+                model,
+                params.with_values(dict(zip(names, row)), ratio if tie else None),
+                units,
+                solver,
+            )
 
         # CPU: one point at a time (jaxlib's batched CPU LAPACK kernels loop over the
         # matrices anyway, and 0.10's block on the intra-op pool). Accelerators: vmap,
@@ -97,21 +113,43 @@ def _compiled(model: Model, names: tuple[str, ...], tie: bool, units: Units, n_d
         mesh = Mesh(np.array(jax.local_devices()[:n_dev]), ("points",))
         # check_vma off: no collectives here, and the solvers' scans/while loops start
         # from unsharded constants (Arnoldi's block factorisations would need pcasts).
-        sharded = jax.shard_map(batched, mesh=mesh, in_specs=(PartitionSpec(), PartitionSpec(), PartitionSpec("points")), out_specs=PartitionSpec("points"), check_vma=False)
+        sharded = jax.shard_map(
+            batched,
+            mesh=mesh,
+            in_specs=(PartitionSpec(), PartitionSpec(), PartitionSpec("points")),
+            out_specs=PartitionSpec("points"),
+            check_vma=False,
+        )
         f = jax.jit(sharded)
         rows_sharding = NamedSharding(mesh, PartitionSpec("points"))
         return lambda params, ratio, rows: f(params, ratio, jax.device_put(rows, rows_sharding))
     return jax.jit(batched)
 
 
-def _evaluator(model: Model, params: Params, names: tuple[str, ...], kl_ratio, units: Units, n_dev: int, solver: AbstractEigenSolver):
+def _evaluator(
+    model: Model,
+    params: Params,
+    names: tuple[str, ...],
+    kl_ratio,
+    units: Units,
+    n_dev: int,
+    solver: AbstractEigenSolver,
+):
     f = _compiled(model, names, kl_ratio is not None, units, n_dev, solver)
     fixed = params.broadcast(())
     ratio = jnp.asarray(1.0 if kl_ratio is None else kl_ratio, dtype=float)
     return lambda rows: f(fixed, ratio, rows)
 
 
-def _fingerprint(model: Model, params: Params, axes: Mapping[str, np.ndarray], kl_ratio, units: Units, chunk: int, solver: AbstractEigenSolver) -> str:
+def _fingerprint(
+    model: Model,
+    params: Params,
+    axes: Mapping[str, np.ndarray],
+    kl_ratio,
+    units: Units,
+    chunk: int,
+    solver: AbstractEigenSolver,
+) -> str:
     doc = {
         "model": repr(model),
         "positions": np.asarray(model.section.positions).round(12).tolist(),
@@ -188,14 +226,20 @@ def sweep(
         raise ValueError(f"devices must be in 1..{n_local} (this process's devices), got {devices}")
     share = Share.current()
     if share.count > 1 and out is None:
-        raise ValueError(f"a sweep over {share.count} processes (jax.distributed) needs out=FILE.npz on a shared file system")
+        raise ValueError(
+            f"a sweep over {share.count} processes (jax.distributed) needs out=FILE.npz on a shared file system"
+        )
     params = params.validate()
     shape = tuple(len(v) for v in coords.values())
     solver = solver.resolve(model, int(np.prod(shape)))
-    grid = np.stack([g.ravel() for g in np.meshgrid(*coords.values(), indexing="ij")], axis=1)  # (N, n_axes)
+    grid = np.stack(
+        [g.ravel() for g in np.meshgrid(*coords.values(), indexing="ij")], axis=1
+    )  # (N, n_axes)
     n_points = grid.shape[0]
     n_dev = devices or n_local
-    chunk = min(chunk_size, n_points)  # the layout of the parts: independent of devices and processes
+    chunk = min(
+        chunk_size, n_points
+    )  # the layout of the parts: independent of devices and processes
     n_chunks = int(np.ceil(n_points / chunk))
     padded = int(np.ceil(chunk / n_dev) * n_dev)
 
@@ -210,8 +254,39 @@ def sweep(
         if share.leader:
             lock = _io.exclusive(out.with_name(out.name + ".lock"), str(out))
     with lock:
-        results = _run_chunks(model, params, names, kl_ratio, units, n_dev, solver, grid, chunk, n_chunks, padded, share, parts, coords, progress, log)
-        return _merge(results, n_chunks, shape, coords, model, params, names, kl_ratio, units, solver, share, out, parts)
+        results = _run_chunks(
+            model,
+            params,
+            names,
+            kl_ratio,
+            units,
+            n_dev,
+            solver,
+            grid,
+            chunk,
+            n_chunks,
+            padded,
+            share,
+            parts,
+            coords,
+            progress,
+            log,
+        )
+        return _merge(
+            results,
+            n_chunks,
+            shape,
+            coords,
+            model,
+            params,
+            names,
+            kl_ratio,
+            units,
+            solver,
+            share,
+            out,
+            parts,
+        )
 
 
 def _read_chunk(path: pathlib.Path) -> dict[str, np.ndarray] | None:
@@ -223,7 +298,24 @@ def _read_chunk(path: pathlib.Path) -> dict[str, np.ndarray] | None:
         return None
 
 
-def _run_chunks(model, params, names, kl_ratio, units, n_dev, solver, grid, chunk, n_chunks, padded, share, parts, coords, progress, log):
+def _run_chunks(
+    model,
+    params,
+    names,
+    kl_ratio,
+    units,
+    n_dev,
+    solver,
+    grid,
+    chunk,
+    n_chunks,
+    padded,
+    share,
+    parts,
+    coords,
+    progress,
+    log,
+):
     """This process's chunks: read the finished ones, compute the others (each written
     to ``parts`` whole, under a unique temporary name, when ``parts`` is set)."""
     if parts is not None:
@@ -237,10 +329,14 @@ def _run_chunks(model, params, names, kl_ratio, units, n_dev, solver, grid, chun
             if parts.exists() and old != key:
                 shutil.rmtree(parts)  # left by a different sweep: start again
             parts.mkdir(parents=True, exist_ok=True)
-            _io.write_text(manifest, json.dumps({"key": key, "n_chunks": n_chunks, "processes": share.count}))
+            _io.write_text(
+                manifest, json.dumps({"key": key, "n_chunks": n_chunks, "processes": share.count})
+            )
         barrier(share, "prepared")
         if not share.leader and json.loads(manifest.read_text()).get("key") != key:
-            raise ValueError(f"process {share.index}: this sweep's arguments differ from process 0's (fingerprint of {manifest})")
+            raise ValueError(
+                f"process {share.index}: this sweep's arguments differ from process 0's (fingerprint of {manifest})"
+            )
 
     def part_path(c: int) -> pathlib.Path | None:
         return None if parts is None else parts / f"chunk_{c:06d}.npz"
@@ -249,11 +345,18 @@ def _run_chunks(model, params, names, kl_ratio, units, n_dev, solver, grid, chun
     results: dict[int, dict[str, np.ndarray]] = {}
     mine = [c for c in range(n_chunks) if share.owns(c)]
     resumed = damaged = 0
-    for c in tqdm(mine, desc=f"sweep {model.name}", unit="chunk", disable=(None if progress is None else not progress)):
+    for c in tqdm(
+        mine,
+        desc=f"sweep {model.name}",
+        unit="chunk",
+        disable=(None if progress is None else not progress),
+    ):
         part = part_path(c)
         if part is not None and part.exists():
             vals = _read_chunk(part)
-            if vals is not None and all(v.shape[0] == min(chunk, grid.shape[0] - c * chunk) for v in vals.values()):
+            if vals is not None and all(
+                v.shape[0] == min(chunk, grid.shape[0] - c * chunk) for v in vals.values()
+            ):
                 results[c] = vals
                 resumed += 1
                 continue
@@ -270,7 +373,10 @@ def _run_chunks(model, params, names, kl_ratio, units, n_dev, solver, grid, chun
                 np.savez(tmp, **vals)
         results[c] = vals
     if log is not None and (resumed or damaged):
-        log(f"resumed {parts}: {resumed} of {len(mine)} chunks were done" + (f", {damaged} damaged chunk file(s) recomputed" if damaged else ""))
+        log(
+            f"resumed {parts}: {resumed} of {len(mine)} chunks were done"
+            + (f", {damaged} damaged chunk file(s) recomputed" if damaged else "")
+        )
 
     if parts is not None:
         wait_for_files([part_path(c) for c in range(n_chunks)])  # the other processes' chunks
@@ -278,13 +384,31 @@ def _run_chunks(model, params, names, kl_ratio, units, n_dev, solver, grid, chun
             if c not in results:
                 vals = _read_chunk(part_path(c))
                 if vals is None:
-                    raise ValueError(f"chunk file {part_path(c)} written by another process cannot be read; rerun the sweep to recompute it")
+                    raise ValueError(
+                        f"chunk file {part_path(c)} written by another process cannot be read; rerun the sweep to recompute it"
+                    )
                 results[c] = vals
     return results
 
 
-def _merge(results, n_chunks, shape, coords, model, params, names, kl_ratio, units, solver, share, out, parts) -> SweepResult:
-    data = {k: np.concatenate([results[c][k] for c in range(n_chunks)]).reshape(shape) for k in METRICS}
+def _merge(
+    results,
+    n_chunks,
+    shape,
+    coords,
+    model,
+    params,
+    names,
+    kl_ratio,
+    units,
+    solver,
+    share,
+    out,
+    parts,
+) -> SweepResult:
+    data = {
+        k: np.concatenate([results[c][k] for c in range(n_chunks)]).reshape(shape) for k in METRICS
+    }
     fixed = {k: np.asarray(getattr(params, k)).tolist() for k in PARAM_NAMES if k not in names}
     if kl_ratio is not None:
         fixed.pop("kl", None)
@@ -297,10 +421,18 @@ def _merge(results, n_chunks, shape, coords, model, params, names, kl_ratio, uni
         "axes": list(names),
         "fixed": fixed,
         "kl_ratio": kl_ratio,
-        "units": {"length_um": units.length_um, "ei_pn_um2": units.ei_pn_um2, "cn_pn_s_um2": units.cn_pn_s_um2, "tau_s": units.tau_s},
+        "units": {
+            "length_um": units.length_um,
+            "ei_pn_um2": units.ei_pn_um2,
+            "cn_pn_s_um2": units.cn_pn_s_um2,
+            "tau_s": units.tau_s,
+        },
         "classification": {"0": "stable", "1": "flutter", "2": "divergence"},
         "direction": {"1": "anterograde", "-1": "retrograde", "0": "none"},
-        "solver": {"name": type(solver).__name__.lower(), "dense_fallbacks": int(np.sum(data["certified"] == 0))},
+        "solver": {
+            "name": type(solver).__name__.lower(),
+            "dense_fallbacks": int(np.sum(data["certified"] == 0)),
+        },
     }
     result = SweepResult(coords, data, meta)
     if out is not None:

@@ -21,16 +21,25 @@ if TYPE_CHECKING:  # pragma: no cover
     from .result import SweepResult
 
 VARIABLES: dict[str, tuple[str, str]] = {
-    "eigenvalue_real": ("1/tau", "real part of the dominant eigenvalue (tau = c_n L^4 / EI, see tau_s)"),
+    "eigenvalue_real": (
+        "1/tau",
+        "real part of the dominant eigenvalue (tau = c_n L^4 / EI, see tau_s)",
+    ),
     "eigenvalue_imag": ("1/tau", "imaginary part of the dominant eigenvalue"),
     "growth_rate_per_s": ("1/s", "growth rate of the dominant mode"),
     "frequency_hz": ("Hz", "beat frequency of the dominant mode"),
     "wavelength_um": ("um", "wavelength of the dominant mode (NaN where it does not oscillate)"),
-    "velocity_um_per_s": ("um/s", "wave speed of the dominant mode (NaN where it does not oscillate)"),
+    "velocity_um_per_s": (
+        "um/s",
+        "wave speed of the dominant mode (NaN where it does not oscillate)",
+    ),
     "out_of_plane_ratio": ("1", "out-of-plane share of the dominant mode's bending"),
     "direction": ("1", "direction of wave propagation"),
     "classification": ("1", "stability of the straight state"),
-    "certified": ("1", "1 where the eigen-solver certified the dominant eigenvalue; 0 where the dense fallback supplied it"),
+    "certified": (
+        "1",
+        "1 where the eigen-solver certified the dominant eigenvalue; 0 where the dense fallback supplied it",
+    ),
 }
 
 
@@ -39,7 +48,9 @@ def require_xarray():
     try:
         import xarray
     except ImportError:
-        raise ImportError("NetCDF/xarray export needs xarray: pip install 'axojax[netcdf]'") from None
+        raise ImportError(
+            "NetCDF/xarray export needs xarray: pip install 'axojax[netcdf]'"
+        ) from None
     return xarray
 
 
@@ -47,7 +58,14 @@ def to_xarray(result: "SweepResult") -> "xarray.Dataset":
     """The sweep as a labelled ``xarray.Dataset`` (one dimension per axis)."""
     xr = require_xarray()
     dims = tuple(result.coords)
-    coords = {k: (k, np.asarray(v), {"units": "1", "long_name": f"{k} (dimensionless, MODEL.md section 1)"}) for k, v in result.coords.items()}
+    coords = {
+        k: (
+            k,
+            np.asarray(v),
+            {"units": "1", "long_name": f"{k} (dimensionless, MODEL.md section 1)"},
+        )
+        for k, v in result.coords.items()
+    }
     data_vars = {}
     for name, values in result.data.items():
         units, long_name = VARIABLES.get(name, ("1", name))

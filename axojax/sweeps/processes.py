@@ -70,7 +70,9 @@ def barrier(share: Share, name: str, timeout_s: float = BARRIER_TIMEOUT_S) -> No
         return
     client = _client()
     if client is None:
-        raise RuntimeError("a sweep over several processes needs jax.distributed.initialize() in every process")
+        raise RuntimeError(
+            "a sweep over several processes needs jax.distributed.initialize() in every process"
+        )
     client.wait_at_barrier(f"axojax_sweep_{next(_barrier_ids)}_{name}", int(timeout_s * 1000))
 
 

@@ -56,7 +56,12 @@ def detect_cycles(t: np.ndarray, y: np.ndarray) -> Cycles:
     for a, b in zip(up[:-1], up[1:]):
         seg = y[a : b + 2]
         amps.append((seg.max() - seg.min()) / 2)
-    return Cycles(starts=starts, periods=np.diff(starts), amplitudes=np.asarray(amps, dtype=float), level=level)
+    return Cycles(
+        starts=starts,
+        periods=np.diff(starts),
+        amplitudes=np.asarray(amps, dtype=float),
+        level=level,
+    )
 
 
 @dataclasses.dataclass(frozen=True)
@@ -99,7 +104,9 @@ def fourier_modes(t: np.ndarray, s: np.ndarray, psi: np.ndarray, period: float) 
     """
     t, psi = np.asarray(t, dtype=float), np.asarray(psi, dtype=float)
     if not period > 0 or t[-1] - t[0] < period:
-        raise ValueError(f"need at least one period ({period:g}) of data, got a record of {t[-1] - t[0]:g}")
+        raise ValueError(
+            f"need at least one period ({period:g}) of data, got a record of {t[-1] - t[0]:g}"
+        )
     n = int(np.floor((t[-1] - t[0]) / period + 1e-9))
     t0 = t[-1] - n * period
     keep = t >= t0 - 1e-12 * max(1.0, abs(t0))
@@ -114,4 +121,11 @@ def fourier_modes(t: np.ndarray, s: np.ndarray, psi: np.ndarray, period: float) 
     psi0 = np.trapezoid(pp, tt, axis=0) / span
     psi1 = 2 * np.trapezoid(pp * np.exp(-1j * omega * tt)[:, None], tt, axis=0) / span
     resid = pp - psi0[None] - np.real(psi1[None] * np.exp(1j * omega * tt)[:, None])
-    return FourierModes(s=np.asarray(s, dtype=float), psi0=psi0, psi1=psi1, omega=omega, residual_rms=float(np.sqrt(np.mean(resid**2))), n_samples=int(tt.size))
+    return FourierModes(
+        s=np.asarray(s, dtype=float),
+        psi0=psi0,
+        psi1=psi1,
+        omega=omega,
+        residual_rms=float(np.sqrt(np.mean(resid**2))),
+        n_samples=int(tt.size),
+    )

@@ -11,7 +11,12 @@ from ..fem import interpolation_matrix
 from ..models.section import Model
 
 
-def centreline(model: Model, q: Inexact[Array | np.ndarray, "*batch n"], x: Float[ArrayLike, " S"], derivative: int = 0) -> Inexact[Array | np.ndarray, "*batch d S"]:
+def centreline(
+    model: Model,
+    q: Inexact[Array | np.ndarray, "*batch n"],
+    x: Float[ArrayLike, " S"],
+    derivative: int = 0,
+) -> Inexact[Array | np.ndarray, "*batch d S"]:
     """Centreline (mean over filaments) displacement, or its x-derivative, at points x.
 
     Args:
@@ -25,11 +30,19 @@ def centreline(model: Model, q: Inexact[Array | np.ndarray, "*batch n"], x: Floa
     xp = jnp if isinstance(q, jax.Array) else np
     q = xp.asarray(q)
     phi = xp.asarray(interpolation_matrix(model.n_elements, np.asarray(x, dtype=float), derivative))
-    per = xp.reshape(q, q.shape[:-1] + (model.n_filaments, model.n_dirs, model.mesh.n_dof)).mean(axis=-3)
+    per = xp.reshape(q, q.shape[:-1] + (model.n_filaments, model.n_dirs, model.mesh.n_dof)).mean(
+        axis=-3
+    )
     return xp.einsum("sr,...dr->...ds", phi, per)
 
 
-def mode_frames(model: Model, v: np.ndarray, n_frames: int = 16, x: np.ndarray | None = None, amplitude: float = 0.1) -> tuple[np.ndarray, np.ndarray]:
+def mode_frames(
+    model: Model,
+    v: np.ndarray,
+    n_frames: int = 16,
+    x: np.ndarray | None = None,
+    amplitude: float = 0.1,
+) -> tuple[np.ndarray, np.ndarray]:
     """Frames of one beat cycle of an eigenmode: Re(u(x) exp(i theta)), theta in [0, 2 pi).
 
     The complex scale is fixed so that the largest centreline displacement is
