@@ -37,11 +37,11 @@ _LAZY = {
     "dominant_mode": (".eigen", "dominant_mode"),
     "mode_shapes": (".eigen", "mode_shapes"),
     "spectrum": (".eigen", "spectrum"),
-    "FitResult": (".fitting", "FitResult"),
-    "ShapeTarget": (".fitting", "ShapeTarget"),
-    "Target": (".fitting", "Target"),
-    "fit": (".fitting", "fit"),
-    "read_beat": (".fitting", "read_beat"),
+    "FitResult": (".inverse", "FitResult"),
+    "ShapeTarget": (".beats", "ShapeTarget"),
+    "Target": (".beats", "Target"),
+    "fit": (".inverse", "fit"),
+    "read_beat": (".beats", "read_beat"),
     "inverse": (".inverse", None),
     "posterior": (".inverse", "posterior"),
     "Posterior": (".inverse", "Posterior"),
@@ -66,7 +66,7 @@ _SUBMODULES = (
     "critical",
     "dynamics",
     "fem",
-    "fitting",
+    "beats",
     "params",
     "sweeps",
     "units",
@@ -76,12 +76,12 @@ _SUBMODULES = (
 if TYPE_CHECKING:  # the same names for static tools (type checkers, the API docs' griffe)
     from . import datasets, eigen, inverse, linalg, models, orbits
     from .assembly import System, assemble
+    from .beats import ShapeTarget, Target, read_beat
     from .cache import enable_compilation_cache
     from .critical import Critical, critical_force
     from .dynamics import Simulation, simulate
     from .eigen import Mode, dominant_mode, mode_shapes, spectrum
-    from .fitting import FitResult, ShapeTarget, Target, fit, read_beat
-    from .inverse import Posterior, posterior
+    from .inverse import FitResult, Posterior, fit, posterior
     from .orbits import LimitCycle, limit_cycle
     from .params import PARAM_NAMES, Params
     from .sweeps import SweepResult, sweep

@@ -25,6 +25,12 @@ MIN_RATIO = 1e-9
 """Smallest accepted ``out_of_plane`` and ``imbalance`` (stiffness and force ratios: their
 reciprocals are bounded by :data:`MAX_MAGNITUDE` too)."""
 
+DEFAULT_CUBIC = 10.0
+"""Default cubic stiffening kappa of the links (1/L^2; the nonlinear beat's only extra
+constant, used by the time integrator, the limit cycles and their fits): at p = 1.04 p_c
+of the seven-filament preset it saturates the beat at a tip amplitude of about 3 um (a
+quarter of L; see tests/test_simulate.py)."""
+
 PARAM_NAMES = (
     "p",
     "ks",

@@ -37,7 +37,7 @@ import numpy as np
 
 import axojax as ax  # first: it sets the XLA flags before jax starts
 from axojax import paper
-from axojax.fitting import ShapeTarget, Target
+from axojax.beats import ShapeTarget, Target
 from axojax.inverse import LBFGS, Condition, LevenbergMarquardt, Problem, least_squares
 from axojax.orbits.measures import cycle_measures
 

@@ -55,9 +55,9 @@ import jax.numpy as jnp
 import numpy as np
 
 import axojax as ax  # first: it sets the XLA flags before jax starts
-from axojax.fitting import ShapeTarget, Target
-from axojax.fitting.targets import model_psi1
+from axojax.beats import ShapeTarget, Target
 from axojax.inverse import NUTS, Condition, Problem, posterior
+from axojax.inverse.predictions import model_psi1
 
 TRUTH = {"p": 300.0, "ks": 1e6, "kl": 1e3}
 BOUNDS = {"p": (50.0, 3000.0), "ks": (1e3, 1e9), "kl": (1e0, 1e6)}

@@ -1,4 +1,4 @@
-"""Limit-cycle waveform targets (axojax/orbits/targets.py): a fit of the whole beat on
+"""Limit-cycle waveform targets (axojax/inverse/cycle_targets.py): a fit of the whole beat on
 synthetic data from a known orbit recovers its parameters, and the residuals' exact
 Jacobian agrees with central finite differences."""
 
@@ -9,9 +9,9 @@ import optimistix as optx
 import pytest
 
 import axojax as ax
-from axojax.fitting.targets import ShapeTarget
+from axojax.beats.targets import ShapeTarget
+from axojax.inverse.cycle_targets import CycleTarget, waveform_residuals
 from axojax.orbits.measures import cycle_measures
-from axojax.orbits.targets import CycleTarget, waveform_residuals
 
 SOLVER = ax.orbits.HarmonicBalance(harmonics=4, floquet=0, rtol=1e-11)
 S_UM = np.linspace(0.0, 12.0, 21)

@@ -14,9 +14,9 @@ import pytest
 import scipy.io
 
 import axojax as ax
+from axojax.beats import read_beat
+from axojax.beats.reduction import FREQUENCY_REL_FLOOR, PLANARITY_THRESHOLD, PSI1_FLOOR_RAD
 from axojax.cli.main import main
-from axojax.fitting import read_beat
-from axojax.fitting.reduction import FREQUENCY_REL_FLOOR, PLANARITY_THRESHOLD, PSI1_FLOOR_RAD
 
 L = 30.0
 S = np.linspace(0.0, L, 61)
@@ -170,7 +170,7 @@ def test_kymograph_recovers_modes_with_honest_sigmas(tmp_path):
     assert np.all(np.abs(psi1 - psi1_true(S)) < 4 * np.sqrt(2) * beat.psi1_sigma)
     # Clean and tiled (zero scatter): the floors speak, never a 0.01 Hz precision.
     t, psi = kymograph(200.0, 2.0, 0.0)
-    clean = ax.fitting.beat_from_kymograph(t, S, psi)
+    clean = ax.beats.beat_from_kymograph(t, S, psi)
     assert clean.frequency_hz == pytest.approx(F, rel=1e-3)
     assert clean.frequency_sigma_hz == pytest.approx(
         FREQUENCY_REL_FLOOR * clean.frequency_hz, rel=1e-9

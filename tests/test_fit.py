@@ -9,8 +9,9 @@ import numpy as np
 import pytest
 
 import axojax as ax
-from axojax.fitting import Target, beat_from_kymograph, fit, read_beat
-from axojax.fitting.targets import model_psi1
+from axojax.beats import Target, beat_from_kymograph, read_beat
+from axojax.inverse import fit
+from axojax.inverse.predictions import model_psi1
 
 TRUE = dict(p=320.0, ks=1e5)
 RATIO = 1000.0

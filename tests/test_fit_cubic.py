@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 import axojax as ax
+from axojax.beats.targets import ShapeTarget, Target
 from axojax.cli.main import main
-from axojax.fitting.targets import ShapeTarget, Target
 from axojax.inverse import Condition, Problem
 from axojax.orbits.measures import cycle_measures
 

@@ -11,8 +11,8 @@ import pytest
 from conftest import scipy_dominant
 
 import axojax as ax
+from axojax.beats import Target
 from axojax.cli.main import main
-from axojax.fitting import Target
 from axojax.inverse import Condition
 
 # Paper fig. 7d-h (seven filaments): p and the stated frequency (Hz).

@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 import axojax as ax
-from axojax.fitting import ShapeTarget, Target
-from axojax.fitting.targets import model_psi1
+from axojax.beats import ShapeTarget, Target
 from axojax.inverse import LBFGS, Condition, LevenbergMarquardt, Problem, least_squares
+from axojax.inverse.predictions import model_psi1
 
 RATIO = 1000.0
 

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import axojax as ax
-from axojax.fitting.targets import ShapeTarget, Target
+from axojax.beats.targets import ShapeTarget, Target
 from axojax.inverse import LevenbergMarquardt
 from axojax.orbits.measures import cycle_measures
 

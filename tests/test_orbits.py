@@ -12,9 +12,9 @@ import pytest
 import scipy.integrate
 
 import axojax as ax
+from axojax.beats import Target
 from axojax.cli.main import main
 from axojax.dynamics.nonlinear import cubic_link_force
-from axojax.fitting import Target
 from axojax.orbits import HarmonicBalance
 from axojax.orbits.branch import Branch, hopf_point
 from axojax.waveform import fourier_modes

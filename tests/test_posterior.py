@@ -19,7 +19,7 @@ import scipy.special
 import scipy.stats
 
 import axojax as ax
-from axojax.fitting import Target
+from axojax.beats import Target
 from axojax.inverse import (
     NUTS,
     Condition,

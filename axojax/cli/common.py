@@ -315,7 +315,7 @@ gradient, a frequency a time series."""
 
 
 def check_beat(beat: Any, flag: str = "--data") -> None:
-    """Refuse beat data (:class:`axojax.fitting.BeatData`) that no fit can use: too few
+    """Refuse beat data (:class:`axojax.beats.BeatData`) that no fit can use: too few
     arc-length points or frames, or tangent angles that are not angles."""
     psi = np.asarray(beat.psi_rad, dtype=float)
     frames, points = psi.shape if psi.ndim == 2 else (0, 0)

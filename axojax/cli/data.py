@@ -22,8 +22,8 @@ import argparse
 import math
 
 from .. import _io
-from ..fitting.data import read_beat
-from ..fitting.reduction import PLANARITY_THRESHOLD
+from ..beats.data import read_beat
+from ..beats.reduction import PLANARITY_THRESHOLD
 from . import common
 
 
@@ -104,7 +104,7 @@ def run(args: argparse.Namespace) -> dict:
         raise common.CLIError(str(err)) from None
     doc = beat.summary()
     if args.plot is not None:
-        from ..fitting.plot_data import plot_beat_data
+        from ..plotting.beat_data import plot_beat_data
 
         fig = plot_beat_data(beat)
         try:

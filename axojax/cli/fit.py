@@ -41,12 +41,11 @@ import warnings
 import numpy as np
 
 from .. import _io
-from ..dynamics.simulate import DEFAULT_CUBIC
-from ..fitting import OBSERVATIONS, Target, fit, observation_targets, read_beat
-from ..inverse import SHAPE_FLOOR, Condition
+from ..beats import OBSERVATIONS, Target, observation_targets, read_beat
+from ..inverse import SHAPE_FLOOR, Condition, fit
 from ..models import build_model, load_section
 from ..models.presets import preset_section
-from ..params import PARAM_NAMES, Params
+from ..params import DEFAULT_CUBIC, PARAM_NAMES, Params
 from ..units import Units
 from . import common
 
@@ -387,8 +386,7 @@ def _run_fit(args, *fit_args, flag: str, **kwargs):
         raise common.CLIError(f"{flag}: {err}") from None
     if args.posterior is None:
         return result, None
-    from ..fitting import build_problem
-    from ..inverse import posterior
+    from ..inverse import build_problem, posterior
 
     problem = build_problem(
         *fit_args, **{k: v for k, v in kwargs.items() if k not in LEAST_SQUARES_ONLY}

@@ -10,8 +10,7 @@ import sys
 import numpy as np
 
 from .. import _io
-from ..dynamics.simulate import DEFAULT_CUBIC
-from ..params import Params
+from ..params import DEFAULT_CUBIC, Params
 from . import common
 from .simulate import MAX_CUBIC
 
@@ -107,7 +106,7 @@ def run(args: argparse.Namespace) -> dict:
                     {"model": model.name, "n_elements": model.n_elements, "cubic": args.cubic},
                 ).save(tmp)
         if args.plot is not None:
-            from ..orbits.plot import plot_orbit, save
+            from ..plotting.orbits import plot_orbit, save
 
             with _io.atomic_path(args.plot) as tmp:
                 save(plot_orbit(cycle, units), tmp)
@@ -144,7 +143,7 @@ def run(args: argparse.Namespace) -> dict:
         with _io.atomic_path(args.out) as tmp:
             result.save(tmp)
     if args.plot is not None:
-        from ..orbits.plot import plot_branch, save
+        from ..plotting.orbits import plot_branch, save
 
         with _io.atomic_path(args.plot) as tmp:
             save(

@@ -240,7 +240,7 @@ def _figure(args: argparse.Namespace):
 
             return plot_corner(obj, truth=load_truth(path)), kind, None
         if kind == "orbit_branch":
-            from ..orbits.plot import plot_branch
+            from ..plotting.orbits import plot_branch
 
             return plot_branch(*obj), kind, None
         from ..plotting import plot_simulation

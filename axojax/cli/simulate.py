@@ -7,8 +7,9 @@ import math
 import sys
 
 from .. import _io
-from ..dynamics import DEFAULT_CUBIC, simulate
+from ..dynamics import simulate
 from ..dynamics.simulate import MIN_STEPS, STEPS_PER_PERIOD, check_inputs
+from ..params import DEFAULT_CUBIC
 from . import common
 
 MAX_STEPS = 100_000_000

@@ -11,30 +11,12 @@ A bundled data set's name is accepted wherever a beat file is (``read_beat("huma
 
 from __future__ import annotations
 
-import pathlib
-
-DATA = pathlib.Path(__file__).resolve().parent.parent / "data"
-FILES = {"human_sperm": "human_sperm.npz"}
-
-
-def path(name: str) -> pathlib.Path:
-    """The file of bundled data set ``name`` (one of :data:`FILES`)."""
-    if name not in FILES:
-        raise ValueError(f"unknown data set {name!r}; bundled: {', '.join(FILES)}")
-    return DATA / FILES[name]
-
-
-def resolve(name_or_path) -> pathlib.Path:
-    """A bundled data set's file when ``name_or_path`` names one and is not an existing
-    file, else the path itself."""
-    p = pathlib.Path(name_or_path)
-    if str(name_or_path) in FILES and not p.exists():
-        return path(str(name_or_path))
-    return p
+from ..beats import read_beat
+from ..beats.bundled import DATA, FILES, path, resolve
 
 
 def human_sperm(**kwargs):
-    """The bundled human sperm beat, reduced: a :class:`~axojax.fitting.BeatData`.
+    """The bundled human sperm beat, reduced: a :class:`~axojax.beats.BeatData`.
 
     Data: smoothed 3D centrelines (100 points, base to tip, um) of one free-swimming human
     sperm in the head-fixed frame (the head's translation and rotation removed), 272 frames
@@ -45,11 +27,9 @@ def human_sperm(**kwargs):
     (frames, points), ``frame_rate_hz``, ``published_frequency_hz``.
 
     Args:
-        **kwargs: passed to :func:`axojax.fitting.read_beat` (e.g. ``length_um``).
+        **kwargs: passed to :func:`axojax.beats.read_beat` (e.g. ``length_um``).
     """
-    from ..fitting import read_beat
-
     return read_beat(path("human_sperm"), **kwargs)
 
 
-__all__ = ["FILES", "human_sperm", "path", "resolve"]
+__all__ = ["DATA", "FILES", "human_sperm", "path", "resolve"]

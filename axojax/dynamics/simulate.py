@@ -16,16 +16,12 @@ from jaxtyping import ArrayLike, Float
 from ..assembly import assemble
 from ..eigen.mode import CLASSES, dominant_mode
 from ..models.section import Model
-from ..params import Params
+from ..params import DEFAULT_CUBIC, Params
 from ..units import Units
 from ..waveform import fourier_modes
 from ..waveform.shapes import centreline
 from .analysis import classify_trajectory
 from .integrate import integrate, result_message
-
-DEFAULT_CUBIC = 10.0
-"""Default cubic stiffening kappa (1/L^2): at p = 1.04 p_c of the seven-filament preset it
-saturates the beat at a tip amplitude of about 3 um (a quarter of L; see tests/test_simulate.py)."""
 
 MIN_SAMPLES_PER_S = 2000.0
 MAX_SAMPLES = 200_000

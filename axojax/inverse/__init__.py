@@ -8,6 +8,7 @@
 
 from . import diagnostics
 from .conditions import Condition
+from .fit import build_problem, fit
 from .least_squares import (
     LBFGS,
     METHODS,
@@ -53,6 +54,8 @@ __all__ = [
     "WarmSolution",
     "build_report",
     "diagnostics",
+    "fit",
+    "build_problem",
     "least_squares",
     "normal_prior",
     "posterior",

@@ -2,8 +2,8 @@
 
 A *condition* is one experiment (one axoneme at one ATP level, one figure panel): the
 parameter values that are known for it (e.g. its dynein force ``p``), what was observed
-(scalar :class:`~axojax.fitting.Target` s with sigmas, optionally a psi_1 shape
-:class:`~axojax.fitting.ShapeTarget`) and where that came from. Several conditions share
+(scalar :class:`~axojax.beats.Target` s with sigmas, optionally a psi_1 shape
+:class:`~axojax.beats.ShapeTarget`) and where that came from. Several conditions share
 the free parameters of an :class:`~axojax.inverse.Problem` that are not fitted per
 condition.
 """
@@ -14,7 +14,7 @@ import dataclasses
 from collections.abc import Sequence
 from typing import Any
 
-from ..fitting.targets import ShapeTarget, Target
+from ..beats.targets import ShapeTarget, Target
 from ..models.section import Model
 from ..params import PARAM_NAMES, Params
 
@@ -56,7 +56,7 @@ class Condition:
         object.__setattr__(self, "targets", tuple(self.targets))
         for t in self.targets:
             if not isinstance(t, Target):
-                raise TypeError(f"condition targets must be axojax.fitting.Target, got {t!r}")
+                raise TypeError(f"condition targets must be axojax.beats.Target, got {t!r}")
         if not self.targets and self.shape is None:
             raise ValueError(
                 f"condition {self.label if self.label is not None else ''}: give at least one target or a shape".replace(

@@ -40,20 +40,20 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from ..dynamics.simulate import DEFAULT_CUBIC
+from ..beats.targets import SCALARS, ShapeTarget
 from ..eigen.mode import DEFAULT_SOLVER, dominant_mode_impl
 from ..eigen.solvers import AbstractEigenSolver
-from ..fitting.targets import SCALARS, ShapeTarget, cycle_value, scalar_value, shape_fit
 from ..models.section import Model
 from ..orbits.cycle import LimitCycle
 from ..orbits.measures import cycle_measures
 from ..orbits.solvers import AbstractOrbitSolver, HarmonicBalance, WarmStart
-from ..orbits.targets import aligned_psi1
-from ..orbits.targets import shape_residuals as cycle_shape_residuals
-from ..params import PARAM_NAMES, Params
+from ..params import DEFAULT_CUBIC, PARAM_NAMES, Params
 from ..units import Units
 from .conditions import Condition
+from .cycle_targets import aligned_psi1
+from .cycle_targets import shape_residuals as cycle_shape_residuals
 from .parameters import DEFAULT_BOUNDS, ORBIT_FIELDS, FreeParameter, coordinate_bounds
+from .predictions import cycle_value, scalar_value, shape_fit
 
 SHAPE_FLOOR = 0.05  # rad: model-discrepancy floor of psi_1 (module docstring)
 CYCLE_FAILED = 1e3  # normalised residual of a limit-cycle target where no orbit is found

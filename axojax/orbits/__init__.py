@@ -2,7 +2,7 @@
 directly (harmonic balance and Newton), their Floquet multipliers, derivatives by the
 implicit function theorem, their branch in p from the Hopf point, their waveform
 measures (:mod:`axojax.orbits.measures`) and waveform targets for fits
-(:mod:`axojax.orbits.targets`)."""
+(:mod:`axojax.inverse.cycle_targets`)."""
 
 from ._solve import solve_jit
 from .cycle import LimitCycle

@@ -4,9 +4,8 @@ from __future__ import annotations
 
 import math
 
-from ..dynamics.simulate import DEFAULT_CUBIC
 from ..models.section import Model
-from ..params import Params
+from ..params import DEFAULT_CUBIC, Params
 from ._solve import solve_jit
 from .branch import continue_to
 from .cycle import LimitCycle

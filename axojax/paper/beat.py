@@ -21,8 +21,8 @@ from typing import Sequence
 import numpy as np
 
 from ..critical import critical_force
-from ..dynamics import DEFAULT_CUBIC, Simulation, simulate
-from ..params import Params
+from ..dynamics import Simulation, simulate
+from ..params import DEFAULT_CUBIC, Params
 from ..units import Units
 from ..waveform import fourier_modes
 from .claims import ELASTICITIES, Claim, Row

@@ -11,7 +11,7 @@ Four kinds of content, in ``.csv``, ``.npz`` or MATLAB ``.mat`` files:
 
 Scalars: ``frame_rate_hz`` (frames only), ``length_um``, ``frequency_hz``,
 ``frequency_sigma_hz`` (Fourier modes only), each optional in the file (what is missing may
-come from the caller: :func:`axojax.fitting.read_beat`).
+come from the caller: :func:`axojax.beats.read_beat`).
 
 ``.csv``: header comment lines ``# name = value`` for the scalars, then a header row and
 rows of ``frame,s_um,psi_rad`` (kymograph), ``frame,x_um,y_um[,z_um]`` (centreline points,

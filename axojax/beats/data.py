@@ -1,6 +1,6 @@
-"""Observed beats: read a file (:mod:`axojax.fitting.readers`: kymograph, 2D or 3D
+"""Observed beats: read a file (:mod:`axojax.beats.readers`: kymograph, 2D or 3D
 centreline, Fourier modes; ``.csv``, ``.npz``, ``.mat``), reduce it
-(:mod:`axojax.fitting.reduction`: planarity, beat phase, frequency, psi_0, psi_1 and their
+(:mod:`axojax.beats.reduction`: planarity, beat phase, frequency, psi_0, psi_1 and their
 uncertainties) and hand a fit its targets (:meth:`BeatData.targets`).
 
 Physical inputs a file may lack come from the caller (``read_beat(..., length_um=,
@@ -24,6 +24,7 @@ import numpy as np
 
 from ..waveform import FourierModes
 from . import reduction
+from .bundled import resolve
 from .readers import RawBeat, fail, read_file
 from .reduction import FREQUENCY_REL_FLOOR, PSI1_FLOOR_RAD, Planarity
 from .targets import ShapeTarget, Target
@@ -39,14 +40,14 @@ class BeatData:
         s_um: (S,) arc length from the base (um).
         modes: psi_0 and psi_1 (rad) at ``s_um``: the in-plane component for 3D beats.
         psi1_sigma: (S,) standard error (rad) of each of Re and Im of psi_1 (per-cycle
-            scatter, floored: :mod:`axojax.fitting.reduction`).
+            scatter, floored: :mod:`axojax.beats.reduction`).
         frequency_hz, frequency_sigma_hz: beat frequency and its standard error; ``None``
             when the file has frames of unknown timing or is a Fourier-mode file without one.
         length_um: flagellum length (um).
         kind: ``"kymograph"``, ``"centreline-2d"``, ``"centreline-3d"`` or ``"fourier"``.
         source: the file (or ``"data"``).
         t_s: (T,) frame times and psi_rad: (T, S) tangent angle, ``None`` for Fourier modes.
-        planarity: :class:`~axojax.fitting.reduction.Planarity` of a 3D record, else ``None``.
+        planarity: :class:`~axojax.beats.reduction.Planarity` of a 3D record, else ``None``.
         out_of_plane: for a non-planar 3D record, the out-of-plane component's modes and
             psi_1 sigma ``(FourierModes, (S,))``, else ``None``.
         cycles: whole cycles used (0 for Fourier modes); periods_s: their durations.
@@ -209,7 +210,7 @@ def read_beat(
     cell: int | None = None,
     planarity_threshold: float = reduction.PLANARITY_THRESHOLD,
 ) -> BeatData:
-    """Read a beat file and reduce it (formats: :mod:`axojax.fitting.readers`).
+    """Read a beat file and reduce it (formats: :mod:`axojax.beats.readers`).
 
     Args:
         path: the file, or the name of a bundled data set (``"human_sperm"``,
@@ -219,8 +220,6 @@ def read_beat(
         variables, cell: for ``.npz``/``.mat``: renamed variables, which cell of a cell array.
         planarity_threshold: s3/s2 below which a 3D beat is planar.
     """
-    from ..datasets import resolve
-
     raw = read_file(resolve(path), variables=variables, cell=cell)
     length = _physical(raw, "length_um", length_um, "--length-um")
     notes = []

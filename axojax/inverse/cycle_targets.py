@@ -1,7 +1,7 @@
 """Limit-cycle waveform targets: normalised residuals of a whole observed beat against
 the nonlinear orbit, for least squares and posteriors.
 
-An observed beat (``axojax data``, or :class:`axojax.fitting.targets.ShapeTarget` with
+An observed beat (``axojax data``, or :class:`axojax.beats.targets.ShapeTarget` with
 ``psi0``) gives psi_0(s) and psi_1(s) in absolute amplitude (rad) and scalar measures
 (:class:`CycleTarget`: frequency, static curvature, dynamic amplitude, wavelength, tip
 amplitude, out-of-plane measure). :func:`waveform_residuals` solves the orbit at the
@@ -28,17 +28,17 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from ..fitting.targets import ShapeTarget, Target
+from ..beats.targets import ShapeTarget, Target
 from ..models.section import Model
+from ..orbits.cycle import LimitCycle
+from ..orbits.measures import CycleMeasures, cycle_measures
+from ..orbits.solvers import AbstractOrbitSolver, HarmonicBalance
 from ..params import Params
 from ..units import Units
-from .cycle import LimitCycle
-from .measures import CycleMeasures, cycle_measures
-from .solvers import AbstractOrbitSolver, HarmonicBalance
 
 CYCLE_TARGETS = CycleMeasures.SCALARS
 ALIASES = {"amplitude_um": "tip_amplitude_um"}
-"""Names of :data:`axojax.fitting.targets.CYCLE_SCALARS` that differ from the measures'."""
+"""Names of :data:`axojax.beats.targets.CYCLE_SCALARS` that differ from the measures'."""
 
 
 @dataclasses.dataclass(frozen=True)

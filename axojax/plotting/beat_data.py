@@ -1,4 +1,4 @@
-"""Figure of a reduced beat (:class:`~axojax.fitting.BeatData`): what ``axojax data --plot``
+"""Figure of a reduced beat (:class:`~axojax.beats.BeatData`): what ``axojax data --plot``
 draws, before any fit."""
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from .data import BeatData
+from ..beats.data import BeatData
 
 
 def plot_beat_data(beat: BeatData) -> plt.Figure:

@@ -12,9 +12,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from ..plotting import plot_waveform  # noqa: E402
+from ..orbits.cycle import LimitCycle  # noqa: E402
 from ..units import Units  # noqa: E402
-from .cycle import LimitCycle  # noqa: E402
+from .beats import plot_waveform  # noqa: E402
 
 
 def plot_branch(path_or_arrays, meta: dict | None = None) -> plt.Figure:
@@ -22,7 +22,7 @@ def plot_branch(path_or_arrays, meta: dict | None = None) -> plt.Figure:
     markers: unstable), from the Hopf point (star), and the largest non-trivial Floquet
     multiplier's modulus. Takes a saved branch path or its (arrays, meta)."""
     if meta is None:
-        from .branch import Branch
+        from ..orbits.branch import Branch
 
         arrays, meta = Branch.load(path_or_arrays)
     else:

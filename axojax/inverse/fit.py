@@ -14,19 +14,18 @@ from __future__ import annotations
 import warnings
 from collections.abc import Sequence
 
-from ..dynamics.simulate import DEFAULT_CUBIC
+from ..beats.targets import ShapeTarget, Target
 from ..eigen.mode import DEFAULT_SOLVER
 from ..eigen.solvers import AbstractEigenSolver
-from ..inverse.conditions import Condition
-from ..inverse.least_squares import LeastSquaresSolver, least_squares, solver_from_name
-from ..inverse.parameters import DEFAULT_BOUNDS, LINEAR
-from ..inverse.problem import CYCLE_FAILED, SHAPE_FLOOR, Problem
-from ..inverse.report import IDENTIFIABLE_MAX_LOG_SE, SHAPE_RMS_OK, FitResult
 from ..models.section import Model
 from ..orbits.solvers import AbstractOrbitSolver, HarmonicBalance
-from ..params import Params
+from ..params import DEFAULT_CUBIC, Params
 from ..units import Units
-from .targets import ShapeTarget, Target
+from .conditions import Condition
+from .least_squares import LeastSquaresSolver, least_squares, solver_from_name
+from .parameters import DEFAULT_BOUNDS, LINEAR
+from .problem import CYCLE_FAILED, SHAPE_FLOOR, Problem
+from .report import IDENTIFIABLE_MAX_LOG_SE, SHAPE_RMS_OK, FitResult
 
 __all__ = [
     "CYCLE_FAILED",

@@ -1,0 +1,32 @@
+"""Observed beats, and nothing of the model: beat-file readers (:mod:`.readers`), their
+reduction to Fourier modes of the tangent angle (:mod:`.reduction`, :class:`BeatData`),
+what a fit matches as records (:mod:`.targets`), published observations
+(:mod:`.observations`) and where the bundled data sets lie (:mod:`.bundled`).
+
+Everything that compares a model with these lives in :mod:`axojax.inverse`; the bundled
+data sets' user-facing list is :mod:`axojax.datasets` (it depends on this package, never
+the reverse).
+"""
+
+from .bundled import FILES, resolve
+from .data import BeatData, beat_from_kymograph, read_beat
+from .observations import OBSERVATIONS, observation_targets
+from .readers import BeatFileError
+from .reduction import Planarity
+from .targets import CYCLE_SCALARS, SCALARS, ShapeTarget, Target
+
+__all__ = [
+    "CYCLE_SCALARS",
+    "FILES",
+    "OBSERVATIONS",
+    "SCALARS",
+    "BeatData",
+    "BeatFileError",
+    "Planarity",
+    "ShapeTarget",
+    "Target",
+    "beat_from_kymograph",
+    "observation_targets",
+    "read_beat",
+    "resolve",
+]
