@@ -1,12 +1,14 @@
 """``axojax data FILE``: what axojax extracts from beat data before any fit (length,
 frequency and its sigma, wavelength, static curvature, dynamic amplitude, planarity),
-optionally with a figure.
+optionally with a figure. ``axojax data --list``: the bundled data sets, each with its
+source and licence (JSON: ``{"datasets": [{"name", "file", "description", "source",
+"licence", "citation", "path"}, ...]}``).
 
 Physical inputs the file may lack: ``--length-um`` and ``--frame-rate-hz``. A value in the
 file and a different one on the command line is an error (one line naming both); a
 centreline without either length uses the median measured arc length of its frames.
 
-JSON: the keys of INTERFACE.md (``file``, ``kind``, ``length_um``, ``frequency_hz``,
+JSON: the keys of docs/interface.md (``file``, ``kind``, ``length_um``, ``frequency_hz``,
 ``frequency_sigma_hz``, ``wavelength_um``, ``static_curvature_rad_per_um``,
 ``dynamic_amplitude_rad``, ``planarity``) plus ``n_points``, ``frames``, ``cycles``,
 ``psi1_sigma_rad`` (min/median/max), ``floors``, ``excluded_base_um``,
@@ -31,7 +33,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "file",
         metavar="FILE",
-        help="beat file (.csv, .npz, .mat: kymograph, 2D/3D centreline or Fourier modes) or a bundled data set (human_sperm)",
+        nargs="?",
+        default=None,
+        help="beat file (.csv, .npz, .mat: kymograph, 2D/3D centreline or Fourier modes) or a bundled data set's name (--list lists them)",
+    )
+    parser.add_argument(
+        "--list",
+        action="store_true",
+        help="list the bundled data sets with their source and licence (instead of FILE)",
     )
     parser.add_argument(
         "--length-um",
@@ -77,7 +86,34 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", action="store_true", help="print one JSON document on stdout")
 
 
+def _list(args: argparse.Namespace) -> dict:
+    """The document of ``axojax data --list``."""
+    from ..datasets import info, names
+
+    given = [
+        flag
+        for flag, value in (
+            ("FILE", args.file),
+            ("--plot", args.plot),
+            ("--length-um", args.length_um),
+            ("--frame-rate-hz", args.frame_rate_hz),
+            ("--cell", args.cell),
+            ("--exclude-base-um", args.exclude_base_um),
+        )
+        if value is not None
+    ]
+    if given:
+        raise common.CLIError(f"--list: lists the bundled data sets; give it without {given[0]}")
+    return {"datasets": [info(name).to_json() for name in names()]}
+
+
 def run(args: argparse.Namespace) -> dict:
+    if args.list:
+        return _list(args)
+    if args.file is None:
+        raise common.CLIError(
+            "FILE: give a beat file or a bundled data set's name ('axojax data --list' lists them)"
+        )
     common.check_output(
         "--plot", args.plot, common.FIGURE_SUFFIXES
     )  # before any work, as every command
@@ -124,7 +160,23 @@ def _num(v, fmt: str, unit: str) -> str:
     )
 
 
+def _render_list(doc: dict) -> str:
+    lines = []
+    for d in doc["datasets"]:
+        lines += [
+            f"{d['name']}: {d['description']}",
+            f"  file      {d['path']}",
+            f"  source    {d['source']}",
+            f"  licence   {d['licence']}",
+            f"  citation  {d['citation']}",
+        ]
+    lines.append("(source, units and extraction in full: axojax/data/README.md)")
+    return "\n".join(lines)
+
+
 def render(doc: dict) -> str:
+    if "datasets" in doc:
+        return _render_list(doc)
     freq = (
         "unknown (give --target-frequency to a fit)"
         if doc["frequency_hz"] is None

@@ -211,7 +211,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         type=int,
         default=None,
         metavar="DRAWS",
-        help="then sample the posterior from the optimum with NUTS: DRAWS per chain after as many warm-up steps "
+        help="then sample the posterior from the optimum with NUTS: DRAWS per chain after max(DRAWS, 150) warm-up steps "
         "(adds \"posterior\" to the report; with --out FIT.json the draws go to FIT.posterior.npz, drawn by 'axojax plot')",
     )
     parser.add_argument(

@@ -1,5 +1,11 @@
-"""``axojax plot``: figures of sweeps and simulations (``FILE.npz --out FIGURE.png``), or of
-a model's cross-section (``--model NAME`` | ``--model-file PATH`` ``--out FIGURE.png``)."""
+"""``axojax plot``: the figure of a file an axojax command wrote (a sweep, simulation, orbit
+branch or posterior ``.npz``, or a fit report ``.json``), or of a model's cross-section
+(``--model NAME`` | ``--model-file PATH``).
+
+Where the figure goes: ``--out FIGURE.png``, or by default beside its input with the
+input's suffix replaced (``map.npz`` -> ``map.png``, ``fit.json`` -> ``fit.png``,
+``section.toml`` -> ``section.png``); a preset's cross-section (``--model NAME``) has no
+input file, so it needs ``--out``."""
 
 from __future__ import annotations
 
@@ -17,18 +23,22 @@ from . import common
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "file",
-        metavar="FILE.npz",
+        metavar="FILE",
         nargs="?",
         default=None,
-        help="output of 'axojax sweep' or 'axojax simulate'",
+        help="what to draw: a map ('axojax sweep' .npz), a beat ('axojax simulate' .npz), "
+        "an orbit branch ('axojax orbit --out' .npz), posterior draws ('axojax fit --posterior' "
+        "FIT.posterior.npz: corner plot) or a fit report ('axojax fit --out' FIT.json)",
     )
-    g = parser.add_argument_group("cross-section (instead of FILE.npz)")
+    g = parser.add_argument_group("cross-section (instead of FILE)")
     common.add_model_source(g, elements=False, default="")
     parser.add_argument(
         "--out",
-        required=True,
+        default=None,
         metavar="FIGURE.png",
-        help=f"figure path ({', '.join(common.FIGURE_SUFFIXES)})",
+        help=f"figure path ({', '.join(common.FIGURE_SUFFIXES)}); default: beside the input "
+        "with its suffix replaced by .png (FILE.npz -> FILE.png, FIT.json -> FIT.png); "
+        "required for a preset's cross-section (--model)",
     )
     parser.add_argument("--json", action="store_true", help="print one JSON document on stdout")
 
@@ -253,7 +263,23 @@ def _figure(args: argparse.Namespace):
         ) from None
 
 
+def default_out(args: argparse.Namespace) -> str:
+    """The figure's path when ``--out`` is not given: beside the input (FILE or
+    ``--model-file``) with its suffix replaced by ``.png``."""
+    source = args.file if args.file is not None else args.model_file
+    if source is None:
+        what = "a preset's cross-section" if args.model is not None else "nothing"
+        raise common.CLIError(
+            f"--out: {what} has no input file to put the figure beside; give --out FIGURE.png"
+        )
+    return str(pathlib.Path(source).with_suffix(".png"))
+
+
 def run(args: argparse.Namespace) -> dict:
+    if args.out is None and not (
+        args.file is None and args.model is None and args.model_file is None
+    ):
+        args.out = default_out(args)
     common.check_output("--out", args.out, common.FIGURE_SUFFIXES)
     if args.file is not None and str(args.file).endswith(
         ".json"

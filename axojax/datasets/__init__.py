@@ -6,13 +6,14 @@ source, licence, citation, units and extraction).
   CC0 1.0).
 
 A bundled data set's name is accepted wherever a beat file is (``read_beat("human_sperm")``,
-``axojax data human_sperm``, ``axojax fit --data human_sperm``).
+``axojax data human_sperm``, ``axojax fit --data human_sperm``). :func:`names` lists them,
+:func:`info` gives one's source and licence (``axojax data --list`` prints both).
 """
 
 from __future__ import annotations
 
 from ..beats import read_beat
-from ..beats.bundled import DATA, FILES, path, resolve
+from ..beats.bundled import DATA, DATASETS, FILES, Dataset, path, resolve
 
 
 def human_sperm(**kwargs):
@@ -32,4 +33,30 @@ def human_sperm(**kwargs):
     return read_beat(path("human_sperm"), **kwargs)
 
 
-__all__ = ["DATA", "FILES", "human_sperm", "path", "resolve"]
+def names() -> tuple[str, ...]:
+    """The names of the bundled data sets (each accepted wherever a beat file is)."""
+    return tuple(DATASETS)
+
+
+def info(name: str) -> Dataset:
+    """Bundled data set ``name``: its file, description, source, licence and citation.
+
+    Raises:
+        ValueError: ``name`` is not a bundled data set (the message lists them).
+    """
+    if name not in DATASETS:
+        raise ValueError(f"unknown data set {name!r}; bundled: {', '.join(DATASETS)}")
+    return DATASETS[name]
+
+
+__all__ = [
+    "DATA",
+    "DATASETS",
+    "FILES",
+    "Dataset",
+    "human_sperm",
+    "info",
+    "names",
+    "path",
+    "resolve",
+]

@@ -139,9 +139,11 @@ def _scalar_figure(report: dict, title: str) -> plt.Figure:
         return f"{c['label']} ({fixed})" if fixed else str(c["label"])
 
     rows = [(name(c), t) for c in report.get("conditions", []) for t in c["targets"]]
-    fig, (a_val, a_res) = plt.subplots(1, 2, figsize=(12, 4.5))
     names = sorted({t["name"] for _, t in rows})
-    for name in names:
+    # one value panel per target name: each unit (Hz, um, ...) on its own axis
+    fig, axes = plt.subplots(1, len(names) + 1, figsize=(4.5 * len(names) + 6, 4.5), squeeze=False)
+    *value_axes, a_res = axes[0]
+    for a_val, name in zip(value_axes, names):
         sel = [(lab, t) for lab, t in rows if t["name"] == name]
         x = np.arange(len(sel))
         a_val.errorbar(
@@ -149,22 +151,15 @@ def _scalar_figure(report: dict, title: str) -> plt.Figure:
             [t["value"] for _, t in sel],
             yerr=[t["sigma"] for _, t in sel],
             fmt="o",
-            label=f"{name} observed",
+            label="observed",
         )
-        a_val.plot(
-            x,
-            [np.nan if t["achieved"] is None else t["achieved"] for _, t in sel],
-            "x",
-            ms=9,
-            label=f"{name} fitted",
-        )
+        achieved = [np.nan if t["achieved"] is None else t["achieved"] for _, t in sel]
+        a_val.plot(x, achieved, "x", ms=9, label="fitted")
         a_val.set_xticks(x, [lab for lab, _ in sel])
-    a_val.set(
-        xlabel="condition", ylabel="value (physical units)", title="targets and fitted values"
-    )
-    if all(t["value"] > 0 for _, t in rows) and rows:
-        a_val.set_yscale("log")
-    a_val.legend(fontsize=8)
+        a_val.set(xlabel="condition", ylabel=name, title=f"{name}: target and fit")
+        if all(t["value"] > 0 for _, t in sel):
+            a_val.set_yscale("log")
+        a_val.legend(fontsize=8)
     labels = [f"{lab}: {t['name']}" for lab, t in rows]
     a_res.barh(np.arange(len(rows)), [t["residual"] for _, t in rows])
     a_res.set_yticks(np.arange(len(rows)), labels, fontsize=8)
