@@ -30,6 +30,9 @@ PATH = re.compile(rf"(?<![\w./-]){TOP}/[\w./-]*?\.{EXTENSIONS}\b(?![\w/-])")
 """A repository path such as ``docs/model.md`` or ``axojax/cli/fit.py`` (not inside a URL
 or another path)."""
 
+PLACEHOLDER = re.compile(r"NAME|FILE|PATH|X|Y|Z")
+"""Upper-case stems that stand for any name in usage lines (``notebooks/NAME.ipynb``)."""
+
 MODEL_SECTION = re.compile(r"docs/model\.md,?\s+sections?\s+(\d+)(?:\s*-\s*(\d+))?")
 
 THIS_FILE = pathlib.Path(__file__).resolve()
@@ -94,6 +97,8 @@ def test_every_named_repository_path_exists():
         for n, line in enumerate(_text(path).splitlines(), 1):
             for m in PATH.finditer(line):
                 name = m.group(0).rstrip(".")
+                if PLACEHOLDER.fullmatch(pathlib.PurePosixPath(name).stem):
+                    continue  # a pattern such as notebooks/NAME.ipynb
                 if not (ROOT / name).exists():
                     bad.append(f"{path.relative_to(ROOT)}:{n}: {name}")
     assert not bad, "named files that are not in the repository:\n" + "\n".join(bad)
@@ -136,6 +141,7 @@ def test_outside_pattern(text, found):
         ("see docs/model.md.", ["docs/model.md"]),
         ("https://example.org/scripts/x.py and a/docs/y.md", []),
         ("notebooks/gallery_fig*.ipynb", []),
+        ("run notebooks/NAME.ipynb", ["notebooks/NAME.ipynb"]),
     ],
 )
 def test_path_pattern(text, found):
