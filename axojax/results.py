@@ -37,12 +37,13 @@ With ``throw=True`` a failure raises: inside the jit-compiled functions
 one-line ``ValueError`` saying why.
 
 Plain-Python documents and files: every result type has ``to_json()``, the plain-Python
-document of the ``--json`` output it appears in (JSON-able: numbers, strings, lists,
-dicts, None; NaN and infinities as None: :func:`jsonable`); the types stored in files (:class:`~axojax.sweeps.SweepResult`,
-:class:`~axojax.dynamics.simulate.Simulation`) have ``save(path)`` (written whole,
-:mod:`axojax._io`) and ``load(path)``, and ``load(path).to_json() == to_json()``. Files
-store a code by its name (:func:`name`, :func:`from_names`): the integer indices depend on
-the installed diffrax and optimistix.
+document of the ``--json`` output it appears in (numbers, strings, lists, dicts, None;
+NaN and infinities as None: :func:`jsonable`); the types stored in files
+(:class:`~axojax.sweeps.SweepResult`, :class:`~axojax.dynamics.simulate.Simulation`) have
+``save(path)`` (written whole, :mod:`axojax._io`) and ``load(path)``, and
+``load(path).to_json() == to_json()``. Files store a code by its name (:func:`name`,
+:func:`from_names`, :func:`code_names`): the integer codes depend on the installed
+diffrax and optimistix.
 
 Traced inputs (inside ``jit``/``vmap``/``grad``) are not validated when traced (their
 values are unknown then): a NaN, infinite, negative or out-of-range parameter gives NaN

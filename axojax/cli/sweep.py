@@ -75,7 +75,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         type=int,
         default=None,
         metavar="SECONDS",
-        help=f"how long to wait for every process to join (default {DEFAULT_TIMEOUT_S}; only with the flags above): a process I > 0 stops with a one-line error when process 0 does not answer; process 0 stops with jax's error when the others do not join",
+        help=(
+            f"how long to wait for every process to join (default {DEFAULT_TIMEOUT_S}; only "
+            "with the flags above): a process I > 0 stops with a one-line error when "
+            "process 0 does not answer; process 0 stops with jax's error when the others "
+            "do not join"
+        ),
     )
 
 
@@ -95,7 +100,8 @@ def check_timeout(args: argparse.Namespace) -> int:
         raise common.CLIError(f"--timeout: expected seconds >= 1, got {args.timeout}")
     if not _distributed(args):
         raise common.CLIError(
-            f"--timeout: only used by a distributed sweep (with --distributed, --coordinator, --num-processes or --process-id), got --timeout {args.timeout} without one"
+            "--timeout: only used by a distributed sweep (with --distributed, --coordinator, "
+            f"--num-processes or --process-id), got --timeout {args.timeout} without one"
         )
     return args.timeout
 

@@ -200,7 +200,8 @@ def dominant_mode(
     ``Params`` are refused with a message naming ``jax.vmap``. ``solver`` is an
     :mod:`axojax.eigen.solvers` object (default :class:`~axojax.eigen.Auto`: dense for
     small models, certified Arnoldi for large). ``throw=True`` raises (at run time, also
-    under ``jit``) when ``mode.result`` is not ``successful``.
+    under ``jit``) when ``mode.result`` is not ``successful``; default False, as everywhere
+    (:mod:`axojax.results`): read ``mode.result`` and ``mode.message``.
     """
     if not isinstance(solver, AbstractEigenSolver):
         raise TypeError(
