@@ -1,7 +1,8 @@
 """Output files written whole: a temporary name in the target directory, then a rename.
 
 Every file axojax writes (sweep results and their chunks, simulations, orbit branches,
-figures, animations, NetCDF) goes through :func:`atomic_path`: the writer fills a
+posteriors, figures (:func:`save_figure`), animations, NetCDF, text
+(:func:`write_text`)) goes through :func:`atomic_path`: the writer fills a
 temporary file next to the target, named per process (``.NAME.PID.RANDOM.tmp.SUFFIX``,
 so two processes never share one), and ``os.replace`` renames it onto the target only
 when the writer returned. A process killed at any moment (``kill -9``) leaves either no
@@ -85,6 +86,16 @@ def write_text(path: str | os.PathLike, text: str) -> None:
     """``path.write_text(text)``, atomically."""
     with atomic_path(path) as tmp:
         tmp.write_text(text)
+
+
+def save_figure(fig, path: str | os.PathLike, **kwargs) -> None:
+    """``fig.savefig(path, **kwargs)``, atomically; the format is the target's suffix
+    (matplotlib's default format for a path without one)."""
+    import matplotlib
+
+    fmt = pathlib.Path(path).suffix[1:].lower() or matplotlib.rcParams["savefig.format"]
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, format=kwargs.pop("format", fmt), **kwargs)
 
 
 def check_output_path(path: str | os.PathLike, suffixes: tuple[str, ...]) -> pathlib.Path:

@@ -11,12 +11,14 @@ the implicit function theorem (dp_c/dtheta = -(dRe lambda/dtheta) / (dRe lambda/
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import equinox as eqx
 import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
+from . import results
 from .eigen.mode import DEFAULT_SOLVER
 from .eigen.solvers import AbstractEigenSolver
 from .models.section import Model
@@ -47,6 +49,22 @@ class Critical(eqx.Module):
     def frequency_hz(self, units: Units = Units()) -> Float[Array, "..."]:
         """Onset frequency |Im lambda| / (2 pi tau)."""
         return jnp.abs(jnp.imag(self.eigenvalue)) / (2 * jnp.pi * units.tau_s)
+
+    @property
+    def message(self) -> str:
+        """``result``'s message on one line (:func:`axojax.results.message`)."""
+        return results.message(self.result)
+
+    def to_json(self, units: Units = Units()) -> dict[str, Any]:
+        """Plain-Python summary of one point (an entry of ``axojax critical --json``):
+        ``{"p": p_c, "frequency_hz": f_c}`` (Hz), both ``None`` without a crossing."""
+        found = bool(self.found)
+        return results.jsonable(
+            {
+                "p": float(self.p) if found else None,
+                "frequency_hz": float(self.frequency_hz(units)) if found else None,
+            }
+        )
 
 
 def _eig_at(model: Model, params: Params, p, solver: AbstractEigenSolver):
@@ -120,7 +138,8 @@ def _critical_force_impl(
         solver: dominant-eigenpair solver (:mod:`axojax.eigen.solvers`).
         throw: raise (at run time, also under ``jit``) when ``result`` is a failure
             (``max_steps_reached``, ``invalid_params``); ``no_crossing`` is an answer,
-            not a failure. Default False: read ``result``.
+            not a failure. Default False, as everywhere (:mod:`axojax.results`): read
+            ``result``.
 
     Returns:
         :class:`Critical`; ``p`` is differentiable in every other field of ``params``.

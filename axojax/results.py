@@ -1,23 +1,49 @@
 """One result convention for every solver, as optimistix and diffrax have it.
 
-Every solver's answer carries a ``result`` field: an item of :class:`RESULTS`, an
+Every answer a user meets carries a ``result``: an item of :class:`RESULTS`, an
 ``equinox.Enumeration`` (a pytree: it passes through ``jit``, ``vmap`` and ``grad``).
-``result == RESULTS.successful`` is the one test of success, whatever the solver:
+``result == RESULTS.successful`` is the one test of success, whatever the solver, and
+``.message`` is the item's message on one line ("successful" for success):
 
-- ``Mode``: successful, invalid_params, nonfinite (``certified`` kept: which solver
-  answered);
-- ``Critical``: successful, no_crossing, max_steps_reached, invalid_params (``found``
-  kept);
-- ``LimitCycle``: successful, no_start, nonlinear_max_steps_reached (``converged`` kept);
-- ``Trajectory``: diffrax's own codes, promoted (``max_steps_reached``,
-  ``dt_min_reached``, ...; ``ok`` kept).
+- :class:`~axojax.eigen.mode.Mode` (:func:`axojax.dominant_mode`): successful,
+  invalid_params, nonfinite (``certified`` kept: which solver answered);
+- :class:`~axojax.critical.Critical` (:func:`axojax.critical_force`): successful,
+  no_crossing, max_steps_reached, invalid_params (``found`` kept);
+- :class:`~axojax.orbits.LimitCycle` (:func:`axojax.limit_cycle`): successful, no_start,
+  nonlinear_max_steps_reached (``converged`` kept);
+- :class:`~axojax.dynamics.simulate.Simulation` (:func:`axojax.simulate`): diffrax's
+  codes, promoted (``max_steps_reached``, ``dt_min_reached``, ...; ``state`` and
+  ``meta["solver"]["ok"]`` kept);
+- :class:`~axojax.sweeps.SweepResult` (:func:`axojax.sweep`): one code per grid point, a
+  :class:`RESULTS` item holding an array (as ``jax.vmap`` of :func:`axojax.dominant_mode`
+  gives), and a one-line ``.message`` counting the failures (:func:`summary`).
 
 ``RESULTS`` extends ``diffrax.RESULTS`` (which extends ``optimistix.RESULTS``), so the
 codes of an ODE solve or a root find promote into it (``RESULTS.promote(sol.result)``).
-``RESULTS[item]`` is the message of an item; :func:`message` gives it for a concrete item
-on one line. Functions that can fail take ``throw=``: with ``throw=True`` a failure
-raises (``item.error_if``: an error at run time, also under ``jit``); with
-``throw=False`` the caller reads ``result``.
+``RESULTS[item]`` is the message of an item; :func:`message` gives it on one line.
+
+``throw``: every function that can fail takes ``throw=``, and its default is ``False``
+everywhere (:func:`axojax.dominant_mode`, :func:`axojax.critical_force`,
+:func:`axojax.limit_cycle`, :func:`axojax.simulate`, :func:`axojax.sweep`): a failure is
+data, reported in ``result``. That is the default that fits axojax, whose functions run
+inside ``jit``, ``vmap`` and ``grad``: under ``vmap`` one failing point must not discard
+the batch (a sweep with one bad point still returns the others), and a run-time error
+cannot be caught by type inside a compiled program. Bad *input* is not a result: concrete
+arguments are validated first and raise a one-line ``ValueError`` whatever ``throw`` is.
+With ``throw=True`` a failure raises: inside the jit-compiled functions
+(:func:`~axojax.dominant_mode`, :func:`~axojax.critical_force`) ``item.error_if`` (an
+``equinox`` run-time error, also under ``jit``), in the host-side ones
+(:func:`~axojax.limit_cycle`, :func:`~axojax.simulate`, :func:`~axojax.sweep`) a
+one-line ``ValueError`` saying why.
+
+Plain-Python documents and files: every result type has ``to_json()``, the plain-Python
+document of the ``--json`` output it appears in (numbers, strings, lists, dicts, None;
+NaN and infinities as None: :func:`jsonable`); the types stored in files
+(:class:`~axojax.sweeps.SweepResult`, :class:`~axojax.dynamics.simulate.Simulation`) have
+``save(path)`` (written whole, :mod:`axojax._io`) and ``load(path)``, and
+``load(path).to_json() == to_json()``. Files store a code by its name (:func:`name`,
+:func:`from_names`, :func:`code_names`): the integer codes depend on the installed
+diffrax and optimistix.
 
 Traced inputs (inside ``jit``/``vmap``/``grad``) are not validated when traced (their
 values are unknown then): a NaN, infinite, negative or out-of-range parameter gives NaN
@@ -28,7 +54,13 @@ are validated first and raise a one-line ``ValueError`` (:meth:`axojax.Params.va
 
 from __future__ import annotations
 
+import math
+from collections.abc import Mapping, Sequence
+from typing import Any
+
 import diffrax
+import equinox as eqx
+import numpy as np
 import optimistix as optx
 
 
@@ -41,18 +73,106 @@ class RESULTS(diffrax.RESULTS):
     no_start = "No limit cycle: the Hopf normal form has no small orbit here (subcritical, or not past the Hopf point); start from a nearby orbit."
 
 
+NAMES: tuple[str, ...] = tuple(
+    sorted(RESULTS._name_to_item, key=lambda n: int(RESULTS._name_to_item[n]._value))
+)
+"""Every item's name, in code order (``NAMES[code]``)."""
+
+
+def _as_results(result) -> RESULTS:
+    return result if isinstance(result, RESULTS) else RESULTS.promote(result)
+
+
+def codes(result) -> np.ndarray:
+    """The integer codes of a concrete item (a 0-d array for one result, an array of the
+    batch's shape for a vmapped one or a sweep's)."""
+    return np.asarray(_as_results(result)._value)
+
+
+def from_codes(values) -> RESULTS:
+    """The :class:`RESULTS` item holding integer ``values`` (any shape), e.g. codes taken
+    out of a batch."""
+    values = np.asarray(values, dtype=np.int32)
+    if values.size and (values.min() < 0 or values.max() >= len(NAMES)):
+        raise ValueError(f"result codes must be in 0..{len(NAMES) - 1}, got {values.min()}")
+    return eqx.tree_at(lambda item: item._value, RESULTS.successful, values)
+
+
+def name(result) -> str:
+    """The name of a concrete one-point item (``"successful"``, ``"no_crossing"``, ...):
+    how files store it."""
+    return NAMES[int(codes(result))]
+
+
+def from_names(names: str | Sequence[str] | np.ndarray) -> RESULTS:
+    """The item (or array item) of a stored name (or array of names)."""
+    arr = np.asarray(names, dtype=str)
+    unknown = sorted(set(arr.ravel().tolist()) - set(NAMES))
+    if unknown:
+        raise ValueError(f"unknown result name {unknown[0]!r}; known: {', '.join(NAMES)}")
+    index = {n: i for i, n in enumerate(NAMES)}
+    return from_codes(np.vectorize(index.__getitem__, otypes=[np.int32])(arr))
+
+
+def code_names() -> dict[str, str]:
+    """``{"0": "successful", "1": "max_steps_reached", ...}``: the code table a file
+    stores next to an array of codes (a sweep's ``meta["result"]``)."""
+    return {str(i): n for i, n in enumerate(NAMES)}
+
+
+def recode(values, table: Mapping[str, str]) -> RESULTS:
+    """The item of codes ``values`` written with the code table ``table``
+    (:func:`code_names` of the writer), mapped to this installation's codes."""
+    values = np.asarray(values)
+    unknown = sorted({str(int(c)) for c in np.unique(values)} - set(table))
+    if unknown:
+        raise ValueError(f"result code {unknown[0]} is not in the code table {dict(table)}")
+    lookup = np.vectorize(lambda c: table[str(int(c))], otypes=[object])
+    return from_names(lookup(values).astype(str) if values.size else values.astype(str))
+
+
 def message(result: RESULTS | diffrax.RESULTS | optx.RESULTS) -> str:
-    """The message of a concrete result item (of :class:`RESULTS` or of an enumeration it
-    extends), on one line ("successful" for success)."""
-    text = RESULTS.promote(result) if not isinstance(result, RESULTS) else result
-    line = " ".join(RESULTS[text].split())
+    """The message of a concrete result item on one line ("successful" for success); for
+    an array item (a batch, a sweep), :func:`summary`."""
+    item = _as_results(result)
+    if np.ndim(item._value):
+        return summary(item)
+    line = " ".join(RESULTS[item].split())
     return line or "successful"
 
 
+def summary(result) -> str:
+    """One line on an array of results: ``"all 12 successful"``, or how many failed, by
+    name, with the first failure's message, e.g. ``"2 of 12 failed (invalid_params 2):
+    A parameter is NaN, ..."``."""
+    values = codes(result).ravel()
+    n = values.size
+    failed = values[values != 0]
+    if not failed.size:
+        return f"all {n} successful"
+    kinds, counts = np.unique(failed, return_counts=True)
+    by_name = ", ".join(f"{NAMES[k]} {c}" for k, c in zip(kinds, counts))
+    first = message(from_codes(failed[0]))
+    return f"{failed.size} of {n} failed ({by_name}): {first}"
+
+
+def jsonable(obj: Any) -> Any:
+    """``obj`` as plain Python for ``json.dumps(..., allow_nan=False)``: arrays and numpy
+    scalars to lists and numbers, NaN and infinities to None (what every ``to_json``
+    returns)."""
+    if isinstance(obj, Mapping):
+        return {str(k): jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [jsonable(v) for v in obj]
+    if isinstance(obj, np.ndarray) or hasattr(obj, "__array__"):
+        arr = np.asarray(obj)
+        return jsonable(arr.tolist() if arr.ndim else arr.item())
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return obj
+
+
 def is_successful(result) -> bool:
-    """Whether a concrete result item is ``RESULTS.successful``."""
-    return (
-        bool(RESULTS.promote(result) == RESULTS.successful)
-        if not isinstance(result, RESULTS)
-        else bool(result == RESULTS.successful)
-    )
+    """Whether a concrete result item (every point of an array item) is
+    ``RESULTS.successful``."""
+    return bool(np.all(codes(result) == 0))

@@ -28,7 +28,7 @@ def orbit_times(elements: int = 10, harmonics: int = 8, cubic: float = 10.0) -> 
         cycle = ax.limit_cycle(model, params, cubic, solver=solver)
         jax.block_until_ready(cycle.coefficients)
         times.append(time.perf_counter() - t)
-    rep = cycle.report()
+    rep = cycle.to_json()
     return {
         "with_compilation_s": times[0],
         "after_compilation_s": times[1],

@@ -54,7 +54,7 @@ def test_orbit_equals_long_simulation(two4):
     P = lc["period_s"]
     late = sim.t_s >= sim.t_s[-1] - 5 * P - 1e-6 * P
     fm = fourier_modes(sim.t_s[late], sim.x_um, sim.psi_rad[late], P)
-    rep = cycle.report()
+    rep = cycle.to_json()
     assert abs(rep["static_curvature_rad_per_um"] / fm.static_curvature - 1) < 1e-4
     assert abs(rep["dynamic_amplitude_rad"] / fm.dynamic_amplitude - 1) < 1e-4
 
@@ -190,8 +190,8 @@ def test_branch_cli(two4, p_hopf, tmp_path, capsys):
 
 
 def test_bad_input_one_line(two4, p_hopf, capsys):
-    with pytest.raises(ValueError, match="equilibrium is linearly stable"):
-        ax.limit_cycle(two4, ax.Params(p=0.9 * p_hopf), KAPPA, solver=SOLVER)
+    with pytest.raises(ValueError, match="equilibrium is linearly stable"):  # throw: default False
+        ax.limit_cycle(two4, ax.Params(p=0.9 * p_hopf), KAPPA, solver=SOLVER, throw=True)
     with pytest.raises(ValueError, match="kappa must be"):
         ax.limit_cycle(two4, ax.Params(p=160.0), 0.0)
     with pytest.raises(ValueError, match="has no links"):

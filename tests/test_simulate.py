@@ -123,7 +123,7 @@ def test_solver_failure_is_reported_as_such():
     reason = sim.reason
     assert "\n" not in reason and "maximum number of solver steps" in reason.lower()
     assert f"{solver['t_reached_s']:.4g} s" in reason
-    assert sim.report()["reason"] == reason
+    assert sim.to_json()["reason"] == reason
 
 
 def test_tangent_stiffness_is_the_exact_jacobian():

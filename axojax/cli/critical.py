@@ -51,14 +51,7 @@ def run(args: argparse.Namespace) -> dict:
     if args.along is None:
         c = critical_force(model, params, solver=solver)
         _report_failures(args, [("", c.result)])
-        return {
-            "critical": [
-                {
-                    "p": float(c.p) if bool(c.found) else None,
-                    "frequency_hz": float(c.frequency_hz(units)) if bool(c.found) else None,
-                }
-            ]
-        }
+        return {"critical": [c.to_json(units)]}
     (field,) = common.parse_names(args.along, "--along")
     if field == "p":
         raise common.CLIError("--along: the boundary is traced in p, choose another parameter")
@@ -70,8 +63,7 @@ def run(args: argparse.Namespace) -> dict:
     @jax.jit
     def batch(vals):
         def one(v):
-            c = critical_force(model, params.with_values({field: v}, ratio), solver=solver)
-            return c.p, c.frequency_hz(units), c.found, c.result
+            return critical_force(model, params.with_values({field: v}, ratio), solver=solver)
 
         return jax.vmap(one)(vals)
 
@@ -82,25 +74,13 @@ def run(args: argparse.Namespace) -> dict:
     ):
         chunk = values[start : start + chunk_size]
         padded = np.concatenate([chunk, np.repeat(chunk[-1:], chunk_size - len(chunk))])
-        p, f, found, result = batch(padded)
-        p, f, found = (np.asarray(a)[: len(chunk)] for a in (p, f, found))
-        codes = np.asarray(result._value)[: len(chunk)]
-        for v, pc, fc, ok, code in zip(chunk, p, f, found, codes):
-            out.append(
-                {
-                    common.FIELD_FLAGS[field]: float(v),
-                    "p": float(pc) if ok else None,
-                    "frequency_hz": float(fc) if ok else None,
-                }
-            )
-            failures.append((f" at --{common.FIELD_FLAGS[field]} {v:g}", _item(int(code))))
+        crits = jax.tree.map(np.asarray, batch(padded))
+        for i, v in enumerate(chunk):
+            c = jax.tree.map(lambda a: a[i], crits)  # the point's Critical
+            out.append({common.FIELD_FLAGS[field]: float(v), **c.to_json(units)})
+            failures.append((f" at --{common.FIELD_FLAGS[field]} {v:g}", c.result))
     _report_failures(args, failures)
     return {"critical": out}
-
-
-def _item(code: int):
-    """The RESULTS item of a code taken out of a batch."""
-    return next(item for item in RESULTS._name_to_item.values() if int(item._value) == code)
 
 
 def _report_failures(args: argparse.Namespace, results) -> None:

@@ -63,7 +63,7 @@ def run(args: argparse.Namespace) -> dict:
         "n_dof": model.n_dof,
         "tau_s": units.tau_s,
         "eigenvalues": [[float(z.real), float(z.imag)] for z in lam],
-        "dominant": mode.report(units),
+        "dominant": mode.to_json(units),
     }
     if names:
         doc["gradients"] = metric_gradients(

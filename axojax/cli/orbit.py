@@ -92,19 +92,18 @@ def run(args: argparse.Namespace) -> dict:
 
     if "p" not in axes:
         try:
-            cycle = limit_cycle(model, params, args.cubic, solver=solver)
+            cycle = limit_cycle(model, params, args.cubic, solver=solver, throw=True)
         except ValueError as err:
             raise common.CLIError(f"--p: {err}") from None
-        report = {"p": float(params.p), **cycle.report(units)}
+        report = {"p": float(params.p), **cycle.to_json(units)}
         if args.out is not None:
-            with _io.atomic_path(args.out) as tmp:
-                Branch(
-                    np.array([float(params.p)]),
-                    [report],
-                    math.nan,
-                    math.nan,
-                    {"model": model.name, "n_elements": model.n_elements, "cubic": args.cubic},
-                ).save(tmp)
+            Branch(
+                np.array([float(params.p)]),
+                [report],
+                math.nan,
+                math.nan,
+                {"model": model.name, "n_elements": model.n_elements, "cubic": args.cubic},
+            ).save(args.out)  # written whole (axojax._io)
         if args.plot is not None:
             from ..plotting.orbits import plot_orbit, save
 
@@ -140,8 +139,7 @@ def run(args: argparse.Namespace) -> dict:
         if bar is not None:
             bar.close()
     if args.out is not None:
-        with _io.atomic_path(args.out) as tmp:
-            result.save(tmp)
+        result.save(args.out)  # written whole (axojax._io)
     if args.plot is not None:
         from ..plotting.orbits import plot_branch, save
 
@@ -157,7 +155,7 @@ def run(args: argparse.Namespace) -> dict:
                 ),
                 tmp,
             )
-    return result.report()
+    return result.to_json()
 
 
 def render(doc: dict) -> str:

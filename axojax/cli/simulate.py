@@ -122,8 +122,7 @@ def run(args: argparse.Namespace) -> dict:
         progress=not args.json and sys.stderr.isatty(),
     )
     if args.out is not None:
-        with _io.atomic_path(args.out) as tmp:
-            sim.save(tmp)
+        sim.save(args.out)  # written whole (axojax._io)
     if args.gif is not None:
         from ..plotting import animate_simulation
 
@@ -134,7 +133,7 @@ def run(args: argparse.Namespace) -> dict:
         # a state, not an input error (INTERFACE.md: exit 0, the document says why); one
         # line on stderr so that a script that ignores the document still sees it
         print(f"axojax: simulate: solver_failed: {sim.reason}{wrote}", file=sys.stderr)
-    return sim.report()
+    return sim.to_json()
 
 
 def _check_duration(model, params, units, t_end_s: float) -> None:

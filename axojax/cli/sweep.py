@@ -18,8 +18,12 @@ import numpy as np
 
 from .. import _io
 from ..params import Params
+from ..results import is_successful
 from ..sweeps import netcdf, sweep
 from . import common
+
+DEFAULT_TIMEOUT_S = 120
+"""How long the processes of a distributed sweep wait for each other by default (s)."""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -69,10 +73,37 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument(
         "--timeout",
         type=int,
-        default=120,
+        default=None,
         metavar="SECONDS",
-        help="how long to wait for every process to join (default 120): a process I > 0 stops with a one-line error when process 0 does not answer; process 0 stops with jax's error when the others do not join",
+        help=(
+            f"how long to wait for every process to join (default {DEFAULT_TIMEOUT_S}; only "
+            "with the flags above): a process I > 0 stops with a one-line error when "
+            "process 0 does not answer; process 0 stops with jax's error when the others "
+            "do not join"
+        ),
     )
+
+
+def _distributed(args: argparse.Namespace) -> bool:
+    """Whether the flags ask for a ``jax.distributed`` run."""
+    return args.distributed or any(
+        v is not None for v in (args.coordinator, args.num_processes, args.process_id)
+    )
+
+
+def check_timeout(args: argparse.Namespace) -> int:
+    """``--timeout`` in seconds: an integer >= 1, and only given for a distributed run
+    (it is unused otherwise); the default where it is not given."""
+    if args.timeout is None:
+        return DEFAULT_TIMEOUT_S
+    if args.timeout < 1:
+        raise common.CLIError(f"--timeout: expected seconds >= 1, got {args.timeout}")
+    if not _distributed(args):
+        raise common.CLIError(
+            "--timeout: only used by a distributed sweep (with --distributed, --coordinator, "
+            f"--num-processes or --process-id), got --timeout {args.timeout} without one"
+        )
+    return args.timeout
 
 
 def _wait_for_coordinator(host: str, port: int, timeout_s: float) -> None:
@@ -101,7 +132,8 @@ def init_distributed(args: argparse.Namespace) -> None:
         "num_processes": args.num_processes,
         "process_id": args.process_id,
     }
-    if not args.distributed and all(v is None for v in explicit.values()):
+    timeout = check_timeout(args)
+    if not _distributed(args):
         return
     host, port = None, None
     if args.coordinator is not None:
@@ -124,16 +156,14 @@ def init_distributed(args: argparse.Namespace) -> None:
         raise common.CLIError(
             f"--process-id: expected 0..{args.num_processes - 1} (--num-processes {args.num_processes}), got {args.process_id}"
         )
-    if args.timeout < 1:
-        raise common.CLIError(f"--timeout: expected seconds >= 1, got {args.timeout}")
     if host is not None and args.process_id:
-        _wait_for_coordinator(host, int(port), args.timeout)
+        _wait_for_coordinator(host, int(port), timeout)
     import jax
 
     try:
         jax.distributed.initialize(
             **{k: v for k, v in explicit.items() if v is not None},
-            initialization_timeout=args.timeout,
+            initialization_timeout=timeout,
         )
     except (RuntimeError, ValueError) as e:
         flag = next(
@@ -226,22 +256,16 @@ def run(args: argparse.Namespace) -> dict:
         result.to_netcdf(args.netcdf)
     seconds = time.perf_counter() - t0
 
-    cls = result.data["classification"]
-    n = int(np.prod(result.shape))
+    if not is_successful(result.result):  # NaN points in the file: say so, on one line
+        print(f"axojax: sweep: {result.message}", file=sys.stderr)
+    summary = result.to_json()
     return {
         "out": str(args.out),
         "netcdf": None if args.netcdf is None else str(args.netcdf),
-        "model": model.name,
-        "axes": {k: [float(v[0]), float(v[-1]), len(v)] for k, v in result.coords.items()},
-        "shape": list(result.shape),
-        "points": n,
-        "counts": {
-            name: int(np.sum(cls == code))
-            for code, name in enumerate(("stable", "flutter", "divergence"))
-        },
+        **{k: summary[k] for k in ("model", "axes", "shape", "points", "counts")},
         "seconds": seconds,
-        "points_per_s": n / seconds,
-        "solver": result.meta["solver"],
+        "points_per_s": summary["points"] / seconds,
+        "solver": summary["solver"],
         "process": [jax.process_index(), jax.process_count()],
     }
 

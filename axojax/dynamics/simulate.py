@@ -13,10 +13,12 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import ArrayLike, Float
 
+from .. import _io, results
 from ..assembly import assemble
 from ..eigen.mode import CLASSES, dominant_mode
 from ..models.section import Model
 from ..params import DEFAULT_CUBIC, Params
+from ..results import RESULTS
 from ..units import Units
 from ..waveform import fourier_modes
 from ..waveform.shapes import centreline
@@ -60,6 +62,11 @@ class Simulation:
         meta: parameters, cubic coefficient, units, model, solver statistics
             (``meta["solver"]``: steps, rejected steps, ``ok``, diffrax's ``result``
             message, ``t_reached_s``).
+        result: :class:`axojax.results.RESULTS` item of the time integration (diffrax's
+            code, promoted): ``successful``, or why the solver stopped
+            (``max_steps_reached``, ``dt_min_reached``, ...; then ``state`` is
+            ``solver_failed``). A beat that decays, grows or diverges is an answer,
+            not a failure.
     """
 
     t_s: np.ndarray
@@ -72,6 +79,13 @@ class Simulation:
     limit_cycle: dict[str, float] | None
     linear: dict[str, Any]
     meta: dict[str, Any]
+    result: RESULTS = dataclasses.field(default_factory=lambda: RESULTS.successful)
+
+    @property
+    def message(self) -> str:
+        """``result``'s message on one line (:func:`axojax.results.message`); the state's
+        own explanation is :attr:`reason`."""
+        return results.message(self.result)
 
     @property
     def tip_beat_um(self) -> np.ndarray:
@@ -110,8 +124,8 @@ class Simulation:
             f"{accepted + solver['rejected']} steps ({accepted} accepted, {mean}): {solver['result']}"
         )
 
-    def report(self) -> dict[str, Any]:
-        """The ``axojax simulate --json`` document."""
+    def to_json(self) -> dict[str, Any]:
+        """The ``axojax simulate --json`` document (plain Python)."""
         lc = (
             None
             if self.limit_cycle is None
@@ -122,16 +136,24 @@ class Simulation:
             **self.meta["solver"],
             "reason": self.reason if self.state == "solver_failed" else None,
         }
-        return {
-            "state": self.state,
-            "reason": self.reason,
-            "limit_cycle": lc,
-            "linear": dict(self.linear),
-            "waveform": self.limit_cycle,
-            "solver": solver,
-        }
+        return results.jsonable(
+            {
+                "state": self.state,
+                "reason": self.reason,
+                "limit_cycle": lc,
+                "linear": dict(self.linear),
+                "waveform": self.limit_cycle,
+                "solver": solver,
+            }
+        )
 
     def save(self, path: str | pathlib.Path) -> None:
+        """Write the simulation to ``path`` (``.npz``, any case; written whole, see
+        :mod:`axojax._io`): the time series and a ``meta`` JSON string (``kind =
+        "simulation"``, :attr:`meta`, the state, the result by name, ...). Raises
+        ``ValueError`` for another suffix or a directory that does not take the file
+        (:func:`axojax._io.check_output_path`)."""
+        path = _io.check_output_path(path, (".npz",))
         meta = {
             **self.meta,
             "kind": "simulation",
@@ -139,19 +161,24 @@ class Simulation:
             "limit_cycle": self.limit_cycle,
             "linear": self.linear,
             "beat_angle_rad": self.beat_angle_rad,
+            "result": results.name(self.result),
         }
-        np.savez_compressed(
-            path,
-            t_s=self.t_s,
-            x_um=self.x_um,
-            centreline_um=self.centreline_um,
-            psi_rad=self.psi_rad,
-            tip_um=self.tip_um,
-            meta=np.array(json.dumps(meta)),
-        )
+        with _io.atomic_path(path) as tmp:
+            np.savez_compressed(
+                tmp,
+                t_s=self.t_s,
+                x_um=self.x_um,
+                centreline_um=self.centreline_um,
+                psi_rad=self.psi_rad,
+                tip_um=self.tip_um,
+                meta=np.array(json.dumps(meta)),
+            )
 
     @classmethod
     def load(cls, path: str | pathlib.Path) -> "Simulation":
+        """Read what :meth:`save` wrote (files written before the result was stored get
+        ``successful`` where the solver was fine, else the code whose message they
+        hold)."""
         with np.load(path, allow_pickle=False) as f:
             meta = json.loads(str(f["meta"]))
             arrays = {k: f[k] for k in ("t_s", "x_um", "centreline_um", "psi_rad", "tip_um")}
@@ -160,9 +187,38 @@ class Simulation:
         state, lc, lin, angle = (
             meta.pop(k) for k in ("state", "limit_cycle", "linear", "beat_angle_rad")
         )
+        stored = meta.pop("result", None)
+        result = results.from_names(stored) if stored is not None else _result_of(meta)
+        if result is None:
+            raise ValueError(
+                f"{str(path)!r}: unknown solver result {meta['solver'].get('result')!r}"
+            )
         return cls(
-            **arrays, beat_angle_rad=angle, state=state, limit_cycle=lc, linear=lin, meta=meta
+            **arrays,
+            beat_angle_rad=angle,
+            state=state,
+            limit_cycle=lc,
+            linear=lin,
+            meta=meta,
+            result=result,
         )
+
+
+def _result_of(meta: dict[str, Any]) -> RESULTS | None:
+    """The result of a file written without one: ``successful`` where the solver was
+    fine, else the item whose one-line message
+    (:func:`~axojax.dynamics.integrate.result_message`) the file holds (None if none)."""
+    solver = meta.get("solver") or {}
+    if solver.get("ok", True):
+        return RESULTS.successful
+    return next(
+        (
+            getattr(RESULTS, n)
+            for n in results.NAMES
+            if result_message(getattr(RESULTS, n)) == solver.get("result")
+        ),
+        None,
+    )
 
 
 def _along(v: Float[np.ndarray, "*shape d"], angle: float) -> Float[ArrayLike, "*shape"]:
@@ -234,6 +290,7 @@ def simulate(
     atol: float = 1e-9,
     max_steps: int | None = None,
     progress: bool = False,
+    throw: bool = False,
 ) -> Simulation:
     """Integrate ``C dq/dt = -A q - f_nl(q) + b`` from a small perturbation of the straight
     state (the static deflection of every filament under a tip force in y, see
@@ -256,6 +313,10 @@ def simulate(
         max_steps: solver step limit; running out ends in ``solver_failed``. Default:
             ``MIN_STEPS + STEPS_PER_PERIOD`` per linear period, rounded up to 10 000.
         progress: show a progress bar.
+        throw: raise ``ValueError`` (one line: where and why the solver stopped) when
+            the time integration fails; default False, as everywhere
+            (:mod:`axojax.results`): the result has ``state = "solver_failed"`` and
+            ``result`` says why.
 
     Returns:
         :class:`Simulation`.
@@ -377,7 +438,7 @@ def simulate(
         },
     }
     L = units.length_um
-    return Simulation(
+    sim = Simulation(
         t_s=t * tau,
         x_um=x * L,
         centreline_um=u * L,
@@ -388,7 +449,11 @@ def simulate(
         limit_cycle=limit_cycle,
         linear=linear,
         meta=meta,
+        result=jax.tree.map(np.asarray, traj.result),
     )
+    if throw and not results.is_successful(sim.result):
+        raise ValueError(sim.reason)
+    return sim
 
 
 def tip_deflection(model: Model) -> np.ndarray:

@@ -10,6 +10,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Complex, Float, Int
 
+from .. import results
 from ..assembly import assemble
 from ..models.section import Model
 from ..params import Params, require_scalars, valid
@@ -86,7 +87,13 @@ class Mode(eqx.Module):
     def velocity_um_per_s(self, units: Units = Units()) -> Float[Array, "..."]:
         return self.velocity * units.length_um / units.tau_s
 
-    def report(self, units: Units = Units()) -> dict[str, Any]:
+    @property
+    def message(self) -> str:
+        """``result``'s message on one line ("successful"; for a batch of modes, how many
+        failed: :func:`axojax.results.message`)."""
+        return results.message(self.result)
+
+    def to_json(self, units: Units = Units()) -> dict[str, Any]:
         """Plain-Python summary in physical units (the ``dominant`` block of
         ``axojax modes --json``). Infinite wavelengths are reported as ``None``."""
         lam = complex(self.eigenvalue)
@@ -97,16 +104,18 @@ class Mode(eqx.Module):
             x = float(x)
             return x if np.isfinite(x) else None
 
-        return {
-            "eigenvalue": [lam.real, lam.imag],
-            "classification": cls,
-            "growth_rate_per_s": num(self.growth_rate_per_s(units)),
-            "frequency_hz": num(self.frequency_hz(units)),
-            "wavelength_um": num(self.wavelength_um(units)) if oscillating else None,
-            "velocity_um_per_s": num(self.velocity_um_per_s(units)) if oscillating else None,
-            "direction": {1: "anterograde", -1: "retrograde"}.get(int(self.direction)),
-            "out_of_plane_ratio": num(self.out_of_plane_ratio),
-        }
+        return results.jsonable(
+            {
+                "eigenvalue": [lam.real, lam.imag],
+                "classification": cls,
+                "growth_rate_per_s": num(self.growth_rate_per_s(units)),
+                "frequency_hz": num(self.frequency_hz(units)),
+                "wavelength_um": num(self.wavelength_um(units)) if oscillating else None,
+                "velocity_um_per_s": num(self.velocity_um_per_s(units)) if oscillating else None,
+                "direction": {1: "anterograde", -1: "retrograde"}.get(int(self.direction)),
+                "out_of_plane_ratio": num(self.out_of_plane_ratio),
+            }
+        )
 
 
 def mode_from_eigenpair(
@@ -191,7 +200,8 @@ def dominant_mode(
     ``Params`` are refused with a message naming ``jax.vmap``. ``solver`` is an
     :mod:`axojax.eigen.solvers` object (default :class:`~axojax.eigen.Auto`: dense for
     small models, certified Arnoldi for large). ``throw=True`` raises (at run time, also
-    under ``jit``) when ``mode.result`` is not ``successful``.
+    under ``jit``) when ``mode.result`` is not ``successful``; default False, as everywhere
+    (:mod:`axojax.results`): read ``mode.result`` and ``mode.message``.
     """
     if not isinstance(solver, AbstractEigenSolver):
         raise TypeError(

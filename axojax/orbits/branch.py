@@ -22,11 +22,13 @@ import jax.numpy as jnp
 import numpy as np
 import scipy.optimize
 
+from .. import _io
 from ..assembly import assemble
 from ..critical import critical_force
 from ..eigen.dominant import dominant_eigenpair
 from ..models.section import Model
 from ..params import Params
+from ..results import jsonable
 from ..units import Units
 from ._solve import solve_jit
 from .cycle import LimitCycle
@@ -166,7 +168,7 @@ class Branch:
 
     Attributes:
         p: (P,) forces (dimensionless).
-        cycles: per point, :meth:`LimitCycle.report` plus ``"p"``, or None (no orbit).
+        cycles: per point, :meth:`LimitCycle.to_json` plus ``"p"``, or None (no orbit).
         p_hopf: Hopf point of the equilibrium; hopf_frequency_hz: frequency there.
         meta: model, parameters, cubic, units, solver.
     """
@@ -177,13 +179,15 @@ class Branch:
     hopf_frequency_hz: float
     meta: dict
 
-    def report(self) -> dict:
-        """The ``axojax orbit --json`` document."""
-        return {
-            "orbits": [c for c in self.cycles if c is not None],
-            "hopf": {"p": self.p_hopf, "frequency_hz": self.hopf_frequency_hz},
-            "missing": [float(p) for p, c in zip(self.p, self.cycles) if c is None],
-        }
+    def to_json(self) -> dict:
+        """The ``axojax orbit --json`` document (plain Python)."""
+        return jsonable(
+            {
+                "orbits": [c for c in self.cycles if c is not None],
+                "hopf": {"p": self.p_hopf, "frequency_hz": self.hopf_frequency_hz},
+                "missing": [float(p) for p, c in zip(self.p, self.cycles) if c is None],
+            }
+        )
 
     def arrays(self) -> dict[str, np.ndarray]:
         def col(key, default=np.nan):
@@ -213,13 +217,18 @@ class Branch:
         }
 
     def save(self, path: str | pathlib.Path) -> None:
+        """Write :meth:`arrays` and the meta to ``path`` (``.npz``, any case; written
+        whole, :mod:`axojax._io`). Raises ``ValueError`` for another suffix or a directory
+        that does not take the file (:func:`axojax._io.check_output_path`)."""
+        path = _io.check_output_path(path, (".npz",))
         meta = {
             **self.meta,
             "kind": "orbit_branch",
             "p_hopf": self.p_hopf,
             "hopf_frequency_hz": self.hopf_frequency_hz,
         }
-        np.savez_compressed(path, **self.arrays(), meta=np.array(json.dumps(meta)))
+        with _io.atomic_path(path) as tmp:
+            np.savez_compressed(tmp, **self.arrays(), meta=np.array(json.dumps(meta)))
 
     @staticmethod
     def load(path: str | pathlib.Path) -> tuple[dict[str, np.ndarray], dict]:
@@ -246,7 +255,7 @@ def branch(
     p_h, lam = hopf_point(model, params, kappa)
     cycles = continue_to(model, params, kappa, solver, p_values, p_hopf=p_h, callback=callback)
     reports = [
-        None if c is None else {"p": float(p), **c.report(units)} for p, c in zip(p_values, cycles)
+        None if c is None else {"p": float(p), **c.to_json(units)} for p, c in zip(p_values, cycles)
     ]
     meta = {
         "model": model.name,

@@ -11,6 +11,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Complex, Float
 
+from .. import results
 from ..eigen.metrics import wavenumber
 from ..models.section import Model
 from ..results import RESULTS
@@ -129,24 +130,31 @@ class LimitCycle(eqx.Module):
             omega=float(self.frequency_hz(units)) * 2 * np.pi,
         )
 
-    def report(self, units: Units = Units()) -> dict[str, Any]:
-        """Plain-Python summary in physical units (``axojax orbit --json``)."""
+    @property
+    def message(self) -> str:
+        """``result``'s message on one line (:func:`axojax.results.message`)."""
+        return results.message(self.result)
+
+    def to_json(self, units: Units = Units()) -> dict[str, Any]:
+        """Plain-Python summary in physical units (an orbit of ``axojax orbit --json``)."""
         modes = self.fourier_modes(units=units)
         rho = np.asarray(self.floquet)
         rho = rho[np.isfinite(rho)]
-        return {
-            "frequency_hz": float(self.frequency_hz(units)),
-            "period_s": float(self.period_s(units)),
-            "tip_amplitude_um": float(self.amplitude_um(units)),
-            "wavelength_um": float(self.wavelength_um(units)),
-            "direction": "anterograde" if float(self.wavenumber) < 0 else "retrograde",
-            "static_curvature_rad_per_um": modes.static_curvature,
-            "dynamic_amplitude_rad": modes.dynamic_amplitude,
-            "floquet": [[float(r.real), float(r.imag)] for r in rho],
-            "stable": bool(self.stable) if rho.size else None,
-            "converged": bool(self.converged),
-            "harmonics": self.harmonics,
-        }
+        return results.jsonable(
+            {
+                "frequency_hz": float(self.frequency_hz(units)),
+                "period_s": float(self.period_s(units)),
+                "tip_amplitude_um": float(self.amplitude_um(units)),
+                "wavelength_um": float(self.wavelength_um(units)),
+                "direction": "anterograde" if float(self.wavenumber) < 0 else "retrograde",
+                "static_curvature_rad_per_um": modes.static_curvature,
+                "dynamic_amplitude_rad": modes.dynamic_amplitude,
+                "floquet": [[float(r.real), float(r.imag)] for r in rho],
+                "stable": bool(self.stable) if rho.size else None,
+                "converged": bool(self.converged),
+                "harmonics": self.harmonics,
+            }
+        )
 
 
 def _along(v, angle):

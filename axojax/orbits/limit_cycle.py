@@ -19,7 +19,7 @@ def limit_cycle(
     *,
     solver: AbstractOrbitSolver = HarmonicBalance(),
     start: LimitCycle | None = None,
-    throw: bool = True,
+    throw: bool = False,
 ) -> LimitCycle:
     """The limit cycle of ``C dq/dt = -A q - f_nl(q) + b`` (the equation of
     :func:`axojax.simulate`, cubic link stiffening ``kappa``), computed directly: Newton on
@@ -32,8 +32,10 @@ def limit_cycle(
         kappa: cubic link stiffening (1/L^2), > 0.
         solver: an :class:`AbstractOrbitSolver` (default :class:`HarmonicBalance`).
         start: a nearby :class:`LimitCycle` to start from (continuation).
-        throw: raise ``ValueError`` (one line) when no orbit is found; with False the
-            result carries ``converged = False``.
+        throw: raise ``ValueError`` (one line saying why) when no orbit is found.
+            Default False, as everywhere (:mod:`axojax.results`): then check
+            ``cycle.result == RESULTS.successful`` (``cycle.message`` says why not; the
+            coefficients of a failed cycle are a finite stand-in, not an orbit).
 
     Returns:
         :class:`LimitCycle`: period, frequency, tip amplitude, waveform, wavelength,

@@ -12,6 +12,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib import animation  # noqa: E402
 
+from .._io import atomic_path  # noqa: E402
 from ..dynamics.simulate import Simulation  # noqa: E402
 
 
@@ -141,7 +142,8 @@ def animate_frames(
 
     anim = animation.FuncAnimation(fig, update, frames=len(frames_um), blit=True)
     path = pathlib.Path(path)
-    anim.save(path, writer=animation.PillowWriter(fps=fps))
+    with atomic_path(path) as tmp:  # written whole
+        anim.save(tmp, writer=animation.PillowWriter(fps=fps))
     plt.close(fig)
     return path
 

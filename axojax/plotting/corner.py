@@ -125,7 +125,9 @@ def plot_corner(
     )
     fig.tight_layout()
     if out is not None:
-        fig.savefig(out, dpi=130)
+        from .._io import save_figure
+
+        save_figure(fig, out, dpi=130)  # written whole
     return fig
 
 

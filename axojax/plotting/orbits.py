@@ -12,6 +12,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from .._io import save_figure  # noqa: E402
 from ..orbits.cycle import LimitCycle  # noqa: E402
 from ..units import Units  # noqa: E402
 from .beats import plot_waveform  # noqa: E402
@@ -106,5 +107,6 @@ def plot_orbit(cycle: LimitCycle, units: Units = Units(), n_frames: int = 16) ->
 
 
 def save(fig: plt.Figure, path: str | pathlib.Path) -> None:
-    fig.savefig(path, dpi=130)
+    """Write ``fig`` to ``path`` (written whole, :mod:`axojax._io`) and close it."""
+    save_figure(fig, path, dpi=130)
     plt.close(fig)

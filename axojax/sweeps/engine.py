@@ -49,6 +49,7 @@ from ..eigen.mode import DEFAULT_SOLVER, dominant_mode_impl
 from ..eigen.solvers import AbstractEigenSolver
 from ..models.section import Model
 from ..params import PARAM_NAMES, Params
+from ..results import code_names, is_successful
 from ..units import Units
 from .processes import Share, barrier, wait_for_files
 from .result import METRICS, SweepResult
@@ -71,6 +72,7 @@ def _metrics(
         "direction": mode.direction.astype(jnp.int8),
         "classification": mode.classification.astype(jnp.int8),
         "certified": mode.certified.astype(jnp.int8),
+        "result": mode.result._value.astype(jnp.int8),
     }
 
 
@@ -176,6 +178,7 @@ def sweep(
     devices: int | None = None,
     solver: AbstractEigenSolver = DEFAULT_SOLVER,
     log: Callable[[str], None] | None = None,
+    throw: bool = False,
 ) -> SweepResult:
     """Evaluate the dominant mode on the outer-product grid of ``axes``.
 
@@ -198,6 +201,10 @@ def sweep(
             others were recomputed densely) and ``meta["solver"]`` counts them.
         log: called with one line when the sweep resumes from (or recomputes damaged)
             chunks of an earlier run.
+        throw: raise ``ValueError`` (one line: how many points failed, and why) when a
+            point's ``result`` is not ``successful`` (after ``out`` is written). Default
+            False, as everywhere (:mod:`axojax.results`): the failed points are NaN and
+            ``result.result`` holds every point's code.
 
     Raises:
         axojax._io.OutputBusy: another process is sweeping into the same ``out``.
@@ -254,7 +261,7 @@ def sweep(
         if share.leader:
             lock = _io.exclusive(out.with_name(out.name + ".lock"), str(out))
     with lock:
-        results = _run_chunks(
+        done = _run_chunks(
             model,
             params,
             names,
@@ -272,8 +279,8 @@ def sweep(
             progress,
             log,
         )
-        return _merge(
-            results,
+        merged = _merge(
+            done,
             n_chunks,
             shape,
             coords,
@@ -287,6 +294,9 @@ def sweep(
             out,
             parts,
         )
+    if throw and not is_successful(merged.result):
+        raise ValueError(f"sweep: {merged.message}")
+    return merged
 
 
 def _read_chunk(path: pathlib.Path) -> dict[str, np.ndarray] | None:
@@ -429,6 +439,7 @@ def _merge(
         },
         "classification": {"0": "stable", "1": "flutter", "2": "divergence"},
         "direction": {"1": "anterograde", "-1": "retrograde", "0": "none"},
+        "result": code_names(),
         "solver": {
             "name": type(solver).__name__.lower(),
             "dense_fallbacks": int(np.sum(data["certified"] == 0)),

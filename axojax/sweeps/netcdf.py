@@ -40,6 +40,7 @@ VARIABLES: dict[str, tuple[str, str]] = {
         "1",
         "1 where the eigen-solver certified the dominant eigenvalue; 0 where the dense fallback supplied it",
     ),
+    "result": ("1", "result code of the point's solve (axojax.results.RESULTS)"),
 }
 
 

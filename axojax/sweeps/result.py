@@ -1,9 +1,11 @@
 """A sweep's labelled result: coordinates per axis, metric arrays, metadata; ``.npz`` I/O.
 
-File layout (INTERFACE.md): one coordinate array per axis named like the parameter flag
+File layout (docs/cli.md): one coordinate array per axis named like the parameter flag
 (``p``, ``ks``, ...), the metric arrays with one dimension per axis in axis order, and a
 ``meta`` JSON string with every fixed value, the axis order and the units. Wavelength and
-velocity are NaN where the dominant mode does not oscillate.
+velocity are NaN where the dominant mode does not oscillate. The ``result`` array holds
+each point's :class:`axojax.results.RESULTS` code, and ``meta["result"]`` the code table
+(``{"0": "successful", ...}``) it was written with.
 """
 
 from __future__ import annotations
@@ -15,7 +17,8 @@ from typing import Any
 
 import numpy as np
 
-from .. import _io
+from .. import _io, results
+from ..results import RESULTS
 
 METRICS = (
     "eigenvalue_real",
@@ -28,6 +31,7 @@ METRICS = (
     "direction",
     "classification",
     "certified",
+    "result",
 )
 
 
@@ -35,8 +39,10 @@ METRICS = (
 class SweepResult:
     """Attributes:
     coords: axis name -> 1-D values, in axis order.
-    data: metric name -> array of shape ``tuple(len(v) for v in coords.values())``.
-    meta: fixed parameters, units, model, axis order.
+    data: metric name -> array of shape ``tuple(len(v) for v in coords.values())``
+        (:data:`METRICS`; ``data["result"]``: the points' result codes, see
+        :attr:`result`).
+    meta: fixed parameters, units, model, axis order, code tables.
     """
 
     coords: dict[str, np.ndarray]
@@ -47,13 +53,60 @@ class SweepResult:
     def shape(self) -> tuple[int, ...]:
         return tuple(len(v) for v in self.coords.values())
 
+    @property
+    def result(self) -> RESULTS:
+        """Every point's :class:`axojax.results.RESULTS` code: one item holding an array
+        of :attr:`shape` (as ``jax.vmap`` of :func:`axojax.dominant_mode` gives), so
+        ``sweep.result == RESULTS.successful`` is a boolean array. A sweep without a
+        ``result`` array (written before it was stored) gets ``successful`` where the
+        eigenvalue is finite and ``nonfinite`` elsewhere."""
+        if "result" in self.data:
+            return results.recode(
+                self.data["result"], self.meta.get("result") or results.code_names()
+            )
+        finite = np.isfinite(np.asarray(self.data["eigenvalue_real"]))
+        return results.from_codes(
+            np.where(finite, results.codes(RESULTS.successful), results.codes(RESULTS.nonfinite))
+        )
+
+    @property
+    def message(self) -> str:
+        """One line on :attr:`result`: ``"all N successful"`` or how many points failed,
+        and why (:func:`axojax.results.summary`)."""
+        return results.summary(self.result)
+
+    def to_json(self) -> dict[str, Any]:
+        """Plain-Python summary: ``model``, ``axes`` (``{name: [first, last, n]}``),
+        ``shape``, ``points``, ``counts`` (points per classification), ``solver`` (as in
+        ``axojax sweep --json``, which adds where and how the run went), and ``results``
+        (points per result name)."""
+        cls = np.asarray(self.data["classification"])
+        names, counts = np.unique(results.codes(self.result), return_counts=True)
+        return results.jsonable(
+            {
+                "model": self.meta.get("model"),
+                "axes": {k: [float(v[0]), float(v[-1]), len(v)] for k, v in self.coords.items()},
+                "shape": list(self.shape),
+                "points": int(np.prod(self.shape)),
+                "counts": {
+                    name: int(np.sum(cls == code))
+                    for code, name in enumerate(("stable", "flutter", "divergence"))
+                },
+                "solver": self.meta.get("solver"),
+                "results": {results.NAMES[int(k)]: int(c) for k, c in zip(names, counts)},
+            }
+        )
+
     def save(self, path: str | pathlib.Path) -> None:
         """Write the sweep to ``path`` (``.npz``, any case; written whole, see
         :mod:`axojax._io`). Raises ``ValueError`` for another suffix or a directory that
         does not take the file (:func:`axojax._io.check_output_path`)."""
         path = _io.check_output_path(path, (".npz",))
         arrays = {**{k: np.asarray(v) for k, v in self.coords.items()}, **self.data}
-        arrays["meta"] = np.array(json.dumps(self.meta))
+        meta = dict(self.meta)
+        if "result" in self.data:
+            meta.setdefault("result", results.code_names())
+        arrays["meta"] = np.array(json.dumps(meta))
         with _io.atomic_path(path) as tmp:
             np.savez(tmp, **arrays)
 
@@ -72,8 +125,14 @@ class SweepResult:
 
     @classmethod
     def load(cls, path: str | pathlib.Path) -> "SweepResult":
+        """Read what :meth:`save` wrote; result codes are mapped to this installation's
+        (by name, through ``meta["result"]``)."""
         with np.load(path, allow_pickle=False) as f:
             meta = json.loads(str(f["meta"]))
             coords = {k: f[k] for k in meta["axes"]}
             data = {k: f[k] for k in METRICS if k in f}
+        if "result" in data:
+            table = meta.get("result") or results.code_names()
+            data["result"] = results.codes(results.recode(data["result"], table)).astype(np.int8)
+            meta["result"] = results.code_names()
         return cls(coords, data, meta)
