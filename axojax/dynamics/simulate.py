@@ -11,7 +11,6 @@ from typing import Any
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import ArrayLike, Float
 
 from ..assembly import assemble
 from ..eigen.mode import CLASSES, dominant_mode
@@ -19,6 +18,7 @@ from ..models.section import Model
 from ..params import DEFAULT_CUBIC, Params
 from ..units import Units
 from ..waveform import fourier_modes
+from ..waveform.measures import along, finite_or_none
 from ..waveform.shapes import centreline
 from .analysis import classify_trajectory
 from .integrate import integrate, result_message
@@ -53,8 +53,11 @@ class Simulation:
             ``solver_failed`` (rules in :mod:`axojax.dynamics.analysis`). After a solver
             failure the time series end where the solver stopped.
         limit_cycle: on a limit cycle: ``frequency_hz``, ``period_s``, ``tip_amplitude_um``
-            (half peak-to-peak along the beat direction), ``static_curvature_rad_per_um``,
-            ``dynamic_amplitude_rad``; otherwise None.
+            (half peak-to-peak along the beat direction), ``wavelength_um`` (None for a
+            standing wave), ``direction`` (``anterograde``, ``retrograde`` or None),
+            ``static_curvature_rad_per_um``, ``dynamic_amplitude_rad`` (the measures of
+            :mod:`axojax.waveform.measures` on psi_0, psi_1 of the last whole periods at
+            the ``n_points`` saved points); otherwise None.
         linear: dominant eigenvalue at the same parameters: ``frequency_hz``,
             ``growth_rate_per_s``, ``classification``.
         meta: parameters, cubic coefficient, units, model, solver statistics
@@ -76,12 +79,12 @@ class Simulation:
     @property
     def tip_beat_um(self) -> np.ndarray:
         """(T,) tip displacement along the beat direction (um)."""
-        return _along(self.tip_um, self.beat_angle_rad)
+        return along(self.tip_um, self.beat_angle_rad, axis=-1)
 
     @property
     def centreline_beat_um(self) -> np.ndarray:
         """(T, S) centreline displacement along the beat direction (um)."""
-        return _along(np.moveaxis(self.centreline_um, 1, -1), self.beat_angle_rad)
+        return along(self.centreline_um, self.beat_angle_rad, axis=1)
 
     @property
     def reason(self) -> str | None:
@@ -163,13 +166,6 @@ class Simulation:
         return cls(
             **arrays, beat_angle_rad=angle, state=state, limit_cycle=lc, linear=lin, meta=meta
         )
-
-
-def _along(v: Float[np.ndarray, "*shape d"], angle: float) -> Float[ArrayLike, "*shape"]:
-    """Component of a (..., d) displacement along the beat direction."""
-    if v.shape[-1] == 1:
-        return v[..., 0]
-    return math.cos(angle) * v[..., 0] + math.sin(angle) * v[..., 1]
 
 
 RTOL_RANGE = (1e-12, 1e-1)
@@ -321,9 +317,9 @@ def simulate(
         if np.any(np.asarray(s.b))
         else np.zeros(model.n_dof)
     )
-    y_eq = float(_along(centreline(model, q_eq, np.array([1.0]))[:, 0], angle))
-    y = _along(tip_t, angle)
-    psi = _along(np.moveaxis(du, 1, -1), angle)  # (T, S)
+    y_eq = float(along(centreline(model, q_eq, np.array([1.0]))[:, 0], angle, axis=-1))
+    y = along(tip_t, angle, axis=-1)
+    psi = along(du, angle)  # (T, S)
     state, cycles = classify_trajectory(
         t, y, y_eq, ok, equilibrium_stable=linear["growth_rate_per_s"] < 0
     )
@@ -336,6 +332,8 @@ def simulate(
             "frequency_hz": 1.0 / (period * tau),
             "period_s": period * tau,
             "tip_amplitude_um": float(cycles.amplitudes[-1]) * units.length_um,
+            "wavelength_um": finite_or_none(modes.wavelength * units.length_um),
+            "direction": {1: "anterograde", -1: "retrograde"}.get(modes.direction),
             "static_curvature_rad_per_um": modes.static_curvature / units.length_um,
             "dynamic_amplitude_rad": modes.dynamic_amplitude,
             "cycles": cycles.count,

@@ -192,7 +192,7 @@ def inferred_rows(claims: Sequence[Claim], units: Units = Units(), measured=None
         }[c.quantity]
         note = context
         if c.quantity == "wavelength_um":
-            note += "; wavelength from the least-squares slope of the phase of psi_1(s) (as axojax data measures a beat)"
+            note += "; wavelength 2 pi / |k|, k the |psi_1|^2-weighted mean phase gradient of the tangent angle's psi_1(s) (the one wavelength of axojax modes, orbit, data and fits)"
         rows.append(
             Row(
                 c,
