@@ -17,7 +17,7 @@ from ..eigen.mode import CLASSES, dominant_mode
 from ..models.section import Model
 from ..params import DEFAULT_CUBIC, Params
 from ..units import Units
-from ..waveform import fourier_modes
+from ..waveform import FourierModes, fourier_modes
 from ..waveform.measures import along, finite_or_none
 from ..waveform.shapes import centreline
 from .analysis import classify_trajectory
@@ -32,6 +32,9 @@ STEPS_PER_PERIOD = 2000
 stops at the budget and ends in the state ``solver_failed`` (with diffrax's reason and the
 time reached) instead of running for most of an hour."""
 MIN_STEPS = 10_000
+MEASURE_PERIODS = 2
+"""Whole periods at the end of a limit-cycle record whose psi_0, psi_1 give the waveform
+measures (the frequency comes from the last two cycles too)."""
 
 _integrate_jit = jax.jit(
     integrate, static_argnums=0, static_argnames=("rtol", "atol", "max_steps", "progress")
@@ -56,8 +59,9 @@ class Simulation:
             (half peak-to-peak along the beat direction), ``wavelength_um`` (None for a
             standing wave), ``direction`` (``anterograde``, ``retrograde`` or None),
             ``static_curvature_rad_per_um``, ``dynamic_amplitude_rad`` (the measures of
-            :mod:`axojax.waveform.measures` on psi_0, psi_1 of the last whole periods at
-            the ``n_points`` saved points); otherwise None.
+            :mod:`axojax.waveform.measures` on psi_0, psi_1 of the last
+            ``MEASURE_PERIODS`` whole periods at the ``n_points`` saved points); otherwise
+            None.
         linear: dominant eigenvalue at the same parameters: ``frequency_hz``,
             ``growth_rate_per_s``, ``classification``.
         meta: parameters, cubic coefficient, units, model, solver statistics
@@ -85,6 +89,14 @@ class Simulation:
     def centreline_beat_um(self) -> np.ndarray:
         """(T, S) centreline displacement along the beat direction (um)."""
         return along(self.centreline_um, self.beat_angle_rad, axis=1)
+
+    def settled_modes(self) -> FourierModes | None:
+        """psi_0, psi_1 (s in um, omega in rad/s) of the last ``MEASURE_PERIODS`` whole
+        periods of a limit cycle, whose measures :attr:`limit_cycle` holds; None when the
+        run did not settle on one."""
+        if self.limit_cycle is None:
+            return None
+        return settled_modes(self.t_s, self.x_um, self.psi_rad, self.limit_cycle["period_s"])
 
     @property
     def reason(self) -> str | None:
@@ -166,6 +178,14 @@ class Simulation:
         return cls(
             **arrays, beat_angle_rad=angle, state=state, limit_cycle=lc, linear=lin, meta=meta
         )
+
+
+def settled_modes(t: np.ndarray, s: np.ndarray, psi: np.ndarray, period: float) -> FourierModes:
+    """psi_0, psi_1 of the tangent angle ``psi`` (T, S) at times ``t`` (T,) and arc
+    lengths ``s`` (S,) over the last ``MEASURE_PERIODS`` whole periods: the settled beat,
+    not the growth from rest that the earlier periods hold."""
+    late = t >= t[-1] - (MEASURE_PERIODS + 0.5) * period
+    return fourier_modes(t[late], s, psi[late], period)
 
 
 RTOL_RANGE = (1e-12, 1e-1)
@@ -327,14 +347,14 @@ def simulate(
     limit_cycle = None
     if state == "limit_cycle":
         period = float(np.mean(cycles.periods[-2:]))
-        modes = fourier_modes(t, x, psi, period)
+        modes = settled_modes(t * tau, x * units.length_um, psi, period * tau)
         limit_cycle = {
             "frequency_hz": 1.0 / (period * tau),
             "period_s": period * tau,
             "tip_amplitude_um": float(cycles.amplitudes[-1]) * units.length_um,
-            "wavelength_um": finite_or_none(modes.wavelength * units.length_um),
+            "wavelength_um": finite_or_none(modes.wavelength),
             "direction": {1: "anterograde", -1: "retrograde"}.get(modes.direction),
-            "static_curvature_rad_per_um": modes.static_curvature / units.length_um,
+            "static_curvature_rad_per_um": modes.static_curvature,
             "dynamic_amplitude_rad": modes.dynamic_amplitude,
             "cycles": cycles.count,
         }

@@ -25,7 +25,6 @@ from ..critical import critical_force
 from ..dynamics import Simulation, simulate
 from ..params import DEFAULT_CUBIC, Params
 from ..units import Units
-from ..waveform import fourier_modes
 from .claims import ELASTICITIES, Claim, Row
 from .modes import evaluate, preset_model
 
@@ -148,7 +147,7 @@ def beat_measures(sim: Simulation) -> dict[str, float] | None:
     lc = sim.limit_cycle
     if lc is None:
         return None
-    modes = fourier_modes(sim.t_s, sim.x_um, sim.psi_rad, lc["period_s"])
+    modes = sim.settled_modes()
     phase = np.unwrap(np.angle(modes.psi1[1:]))  # psi_1 = 0 at the clamped base
     return {
         "frequency_hz": lc["frequency_hz"],
