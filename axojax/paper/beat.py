@@ -59,6 +59,15 @@ class BeatSettings:
         )
 
 
+DIGITS = {
+    "frequency_hz": 2,
+    "wavelength_um": 1,
+    "dynamic_amplitude_rad": 2,
+    "static_curvature_rad_per_um": 3,
+}
+"""Decimals a beat row shows of each waveform measure (the fig. 12 rows, stated and
+inferred)."""
+
 FULL = BeatSettings()
 FAST = BeatSettings(n_elements=4, t_end_s=0.3)
 
@@ -212,11 +221,6 @@ def beat_rows(
             )
         if c.quantity == "static_curvature_rad_per_um":
             note.append("its sign depends on which side carries the larger force")
-        digits = {
-            "frequency_hz": 2,
-            "wavelength_um": 1,
-            "dynamic_amplitude_rad": 2,
-            "static_curvature_rad_per_um": 3,
-        }[c.quantity]
+        digits = DIGITS[c.quantity]
         rows.append(Row(c, float(value), f"{value:.{digits}f} {c.unit}", elast, "; ".join(note)))
     return rows

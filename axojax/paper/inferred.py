@@ -37,6 +37,7 @@ from typing import Any
 from ..models import preset
 from ..params import Params
 from ..units import Units
+from .beat import DIGITS
 from .claims import Claim, Row
 from .inferred_fig7 import FITTED as FIG7_FITTED
 from .inferred_fig7 import INFERRED_FIG7
@@ -200,12 +201,7 @@ def inferred_rows(claims: Sequence[Claim], units: Units = Units(), measured=None
     )
     for c in claims:
         value = float(getattr(m, c.quantity))
-        digits = {
-            "frequency_hz": 2,
-            "wavelength_um": 1,
-            "dynamic_amplitude_rad": 2,
-            "static_curvature_rad_per_um": 3,
-        }[c.quantity]
+        digits = DIGITS[c.quantity]
         note = context
         if c.quantity == "wavelength_um":
             note += "; " + WAVELENGTH_NOTE
