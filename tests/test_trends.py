@@ -82,9 +82,19 @@ def test_unstable_oscillations_anterograde_wavelength_order(model):
     # Paper, section 3.5: every oscillatory unstable mode runs base to tip.
     assert np.all(np.asarray(modes.direction)[flutter] == 1)
     # Wavelengths of order 10-50 um: all within a factor two of that band, nearly all
-    # within the paper's 6.4-50 um (fig. 11), median inside 10-50 um. The longest wave
-    # sits just past the Hopf boundary (the wavelength falls with p, test above).
+    # within the paper's 6.4-50 um (fig. 11), median inside 10-50 um. The tangent angle's
+    # wavelength (docs/model.md, since 2026-12; the displacement's put 95 % in the band)
+    # leaves the band only where it must: above 50 um just past the Hopf boundary (the
+    # first flutter point of a k_s row; the wavelength falls with p, test above), below
+    # 6.4 um only at the largest forces.
     wl = np.asarray(modes.wavelength_um())[flutter]
     assert np.all((wl > 5) & (wl < 100))
-    assert np.mean((wl >= 6.4) & (wl <= 50)) >= 0.95
+    assert np.mean((wl >= 6.4) & (wl <= 50)) >= 0.9
     assert 10 < np.median(wl) < 50
+    grid = flutter.reshape(ps.shape)
+    first = np.zeros_like(grid)
+    rows = np.nonzero(grid.any(axis=1))[0]
+    first[rows, grid[rows].argmax(axis=1)] = True
+    long_, short = wl > 50, wl < 6.4
+    assert np.all(first.ravel()[flutter][long_])
+    assert np.all(ps.ravel()[flutter][short] >= 600)

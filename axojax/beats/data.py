@@ -23,6 +23,7 @@ import pathlib
 import numpy as np
 
 from ..waveform import FourierModes
+from ..waveform.measures import finite_or_none
 from . import reduction
 from .bundled import resolve
 from .readers import RawBeat, fail, read_file
@@ -132,22 +133,25 @@ class BeatData:
 
     @property
     def static_curvature_rad_per_um(self) -> float:
-        """Least-squares slope of psi_0(s) (rad/um)."""
-        return float(np.polyfit(self.s_um, self.modes.psi0, 1)[0])
+        """Least-squares slope of psi_0(s) (rad/um; :mod:`axojax.waveform.measures`)."""
+        return self.modes.static_curvature
 
     @property
     def dynamic_amplitude_rad(self) -> float:
         """Arc-length (trapezoidal) mean of |psi_1(s)| (rad)."""
-        a = np.abs(self.modes.psi1)
-        return float(np.trapezoid(a, self.s_um) / (self.s_um[-1] - self.s_um[0]))
+        return self.modes.dynamic_amplitude
+
+    @property
+    def wavenumber_rad_per_um(self) -> float:
+        """|psi_1|^2-weighted mean phase gradient of psi_1(s) (rad/um; negative: the wave
+        runs base to tip), the same function as a model's (:mod:`axojax.waveform.measures`)."""
+        return self.modes.wavenumber
 
     @property
     def wavelength_um(self) -> float | None:
-        """2 pi / |least-squares slope of the unwrapped phase of psi_1(s)| (um); ``None``
-        for a standing wave (zero slope)."""
-        phase = np.unwrap(np.angle(self.modes.psi1))
-        slope = float(np.polyfit(self.s_um, phase, 1)[0])
-        return None if abs(slope) < 1e-12 else float(2 * np.pi / abs(slope))
+        """2 pi / |k| (um), k = :attr:`wavenumber_rad_per_um`; ``None`` for a standing
+        wave."""
+        return finite_or_none(self.modes.wavelength)
 
     def summary(self) -> dict:
         """What ``axojax data --json`` prints (keys in INTERFACE.md, plus extras)."""

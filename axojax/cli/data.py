@@ -26,6 +26,7 @@ import math
 from .. import _io
 from ..beats.data import read_beat
 from ..beats.reduction import PLANARITY_THRESHOLD
+from ..waveform.measures import wavelength_text
 from . import common
 
 
@@ -187,7 +188,7 @@ def render(doc: dict) -> str:
         + (f", {doc['frames']} frames, {doc['cycles']} cycles" if doc["frames"] else ""),
         f"  length            {_num(doc['length_um'], '.4g', 'um')}",
         f"  frequency         {freq}",
-        f"  wavelength        {_num(doc['wavelength_um'], '.4g', 'um')}",
+        f"  wavelength        {wavelength_text(doc['wavelength_um'])}",
         f"  static curvature  {_num(doc['static_curvature_rad_per_um'], '.4g', 'rad/um')}",
         f"  dynamic amplitude {_num(doc['dynamic_amplitude_rad'], '.4g', 'rad')}",
         f"  psi_1 sigma       {doc['psi1_sigma_rad']['min']:.2g} .. {doc['psi1_sigma_rad']['max']:.2g} rad (floor {doc['floors']['psi1_rad']:g})",

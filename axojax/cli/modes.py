@@ -9,6 +9,7 @@ import numpy as np
 
 from ..eigen.mode import DEFAULT_SOLVER, dominant_mode, spectrum
 from ..units import Units
+from ..waveform.measures import wavelength_text
 from . import common
 
 METRICS = ("growth_rate_per_s", "frequency_hz", "wavelength_um")
@@ -91,7 +92,7 @@ def render(doc: dict) -> str:
         f"  eigenvalue      {d['eigenvalue'][0]:.6f} {d['eigenvalue'][1]:+.6f}i",
         f"  growth rate     {fmt(d['growth_rate_per_s'], '1/s')}",
         f"  frequency       {fmt(d['frequency_hz'], 'Hz')}",
-        f"  wavelength      {fmt(d['wavelength_um'], 'um')}",
+        f"  wavelength      {wavelength_text(d['wavelength_um'])}",
         f"  velocity        {fmt(d['velocity_um_per_s'], 'um/s')}",
         f"  direction       {d['direction'] or '-'}",
         f"  out-of-plane    {fmt(d['out_of_plane_ratio'], '', '.3g')}",

@@ -11,6 +11,7 @@ import numpy as np
 
 from .. import _io
 from ..params import DEFAULT_CUBIC, Params
+from ..waveform.measures import wavelength_text
 from . import common
 from .simulate import MAX_CUBIC
 
@@ -170,7 +171,7 @@ def render(doc: dict) -> str:
         rho = sorted((abs(complex(*r)) for r in o["floquet"]), reverse=True)
         second = rho[1] if len(rho) > 1 else float("nan")
         lines.append(
-            f"{o['p']:10.5g}  {o['frequency_hz']:10.4f}  {o['period_s'] * 1e3:11.3f}  {o['tip_amplitude_um']:12.4f}  {o['wavelength_um']:15.3f}  {second:8.4f}  {o['stable']}"
+            f"{o['p']:10.5g}  {o['frequency_hz']:10.4f}  {o['period_s'] * 1e3:11.3f}  {o['tip_amplitude_um']:12.4f}  {wavelength_text(o['wavelength_um'], '.3f', ''):>15s}  {second:8.4f}  {o['stable']}"
         )
     if doc.get("missing"):
         lines.append("no orbit at p = " + ", ".join(f"{p:g}" for p in doc["missing"]))

@@ -10,6 +10,7 @@ from .. import _io
 from ..dynamics import simulate
 from ..dynamics.simulate import MIN_STEPS, STEPS_PER_PERIOD, check_inputs
 from ..params import DEFAULT_CUBIC
+from ..waveform.measures import wavelength_text
 from . import common
 
 MAX_STEPS = 100_000_000
@@ -164,6 +165,6 @@ def render(doc: dict) -> str:
             f"limit cycle: {lc['frequency_hz']:.3f} Hz (period {lc['period_s'] * 1e3:.2f} ms), tip amplitude {lc['tip_amplitude_um']:.3f} um"
         )
         lines.append(
-            f"waveform: static curvature {w['static_curvature_rad_per_um']:.4f} rad/um, dynamic amplitude {w['dynamic_amplitude_rad']:.3f} rad"
+            f"waveform: wavelength {wavelength_text(w.get('wavelength_um'), '.3f')}, static curvature {w['static_curvature_rad_per_um']:.4f} rad/um, dynamic amplitude {w['dynamic_amplitude_rad']:.3f} rad"
         )
     return "\n".join(lines)

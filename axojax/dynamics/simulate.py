@@ -11,7 +11,6 @@ from typing import Any
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import ArrayLike, Float
 
 from .. import _io, results
 from ..assembly import assemble
@@ -20,7 +19,8 @@ from ..models.section import Model
 from ..params import DEFAULT_CUBIC, Params
 from ..results import RESULTS
 from ..units import Units
-from ..waveform import fourier_modes
+from ..waveform import FourierModes, fourier_modes
+from ..waveform.measures import along, finite_or_none
 from ..waveform.shapes import centreline
 from .analysis import classify_trajectory
 from .integrate import integrate, result_message
@@ -34,6 +34,9 @@ STEPS_PER_PERIOD = 2000
 stops at the budget and ends in the state ``solver_failed`` (with diffrax's reason and the
 time reached) instead of running for most of an hour."""
 MIN_STEPS = 10_000
+MEASURE_PERIODS = 2
+"""Whole periods at the end of a limit-cycle record whose psi_0, psi_1 give the waveform
+measures (the frequency comes from the last two cycles too)."""
 
 _integrate_jit = jax.jit(
     integrate, static_argnums=0, static_argnames=("rtol", "atol", "max_steps", "progress")
@@ -55,8 +58,12 @@ class Simulation:
             ``solver_failed`` (rules in :mod:`axojax.dynamics.analysis`). After a solver
             failure the time series end where the solver stopped.
         limit_cycle: on a limit cycle: ``frequency_hz``, ``period_s``, ``tip_amplitude_um``
-            (half peak-to-peak along the beat direction), ``static_curvature_rad_per_um``,
-            ``dynamic_amplitude_rad``; otherwise None.
+            (half peak-to-peak along the beat direction), ``wavelength_um`` (None for a
+            standing wave), ``direction`` (``anterograde``, ``retrograde`` or None),
+            ``static_curvature_rad_per_um``, ``dynamic_amplitude_rad`` (the measures of
+            :mod:`axojax.waveform.measures` on psi_0, psi_1 of the last
+            ``MEASURE_PERIODS`` whole periods at the ``n_points`` saved points); otherwise
+            None.
         linear: dominant eigenvalue at the same parameters: ``frequency_hz``,
             ``growth_rate_per_s``, ``classification``.
         meta: parameters, cubic coefficient, units, model, solver statistics
@@ -90,12 +97,20 @@ class Simulation:
     @property
     def tip_beat_um(self) -> np.ndarray:
         """(T,) tip displacement along the beat direction (um)."""
-        return _along(self.tip_um, self.beat_angle_rad)
+        return along(self.tip_um, self.beat_angle_rad, axis=-1)
 
     @property
     def centreline_beat_um(self) -> np.ndarray:
         """(T, S) centreline displacement along the beat direction (um)."""
-        return _along(np.moveaxis(self.centreline_um, 1, -1), self.beat_angle_rad)
+        return along(self.centreline_um, self.beat_angle_rad, axis=1)
+
+    def settled_modes(self) -> FourierModes | None:
+        """psi_0, psi_1 (s in um, omega in rad/s) of the last ``MEASURE_PERIODS`` whole
+        periods of a limit cycle, whose measures :attr:`limit_cycle` holds; None when the
+        run did not settle on one."""
+        if self.limit_cycle is None:
+            return None
+        return settled_modes(self.t_s, self.x_um, self.psi_rad, self.limit_cycle["period_s"])
 
     @property
     def reason(self) -> str | None:
@@ -221,11 +236,12 @@ def _result_of(meta: dict[str, Any]) -> RESULTS | None:
     )
 
 
-def _along(v: Float[np.ndarray, "*shape d"], angle: float) -> Float[ArrayLike, "*shape"]:
-    """Component of a (..., d) displacement along the beat direction."""
-    if v.shape[-1] == 1:
-        return v[..., 0]
-    return math.cos(angle) * v[..., 0] + math.sin(angle) * v[..., 1]
+def settled_modes(t: np.ndarray, s: np.ndarray, psi: np.ndarray, period: float) -> FourierModes:
+    """psi_0, psi_1 of the tangent angle ``psi`` (T, S) at times ``t`` (T,) and arc
+    lengths ``s`` (S,) over the last ``MEASURE_PERIODS`` whole periods: the settled beat,
+    not the growth from rest that the earlier periods hold."""
+    late = t >= t[-1] - (MEASURE_PERIODS + 0.5) * period
+    return fourier_modes(t[late], s, psi[late], period)
 
 
 RTOL_RANGE = (1e-12, 1e-1)
@@ -382,9 +398,9 @@ def simulate(
         if np.any(np.asarray(s.b))
         else np.zeros(model.n_dof)
     )
-    y_eq = float(_along(centreline(model, q_eq, np.array([1.0]))[:, 0], angle))
-    y = _along(tip_t, angle)
-    psi = _along(np.moveaxis(du, 1, -1), angle)  # (T, S)
+    y_eq = float(along(centreline(model, q_eq, np.array([1.0]))[:, 0], angle, axis=-1))
+    y = along(tip_t, angle, axis=-1)
+    psi = along(du, angle)  # (T, S)
     state, cycles = classify_trajectory(
         t, y, y_eq, ok, equilibrium_stable=linear["growth_rate_per_s"] < 0
     )
@@ -392,12 +408,14 @@ def simulate(
     limit_cycle = None
     if state == "limit_cycle":
         period = float(np.mean(cycles.periods[-2:]))
-        modes = fourier_modes(t, x, psi, period)
+        modes = settled_modes(t * tau, x * units.length_um, psi, period * tau)
         limit_cycle = {
             "frequency_hz": 1.0 / (period * tau),
             "period_s": period * tau,
             "tip_amplitude_um": float(cycles.amplitudes[-1]) * units.length_um,
-            "static_curvature_rad_per_um": modes.static_curvature / units.length_um,
+            "wavelength_um": finite_or_none(modes.wavelength),
+            "direction": {1: "anterograde", -1: "retrograde"}.get(modes.direction),
+            "static_curvature_rad_per_um": modes.static_curvature,
             "dynamic_amplitude_rad": modes.dynamic_amplitude,
             "cycles": cycles.count,
         }

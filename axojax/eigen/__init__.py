@@ -2,7 +2,13 @@
 (:class:`Dense`, :class:`Arnoldi`, :class:`Auto`), mode shapes and mode metrics."""
 
 from .dominant import CLUSTER_RTOL, dominant_eigenpair
-from .metrics import beat_plane, mode_shapes, wavenumber
+from .metrics import (
+    beat_plane,
+    displacement_wavenumber,
+    mode_shapes,
+    tangent_wavenumber,
+    wavenumber,
+)
 from .mode import (
     CLASSES,
     DEFAULT_SOLVER,
@@ -43,6 +49,7 @@ __all__ = [
     "beat_plane",
     "classify",
     "dominant_eigenpair",
+    "displacement_wavenumber",
     "dominant_mode",
     "eigensystem",
     "eigenvalues",
@@ -50,5 +57,6 @@ __all__ = [
     "mode_shapes",
     "solver_from_name",
     "spectrum",
+    "tangent_wavenumber",
     "wavenumber",
 ]

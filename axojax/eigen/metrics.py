@@ -3,16 +3,20 @@
 An eigenvector ``v`` (n,) is reshaped to ``(F, d, 2 N_e)`` and interpolated with the
 Hermite shape functions. The centreline displacement is the mean over filaments. In 3D
 the beat direction is the principal axis of ``R = Re int u u^H dx`` (2 x 2) and the
-out-of-plane ratio is ``sqrt(smaller / larger eigenvalue of R)``. With ``u(x)`` the
-complex in-plane displacement, the mean phase gradient is::
+out-of-plane ratio is ``sqrt(smaller / larger eigenvalue of R)``. The mode's tangent
+angle along the beat direction is psi_1 = u'(x), and its wavenumber is the one of every
+beat (:mod:`axojax.waveform.measures`)::
 
-    k = int Im(conj(u) u') dx / int |u|^2 dx
+    k = int Im(conj(psi_1) psi_1') dx / int |psi_1|^2 dx,   psi_1 = u', psi_1' = u''
 
 wavelength ``2 pi / |k|`` (units of L); propagation is anterograde (base to tip) when
 ``k * sign(Im lambda) < 0``. Integrals use Gauss-Legendre points on the mesh (at least
-200 points along x, exact for these piecewise polynomials). Every metric is invariant
-to the complex scale of v, so its derivative through
-:func:`axojax.eigen.dominant.dominant_eigenpair` is exact.
+200 points along x, exact for these piecewise polynomials: u' is quadratic and u''
+linear on each element, with at least four points per element). Every metric is
+invariant to the complex scale of v, so its derivative through
+:func:`axojax.eigen.dominant.dominant_eigenpair` is exact. The same formula applied to
+the displacement u instead of its slope (:func:`displacement_wavenumber`) was axojax's
+wavenumber until 2026-12; it is kept under that name only.
 """
 
 from __future__ import annotations
@@ -26,15 +30,19 @@ from jaxtyping import Array, Complex, Float
 
 from ..fem import interpolation_matrix, make_mesh
 from ..models.section import Model
+from ..waveform.measures import along, phase_gradient
 
 MIN_POINTS = 200
 
 
 @functools.lru_cache(maxsize=64)
-def _quadrature(n_elements: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def _quadrature(
+    n_elements: int,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(x, weights, phi, dphi, ddphi) at the Gauss points (at least 4 per element)."""
     per = max(4, math.ceil(MIN_POINTS / n_elements))
     mesh = make_mesh(n_elements, per)
-    return mesh.x, mesh.weights, mesh.phi, mesh.dphi
+    return mesh.x, mesh.weights, mesh.phi, mesh.dphi, mesh.ddphi
 
 
 def mode_shapes(
@@ -63,13 +71,18 @@ def _safe_sqrt(x):
     return jnp.where(pos, jnp.sqrt(jnp.where(pos, x, 1.0)), 0.0)
 
 
+def _centreline(model: Model, v: Complex[Array, " n"]) -> Complex[Array, "d r"]:
+    """Mean over filaments of the nodal values of ``v``: (d, 2 N_e)."""
+    return jnp.reshape(v, (model.n_filaments, model.n_dirs, model.mesh.n_dof)).mean(axis=0)
+
+
 def beat_plane(
     model: Model, v: Complex[Array, " n"]
 ) -> tuple[Complex[Array, " m"], Complex[Array, " m"], Array, Array]:
     """Complex in-plane centreline displacement u and u' at the quadrature points, the
     beat-direction angle (radians from y towards z) and the out-of-plane ratio."""
-    x, w, phi, dphi = _quadrature(model.n_elements)
-    q = jnp.reshape(v, (model.n_filaments, model.n_dirs, model.mesh.n_dof)).mean(axis=0)  # (d, r)
+    x, w, phi, dphi, _ = _quadrature(model.n_elements)
+    q = _centreline(model, v)  # (d, r)
     u = q @ jnp.asarray(phi).T  # (d, m)
     du = q @ jnp.asarray(dphi).T
     if model.n_dirs == 1:
@@ -82,14 +95,35 @@ def beat_plane(
     # Principal axis; (a - c, 2b) = 0 only for exactly circular motion, where any axis will do.
     degenerate = rad <= 1e-300
     angle = 0.5 * jnp.arctan2(jnp.where(degenerate, 0.0, 2 * b), jnp.where(degenerate, 1.0, a - c))
-    e = jnp.stack([jnp.cos(angle), jnp.sin(angle)])
     ratio = _safe_sqrt(jnp.maximum(small, 0.0) / big)
-    return e @ u, e @ du, angle, ratio
+    return along(u, angle), along(du, angle), angle, ratio
+
+
+def tangent_wavenumber(
+    model: Model, v: Complex[Array, " n"], angle: Float[Array, ""]
+) -> Float[Array, ""]:
+    """Mean phase gradient k (rad per L) of psi_1 = u', the slope of the centreline of the
+    complex state ``v`` (an eigenvector, or an orbit's first harmonic) along the beat
+    direction ``angle``: :func:`axojax.waveform.measures.phase_gradient` with the exact
+    psi_1 and psi_1' = u'' at the Gauss points."""
+    _, w, _, dphi, ddphi = _quadrature(model.n_elements)
+    q = _centreline(model, v)
+    psi = along(q @ jnp.asarray(dphi).T, angle)
+    dpsi = along(q @ jnp.asarray(ddphi).T, angle)
+    return phase_gradient(psi, dpsi, jnp.asarray(w))
 
 
 def wavenumber(model: Model, v: Complex[Array, " n"]) -> Float[Array, ""]:
-    """Mean phase gradient k of the in-plane centreline displacement (rad per L)."""
-    _, w, _, _ = _quadrature(model.n_elements)
+    """Mean phase gradient k (rad per L) of the mode's tangent angle psi_1 = u' along its
+    beat direction (module docstring): what every axojax wavelength is made of."""
+    _, _, angle, _ = beat_plane(model, v)
+    return tangent_wavenumber(model, v, angle)
+
+
+def displacement_wavenumber(model: Model, v: Complex[Array, " n"]) -> Float[Array, ""]:
+    """The same mean phase gradient taken of the displacement u instead of its slope
+    (rad per L): axojax's wavenumber until 2026-12, kept for comparison only. Never a
+    wavelength: axojax's wavelengths are the tangent angle's (:func:`wavenumber`)."""
+    _, w, _, _, _ = _quadrature(model.n_elements)
     u, du, _, _ = beat_plane(model, v)
-    w = jnp.asarray(w)
-    return jnp.sum(w * jnp.imag(jnp.conj(u) * du)) / jnp.sum(w * jnp.abs(u) ** 2)
+    return phase_gradient(u, du, jnp.asarray(w))

@@ -7,7 +7,6 @@ from typing import Any
 import equinox as eqx
 import jax
 import jax.numpy as jnp
-import numpy as np
 from jaxtyping import Array, Complex, Float, Int
 
 from .. import results
@@ -16,8 +15,9 @@ from ..models.section import Model
 from ..params import Params, require_scalars, valid
 from ..results import RESULTS
 from ..units import Units
+from ..waveform import measures
 from . import pencil
-from .metrics import beat_plane, wavenumber
+from .metrics import beat_plane, tangent_wavenumber
 from .solvers import AbstractEigenSolver, Auto
 
 STABLE, FLUTTER, DIVERGENCE = 0, 1, 2
@@ -32,11 +32,6 @@ def classify(eigenvalue: Complex[Array, "..."]) -> Int[Array, "..."]:
     return jnp.where(re <= 0, STABLE, jnp.where(oscillating, FLUTTER, DIVERGENCE))
 
 
-def _safe_div(num, den):
-    ok = den != 0
-    return jnp.where(ok, num / jnp.where(ok, den, 1.0), jnp.inf)
-
-
 class Mode(eqx.Module):
     """Dominant mode; every field dimensionless (time in tau, length in L).
 
@@ -45,8 +40,9 @@ class Mode(eqx.Module):
         eigenvector: (n,) unit eigenvector (see :mod:`axojax.eigen.dominant` for gauge).
         growth_rate: Re lambda (1/tau).
         angular_frequency: |Im lambda| (rad/tau).
-        wavenumber: mean phase gradient k (rad/L).
-        wavelength: 2 pi / |k| (L); inf for a standing (real) mode.
+        wavenumber: mean phase gradient k of the tangent angle psi_1 = u' along the beat
+            direction (rad/L; :mod:`axojax.waveform.measures`).
+        wavelength: 2 pi / |k| (L); inf for a standing wave.
         velocity: wavelength * |Im lambda| / (2 pi) (L/tau).
         direction: +1 anterograde (base to tip), -1 retrograde, 0 not oscillating.
         out_of_plane_ratio: sqrt(minor/major) of the centreline motion (0 in 2D).
@@ -95,14 +91,12 @@ class Mode(eqx.Module):
 
     def to_json(self, units: Units = Units()) -> dict[str, Any]:
         """Plain-Python summary in physical units (the ``dominant`` block of
-        ``axojax modes --json``). Infinite wavelengths are reported as ``None``."""
+        ``axojax modes --json``). Infinite wavelengths (standing waves) and those of modes
+        that do not oscillate are reported as ``None``."""
         lam = complex(self.eigenvalue)
         cls = CLASSES[int(self.classification)]
         oscillating = int(self.direction) != 0
-
-        def num(x):
-            x = float(x)
-            return x if np.isfinite(x) else None
+        num = measures.finite_or_none
 
         return results.jsonable(
             {
@@ -122,13 +116,13 @@ def mode_from_eigenpair(
     model: Model, lam: Complex[Array, ""], v: Complex[Array, " n"], certified=True
 ) -> Mode:
     """All metrics of an eigenpair (differentiable through lam and v)."""
-    k = wavenumber(model, v)
     _, _, angle, ratio = beat_plane(model, v)
+    k = tangent_wavenumber(model, v, angle)
     omega = jnp.abs(jnp.imag(lam))
     cls = classify(lam)
     oscillating = jnp.abs(jnp.imag(lam)) > IMAG_RTOL * (1.0 + jnp.abs(lam))
-    wavelength = _safe_div(2 * jnp.pi, jnp.abs(k))
-    direction = jnp.where(oscillating, jnp.where(k * jnp.sign(jnp.imag(lam)) < 0, 1, -1), 0)
+    wavelength = measures.wavelength(k)
+    direction = jnp.where(oscillating, measures.direction(k, jnp.imag(lam)), 0)
     return Mode(
         eigenvalue=lam,
         eigenvector=v,

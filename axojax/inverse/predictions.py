@@ -13,16 +13,24 @@ from ..eigen.metrics import beat_plane
 from ..eigen.mode import Mode
 from ..fem import interpolation_matrix
 from ..models.section import Model
+from ..orbits.measures import cycle_measures
 from ..units import Units
+from ..waveform import measures
+from .cycle_targets import ALIASES
 
-K_FLOOR = 1e-6  # rad/L: a standing (real) mode has k = 0; its wavelength is capped, not infinite
+K_FLOOR = 1e-6  # rad/L: a standing wave has no wavelength (inf); a fit sees 2 pi / K_FLOOR
+
+
+def _finite_wavelength(k: Float[Array, ""], units: Units) -> Float[Array, ""]:
+    """The wavelength of :mod:`axojax.waveform.measures` (um), at most 2 pi / K_FLOOR L."""
+    return jnp.minimum(measures.wavelength(k), 2 * jnp.pi / K_FLOOR) * units.length_um
 
 
 def scalar_value(mode: Mode, name: str, units: Units) -> Float[Array, ""]:
     """Observable ``name`` of the dominant mode in physical units, finite everywhere
-    (wavelength and velocity use ``max(|k|, K_FLOOR)``) so that fits never see inf/NaN."""
+    (wavelength and velocity at most ``2 pi / K_FLOOR``) so that fits never see inf/NaN."""
     if name in ("wavelength_um", "velocity_um_per_s"):
-        wavelength = 2 * jnp.pi / jnp.maximum(jnp.abs(mode.wavenumber), K_FLOOR) * units.length_um
+        wavelength = _finite_wavelength(mode.wavenumber, units)
         if name == "wavelength_um":
             return wavelength
         return wavelength * mode.frequency_hz(units)
@@ -37,11 +45,8 @@ def model_psi1(model: Model, mode: Mode, s: Float[np.ndarray, " S"]) -> Complex[
     q = jnp.reshape(mode.eigenvector, (model.n_filaments, model.n_dirs, model.mesh.n_dof)).mean(
         axis=0
     )
-    du = q @ dphi.T  # (d, S)
-    if model.n_dirs == 1:
-        return du[0]
     _, _, angle, _ = beat_plane(model, mode.eigenvector)
-    return jnp.cos(angle) * du[0] + jnp.sin(angle) * du[1]
+    return measures.along(q @ dphi.T, angle)
 
 
 def shape_fit(
@@ -71,9 +76,9 @@ def shape_residuals(
 
 
 def cycle_value(cycle, name: str, units: Units) -> Float[Array, ""]:
-    """Limit-cycle observable ``name`` (``CYCLE_SCALARS``) in physical units."""
-    return {
-        "frequency_hz": cycle.frequency_hz,
-        "amplitude_um": cycle.amplitude_um,
-        "wavelength_um": cycle.wavelength_um,
-    }[name](units)
+    """Limit-cycle observable ``name`` in physical units: a name of ``CYCLE_SCALARS`` or
+    any scalar of :func:`axojax.orbits.cycle_measures` (the numbers ``axojax orbit`` and
+    the paper table print); the wavelength at most ``2 pi / K_FLOOR`` (finite for fits)."""
+    if name == "wavelength_um":
+        return _finite_wavelength(cycle.wavenumber, units)
+    return getattr(cycle_measures(cycle, None, units), ALIASES.get(name, name))

@@ -9,14 +9,15 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array, Complex, Float
+from jaxtyping import Array, ArrayLike, Complex, Float
 
 from .. import results
-from ..eigen.metrics import wavenumber
+from ..eigen.metrics import tangent_wavenumber
 from ..models.section import Model
 from ..results import RESULTS
 from ..units import Units
 from ..waveform import FourierModes
+from ..waveform import measures as wm
 from ..waveform.shapes import centreline
 from .fourier import evaluate
 
@@ -33,8 +34,9 @@ class LimitCycle(eqx.Module):
         omega: angular frequency (rad per tau).
         amplitude: half peak-to-peak tip displacement along the beat direction (L).
         beat_angle: beat direction (radians from y towards z; 0 in planar models).
-        wavenumber: mean phase gradient of the first harmonic (rad per L; negative:
-            anterograde, MODEL.md section 5).
+        wavenumber: mean phase gradient of psi_1, the first harmonic of the tangent angle
+            along the beat direction (rad per L; negative: anterograde; docs/model.md,
+            :mod:`axojax.waveform.measures`).
         floquet: (k,) multipliers of largest modulus, largest first (NaN-padded); one is
             1 (the phase).
         converged: whether Newton converged (otherwise the coefficients are a finite
@@ -86,7 +88,13 @@ class LimitCycle(eqx.Module):
         return self.amplitude * units.length_um
 
     def wavelength_um(self, units: Units = Units()) -> Float[Array, ""]:
-        return 2 * jnp.pi / jnp.maximum(jnp.abs(self.wavenumber), 1e-6) * units.length_um
+        """2 pi / |wavenumber| (um); inf for a standing wave."""
+        return wm.wavelength(self.wavenumber) * units.length_um
+
+    @property
+    def direction(self) -> Array:
+        """+1 anterograde (base to tip), -1 retrograde, 0 standing."""
+        return wm.direction(self.wavenumber, self.omega)
 
     @property
     def stable(self) -> Array:
@@ -113,20 +121,30 @@ class LimitCycle(eqx.Module):
         """(t (T,) tau, centreline (or slope) along the beat direction (T, S), L or rad)."""
         t, q = self.states(n_frames)
         u = centreline(self.model, q, np.asarray(x, dtype=float), derivative)  # (T, d, S)
-        return t, _along(u, float(self.beat_angle))
+        return t, wm.along(u, float(self.beat_angle))
+
+    def tangent_modes(
+        self, x: Float[ArrayLike, " S"]
+    ) -> tuple[Float[Array, " S"], Complex[Array, " S"]]:
+        """(psi_0 (S,), psi_1 (S,)) in rad at the concrete points ``x`` in [0, 1]: the
+        orbit's harmonics 0 and 1 of the tangent angle along its beat direction,
+        psi = psi_0 + Re(psi_1 e^{i theta}) + higher harmonics, theta = omega t (the
+        orbit's phase: theta = 0 where its phase condition holds). Differentiable."""
+        X, H = self.coefficients, self.harmonics
+        slope = centreline(self.model, jnp.stack([X[0], X[1], X[H + 1]]), np.asarray(x), 1)
+        psi = wm.along(slope, self.beat_angle)  # (3, S)
+        return psi[0], psi[1] - 1j * psi[2]
 
     def fourier_modes(self, n_points: int = 41, units: Units = Units()) -> FourierModes:
         """Static and first Fourier modes of the tangent angle psi(s, t) along the beat
-        direction (s in um): exactly the orbit's harmonics 0 and 1."""
+        direction (s in um, ``n_points`` uniform on [0, L]): exactly the orbit's
+        harmonics 0 and 1."""
         x = np.linspace(0.0, 1.0, n_points)
-        X = np.asarray(self.coefficients)
-        H = self.harmonics
-        slope = centreline(self.model, np.stack([X[0], X[1], X[H + 1]]), x, 1)
-        psi = _along(slope, float(self.beat_angle))  # (3, S)
+        psi0, psi1 = self.tangent_modes(x)
         return FourierModes(
             s=x * units.length_um,
-            psi0=psi[0],
-            psi1=psi[1] - 1j * psi[2],
+            psi0=np.asarray(psi0),
+            psi1=np.asarray(psi1),
             omega=float(self.frequency_hz(units)) * 2 * np.pi,
         )
 
@@ -136,19 +154,23 @@ class LimitCycle(eqx.Module):
         return results.message(self.result)
 
     def to_json(self, units: Units = Units()) -> dict[str, Any]:
-        """Plain-Python summary in physical units (an orbit of ``axojax orbit --json``)."""
-        modes = self.fourier_modes(units=units)
+        """Plain-Python summary in physical units (``axojax orbit --json``): the measures
+        of :func:`axojax.orbits.cycle_measures` (the same numbers a fit and the paper
+        table give); a standing wave's wavelength is ``None``."""
+        from .measures import cycle_measures  # measures builds on this module
+
+        m = cycle_measures(self, None, units)
         rho = np.asarray(self.floquet)
         rho = rho[np.isfinite(rho)]
         return results.jsonable(
             {
-                "frequency_hz": float(self.frequency_hz(units)),
+                "frequency_hz": float(m.frequency_hz),
                 "period_s": float(self.period_s(units)),
-                "tip_amplitude_um": float(self.amplitude_um(units)),
-                "wavelength_um": float(self.wavelength_um(units)),
-                "direction": "anterograde" if float(self.wavenumber) < 0 else "retrograde",
-                "static_curvature_rad_per_um": modes.static_curvature,
-                "dynamic_amplitude_rad": modes.dynamic_amplitude,
+                "tip_amplitude_um": float(m.tip_amplitude_um),
+                "wavelength_um": wm.finite_or_none(m.wavelength_um),
+                "direction": {1: "anterograde", -1: "retrograde"}.get(int(self.direction)),
+                "static_curvature_rad_per_um": float(m.static_curvature_rad_per_um),
+                "dynamic_amplitude_rad": float(m.dynamic_amplitude_rad),
                 "floquet": [[float(r.real), float(r.imag)] for r in rho],
                 "stable": bool(self.stable) if rho.size else None,
                 "converged": bool(self.converged),
@@ -157,15 +179,9 @@ class LimitCycle(eqx.Module):
         )
 
 
-def _along(v, angle):
-    """Component along the beat direction of (..., d, S) -> (..., S)."""
-    if v.shape[-2] == 1:
-        return v[..., 0, :]
-    return jnp.cos(angle) * v[..., 0, :] + jnp.sin(angle) * v[..., 1, :]
-
-
 def measures(model: Model, X: Float[Array, "m n"]) -> tuple[Array, Array, Array]:
-    """(amplitude (L), beat angle, wavenumber (rad/L)) of the orbit X; differentiable."""
+    """(tip amplitude (L), beat angle, wavenumber of psi_1 (rad/L)) of the orbit X;
+    differentiable."""
     H = (X.shape[0] - 1) // 2
     tip = centreline(model, X, np.array([1.0]))[..., 0]  # (2H+1, d)
     if model.n_dirs == 1:
@@ -181,9 +197,9 @@ def measures(model: Model, X: Float[Array, "m n"]) -> tuple[Array, Array, Array]
         angle = jnp.where(flip, angle + jnp.pi, angle)
         angle = jnp.where(angle > jnp.pi, angle - 2 * jnp.pi, angle)
         y = tip @ jnp.stack([jnp.cos(angle), jnp.sin(angle)])
-    amplitude = 0.5 * (_extreme(y, H, 1.0) - _extreme(y, H, -1.0))
+    amplitude = wm.tip_amplitude(jnp.stack([_extreme(y, H, 1.0), _extreme(y, H, -1.0)]))
     Q1 = X[1] - 1j * X[H + 1]
-    return amplitude, angle, wavenumber(model, Q1)
+    return amplitude, angle, tangent_wavenumber(model, Q1, angle)
 
 
 def _extreme(y, H: int, sign: float):

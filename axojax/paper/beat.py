@@ -7,9 +7,10 @@ axojax runs :func:`axojax.simulate` (public API only) just past the Hopf point o
 imbalanced model, as ``notebooks/time_domain_beating.ipynb`` does; :data:`FULL` is the
 table's setting and :data:`FAST` a coarse, short one for trying things out.
 
-The beat's wavelength uses MODEL.md section 5's definition on the first Fourier mode of
-the centreline displacement along the beat direction (the beat's counterpart of the
-eigenvector): k = int Im(conj(u_1) u_1') ds / int |u_1|^2 ds, wavelength 2 pi / |k|.
+The beat's wavelength is axojax's one wavelength (docs/model.md, "Mode metrics";
+:mod:`axojax.waveform.measures`): psi_1(s) the first Fourier mode of the simulated
+tangent angle along the beat direction, k = int Im(conj(psi_1) psi_1') ds / int |psi_1|^2 ds
+(midpoint rule on the saved points), wavelength 2 pi / |k|.
 """
 
 from __future__ import annotations
@@ -24,7 +25,6 @@ from ..critical import critical_force
 from ..dynamics import Simulation, simulate
 from ..params import DEFAULT_CUBIC, Params
 from ..units import Units
-from ..waveform import fourier_modes
 from .claims import ELASTICITIES, Claim, Row
 from .modes import evaluate, preset_model
 
@@ -58,6 +58,15 @@ class BeatSettings:
             f"cubic {self.cubic:g}, N_e = {self.n_elements}, {self.t_end_s:g} s"
         )
 
+
+DIGITS = {
+    "frequency_hz": 2,
+    "wavelength_um": 1,
+    "dynamic_amplitude_rad": 2,
+    "static_curvature_rad_per_um": 3,
+}
+"""Decimals a beat row shows of each waveform measure (the fig. 12 rows, stated and
+inferred)."""
 
 FULL = BeatSettings()
 FAST = BeatSettings(n_elements=4, t_end_s=0.3)
@@ -140,25 +149,22 @@ def beat_measures(sim: Simulation) -> dict[str, float] | None:
     """Frequency, wavelength, dynamic amplitude and static curvature of a limit cycle
     (None when the run did not settle on one).
 
-    Also returns ``phase_span_rad`` (how far the phase of u_1 turns from base to tip),
-    ``direction`` (+1 base to tip) and ``beat_angle_deg`` (beat direction from y towards z).
+    Also returns ``phase_span_rad`` (how far the phase of psi_1 turns from base to tip),
+    ``direction`` (+1 base to tip, -1 tip to base, 0 standing) and ``beat_angle_deg``
+    (beat direction from y towards z). The wavelength is inf for a standing wave.
     """
     lc = sim.limit_cycle
     if lc is None:
         return None
-    period = lc["period_s"]
-    u1 = fourier_modes(sim.t_s, sim.x_um, sim.centreline_beat_um, period).psi1
-    s = sim.x_um
-    du1 = np.gradient(u1, s)
-    k = np.trapezoid(np.imag(np.conj(u1) * du1), s) / np.trapezoid(np.abs(u1) ** 2, s)
-    phase = np.unwrap(np.angle(u1[1:]))
+    modes = sim.settled_modes()
+    phase = np.unwrap(np.angle(modes.psi1[1:]))  # psi_1 = 0 at the clamped base
     return {
         "frequency_hz": lc["frequency_hz"],
-        "wavelength_um": float(2 * np.pi / abs(k)) if k != 0 else float("inf"),
+        "wavelength_um": modes.wavelength,
         "dynamic_amplitude_rad": lc["dynamic_amplitude_rad"],
         "static_curvature_rad_per_um": lc["static_curvature_rad_per_um"],
         "phase_span_rad": float(abs(phase[-1] - phase[0])),
-        "direction": 1 if k < 0 else -1,
+        "direction": modes.direction,
         "beat_angle_deg": float(np.degrees(sim.beat_angle_rad)),
     }
 
@@ -206,7 +212,7 @@ def beat_rows(
             span = m["phase_span_rad"]
             note.append(
                 ("a near-standing wave: " if span < np.pi else "")
-                + f"the phase of u_1 turns {span:.1f} rad along the cilium, running "
+                + f"the phase of psi_1 turns {span:.1f} rad along the cilium, running "
                 f"{'base to tip' if m['direction'] > 0 else 'tip to base'} (L 2 pi / {span:.1f} = {units.length_um * 2 * np.pi / span:.1f} um)"
             )
         if c.quantity in ("dynamic_amplitude_rad", "static_curvature_rad_per_um"):
@@ -215,11 +221,6 @@ def beat_rows(
             )
         if c.quantity == "static_curvature_rad_per_um":
             note.append("its sign depends on which side carries the larger force")
-        digits = {
-            "frequency_hz": 2,
-            "wavelength_um": 1,
-            "dynamic_amplitude_rad": 2,
-            "static_curvature_rad_per_um": 3,
-        }[c.quantity]
+        digits = DIGITS[c.quantity]
         rows.append(Row(c, float(value), f"{value:.{digits}f} {c.unit}", elast, "; ".join(note)))
     return rows

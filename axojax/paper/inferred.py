@@ -17,6 +17,14 @@ warm-started from the last (``notebooks/gallery_fig12_asymmetric_beat.ipynb``). 
 of the curvature: group 0 (the stronger, R : 1) sits on the +y side in the seven preset,
 and bends the axoneme to negative tangent angles in the y frame, the paper's sign; the
 mirror image (``rotation_deg=180``) has +0.044.
+
+The set was fitted (2026-12) when axojax measured a beat's wavelength as 2 pi over the
+least-squares slope of psi_1's unwrapped phase: 17.06 um at this set. axojax's one
+wavelength since then, 2 pi / |k| with k the |psi_1|^2-weighted mean phase gradient
+(docs/model.md, "Mode metrics"), gives about 50 um for the same orbit: its phase turns
+3.4 rad in the middle of the cilium, where |psi_1| is smallest, and hardly at all over
+the distal half, where |psi_1| is largest. The other three numbers are unchanged (within
+0.3 %). The set is not refitted to the new measure (:data:`WAVELENGTH_NOTE`).
 """
 
 from __future__ import annotations
@@ -29,6 +37,7 @@ from typing import Any
 from ..models import preset
 from ..params import Params
 from ..units import Units
+from .beat import DIGITS
 from .claims import Claim, Row
 from .inferred_fig7 import FITTED as FIG7_FITTED
 from .inferred_fig7 import INFERRED_FIG7
@@ -95,6 +104,14 @@ FIG12_TARGETS = {
     "static_curvature_rad_per_um": -0.044,
 }
 """Figure 12b's beat (paper, section 3.7.1)."""
+
+WAVELENGTH_NOTE = (
+    "the set was fitted to 17 um with the wavelength axojax used before 2026-12 (2 pi over the least-squares slope "
+    "of psi_1's unwrapped phase: 17.06 um here); the one wavelength of axojax modes, orbit, simulate, data and fits, "
+    "2 pi / |k| with k the |psi_1|^2-weighted mean phase gradient, is longer for this beat: its phase turns in the "
+    "middle, where |psi_1| is small, and hardly at all over the distal half, where |psi_1| is large; not refitted"
+)
+"""Why the inferred fig. 12 wavelength row differs from the paper (module docstring)."""
 
 INFERRED: dict[str, Inferred] = {
     "fig7": Inferred(
@@ -184,15 +201,10 @@ def inferred_rows(claims: Sequence[Claim], units: Units = Units(), measured=None
     )
     for c in claims:
         value = float(getattr(m, c.quantity))
-        digits = {
-            "frequency_hz": 2,
-            "wavelength_um": 1,
-            "dynamic_amplitude_rad": 2,
-            "static_curvature_rad_per_um": 3,
-        }[c.quantity]
+        digits = DIGITS[c.quantity]
         note = context
         if c.quantity == "wavelength_um":
-            note += "; wavelength from the least-squares slope of the phase of psi_1(s) (as axojax data measures a beat)"
+            note += "; " + WAVELENGTH_NOTE
         rows.append(
             Row(
                 c,

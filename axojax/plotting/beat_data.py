@@ -14,7 +14,8 @@ from ..beats.data import BeatData
 
 def plot_beat_data(beat: BeatData) -> plt.Figure:
     """psi_0(s); |psi_1(s)| with its 1-sigma band; the unwrapped phase of psi_1(s) with
-    the wavelength's least-squares line; the kymograph psi(s, t) of the first cycles
+    a line of the wavelength's slope k (the |psi_1|^2-weighted mean phase gradient, drawn
+    through the |psi_1|^2-weighted centre of the phase); the kymograph psi(s, t) of the first cycles
     (frames) or the two-mode reconstruction psi_0 + Re(psi_1 exp(i theta)) over one cycle
     (Fourier modes). A non-planar 3D beat shows its out-of-plane component dashed."""
     fig, axes = plt.subplots(2, 2, figsize=(11, 7.5), constrained_layout=True)
@@ -31,7 +32,10 @@ def plot_beat_data(beat: BeatData) -> plt.Figure:
         axes[0, 1].fill_between(s, amp - sig, amp + sig, color=line.get_color(), alpha=0.25, lw=0)
         axes[1, 0].plot(s, np.unwrap(np.angle(m.psi1)), ls, label=label)
     phase = np.unwrap(np.angle(beat.modes.psi1))
-    fit = np.polyval(np.polyfit(s, phase, 1), s)
+    w = np.abs(beat.modes.psi1) ** 2
+    w = w if w.sum() > 0 else np.ones_like(w)
+    centre = np.average(s, weights=w), np.average(phase, weights=w)
+    fit = centre[1] + beat.wavenumber_rad_per_um * (s - centre[0])
     lam = beat.wavelength_um
     axes[1, 0].plot(
         s,

@@ -6,9 +6,9 @@ of periods of angular frequency omega, the tangent angle is decomposed as::
     psi(s, t) ~ psi_0(s) + Re(psi_1(s) exp(i omega t))
 
 ``psi_0`` is the static mode (time mean), ``psi_1`` the first (complex) Fourier mode.
-The *static curvature* is the least-squares slope of psi_0(s) and the *dynamic
-amplitude* the arc-length mean of |psi_1(s)|. Plain numpy: these analyse finished
-time series, they are not traced.
+Their measures (static curvature, dynamic amplitude, wavelength, direction) are those of
+:mod:`axojax.waveform.measures`, the one implementation for models and data. Plain numpy:
+these analyse finished time series, they are not traced.
 """
 
 from __future__ import annotations
@@ -16,6 +16,8 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+
+from . import measures
 
 
 @dataclasses.dataclass(frozen=True)
@@ -55,7 +57,7 @@ def detect_cycles(t: np.ndarray, y: np.ndarray) -> Cycles:
     amps = []
     for a, b in zip(up[:-1], up[1:]):
         seg = y[a : b + 2]
-        amps.append((seg.max() - seg.min()) / 2)
+        amps.append(measures.tip_amplitude(seg))
     return Cycles(
         starts=starts,
         periods=np.diff(starts),
@@ -87,12 +89,29 @@ class FourierModes:
     @property
     def static_curvature(self) -> float:
         """Least-squares slope of psi_0(s) (rad per unit of s)."""
-        return float(np.polyfit(self.s, self.psi0, 1)[0])
+        return float(measures.static_curvature(self.s, self.psi0))
 
     @property
     def dynamic_amplitude(self) -> float:
-        """Arc-length mean of |psi_1(s)| (rad)."""
-        return float(np.mean(np.abs(self.psi1)))
+        """Arc-length (trapezoidal) mean of |psi_1(s)| (rad)."""
+        return float(measures.dynamic_amplitude(self.s, self.psi1))
+
+    @property
+    def wavenumber(self) -> float:
+        """|psi_1|^2-weighted mean phase gradient of psi_1(s) (rad per unit of s; midpoint
+        rule on the samples; negative: travelling towards larger s)."""
+        return float(measures.sampled_wavenumber(self.s, self.psi1))
+
+    @property
+    def wavelength(self) -> float:
+        """2 pi / |wavenumber| (units of s); inf for a standing wave."""
+        return float(measures.wavelength(self.wavenumber, self.s[-1] - self.s[0]))
+
+    @property
+    def direction(self) -> int:
+        """+1 anterograde (base to tip), -1 retrograde, 0 standing (or omega = 0)."""
+        # omega > 0 by construction (a Fourier-mode file may leave it NaN)
+        return int(measures.direction(self.wavenumber, 1.0, self.s[-1] - self.s[0]))
 
 
 def fourier_modes(t: np.ndarray, s: np.ndarray, psi: np.ndarray, period: float) -> FourierModes:

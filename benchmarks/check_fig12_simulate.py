@@ -1,0 +1,60 @@
+"""Does ``ax.simulate`` from rest reach the limit cycle of the inferred figure 12
+parameters (``axojax.paper.INFERRED["fig12"]``)? A check too slow for the test suite
+(3 s of beat, about 20-35 s on a shared 2-core machine).
+
+The orbit (``ax.limit_cycle``, harmonic balance) and the time-domain run (diffrax, from
+the tip deflection of :func:`axojax.dynamics.simulate.tip_deflection`) are independent
+computations of the same beat; their measures come from the same functions
+(:mod:`axojax.waveform.measures`). Asserted: the run ends on a limit cycle with the
+orbit's frequency within 0.5 %, and its wavelength, static curvature, dynamic and tip
+amplitude within 2 % (the run's are measured at the 41 saved points over its last two
+periods, the orbit's exactly). Measured 2026-12-03: 17.0197 Hz against 17.0195 Hz,
+50.18 against 50.14 um, -0.04400 against -0.04400 rad/um, 0.7117 against 0.7122 rad,
+4.247 against 4.251 um.
+
+    python benchmarks/check_fig12_simulate.py [--t-end 3.0]
+"""
+
+import argparse
+import sys
+import time
+
+import axojax as ax
+from axojax import paper
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--t-end", type=float, default=3.0, help="simulated time (s)")
+    args = parser.parse_args(argv)
+    inf = paper.INFERRED["fig12"]
+    model, params = inf.build()
+    t0 = time.perf_counter()
+    sim = ax.simulate(model, params, args.t_end, cubic=inf.cubic)
+    wall = time.perf_counter() - t0
+    m, cyc = paper.inferred.fig12_measures()
+    orbit = m.scalars()
+    print(f"simulate: {sim.state} after {args.t_end:g} s of beat ({wall:.0f} s wall)")
+    if sim.state != "limit_cycle":
+        print(f"no limit cycle: {sim.reason}")
+        return 1
+    lc = sim.limit_cycle
+    ok = True
+    for name, rel in (
+        ("frequency_hz", 0.005),
+        ("wavelength_um", 0.02),
+        ("static_curvature_rad_per_um", 0.02),
+        ("dynamic_amplitude_rad", 0.02),
+        ("tip_amplitude_um", 0.02),
+    ):
+        diff = lc[name] / orbit[name] - 1
+        good = abs(diff) <= rel
+        ok &= good
+        print(
+            f"{name:28s} simulate {lc[name]:10.5g}  orbit {orbit[name]:10.5g}  {diff:+.2e}  {'ok' if good else 'FAILS'} (within {rel:g})"
+        )
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
