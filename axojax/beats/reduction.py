@@ -116,11 +116,11 @@ class Planarity:
             return (
                 f"planar (s3/s2 = {self.ratio:.3g} < {self.threshold:g}): angles in the best plane"
             )
+        ratio = "" if self.frame_ratio is None else f", transverse ratio {self.frame_ratio:.3g}"
         return (
             f"not planar (s3/s2 = {self.ratio:.3g} >= {self.threshold:g}): two transverse"
             " components reduced about the beat frame (e1 the base tangent, e2 the largest"
-            f" oscillation, transverse ratio {self.frame_ratio:.3g}); wavelength_um is the"
-            " in-plane one's"
+            f" oscillation{ratio}); wavelength_um is the in-plane one's"
         )
 
     def as_dict(self) -> dict:
