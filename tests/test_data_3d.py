@@ -21,6 +21,7 @@ from axojax.cli.main import main
 from axojax.inverse import Condition, Problem, least_squares
 from axojax.inverse.predictions import model_psi1
 from axojax.plotting.beat_data import plot_beat_data
+from axojax.plotting.fit_report import plot_fit_report
 
 L_UM = 45.0
 WAVELENGTH_UM = 25.0
@@ -295,6 +296,10 @@ def test_3d_fit_to_both_components_recovers_the_parameters(model3d):
         np.concatenate([alpha * a, alpha * b]),
         atol=1e-6,
     )
+    assert fit["component"] == ["in_plane"] * s.size + ["out_of_plane"] * s.size
+    fig = plot_fit_report(result.to_json())  # one curve per component
+    labels = {t.get_text() for t in fig.axes[0].get_legend().get_texts()}
+    assert {"observed (in plane)", "fitted (out of plane)"} <= labels
     mirrored = join_components(
         [parts[0], ShapeTarget(s, -alpha * b, 0.01, component="out_of_plane")]
     )
