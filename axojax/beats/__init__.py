@@ -13,9 +13,10 @@ from .data import BeatData, beat_from_kymograph, read_beat
 from .observations import OBSERVATIONS, observation_targets
 from .readers import BeatFileError
 from .reduction import Planarity
-from .targets import CYCLE_SCALARS, SCALARS, ShapeTarget, Target
+from .targets import COMPONENTS, CYCLE_SCALARS, SCALARS, ShapeTarget, Target, join_components
 
 __all__ = [
+    "COMPONENTS",
     "CYCLE_SCALARS",
     "FILES",
     "OBSERVATIONS",
@@ -26,6 +27,7 @@ __all__ = [
     "ShapeTarget",
     "Target",
     "beat_from_kymograph",
+    "join_components",
     "observation_targets",
     "read_beat",
     "resolve",

@@ -28,7 +28,7 @@ from . import reduction
 from .bundled import resolve
 from .readers import RawBeat, fail, read_file
 from .reduction import FREQUENCY_REL_FLOOR, PSI1_FLOOR_RAD, Planarity
-from .targets import ShapeTarget, Target
+from .targets import ShapeTarget, Target, join_components
 
 N_POINTS = reduction.N_POINTS
 
@@ -39,7 +39,8 @@ class BeatData:
 
     Attributes:
         s_um: (S,) arc length from the base (um).
-        modes: psi_0 and psi_1 (rad) at ``s_um``: the in-plane component for 3D beats.
+        modes: psi_0 and psi_1 (rad) at ``s_um``: the in-plane component for non-planar
+            3D beats (about the beat frame's e2, :mod:`axojax.beats.reduction`).
         psi1_sigma: (S,) standard error (rad) of each of Re and Im of psi_1 (per-cycle
             scatter, floored: :mod:`axojax.beats.reduction`).
         frequency_hz, frequency_sigma_hz: beat frequency and its standard error; ``None``
@@ -49,8 +50,9 @@ class BeatData:
         source: the file (or ``"data"``).
         t_s: (T,) frame times and psi_rad: (T, S) tangent angle, ``None`` for Fourier modes.
         planarity: :class:`~axojax.beats.reduction.Planarity` of a 3D record, else ``None``.
-        out_of_plane: for a non-planar 3D record, the out-of-plane component's modes and
-            psi_1 sigma ``(FourierModes, (S,))``, else ``None``.
+        out_of_plane: for a non-planar 3D record, the out-of-plane component's (about
+            the beat frame's e3) modes and psi_1 sigma ``(FourierModes, (S,))``, else
+            ``None``.
         cycles: whole cycles used (0 for Fourier modes); periods_s: their durations.
         excluded_base_um: basal stretch left out (:meth:`exclude_base`).
         notes: what the reduction decided or assumed, in words.
@@ -86,13 +88,41 @@ class BeatData:
         return freq, ShapeTarget(self.s_um, self.modes.psi1, self.psi1_sigma, psi0=self.modes.psi0)
 
     def shape_targets(self) -> list[ShapeTarget]:
-        """Shape targets of every reduced component: the in-plane one, and for a
-        non-planar 3D beat also the out-of-plane one (for fits that model both)."""
+        """Shape targets of every reduced component, labelled (``ShapeTarget.component``):
+        the ``"in_plane"`` one, and for a non-planar 3D beat also the ``"out_of_plane"``
+        one. A 3D model fits both with one complex scale:
+        :meth:`joint_shape_target`."""
         out = [self.targets()[1]]
         if self.out_of_plane is not None:
             m, sig = self.out_of_plane
-            out.append(ShapeTarget(self.s_um, m.psi1, sig, psi0=m.psi0))
+            out.append(ShapeTarget(self.s_um, m.psi1, sig, psi0=m.psi0, component="out_of_plane"))
         return out
+
+    def joint_shape_target(self) -> ShapeTarget:
+        """Every component in one shape target (:func:`~axojax.beats.targets.join_components`):
+        a condition with it fits a 3D model's psi_1 along its beat direction to the in-plane
+        component and perpendicular to it to the out-of-plane one, with one complex scale
+        (they are one mode's two projections). For a planar beat, the in-plane target."""
+        return join_components(self.shape_targets())
+
+    @property
+    def components(self) -> list[dict]:
+        """Measures of each reduced component (``"in_plane"``, and ``"out_of_plane"`` for a
+        non-planar 3D beat): ``{"name", "wavelength_um" (None: standing),
+        "wavenumber_rad_per_um", "dynamic_amplitude_rad"}``, each by
+        :mod:`axojax.waveform.measures` (the functions of the in-plane properties)."""
+        comps = [("in_plane", self.modes)]
+        if self.out_of_plane is not None:
+            comps.append(("out_of_plane", self.out_of_plane[0]))
+        return [
+            {
+                "name": name,
+                "wavelength_um": finite_or_none(m.wavelength),
+                "wavenumber_rad_per_um": float(m.wavenumber),
+                "dynamic_amplitude_rad": float(m.dynamic_amplitude),
+            }
+            for name, m in comps
+        ]
 
     def exclude_base(self, um: float) -> BeatData:
         """The same beat without its basal stretch s < ``um`` (arc lengths stay measured
@@ -154,7 +184,10 @@ class BeatData:
         return finite_or_none(self.modes.wavelength)
 
     def summary(self) -> dict:
-        """What ``axojax data --json`` prints (keys in INTERFACE.md, plus extras)."""
+        """What ``axojax data --json`` prints (keys in INTERFACE.md, plus extras).
+        ``wavelength_um``, ``dynamic_amplitude_rad`` and ``static_curvature_rad_per_um`` are
+        the in-plane component's; ``components`` lists every component's
+        (:attr:`components`)."""
         return {
             "file": self.source,
             "kind": self.kind,
@@ -164,6 +197,7 @@ class BeatData:
             "wavelength_um": self.wavelength_um,
             "static_curvature_rad_per_um": self.static_curvature_rad_per_um,
             "dynamic_amplitude_rad": self.dynamic_amplitude_rad,
+            "components": self.components,
             "planarity": None if self.planarity is None else self.planarity.as_dict(),
             "n_points": int(self.s_um.size),
             "frames": None if self.t_s is None else int(self.t_s.size),
@@ -268,7 +302,7 @@ def read_beat(
             notes.append(f"length {length:.4g} um: median measured arc length of the frames")
         if raw.kind == "centreline-3d":
             planar = reduction.planarity(pts, planarity_threshold)
-            axes = planar.axes if not planar.planar else planar.axes[:2]
+            axes = planar.axes[:2] if planar.planar else planar.frame
             notes.append(planar.treatment)
         else:
             axes = np.eye(2)

@@ -3,15 +3,47 @@ planarity decision), the beat phase and frequency, psi_0 and psi_1 per cycle, an
 uncertainties with documented floors. Plain numpy (finished records, not traced).
 
 **Planarity** (3D centrelines): the singular values s1 >= s2 >= s3 of the point cloud of
-every frame's points relative to its base (centred) give the long axis e1, the direction
-of largest transverse motion e2 and the out-of-plane direction e3. The beat is called
+every frame's points relative to its base (centred) give the long axis, the direction
+of largest transverse extent and the out-of-plane direction. The beat is called
 planar when ``s3 / s2 < PLANARITY_THRESHOLD`` (0.2): the out-of-plane rms excursion is
-under a fifth of the in-plane transverse one, so projecting on the (e1, e2) plane changes
+under a fifth of the in-plane transverse one, so projecting on the best plane changes
 a tangent angle by under ``1 - cos(atan 0.2)`` ~ 2 % (below a measured psi_1's
-uncertainty). Planar: psi is the angle of the projected tangent in the best plane.
-Not planar: both transverse components are reduced, psi_a = atan2(t.e2, t.e1) (in the
-plane of largest motion, the one a fit's in-plane shape target uses) and
-psi_b = atan2(t.e3, t.e1) (out of it), on a common beat phase.
+uncertainty). Planar: psi is the angle of the projected tangent in the best plane (an
+in-plane rotation of the axes only shifts psi by a constant, removed with the mean base
+angle).
+
+**The beat frame** (non-planar 3D centrelines, :func:`beat_frame`): both transverse
+components are reduced, psi_a = atan2(t.e2, t.e1) (``in_plane``) and
+psi_b = atan2(t.e3, t.e1) (``out_of_plane``), on a common beat phase, about
+
+- e1: the mean unit tangent of the basal tenth of the flagellum (all frames): the axis
+  of a model clamped at its base, from which the model's psi is measured;
+- e2: the principal axis of largest variance of the *oscillating* displacement, i.e. of
+  ``r(s, t) - mean_t r(s)`` (r relative to the base) projected perpendicular to e1 (all
+  points and frames): the direction of the beat's largest transverse motion, as a
+  model's beat direction is the principal axis of its mode's centreline displacement
+  (:func:`axojax.eigen.metrics.beat_plane`);
+- e3 = e1 x e2 (right-handed, so that a model's cross-section directions (y, z) map to
+  (e2, e3) by a rotation, never a mirror image).
+
+The point cloud's axes are not used for this. Its long axis is the mean chord, which a
+static bend tilts away from the base (14 degrees for the bundled sperm): psi measured
+from it carries the tilt and mixes the components. Its second axis is the largest
+*extent* of the positions, static shape included, so a static out-of-plane bend can turn
+it towards e3; the fit's psi_1 is the oscillation only. A helical beat (circular
+transverse motion) has no preferred e2: any choice differs by a rotation phi about e1,
+which for a circular wave multiplies both psi_1 by exp(+-i phi) (absorbed by a fit's
+complex scale; the wavelengths are unchanged); the nearer to circular, the less
+significant e2's orientation (:attr:`Planarity.frame_ratio` reports the square root of
+the ratio of the two transverse variances, as a model's ``out_of_plane_ratio`` does).
+Between these limits a component's own wavelength depends on e2: the bundled sperm
+(ratio 0.70) gives 105 um in-plane and 45 um out-of-plane about the displacement's
+axis, 73 and 57 um about the oscillating tangent's (27 degrees away); the displacement's
+axis is the model's definition, so that a fit compares like with like. A record in the lab frame of a rolling
+cell (its beat plane turning with the body) must first be brought into a frame fixed to
+the cell (the head's orientation, which a centreline alone does not give; the bundled
+sperm is in its head-fixed frame): otherwise the roll, at the rolling frequency, mixes
+the components.
 
 **Beat phase and frequency**: the spectral peak f0 of the mean-removed angles (summed
 over s and components, zero-padded 8x) gives a first psi_1; projecting every frame on the
@@ -57,14 +89,21 @@ ZERO_PAD = 8
 
 @dataclasses.dataclass(frozen=True)
 class Planarity:
-    """Planarity of a 3D centreline record.
+    """Planarity of a 3D centreline record, and the frame a non-planar one is reduced in.
 
     Attributes:
         singular_values: (3,) of the base-relative point cloud, descending (um).
-        axes: (3, 3) rows e1 (long axis, base to tip), e2 (largest transverse motion), e3.
+        axes: (3, 3) the point cloud's axes, rows: long axis (base to tip), largest
+            transverse extent, their cross product; a planar beat's angles are measured
+            in the plane of the first two.
         ratio: s3 / s2 (out-of-plane over in-plane transverse extent).
         planar: ``ratio < threshold``.
         threshold: :data:`PLANARITY_THRESHOLD`.
+        frame: (3, 3) rows e1, e2, e3 of the beat frame (:func:`beat_frame`, module
+            docstring) a non-planar beat's two components are measured in; ``None`` when
+            planar.
+        frame_ratio: sqrt of the oscillating displacement's variance along e3 over that
+            along e2 (0: one plane of motion, 1: circular); ``None`` when planar.
     """
 
     singular_values: np.ndarray
@@ -72,6 +111,8 @@ class Planarity:
     ratio: float
     planar: bool
     threshold: float = PLANARITY_THRESHOLD
+    frame: np.ndarray | None = None
+    frame_ratio: float | None = None
 
     @property
     def treatment(self) -> str:
@@ -79,7 +120,12 @@ class Planarity:
             return (
                 f"planar (s3/s2 = {self.ratio:.3g} < {self.threshold:g}): angles in the best plane"
             )
-        return f"not planar (s3/s2 = {self.ratio:.3g} >= {self.threshold:g}): both transverse components reduced, the in-plane one (largest motion) is the shape target"
+        ratio = "" if self.frame_ratio is None else f", transverse ratio {self.frame_ratio:.3g}"
+        return (
+            f"not planar (s3/s2 = {self.ratio:.3g} >= {self.threshold:g}): two transverse"
+            " components reduced about the beat frame (e1 the base tangent, e2 the largest"
+            f" oscillation{ratio}); wavelength_um is the in-plane one's"
+        )
 
     def as_dict(self) -> dict:
         s = self.singular_values
@@ -93,11 +139,43 @@ class Planarity:
             "threshold": self.threshold,
             "planar": bool(self.planar),
             "treatment": self.treatment,
+            "frame": None
+            if self.frame is None
+            else {n: [float(v) for v in e] for n, e in zip(("e1", "e2", "e3"), self.frame)},
+            "frame_ratio": None if self.frame_ratio is None else float(self.frame_ratio),
         }
 
 
+BASE_FRACTION = 0.1
+"""Basal fraction of the length whose mean tangent is the beat frame's e1."""
+
+
+def beat_frame(points: np.ndarray) -> tuple[np.ndarray, float]:
+    """The beat frame of ``points`` (T, P, 3), each frame's points from base to tip
+    (module docstring): ((3, 3) rows e1, e2, e3; sqrt of the transverse variance ratio
+    along e3 over e2). e1: mean unit tangent of the segments in the basal
+    :data:`BASE_FRACTION` (at least one); e2: principal axis of largest variance,
+    perpendicular to e1, of the base-relative points minus their time mean (sign: its
+    largest coordinate positive); e3 = e1 x e2."""
+    d = np.diff(points, axis=1)
+    t = d / np.linalg.norm(d, axis=-1, keepdims=True)
+    n_base = max(1, int(round(BASE_FRACTION * t.shape[1])))
+    e1 = t[:, :n_base].mean(axis=(0, 1))
+    e1 = e1 / np.linalg.norm(e1)
+    rel = points - points[:, :1]
+    osc = (rel - rel.mean(axis=0)).reshape(-1, 3)
+    osc = osc - np.outer(osc @ e1, e1)
+    w, v = np.linalg.eigh(osc.T @ osc)  # ascending; the smallest is ~0 (along e1)
+    e2 = v[:, -1] - (v[:, -1] @ e1) * e1
+    e2 = e2 / np.linalg.norm(e2)
+    e2 = e2 * np.sign(e2[np.argmax(np.abs(e2))])
+    ratio = float(np.sqrt(max(w[-2], 0.0) / w[-1])) if w[-1] > 0 else 0.0
+    return np.stack([e1, e2, np.cross(e1, e2)]), ratio
+
+
 def planarity(points: np.ndarray, threshold: float = PLANARITY_THRESHOLD) -> Planarity:
-    """Planarity of ``points`` (T, P, 3), each frame's points from base to tip."""
+    """Planarity of ``points`` (T, P, 3), each frame's points from base to tip, with the
+    beat frame (:func:`beat_frame`) when it is not planar."""
     rel = points - points[:, :1]
     cloud = rel.reshape(-1, 3)
     _, sv, vt = np.linalg.svd(cloud - cloud.mean(axis=0), full_matrices=False)
@@ -106,8 +184,16 @@ def planarity(points: np.ndarray, threshold: float = PLANARITY_THRESHOLD) -> Pla
         e[0] = -e[0]
     e[2] = np.cross(e[0], e[1])
     ratio = float(sv[2] / max(sv[1], 1e-300))
+    planar = ratio < threshold
+    frame, frame_ratio = (None, None) if planar else beat_frame(points)
     return Planarity(
-        singular_values=sv, axes=e, ratio=ratio, planar=ratio < threshold, threshold=threshold
+        singular_values=sv,
+        axes=e,
+        ratio=ratio,
+        planar=planar,
+        threshold=threshold,
+        frame=frame,
+        frame_ratio=frame_ratio,
     )
 
 

@@ -12,6 +12,16 @@ first Fourier mode of the tangent angle, psi_1(s); the model's psi_1 (the domina
 eigenvector's centreline slope in its beat plane) is fitted with the best complex scale
 alpha, so the residual ``psi_obs - alpha psi_model`` ignores the mode's arbitrary
 amplitude and phase but not its shape or propagation direction.
+
+A 3D beat has two transverse components (:mod:`axojax.beats.reduction`): ``in_plane``
+(the tangent angle towards the beat frame's e2, the direction of largest motion; the
+default, and a planar beat's only one) and ``out_of_plane`` (towards e3). A
+:class:`ShapeTarget`'s ``component`` says which one it observes; a 3D model predicts
+its psi_1 along its beat direction or perpendicular to it in the cross-section plane
+accordingly (:func:`axojax.inverse.predictions.model_psi1`). :func:`join_components`
+puts both in one target, so that one complex scale serves both: they are one mode's two
+projections, and fitting each with its own scale would throw away their relative
+amplitude and phase.
 """
 
 from __future__ import annotations
@@ -24,6 +34,7 @@ import numpy as np
 SCALARS = ("frequency_hz", "wavelength_um", "velocity_um_per_s", "growth_rate_per_s")
 CYCLE_SCALARS = ("frequency_hz", "amplitude_um", "wavelength_um")
 SOURCES = ("linear", "limit_cycle")
+COMPONENTS = ("in_plane", "out_of_plane")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -67,13 +78,17 @@ class ShapeTarget:
     fits ignore it). ``source``: ``"linear"`` matches psi_1 with the dominant linear
     mode up to a complex scale; ``"limit_cycle"`` matches psi_0 and psi_1 in absolute
     amplitude with the nonlinear beat (:mod:`axojax.inverse.cycle_targets`, up to the orbit's
-    arbitrary time origin)."""
+    arbitrary time origin). ``component``: which transverse component is observed,
+    ``"in_plane"`` (default) or ``"out_of_plane"`` (module docstring), one name for
+    every point or a tuple of one name per point (:func:`join_components`); limit-cycle
+    shapes are in-plane only."""
 
     s_um: np.ndarray
     psi1: np.ndarray
     sigma: float | np.ndarray
     psi0: np.ndarray | None = None
     source: str = "linear"
+    component: str | tuple[str, ...] = "in_plane"
 
     def __post_init__(self) -> None:
         if self.source not in SOURCES:
@@ -92,3 +107,59 @@ class ShapeTarget:
             )
         if self.psi0 is not None and np.asarray(self.psi0).shape != shape:
             raise ValueError("shape target: psi0 must have the shape of s_um")
+        if not isinstance(self.component, str):
+            object.__setattr__(self, "component", tuple(str(c) for c in self.component))
+            if (len(self.component),) != shape:
+                raise ValueError(
+                    f"shape target: component must be one name or one per point of s_um {shape}, got {len(self.component)}"
+                )
+        bad = sorted(set(self.components) - set(COMPONENTS))
+        if bad:
+            raise ValueError(
+                f"unknown shape component {bad[0]!r}; choose from {', '.join(COMPONENTS)}"
+            )
+        if self.source == "limit_cycle" and set(self.components) != {"in_plane"}:
+            raise ValueError("shape target: a limit-cycle shape is in-plane only")
+
+    @property
+    def components(self) -> tuple[str, ...]:
+        """The component of every point, (S,) names."""
+        if isinstance(self.component, str):
+            return (self.component,) * int(np.asarray(self.s_um).size)
+        return self.component
+
+    def component_at(self, mask: np.ndarray) -> str | tuple[str, ...]:
+        """``component`` of the points a boolean ``mask`` (S,) keeps (one name stays one)."""
+        if isinstance(self.component, str):
+            return self.component
+        return tuple(c for c, keep in zip(self.component, np.asarray(mask)) if keep)
+
+
+def join_components(targets: list[ShapeTarget] | tuple[ShapeTarget, ...]) -> ShapeTarget:
+    """One shape target of the components of one beat (each target's points, in order,
+    labelled with their component): a fit scales the model's psi_1 to all of them with one
+    complex scale. One target is returned as it is. All must have the same ``source``
+    and all or none a ``psi0``."""
+    targets = list(targets)
+    if not targets:
+        raise ValueError("join_components: no shape targets given")
+    if len(targets) == 1:
+        return targets[0]
+    if len({t.source for t in targets}) != 1:
+        raise ValueError("join_components: the targets' sources differ")
+    if len({t.psi0 is None for t in targets}) != 1:
+        raise ValueError("join_components: give psi0 for all targets or none")
+
+    def cat(get) -> np.ndarray:
+        return np.concatenate(
+            [np.broadcast_to(np.asarray(get(t)), np.asarray(t.s_um).shape) for t in targets]
+        )
+
+    return ShapeTarget(
+        s_um=cat(lambda t: np.asarray(t.s_um, dtype=float)),
+        psi1=cat(lambda t: t.psi1),
+        sigma=cat(lambda t: np.asarray(t.sigma, dtype=float)),
+        psi0=None if targets[0].psi0 is None else cat(lambda t: t.psi0),
+        source=targets[0].source,
+        component=tuple(c for t in targets for c in t.components),
+    )

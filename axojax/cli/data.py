@@ -14,8 +14,14 @@ JSON: the keys of docs/interface.md (``file``, ``kind``, ``length_um``, ``freque
 ``psi1_sigma_rad`` (min/median/max), ``floors``, ``excluded_base_um``,
 ``published_frequency_hz`` and ``notes`` (what the reduction decided, in words).
 ``planarity`` is null except for 3D centrelines: ``{"singular_values_um": [s1, s2, s3],
-"ratios": {"s2_over_s1", "s3_over_s1", "s3_over_s2"}, "threshold", "planar", "treatment"}``.
-A frequency the file cannot give (a Fourier-mode file without one) is null.
+"ratios": {"s2_over_s1", "s3_over_s1", "s3_over_s2"}, "threshold", "planar", "treatment",
+"frame", "frame_ratio"}`` (``frame``: the beat frame's axes ``{"e1", "e2", "e3"}`` of a
+non-planar beat, else null; :mod:`axojax.beats.reduction`). ``wavelength_um``,
+``static_curvature_rad_per_um`` and ``dynamic_amplitude_rad`` are the in-plane
+component's; ``components`` lists ``{"name", "wavelength_um", "wavenumber_rad_per_um",
+"dynamic_amplitude_rad"}`` of every reduced component (``in_plane``, and ``out_of_plane``
+for a non-planar 3D beat). A frequency the file cannot give (a Fourier-mode file
+without one) is null.
 """
 
 from __future__ import annotations
@@ -175,6 +181,17 @@ def _render_list(doc: dict) -> str:
     return "\n".join(lines)
 
 
+def _component_lines(components: list[dict]) -> list[str]:
+    """One line per transverse component of a non-planar 3D beat (none for one component)."""
+    if len(components) < 2:
+        return []
+    return [
+        f"  {c['name'].replace('_', '-'):17s} wavelength {wavelength_text(c['wavelength_um'])},"
+        f" dynamic amplitude {_num(c['dynamic_amplitude_rad'], '.4g', 'rad')}"
+        for c in components
+    ]
+
+
 def render(doc: dict) -> str:
     if "datasets" in doc:
         return _render_list(doc)
@@ -188,9 +205,11 @@ def render(doc: dict) -> str:
         + (f", {doc['frames']} frames, {doc['cycles']} cycles" if doc["frames"] else ""),
         f"  length            {_num(doc['length_um'], '.4g', 'um')}",
         f"  frequency         {freq}",
-        f"  wavelength        {wavelength_text(doc['wavelength_um'])}",
+        f"  wavelength        {wavelength_text(doc['wavelength_um'])}"
+        + (" (in-plane component)" if len(doc.get("components", [])) > 1 else ""),
         f"  static curvature  {_num(doc['static_curvature_rad_per_um'], '.4g', 'rad/um')}",
         f"  dynamic amplitude {_num(doc['dynamic_amplitude_rad'], '.4g', 'rad')}",
+        *_component_lines(doc.get("components", [])),
         f"  psi_1 sigma       {doc['psi1_sigma_rad']['min']:.2g} .. {doc['psi1_sigma_rad']['max']:.2g} rad (floor {doc['floors']['psi1_rad']:g})",
     ]
     if doc["planarity"] is not None:

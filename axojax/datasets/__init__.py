@@ -23,7 +23,9 @@ def human_sperm(**kwargs):
     sperm in the head-fixed frame (the head's translation and rotation removed), 272 frames
     at 90 frames/s (3.0 s, about 31 beats); the authors' head-frame beat frequency
     (``published_frequency_hz``) is 10.257 Hz. The beat is strongly non-planar (s3/s2 of
-    the point cloud ~0.7), so both transverse components are reduced (``out_of_plane``).
+    the point cloud ~0.7), so both transverse components are reduced about the beat frame
+    (:mod:`axojax.beats.reduction`; ``modes`` in-plane, ``out_of_plane``; each one's
+    wavelength in ``components``; both as one shape target: ``joint_shape_target()``).
     The raw arrays are in :func:`path` ``("human_sperm")``: ``x_um``, ``y_um``, ``z_um``
     (frames, points), ``frame_rate_hz``, ``published_frequency_hz``.
 

@@ -39,29 +39,62 @@ def scalar_value(mode: Mode, name: str, units: Units) -> Float[Array, ""]:
     )
 
 
-def model_psi1(model: Model, mode: Mode, s: Float[np.ndarray, " S"]) -> Complex[Array, " S"]:
-    """The model's complex psi_1 at ``s`` (units of L) in its beat plane (up to scale)."""
+def model_psi1(
+    model: Model, mode: Mode, s: Float[np.ndarray, " S"], component: str | tuple = "in_plane"
+) -> Complex[Array, " S"]:
+    """The model's complex psi_1 at ``s`` (units of L), up to scale: the centreline slope
+    along its beat direction (``component="in_plane"``) or perpendicular to it in the
+    cross-section plane, rotated from the beat direction by +90 degrees from y towards z
+    (``"out_of_plane"``, the data's e3 = e1 x e2, :mod:`axojax.beats.reduction`).
+    ``component``: one name, or one per point of ``s`` (a joined target's).
+
+    Raises:
+        ValueError: an out-of-plane component asked of a planar (2D) model.
+    """
+    names = (component,) * len(s) if isinstance(component, str) else tuple(component)
+    if len(names) != len(s):
+        raise ValueError(f"component: one name or one per point ({len(s)}), got {len(names)}")
+    out = np.array([c == "out_of_plane" for c in names], dtype=bool)
+    if out.any() and model.n_dirs == 1:
+        raise ValueError(
+            f"an out-of-plane shape target needs a 3D model; {model.name!r} beats in one plane"
+        )
     dphi = jnp.asarray(interpolation_matrix(model.n_elements, np.asarray(s), 1))
     q = jnp.reshape(mode.eigenvector, (model.n_filaments, model.n_dirs, model.mesh.n_dof)).mean(
         axis=0
     )
     _, _, angle, _ = beat_plane(model, mode.eigenvector)
-    return measures.along(q @ dphi.T, angle)
+    slope = q @ dphi.T  # (d, S)
+    if not out.any():
+        return measures.along(slope, angle)
+    return jnp.where(
+        jnp.asarray(out),
+        measures.along(slope, angle + jnp.pi / 2),
+        measures.along(slope, angle),
+    )
 
 
 def shape_fit(
-    model: Model, mode: Mode, target: ShapeTarget, units: Units, at_um=None
+    model: Model, mode: Mode, target: ShapeTarget, units: Units, at_um=None, at_component=None
 ) -> tuple[Array, Array]:
     """(alpha psi_model at ``at_um`` (default the target's s_um), alpha): the model's psi_1
-    scaled by the complex alpha that best fits the observed psi_1 in weighted least squares
-    (weights 1 / sigma^2) over the target's points."""
-    psi_m = model_psi1(model, mode, np.asarray(target.s_um) / units.length_um)
+    (:func:`model_psi1` of the target's ``component``) scaled by the complex alpha that best
+    fits the observed psi_1 in weighted least squares (weights 1 / sigma^2) over the
+    target's points: one alpha for all of its components. ``at_component``: the
+    component at each of ``at_um`` (default the target's ``component`` when it is one
+    name, else required)."""
+    psi_m = model_psi1(model, mode, np.asarray(target.s_um) / units.length_um, target.component)
     obs = jnp.asarray(target.psi1)
     w = 1.0 / jnp.broadcast_to(jnp.asarray(target.sigma, dtype=float), obs.shape) ** 2
     alpha = jnp.vdot(psi_m, w * obs) / jnp.vdot(psi_m, w * psi_m)  # weighted least squares
     if at_um is None:
         return alpha * psi_m, alpha
-    return alpha * model_psi1(model, mode, np.asarray(at_um) / units.length_um), alpha
+    if at_component is None:
+        if not isinstance(target.component, str):
+            raise ValueError("shape_fit: give at_component for a target of several components")
+        at_component = target.component
+    at = np.asarray(at_um) / units.length_um
+    return alpha * model_psi1(model, mode, at, at_component), alpha
 
 
 def shape_residuals(

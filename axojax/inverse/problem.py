@@ -273,7 +273,14 @@ class Problem:
         sigma = np.broadcast_to(np.asarray(shape.sigma, dtype=float), s.shape)
         sigma = np.sqrt(sigma**2 + self.shape_floor**2)[mask]
         psi0 = None if shape.psi0 is None else np.asarray(shape.psi0)[mask]
-        return ShapeTarget(s[mask], np.asarray(shape.psi1)[mask], sigma, psi0, shape.source)
+        return ShapeTarget(
+            s[mask],
+            np.asarray(shape.psi1)[mask],
+            sigma,
+            psi0,
+            shape.source,
+            shape.component_at(mask),  # issue 33: each kept point's transverse component
+        )
 
     @property
     def n_conditions(self) -> int:
@@ -469,6 +476,7 @@ class Problem:
                         self.shapes[i],
                         self.units,
                         at_um=np.asarray(shape.s_um),
+                        at_component=shape.component,  # issue 33: per point, as observed
                     )
                     d["psi1_fit"], d["alpha"] = fitted, alpha
             if cycles[i] is not None:

@@ -362,6 +362,7 @@ def _shape_data(problem: Problem, i: int, pred) -> tuple[dict, dict | None]:
         "psi0_rad": None if shape.psi0 is None else np.asarray(shape.psi0, dtype=float),
         "psi0_fit_rad": np.asarray(pred["psi0_fit"], dtype=float) if "psi0_fit" in pred else None,
         "source": shape.source,
+        "component": list(shape.components),  # issue 33: each point's transverse component
         "kept": kept,
         "length_um": problem.units.length_um,
     }

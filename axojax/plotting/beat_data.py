@@ -17,7 +17,8 @@ def plot_beat_data(beat: BeatData) -> plt.Figure:
     a line of the wavelength's slope k (the |psi_1|^2-weighted mean phase gradient, drawn
     through the |psi_1|^2-weighted centre of the phase); the kymograph psi(s, t) of the first cycles
     (frames) or the two-mode reconstruction psi_0 + Re(psi_1 exp(i theta)) over one cycle
-    (Fourier modes). A non-planar 3D beat shows its out-of-plane component dashed."""
+    (Fourier modes). A non-planar 3D beat shows its out-of-plane component dashed, with
+    its own wavelength slope (:attr:`~axojax.beats.BeatData.components`)."""
     fig, axes = plt.subplots(2, 2, figsize=(11, 7.5), constrained_layout=True)
     s = beat.s_um
     comps = [
@@ -25,25 +26,29 @@ def plot_beat_data(beat: BeatData) -> plt.Figure:
     ]
     if beat.out_of_plane is not None:
         comps.append(("out of plane", beat.out_of_plane[0], beat.out_of_plane[1], "--"))
+    colours = []
     for label, m, sig, ls in comps:
         axes[0, 0].plot(s, m.psi0, ls, label=label)
         amp = np.abs(m.psi1)
         (line,) = axes[0, 1].plot(s, amp, ls, label=label)
         axes[0, 1].fill_between(s, amp - sig, amp + sig, color=line.get_color(), alpha=0.25, lw=0)
-        axes[1, 0].plot(s, np.unwrap(np.angle(m.psi1)), ls, label=label)
-    phase = np.unwrap(np.angle(beat.modes.psi1))
-    w = np.abs(beat.modes.psi1) ** 2
-    w = w if w.sum() > 0 else np.ones_like(w)
-    centre = np.average(s, weights=w), np.average(phase, weights=w)
-    fit = centre[1] + beat.wavenumber_rad_per_um * (s - centre[0])
-    lam = beat.wavelength_um
-    axes[1, 0].plot(
-        s,
-        fit,
-        ":",
-        color="k",
-        label=f"slope: wavelength {lam:.3g} um" if lam else "slope 0: standing wave",
-    )
+        axes[1, 0].plot(s, np.unwrap(np.angle(m.psi1)), ls, label=label, color=line.get_color())
+        colours.append(line.get_color())
+    for (label, m, _, _), colour, measured in zip(comps, colours, beat.components):
+        phase = np.unwrap(np.angle(m.psi1))
+        w = np.abs(m.psi1) ** 2
+        w = w if w.sum() > 0 else np.ones_like(w)
+        centre = np.average(s, weights=w), np.average(phase, weights=w)
+        fit = centre[1] + measured["wavenumber_rad_per_um"] * (s - centre[0])
+        lam = measured["wavelength_um"]
+        slope = f"wavelength {lam:.3g} um" if lam else "0: standing wave"
+        axes[1, 0].plot(
+            s,
+            fit,
+            ":",
+            color="k" if len(comps) == 1 else colour,
+            label=f"slope: {slope}" + (f" ({label})" if len(comps) > 1 else ""),
+        )
     axes[0, 0].set_title(f"static mode psi_0: slope {beat.static_curvature_rad_per_um:.3g} rad/um")
     axes[0, 1].set_title(f"|psi_1| (band: 1 sigma); mean {beat.dynamic_amplitude_rad:.3g} rad")
     axes[1, 0].set_title("phase of psi_1")

@@ -61,6 +61,14 @@ def plot_fit_report(report: dict | str | pathlib.Path) -> plt.Figure:
     sigma = _arr(sh["sigma_rad"])
     kept = np.array(sh["kept"], dtype=bool)
     psi0 = None if sh.get("psi0_rad") is None else _arr(sh["psi0_rad"])
+    # A 3D beat's components (one target, one complex scale) are drawn one curve each;
+    # the waveforms are the in-plane component's.
+    names = np.array(sh.get("component") or ["in_plane"] * s.size)
+    groups = [(n, names == n) for n in dict.fromkeys(names)]
+
+    def tag(label: str, name: str) -> str:
+        return label if len(groups) == 1 else f"{label} ({name.replace('_', ' ')})"
+
     fig, axes = plt.subplots(2, 3, figsize=(14, 8))
     (a_amp, a_phase, a_psi0), (a_res, a_obs, a_fit) = axes
 
@@ -69,16 +77,26 @@ def plot_fit_report(report: dict | str | pathlib.Path) -> plt.Figure:
             ax.axvspan(s.min(), s[~kept].max(), color="0.9", label="excluded base")
 
     shade(a_amp)
-    a_amp.errorbar(s, np.abs(obs), yerr=sigma, fmt="o", ms=3, label="observed")
-    a_amp.plot(s, np.abs(fit), "-", label="fitted (model)")
+    for name, m in groups:
+        bars = a_amp.errorbar(
+            s[m], np.abs(obs[m]), yerr=sigma[m], fmt="o", ms=3, label=tag("observed", name)
+        )
+        a_amp.plot(s[m], np.abs(fit[m]), "-", color=bars[0].get_color(), label=tag("fitted", name))
     a_amp.set(xlabel="s (um)", ylabel="|psi_1| (rad)", title="amplitude of psi_1")
     a_amp.legend(fontsize=8)
     shade(a_phase)
-    obs_phase = np.unwrap(np.angle(obs))
-    a_phase.plot(s, obs_phase, "o", ms=3, label="observed")
-    # The fitted phase drawn as its difference from the observed one (no unwrapping of
-    # the model's psi_1 from the clamped base, where |psi_1| = 0 makes its phase jump).
-    a_phase.plot(s, obs_phase + np.unwrap(np.angle(fit * np.conj(obs))), "-", label="fitted")
+    for name, m in groups:
+        obs_phase = np.unwrap(np.angle(obs[m]))
+        (dots,) = a_phase.plot(s[m], obs_phase, "o", ms=3, label=tag("observed", name))
+        # The fitted phase drawn as its difference from the observed one (no unwrapping of
+        # the model's psi_1 from the clamped base, where |psi_1| = 0 makes its phase jump).
+        a_phase.plot(
+            s[m],
+            obs_phase + np.unwrap(np.angle(fit[m] * np.conj(obs[m]))),
+            "-",
+            color=dots.get_color(),
+            label=tag("fitted", name),
+        )
     a_phase.set(xlabel="s (um)", ylabel="arg psi_1 (rad)", title="phase of psi_1")
     a_phase.legend(fontsize=8)
     psi0_fit = None if sh.get("psi0_fit_rad") is None else _arr(sh["psi0_fit_rad"])
@@ -95,8 +113,9 @@ def plot_fit_report(report: dict | str | pathlib.Path) -> plt.Figure:
         a_psi0.set_axis_off()
     shade(a_res)
     d = (obs - fit) / sigma
-    a_res.plot(s, d.real, "o-", ms=3, label="Re")
-    a_res.plot(s, d.imag, "s-", ms=3, label="Im")
+    for name, m in groups:
+        a_res.plot(s[m], d[m].real, "o-", ms=3, label=tag("Re", name))
+        a_res.plot(s[m], d[m].imag, "s-", ms=3, label=tag("Im", name))
     a_res.axhline(0, color="k", lw=0.5)
     a_res.set(
         xlabel="s (um)",
@@ -105,15 +124,20 @@ def plot_fit_report(report: dict | str | pathlib.Path) -> plt.Figure:
     )
     a_res.legend(fontsize=8)
     base = np.zeros_like(s) if psi0 is None else psi0
+    own = groups[0][1]  # the first component's points (in-plane for a joined 3D target)
     for ax, psi1, name, b in (
         (a_obs, obs, "observed", base),
         (a_fit, fit, "fitted", base if psi0_fit is None else psi0_fit),
     ):
-        x, y = _centrelines(s, b, psi1)
+        x, y = _centrelines(s[own], b[own], psi1[own])
         colors = plt.cm.viridis(np.linspace(0, 1, len(x)))
         for xi, yi, col in zip(x, y, colors):
             ax.plot(xi, yi, color=col, lw=1.2)
-        ax.set(xlabel="x (um)", ylabel="y (um)", title=f"{name} waveform over one cycle")
+        ax.set(
+            xlabel="x (um)",
+            ylabel="y (um)",
+            title=tag(f"{name} waveform over one cycle", groups[0][0]),
+        )
         ax.set_aspect("equal", adjustable="datalim")
     fig.suptitle(title + "\n" + _values_line(report), fontsize=10)
     fig.tight_layout()
