@@ -306,32 +306,6 @@ def model_from_args(args: argparse.Namespace, dense_spectrum: bool = False) -> M
         raise CLIError(f"{source}: {err}") from None
 
 
-MAX_PSI_RAD = 100.0
-"""Largest |tangent angle| accepted in beat data (radians; unwrapped angles of a real
-beat stay within a few turns)."""
-MIN_DATA_POINTS = 3
-"""Fewest arc-length points (and frames) of beat data: a wavelength needs a phase
-gradient, a frequency a time series."""
-
-
-def check_beat(beat: Any, flag: str = "--data") -> None:
-    """Refuse beat data (:class:`axojax.beats.BeatData`) that no fit can use: too few
-    arc-length points or frames, or tangent angles that are not angles."""
-    psi = np.asarray(beat.psi_rad, dtype=float)
-    frames, points = psi.shape if psi.ndim == 2 else (0, 0)
-    if points < MIN_DATA_POINTS:
-        raise CLIError(
-            f"{flag}: needs at least {MIN_DATA_POINTS} arc-length points per frame, got {points}"
-        )
-    if frames < MIN_DATA_POINTS:
-        raise CLIError(f"{flag}: needs at least {MIN_DATA_POINTS} frames, got {frames}")
-    peak = float(np.max(np.abs(psi)))
-    if not np.isfinite(peak) or peak > MAX_PSI_RAD:
-        raise CLIError(
-            f"{flag}: tangent angles must be radians with |psi| <= {MAX_PSI_RAD:g}, got {peak:.3g}"
-        )
-
-
 def check_output(flag: str, path: str | None, suffixes: tuple[str, ...]) -> None:
     """The one output-path rule of every command (:func:`axojax._io.check_output_path`),
     applied before any work; None (flag not given) passes."""

@@ -38,8 +38,6 @@ import sys
 import tomllib
 import warnings
 
-import numpy as np
-
 from .. import _io
 from ..beats import OBSERVATIONS, Target, observation_targets, read_beat
 from ..inverse import SHAPE_FLOOR, Condition, fit
@@ -284,25 +282,13 @@ def _targets(args: argparse.Namespace) -> list[Target]:
 
 
 def _read_data(path, flag: str):
-    """(BeatData, its report) of a beat file; the report is ``BeatData.summary()`` where
-    the reader provides one (what ``axojax data`` prints), else the essentials."""
+    """(BeatData, its summary: what ``axojax data`` prints) of a beat file; the reader
+    refuses data no fit can use (:mod:`axojax.beats.data`)."""
     try:
-        with np.errstate(all="ignore"):  # overflowing data is refused by check_beat
-            beat = read_beat(path)
-        common.check_beat(beat, flag)
+        beat = read_beat(path)
     except (ValueError, OSError) as err:
         raise common.CLIError(f"{flag}: {err}") from None
-    if hasattr(beat, "summary"):
-        doc = beat.summary()
-    else:
-        doc = {
-            "file": str(path),
-            "frequency_hz": beat.frequency_hz,
-            "frequency_sigma_hz": beat.frequency_sigma_hz,
-            "n_points": len(beat.s_um),
-            "note": "reduced by the kymograph/centreline reader (no 'axojax data' summary available)",
-        }
-    return beat, doc
+    return beat, beat.summary()
 
 
 def _check_posterior(args: argparse.Namespace) -> None:
