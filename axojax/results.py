@@ -10,7 +10,12 @@ Every solver's answer carries a ``result`` field: an item of :class:`RESULTS`, a
   kept);
 - ``LimitCycle``: successful, no_start, nonlinear_max_steps_reached (``converged`` kept);
 - ``Trajectory``: diffrax's own codes, promoted (``max_steps_reached``,
-  ``dt_min_reached``, ...; ``ok`` kept).
+  ``dt_min_reached``, ...; ``ok`` kept);
+- ``FitResult``: the least-squares solver's, of the best start (optimistix's
+  Levenberg-Marquardt codes promoted; ``max_steps_reached`` for the others when they
+  stop on their step budget). Whether the targets are reproduced is a separate verdict
+  (``targets_met``): a solver can succeed at an optimum that misses them;
+- ``Posterior``: successful, chains_not_converged.
 
 ``RESULTS`` extends ``diffrax.RESULTS`` (which extends ``optimistix.RESULTS``), so the
 codes of an ODE solve or a root find promote into it (``RESULTS.promote(sol.result)``).
@@ -38,6 +43,7 @@ class RESULTS(diffrax.RESULTS):
 
     invalid_params = "A parameter is NaN, infinite, out of its range or beyond 1e9 in magnitude (see `axojax.Params.validate`); the numbers are NaN."
     no_crossing = "No Hopf crossing: the dominant eigenvalue's real part stays <= 0 up to `p_max`."
+    chains_not_converged = "The posterior's chains are not to be trusted: R-hat above 1.01, too few effective samples or divergent transitions (the posterior's message says which)."
     no_start = "No limit cycle: the Hopf normal form has no small orbit here (subcritical, or not past the Hopf point); start from a nearby orbit."
 
 
@@ -56,3 +62,10 @@ def is_successful(result) -> bool:
         if not isinstance(result, RESULTS)
         else bool(result == RESULTS.successful)
     )
+
+
+def result_name(result: RESULTS) -> str:
+    """The name of a concrete :class:`RESULTS` item (``"successful"``, ...), for files;
+    ``getattr(RESULTS, name)`` is the item again."""
+    result = RESULTS.promote(result) if not isinstance(result, RESULTS) else result
+    return next(n for n, item in RESULTS._name_to_item.items() if bool(item == result))
