@@ -315,9 +315,9 @@ def _finish(args, result, extra: dict, post=None) -> dict:
         except OSError as err:
             raise common.CLIError(f"--out: cannot write {args.out!r} ({err})") from None
         doc["out"] = str(args.out)
-    if not result.converged:
+    if not result.targets_met:
         print(f"axojax: fit: {result.message}", file=sys.stderr)
-    args._exit_code = 0 if result.converged else 1
+    args._exit_code = 0 if result.targets_met else 1
     return doc
 
 
@@ -529,7 +529,9 @@ def render(doc: dict) -> str:
         if chi2 is not None
         else f"loss {doc['loss']:.4g}; chi2/dof undefined (no more residuals than fitted values)"
     )
-    lines.append(f"converged: {doc['converged']}; {doc['message']}")
+    lines.append(f"targets met: {doc['targets_met']}; {doc['message']}")
+    if doc["result"] != "successful":
+        lines.append(f"solver: {doc['result_message']}")
     post = doc.get("posterior")
     if post:
         lines.append(
