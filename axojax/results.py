@@ -17,6 +17,13 @@ Every answer a user meets carries a ``result``: an item of :class:`RESULTS`, an
 - :class:`~axojax.sweeps.SweepResult` (:func:`axojax.sweep`): one code per grid point, a
   :class:`RESULTS` item holding an array (as ``jax.vmap`` of :func:`axojax.dominant_mode`
   gives), and a one-line ``.message`` counting the failures (:func:`summary`).
+- :class:`~axojax.inverse.FitResult` (:func:`axojax.fit`): the least-squares solver's,
+  of the best start (optimistix's Levenberg-Marquardt codes promoted; ``max_steps_reached``
+  for the others when they stop on their step budget). Whether the targets are reproduced
+  is a separate verdict (``targets_met``): a solver can succeed at an optimum that misses
+  them;
+- :class:`~axojax.inverse.Posterior` (:func:`axojax.posterior`): successful,
+  chains_not_converged.
 
 ``RESULTS`` extends ``diffrax.RESULTS`` (which extends ``optimistix.RESULTS``), so the
 codes of an ODE solve or a root find promote into it (``RESULTS.promote(sol.result)``).
@@ -70,6 +77,7 @@ class RESULTS(diffrax.RESULTS):
 
     invalid_params = "A parameter is NaN, infinite, out of its range or beyond 1e9 in magnitude (see `axojax.Params.validate`); the numbers are NaN."
     no_crossing = "No Hopf crossing: the dominant eigenvalue's real part stays <= 0 up to `p_max`."
+    chains_not_converged = "The posterior's chains are not to be trusted: R-hat above 1.01, too few effective samples or divergent transitions (the posterior's message says which)."
     no_start = "No limit cycle: the Hopf normal form has no small orbit here (subcritical, or not past the Hopf point); start from a nearby orbit."
 
 

@@ -147,7 +147,7 @@ def _warm_cold(problem: Problem, truth: ax.Params, label: str, repeats: int = 3)
             walls[name].append(time.perf_counter() - t)
             if rep == 0:
                 rows[name] = (out, list(NEWTON_STEPS))
-    for name, ((z, loss, steps, _), counts) in rows.items():
+    for name, ((z, loss, steps, _, _), counts) in rows.items():
         wall = float(np.median(walls[name]))
         fitted = problem.values(np.asarray(problem.to_u(z)))
         vals = ", ".join(f"{k} {v / float(getattr(truth, k)) - 1:+.1e}" for k, v in fitted.items())

@@ -31,6 +31,7 @@ from axojax.inverse import (
     posterior,
 )
 from axojax.plotting.corner import plot_corner
+from axojax.results import RESULTS, is_successful
 
 SMALL = {"draws": 400, "chains": 4, "warmup": 300}
 
@@ -187,6 +188,9 @@ def test_linear_gaussian_posterior_is_the_exact_normal():
     assert post.divergences == 0
     assert post.u.shape == (4, 400, 2) and post.values.shape == (4, 400, 2)
     assert post.gradients > 0 and post.seconds > 0
+    # the result convention (axojax.results): R-hat and ESS pass, nothing diverged
+    assert post.result == RESULTS.successful and post.message == "successful"
+    assert post.to_json()["result"] == "successful"
 
 
 def test_interval_coverage_over_synthetic_data_sets():
@@ -252,7 +256,7 @@ def test_scaled_sigmas_widen_the_posterior_by_their_factor():
 def test_start_is_the_mode_of_the_density_in_z():
     """The chains' centre (Levenberg-Marquardt on the residuals and the logistic map's
     pseudo-residuals) against scipy's BFGS maximum of the same log density in z."""
-    from axojax.inverse.posterior import _logistic_residuals
+    from axojax.inverse._laplace import _logistic_residuals
 
     z = jnp.linspace(-30.0, 30.0, 13)
     exact = jax.nn.log_sigmoid(z) + jax.nn.log_sigmoid(-z) + np.log(4.0)
@@ -317,6 +321,17 @@ def test_short_chains_warn():
     with pytest.warns(UserWarning, match="effective sample size"):
         post = posterior(linear_problem(0), draws=40, chains=4, warmup=300, seed=0)
     assert "effective sample size" in post.message
+    assert post.result == RESULTS.chains_not_converged and not is_successful(post.result)
+    assert post.to_json()["result"] == "chains_not_converged"
+
+
+def test_posterior_file_keeps_the_result(tmp_path):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        post = posterior(linear_problem(0), draws=40, chains=4, warmup=300, seed=0)
+    post.save(tmp_path / "post.npz")
+    back = Posterior.load(tmp_path / "post.npz")
+    assert back.result == RESULTS.chains_not_converged and back.message == post.message
 
 
 def test_json_npz_and_corner_plot(tmp_path):

@@ -332,6 +332,13 @@ def _from_modes(raw: RawBeat, length: float | None, notes: list) -> BeatData:
         fail(raw.path, "missing length_um (a '# length_um = L' header line, or --length-um)")
     if s[-1] > length * (1 + 1e-9):
         fail(raw.path, f"s_um reaches {s[-1]:g} um, beyond length_um = {length:g}")
+    if n < MIN_POINTS:
+        fail(
+            raw.path,
+            f"needs at least {MIN_POINTS} points of s_um (a wavelength needs a phase gradient), got {n}",
+        )
+    for k in ("psi0_rad", "psi1_re_rad", "psi1_im_rad"):
+        check_angles(raw.path, k, a[k])
     psi1 = a["psi1_re_rad"] + 1j * a["psi1_im_rad"]
     if "psi1_sigma_rad" in a:
         if np.any(a["psi1_sigma_rad"] <= 0):
@@ -367,7 +374,23 @@ def _from_modes(raw: RawBeat, length: float | None, notes: list) -> BeatData:
 
 
 MIN_POINTS = 3
-"""Fewest arc-length points and frames a kymograph may have."""
+"""Fewest arc-length points (every kind) and frames (frames only) of a beat: a wavelength
+needs a phase gradient, a frequency a time series."""
+MAX_PSI_RAD = 100.0
+"""Largest |tangent angle| (rad) accepted in a beat: unwrapped angles of a real beat stay
+within a few turns, so anything larger is not an angle in radians (degrees, pixels or an
+overflow), and would overflow the reduction."""
+
+
+def check_angles(source, name: str, psi: np.ndarray) -> None:
+    """Refuse tangent angles ``psi`` (any shape, rad) that are not finite radians with
+    ``|psi| <= MAX_PSI_RAD``: one line naming ``source`` and ``name``."""
+    peak = float(np.max(np.abs(psi))) if np.size(psi) else 0.0
+    if not (np.isfinite(peak) and peak <= MAX_PSI_RAD):
+        fail(
+            source,
+            f"{name}: tangent angles must be radians with |psi| <= {MAX_PSI_RAD:g}, got {peak:.3g}",
+        )
 
 
 def beat_from_kymograph(
@@ -387,6 +410,8 @@ def beat_from_kymograph(
             source,
             f"needs at least {MIN_POINTS} arc-length points and {MIN_POINTS} frames (a wavelength needs a phase gradient, a frequency a time series), got {psi.shape[1] if psi.ndim == 2 else 0} points x {psi.shape[0] if psi.ndim else 0} frames",
         )
+    for i, comp in enumerate([psi, *extra]):
+        check_angles(source, "psi" if i == 0 else "psi (out of plane)", np.asarray(comp, float))
     red = reduction.reduce_frames(t_s, s, [psi, *extra], source=source)
     return BeatData(
         s_um=s,

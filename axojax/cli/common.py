@@ -9,13 +9,19 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
 import sys
 from typing import Any
 
 import numpy as np
 
-from .. import _io
+from .. import _io, _memory
+from .._memory import (
+    DENSE_SPECTRUM_BYTES,
+    MEMORY_FRACTION,
+    dense_unknowns,
+    model_bytes,
+    physical_memory,
+)
 from ..eigen.solvers import SOLVERS, AbstractEigenSolver, Auto, solver_from_name
 from ..fem import hermite
 from ..models import IMBALANCE_KINDS, PRESETS, CrossSection, Model, build_model, load_section
@@ -49,12 +55,6 @@ MAX_ROTATION_DEG = 360.0
 MAX_ELEMENTS = hermite.MAX_ELEMENTS
 """Elements per filament beyond any use (the memory check below refuses most models far
 earlier); refused before anything is built."""
-MEMORY_FRACTION = 0.75
-"""A model or grid whose estimated memory exceeds this share of the machine's physical
-memory is refused before any work, with the estimate (:func:`check_memory`)."""
-DENSE_SPECTRUM_BYTES = 96.0
-"""Bytes per entry of an n x n matrix that the full dense spectrum of n unknowns needs
-(pencil, reduced matrix, complex eigen-decomposition)."""
 MAX_AXIS = 10_000_000
 """Most values on one axis (``a:b:n``)."""
 FIGURE_SUFFIXES = (".png", ".pdf", ".svg", ".eps", ".jpg", ".jpeg")
@@ -205,53 +205,22 @@ def split_axes(
     return fixed, dict(sorted(axes.items(), key=lambda kv: position[kv[0]]))
 
 
-def physical_memory() -> int:
-    """This machine's physical memory in bytes."""
-    return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
-
-
 def check_memory(need_bytes: float, flag: str, what: str) -> None:
     """Refuse (one line naming ``flag``, with the estimate) work whose estimated memory
-    exceeds :data:`MEMORY_FRACTION` of the physical memory."""
-    total = physical_memory()
-    if need_bytes > MEMORY_FRACTION * total:
-        raise CLIError(
-            f"{flag}: {what} needs about {need_bytes / 2**30:.3g} GiB of memory, more than {MEMORY_FRACTION:.0%} of this machine's {total / 2**30:.3g} GiB"
-        )
-
-
-def model_bytes(section: CrossSection, n_elements: int) -> float:
-    """Estimated peak memory (bytes) of building the model and one dominant eigenpair:
-    the mesh's dense shape-function tables, the model's dense (n_fd, n_fd) coupling
-    matrices (one per active pair), then either
-    the dense pencil (12 n x n doubles: A, C, the complex eigen-decomposition) or, for
-    models the Arnoldi solver takes (``Auto.min_arnoldi_dof`` unknowns or more), its
-    block-tridiagonal factors and Krylov basis."""
-    n_fd = section.n_filaments * section.n_dirs
-    n = dense_unknowns(section, n_elements)
-    build = 8.0 * (
-        n_fd**2 * (2 + len(section.active_pairs))
-        + (len(section.links) + 3 * len(section.active_pairs)) * n_fd
-    )
-    # the mesh: shape-function rows at 5 quadrature points per element over the 2 (n_e + 1)
-    # nodal dofs (three of them), and the filament's dense matrices
-    build += 8.0 * (3 * 5 * n_elements * 2 * (n_elements + 1) + 8 * (2 * n_elements) ** 2)
-    if n < Auto().min_arnoldi_dof:
-        return build + 96.0 * n**2
-    block = 2 * n_fd
-    return build + 8.0 * 16 * n_elements * block**2 + 16.0 * 96 * n
-
-
-def dense_unknowns(section: CrossSection, n_elements: int) -> int:
-    """Unknowns of the model (2 per node and transverse direction, clamped base)."""
-    return section.n_filaments * section.n_dirs * 2 * n_elements
+    exceeds :data:`axojax._memory.MEMORY_FRACTION` of the physical memory."""
+    try:
+        _memory.check_memory(need_bytes, what)
+    except ValueError as err:
+        raise CLIError(f"{flag}: {err}") from None
 
 
 def check_model_size(section: CrossSection, n_elements: int, flag: str) -> None:
     """Refuse (one line naming ``flag``) a model whose estimated memory
-    (:func:`model_bytes`) exceeds the machine's, before it is built."""
-    what = f"the {section.name!r} model with {n_elements} elements per filament ({dense_unknowns(section, n_elements)} unknowns)"
-    check_memory(model_bytes(section, n_elements), flag, what)
+    (:func:`axojax._memory.model_bytes`) exceeds the machine's, before it is built."""
+    try:
+        _memory.check_model_size(section, n_elements)
+    except ValueError as err:
+        raise CLIError(f"{flag}: {err}") from None
 
 
 def model_from_args(args: argparse.Namespace, dense_spectrum: bool = False) -> Model:
@@ -304,32 +273,6 @@ def model_from_args(args: argparse.Namespace, dense_spectrum: bool = False) -> M
         )
     except ValueError as err:
         raise CLIError(f"{source}: {err}") from None
-
-
-MAX_PSI_RAD = 100.0
-"""Largest |tangent angle| accepted in beat data (radians; unwrapped angles of a real
-beat stay within a few turns)."""
-MIN_DATA_POINTS = 3
-"""Fewest arc-length points (and frames) of beat data: a wavelength needs a phase
-gradient, a frequency a time series."""
-
-
-def check_beat(beat: Any, flag: str = "--data") -> None:
-    """Refuse beat data (:class:`axojax.beats.BeatData`) that no fit can use: too few
-    arc-length points or frames, or tangent angles that are not angles."""
-    psi = np.asarray(beat.psi_rad, dtype=float)
-    frames, points = psi.shape if psi.ndim == 2 else (0, 0)
-    if points < MIN_DATA_POINTS:
-        raise CLIError(
-            f"{flag}: needs at least {MIN_DATA_POINTS} arc-length points per frame, got {points}"
-        )
-    if frames < MIN_DATA_POINTS:
-        raise CLIError(f"{flag}: needs at least {MIN_DATA_POINTS} frames, got {frames}")
-    peak = float(np.max(np.abs(psi)))
-    if not np.isfinite(peak) or peak > MAX_PSI_RAD:
-        raise CLIError(
-            f"{flag}: tangent angles must be radians with |psi| <= {MAX_PSI_RAD:g}, got {peak:.3g}"
-        )
 
 
 def check_output(flag: str, path: str | None, suffixes: tuple[str, ...]) -> None:

@@ -1,29 +1,7 @@
 """``axojax fit``: estimate free parameters from target observables or beat data, in one
 condition (flags) or several at once (``--spec FIT.toml``).
 
-The spec file (INTERFACE.md)::
-
-    model = "seven"            # or model_file = "section.toml" (relative to the spec)
-    elements = 10              # optional
-    imbalance_kind = "moment"  # optional: how imbalance R is read ("moment" or "force";
-                               # default --imbalance-kind, itself "moment")
-    kl_ratio = 1000            # optional: kl = ks / kl_ratio
-    length_um = 12             # optional
-    free = ["ks", "kl", "cl", "gamma"]     # shared by all conditions
-    free_per_condition = ["p"]             # optional: one value per condition
-    [params]                   # fixed values and the start, for every condition
-    ks = 4.6e5
-    [bounds]                   # optional: (low, high) per parameter
-    cl = [1e-3, 10]
-    [[condition]]              # one table per condition
-    label = "p300"             # optional
-    p = 300                    # its own fixed parameters
-    frequency_hz = 51          # targets (each optional); default sigmas 5 % / 10 % / 10 %
-    frequency_sigma_hz = 1.0
-    wavelength_um = 11
-    wavelength_sigma_um = 1
-    velocity_um_per_s = 500
-    data = "beat.npz"          # beat data: frequency and psi_1 shape (relative to the spec)
+The spec file's format: :mod:`axojax.inverse.spec` (``ax.inverse.read_spec``).
 
 Exit status 0 when every target is reproduced, 1 (with the report) when not.
 """
@@ -32,20 +10,21 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import math
 import pathlib
 import sys
-import tomllib
 import warnings
-
-import numpy as np
 
 from .. import _io
 from ..beats import OBSERVATIONS, Target, observation_targets, read_beat
-from ..inverse import SHAPE_FLOOR, Condition, fit
-from ..models import build_model, load_section
-from ..models.presets import preset_section
-from ..params import DEFAULT_CUBIC, PARAM_NAMES, Params
+from ..inverse import (
+    SHAPE_FLOOR,
+    build_problem,
+    least_squares,
+    posterior,
+    read_spec,
+    solver_from_name,
+)
+from ..params import DEFAULT_CUBIC
 from ..units import Units
 from . import common
 
@@ -54,25 +33,6 @@ MAX_DRAWS = 100_000  # draws per chain of --posterior (a 3-parameter posterior n
 MAX_CHAINS = 64
 MAX_STARTS = 10_000
 """Most starts of a multi-start fit (each is a full local fit; 1e11 asked for 745 GiB)."""
-SPEC_TOP = {
-    "model",
-    "model_file",
-    "elements",
-    "imbalance_kind",
-    "kl_ratio",
-    "length_um",
-    "free",
-    "free_per_condition",
-    "params",
-    "condition",
-    "bounds",
-}
-SPEC_TARGETS = {
-    # key: (target name, sigma key, default relative sigma)
-    "frequency_hz": ("frequency_hz", "frequency_sigma_hz", 0.05),
-    "wavelength_um": ("wavelength_um", "wavelength_sigma_um", 0.10),
-    "velocity_um_per_s": ("velocity_um_per_s", "velocity_sigma_um_per_s", 0.10),
-}
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -284,25 +244,13 @@ def _targets(args: argparse.Namespace) -> list[Target]:
 
 
 def _read_data(path, flag: str):
-    """(BeatData, its report) of a beat file; the report is ``BeatData.summary()`` where
-    the reader provides one (what ``axojax data`` prints), else the essentials."""
+    """(BeatData, its summary: what ``axojax data`` prints) of a beat file; the reader
+    refuses data no fit can use (:mod:`axojax.beats.data`)."""
     try:
-        with np.errstate(all="ignore"):  # overflowing data is refused by check_beat
-            beat = read_beat(path)
-        common.check_beat(beat, flag)
+        beat = read_beat(path)
     except (ValueError, OSError) as err:
         raise common.CLIError(f"{flag}: {err}") from None
-    if hasattr(beat, "summary"):
-        doc = beat.summary()
-    else:
-        doc = {
-            "file": str(path),
-            "frequency_hz": beat.frequency_hz,
-            "frequency_sigma_hz": beat.frequency_sigma_hz,
-            "n_points": len(beat.s_um),
-            "note": "reduced by the kymograph/centreline reader (no 'axojax data' summary available)",
-        }
-    return beat, doc
+    return beat, beat.summary()
 
 
 def _check_posterior(args: argparse.Namespace) -> None:
@@ -367,30 +315,30 @@ def _finish(args, result, extra: dict, post=None) -> dict:
         except OSError as err:
             raise common.CLIError(f"--out: cannot write {args.out!r} ({err})") from None
         doc["out"] = str(args.out)
-    if not result.converged:
+    if not result.targets_met:
         print(f"axojax: fit: {result.message}", file=sys.stderr)
-    args._exit_code = 0 if result.converged else 1
+    args._exit_code = 0 if result.targets_met else 1
     return doc
 
 
-LEAST_SQUARES_ONLY = ("starts", "method", "progress", "max_steps", "seed")
+PROBLEM_OPTIONS = ("solver", "shape_floor", "exclude_base_um", "cubic")
+"""The options of :func:`_fit_options` that shape the problem (the rest drive its solver)."""
 
 
-def _run_fit(args, *fit_args, flag: str, **kwargs):
-    """The fit, then (``--posterior``) NUTS from its optimum on the same problem."""
+def _run_fit(args, problem, options: dict, flag: str):
+    """The fit of ``problem``, then (``--posterior``) NUTS from its optimum on the same
+    problem."""
     try:
-        with warnings.catch_warnings():
+        method = solver_from_name(options["method"])
+        with warnings.catch_warnings():  # the report says what the warnings would
             warnings.simplefilter("ignore")
-            result = fit(*fit_args, **kwargs)
+            result = least_squares(
+                problem, method, starts=options["starts"], progress=options["progress"]
+            )
     except ValueError as err:
         raise common.CLIError(f"{flag}: {err}") from None
     if args.posterior is None:
         return result, None
-    from ..inverse import build_problem, posterior
-
-    problem = build_problem(
-        *fit_args, **{k: v for k, v in kwargs.items() if k not in LEAST_SQUARES_ONLY}
-    )
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
@@ -400,7 +348,7 @@ def _run_fit(args, *fit_args, flag: str, **kwargs):
                 chains=args.chains,
                 warmup=max(args.posterior, 150),
                 init=result,
-                progress=kwargs.get("progress", False),
+                progress=options["progress"],
             )
     except ValueError as err:
         raise common.CLIError(f"--posterior: {err}") from None
@@ -461,18 +409,20 @@ def run(args: argparse.Namespace) -> dict:
             )
         options["cubic"] = kappa
     flag = "--exclude-base-um" if args.exclude_base_um else "--free"
-    result, post = _run_fit(
-        args,
-        model,
-        params,
-        targets,
-        free,
-        shape=shape,
-        kl_ratio=common.kl_ratio(args),
-        units=units,
-        flag=flag,
-        **options,
-    )
+    try:
+        problem = build_problem(
+            model,
+            params,
+            targets,
+            free,
+            shape=shape,
+            kl_ratio=common.kl_ratio(args),
+            units=units,
+            **{k: options[k] for k in PROBLEM_OPTIONS if k in options},
+        )
+    except ValueError as err:
+        raise common.CLIError(f"{flag}: {err}") from None
+    result, post = _run_fit(args, problem, options, flag)
     return _finish(args, result, extra, post)
 
 
@@ -486,50 +436,7 @@ def _free_names(text: str) -> list[str]:
 
 
 # -- --spec: several conditions ----------------------------------------------------------
-def _spec_error(path, problem: str):
-    raise common.CLIError(f"--spec: {path}: {problem}")
-
-
-def _number(path, where: str, value) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        _spec_error(path, f"{where} must be a finite number, got {value!r}")
-    return float(value)
-
-
-def _names(path, key: str, value) -> list[str]:
-    if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-        _spec_error(path, f'{key} must be a list of parameter names, e.g. ["ks", "cl"]')
-    out = []
-    for v in value:
-        field = common.PARAM_FLAGS.get(v) or (v if v in PARAM_NAMES else None)
-        if field is None:
-            _spec_error(
-                path, f"{key}: unknown parameter {v!r}; choose from {', '.join(PARAM_NAMES)}"
-            )
-        out.append(field)
-    return out
-
-
-def _param_table(path, where: str, table: dict) -> dict[str, float]:
-    out = {}
-    for k, v in table.items():
-        field = common.PARAM_FLAGS.get(k) or (k if k in PARAM_NAMES else None)
-        if field is None:
-            _spec_error(
-                path, f"{where}: unknown parameter {k!r}; choose from {', '.join(PARAM_NAMES)}"
-            )
-        out[field] = _number(path, f"{where}.{k}", v)
-    return out
-
-
 def _run_spec(args: argparse.Namespace) -> dict:
-    path = pathlib.Path(args.spec)
-    if not path.is_file():
-        raise common.CLIError(f"--spec: {path}: file does not exist")
-    try:
-        spec = tomllib.loads(path.read_text())
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as err:
-        raise common.CLIError(f"--spec: {path}: not valid TOML ({err})") from None
     for flag, value in (
         ("--free", args.free),
         ("--data", args.data),
@@ -544,157 +451,34 @@ def _run_spec(args: argparse.Namespace) -> dict:
     for flag, field in common.PARAM_FLAGS.items():
         if getattr(args, field, None) is not None:
             raise common.CLIError(f"--{flag}: with --spec give parameters in its [params] table")
-    unknown = set(spec) - SPEC_TOP
-    if unknown:
-        _spec_error(
-            path,
-            f"unknown key(s) {', '.join(sorted(unknown))}; known: {', '.join(sorted(SPEC_TOP))}",
-        )
-    here = path.parent
-    # Model.
-    elements = spec.get("elements", 10)
-    if (
-        isinstance(elements, bool)
-        or not isinstance(elements, int)
-        or not 1 <= elements <= common.MAX_ELEMENTS
-    ):
-        _spec_error(
-            path, f"elements must be an integer in 1..{common.MAX_ELEMENTS}, got {elements!r}"
-        )
-    if "model" in spec and "model_file" in spec:
-        _spec_error(path, "give model or model_file, not both")
-    kind = spec.get("imbalance_kind", args.imbalance_kind)
-    if kind not in common.IMBALANCE_KINDS:
-        _spec_error(
-            path, f"imbalance_kind must be one of {', '.join(common.IMBALANCE_KINDS)}, got {kind!r}"
-        )
-    if (
-        "imbalance_kind" in spec
-        and args.imbalance_kind != common.IMBALANCE_KINDS[0]
-        and args.imbalance_kind != kind
-    ):
-        raise common.CLIError(
-            f"--imbalance-kind: {args.imbalance_kind} conflicts with the spec's imbalance_kind = {kind!r} ({path})"
-        )
-    try:
-        if "model_file" in spec:
-            section = load_section(here / str(spec["model_file"]))
-        else:
-            section = preset_section(str(spec.get("model", "seven")))
-    except (ValueError, OSError) as err:
-        _spec_error(path, f"model: {err}")
-    common.check_model_size(
-        section, elements, f"--spec: {path}: elements"
-    )  # as --elements, before anything is built
-    try:
-        model = build_model(section, elements, imbalance_kind=kind)
-    except ValueError as err:
-        _spec_error(path, f"model: {err}")
-    length = (
-        _number(path, "length_um", spec["length_um"]) if "length_um" in spec else args.length_um
-    )
-    try:
-        units = Units(length, args.ei, args.cn)
-    except ValueError as err:
-        _spec_error(path, f"units: {err}")
-    kl_ratio = (
-        _number(path, "kl_ratio", spec["kl_ratio"]) if "kl_ratio" in spec else common.kl_ratio(args)
-    )
-    if kl_ratio is not None and kl_ratio <= 0:
-        _spec_error(path, f"kl_ratio must be > 0, got {kl_ratio:g}")
-    free = _names(path, "free", spec.get("free", []))
-    per = _names(path, "free_per_condition", spec.get("free_per_condition", []))
-    if not free and not per:
-        _spec_error(
-            path,
-            "free: name at least one parameter to fit (free = [...] or free_per_condition = [...])",
-        )
-    base = spec.get("params", {})
-    if not isinstance(base, dict):
-        _spec_error(path, "[params] must be a table of parameter values")
-    try:
-        params = Params().with_values(_param_table(path, "params", base), kl_ratio).validate()
-    except ValueError as err:
-        _spec_error(path, f"params: {err}")
-    bounds = {}
-    if not isinstance(spec.get("bounds", {}), dict):
-        _spec_error(path, f"[bounds] must be a table of [low, high] pairs, got {spec['bounds']!r}")
-    for k, v in spec.get("bounds", {}).items():
-        field = _names(path, "bounds", [k])[0]
-        if not isinstance(v, list) or len(v) != 2:
-            _spec_error(path, f"bounds.{k} must be [low, high]")
-        bounds[field] = tuple(_number(path, f"bounds.{k}", x) for x in v)
-    # Conditions.
-    tables = spec.get("condition", [])
-    if not isinstance(tables, list) or not tables:
-        _spec_error(path, "no [[condition]] tables: give one per observed condition")
     options = _fit_options(args)
-    conditions, data_docs = [], []
-    for i, table in enumerate(tables):
-        where = f"condition {i + 1}"
-        if not isinstance(table, dict):
-            _spec_error(path, f"{where}: each [[condition]] must be a table, got {table!r}")
-        label = str(table.get("label", i))
-        fixed, targets, shape, src = {}, [], None, None
-        sigma_keys = {s for _, s, _ in SPEC_TARGETS.values()}
-        for k, v in table.items():
-            if k in ("label", "source") or k in sigma_keys:
-                continue
-            if k == "data":
-                src = here / str(v)
-                beat, doc = _read_data(src, "--spec")
-                doc["condition"] = label
-                data_docs.append(doc)
-                data_targets, shape = beat.targets()
-                have = {u.name for u in targets} | set(table)
-                targets += [u for u in data_targets if u.name not in have]
-            elif k in SPEC_TARGETS:
-                name, sigma_key, rel = SPEC_TARGETS[k]
-                value = _number(path, f"{where}.{k}", v)
-                sigma = (
-                    _number(path, f"{where}.{sigma_key}", table[sigma_key])
-                    if sigma_key in table
-                    else rel * abs(value)
-                )
-                if value <= 0 or sigma <= 0:
-                    _spec_error(
-                        path, f"{where}: {k} and its sigma must be > 0, got {value:g} +- {sigma:g}"
-                    )
-                targets = [t for t in targets if t.name != name] + [Target(name, value, sigma)]
-            else:
-                fixed.update(_param_table(path, where, {k: v}))
-        for sigma_key in sigma_keys & set(table):
-            if not any(s == sigma_key and k in table for k, (_, s, _) in SPEC_TARGETS.items()):
-                _spec_error(path, f"{where}: {sigma_key} without its target")
-        try:
-            conditions.append(
-                Condition(
-                    params=fixed,
-                    targets=targets,
-                    shape=shape,
-                    label=label,
-                    source=str(table.get("source", src or path)),
-                )
-            )
-        except ValueError as err:
-            _spec_error(path, f"{where}: {err}")
+    kind = args.imbalance_kind
+    try:
+        spec = read_spec(
+            args.spec,
+            units=common.units_from_args(args),
+            imbalance_kind=kind,
+            kl_ratio=common.kl_ratio(args),
+        )
+    except ValueError as err:
+        raise common.CLIError(f"--spec: {err}") from None
+    if kind != common.IMBALANCE_KINDS[0] and spec.imbalance_kind != kind:
+        raise common.CLIError(
+            f"--imbalance-kind: {kind} conflicts with the spec's imbalance_kind = {spec.imbalance_kind!r} ({args.spec})"
+        )
     flag = "--exclude-base-um" if args.exclude_base_um else "--spec"
-    result, post = _run_fit(
-        args,
-        model,
-        params,
-        conditions,
-        free,
-        per_condition=per,
-        bounds=bounds or None,
-        kl_ratio=kl_ratio,
-        units=units,
-        flag=flag,
-        **options,
-    )
-    extra = {"spec": str(path)}
-    if data_docs:
-        extra["data"] = data_docs[0] if len(data_docs) == 1 else data_docs
+    try:
+        problem = spec.problem(
+            solver=options["solver"],
+            shape_floor=options["shape_floor"],
+            exclude_base_um=options["exclude_base_um"],
+        )
+    except ValueError as err:
+        raise common.CLIError(f"{flag}: {err}") from None
+    result, post = _run_fit(args, problem, options, flag)
+    extra = {"spec": str(args.spec)}
+    if spec.data:
+        extra["data"] = spec.data[0] if len(spec.data) == 1 else list(spec.data)
     return _finish(args, result, extra, post)
 
 
@@ -745,7 +529,9 @@ def render(doc: dict) -> str:
         if chi2 is not None
         else f"loss {doc['loss']:.4g}; chi2/dof undefined (no more residuals than fitted values)"
     )
-    lines.append(f"converged: {doc['converged']}; {doc['message']}")
+    lines.append(f"targets met: {doc['targets_met']}; {doc['message']}")
+    if doc["result"] != "successful":
+        lines.append(f"solver: {doc['result_message']}")
     post = doc.get("posterior")
     if post:
         lines.append(

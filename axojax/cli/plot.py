@@ -245,7 +245,7 @@ def _figure(args: argparse.Namespace):
 
             return plot_sweep(obj), kind, None
         if kind == "posterior":
-            from ..inverse.posterior import load_truth
+            from ..inverse import load_truth
             from ..plotting.corner import plot_corner
 
             return plot_corner(obj, truth=load_truth(path)), kind, None

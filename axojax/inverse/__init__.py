@@ -4,9 +4,17 @@
 >>> problem = ax.inverse.Problem(model, [ax.inverse.Condition({"p": 150}, [Target(...)]), ...], ["ks", "cl"])
 >>> result = ax.inverse.least_squares(problem, ax.inverse.LevenbergMarquardt(), starts=8)
 >>> post = ax.inverse.posterior(problem, draws=1000, chains=4)
+
+The same problem from a file: ``ax.inverse.load_spec("FIT.toml")`` (:mod:`.spec`).
+Private modules (re-exported here): ``_densities`` (what a sampler needs of a problem,
+priors), ``_laplace`` (where chains start), ``_nuts`` (the sampler's compiled programs),
+``_posterior_result`` (:class:`Posterior`).
 """
 
 from . import diagnostics
+from ._densities import InverseProblem, NormalPrior, ScaledSigmas, normal_prior
+from ._nuts import NUTS
+from ._posterior_result import Posterior, load_truth
 from .conditions import Condition
 from .fit import build_problem, fit
 from .least_squares import (
@@ -21,17 +29,10 @@ from .least_squares import (
     warm_least_squares,
 )
 from .parameters import DEFAULT_BOUNDS, LINEAR, FreeParameter
-from .posterior import (
-    NUTS,
-    InverseProblem,
-    NormalPrior,
-    Posterior,
-    ScaledSigmas,
-    normal_prior,
-    posterior,
-)
+from .posterior import posterior
 from .problem import SHAPE_FLOOR, Problem
 from .report import FitResult, build_report
+from .spec import FitSpec, load_spec, read_spec
 
 __all__ = [
     "DEFAULT_BOUNDS",
@@ -43,6 +44,7 @@ __all__ = [
     "Adam",
     "Condition",
     "FitResult",
+    "FitSpec",
     "FreeParameter",
     "InverseProblem",
     "LeastSquaresSolver",
@@ -57,8 +59,11 @@ __all__ = [
     "fit",
     "build_problem",
     "least_squares",
+    "load_truth",
+    "load_spec",
     "normal_prior",
     "posterior",
+    "read_spec",
     "solver_from_name",
     "warm_least_squares",
 ]

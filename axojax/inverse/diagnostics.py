@@ -19,6 +19,8 @@ the fitted coordinate (log) and in the parameter values.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import jax
 import numpy as np
 from blackjax import diagnostics as _bd
@@ -89,3 +91,30 @@ def summary(draws: Float[np.ndarray, "chains draws k"]) -> dict[str, Float[np.nd
         "ess_bulk": eb,
         "ess_tail": et,
     }
+
+
+def sampler_notes(
+    names: Sequence[str], summary_: dict[str, np.ndarray], chains: int, draws: int, divergences: int
+) -> list[str]:
+    """What makes a posterior's draws untrustworthy, one line each (empty: nothing):
+    R-hat above :data:`RHAT_MAX`, bulk or tail ESS below :data:`ESS_MIN_PER_CHAIN` per
+    chain, divergent transitions (of ``draws``, all chains)."""
+    notes = []
+    rhat = summary_["rhat"]
+    bad = [f"{n} {rhat[i]:.3f}" for i, n in enumerate(names) if not rhat[i] <= RHAT_MAX]
+    if bad:
+        notes.append(
+            f"R-hat above {RHAT_MAX}: {', '.join(bad)} (chains disagree; run longer or look for several modes)"
+        )
+    floor = ESS_MIN_PER_CHAIN * chains
+    ess = np.minimum(summary_["ess_bulk"], summary_["ess_tail"])
+    low = [f"{n} {ess[i]:.0f}" for i, n in enumerate(names) if not ess[i] >= floor]
+    if low:
+        notes.append(
+            f"effective sample size below {floor} ({ESS_MIN_PER_CHAIN} per chain): {', '.join(low)} (run more draws)"
+        )
+    if divergences:
+        notes.append(
+            f"{divergences} divergent transitions of {draws} (try NUTS(target_acceptance_rate=0.95), or check the bounds)"
+        )
+    return notes

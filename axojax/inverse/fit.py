@@ -121,7 +121,7 @@ def fit(
         prior=prior,
     )
     result = least_squares(problem, optimiser, starts=starts, seed=seed, progress=progress)
-    if not result.converged:
+    if not result.targets_met:
         warnings.warn(result.message.split("; ")[0], stacklevel=2)
     bad = [n for n, ok in result.identifiable.items() if not ok]
     if bad:

@@ -36,6 +36,7 @@ import optimistix as optx
 from jaxtyping import Array, PyTree
 from tqdm.auto import tqdm
 
+from ..results import RESULTS
 from .problem import Problem
 from .report import FitResult, build_report
 
@@ -47,7 +48,9 @@ class LeastSquaresSolver(eqx.Module):
 
     @abc.abstractmethod
     def compile(self, problem: Problem):
-        """A jitted ``z0 (k,) -> (z, loss, steps, |grad_z|)``."""
+        """A jitted ``z0 (k,) -> (z, loss, steps, |grad_z|, result)``; ``result`` an
+        :class:`axojax.results.RESULTS` item (``successful`` when the solver's own
+        termination test passed)."""
 
 
 class LevenbergMarquardt(LeastSquaresSolver):
@@ -76,9 +79,9 @@ class LevenbergMarquardt(LeastSquaresSolver):
         def fn(z, starts):
             return problem.residuals(problem.to_u(z), starts)
 
-        def finish(z, steps, starts=None):
+        def finish(z, steps, result, starts=None):
             loss, grad = jax.value_and_grad(lambda z: 0.5 * jnp.sum(fn(z, starts) ** 2))(z)
-            return z, loss, steps, jnp.linalg.norm(grad)
+            return z, loss, steps, jnp.linalg.norm(grad), RESULTS.promote(result)
 
         if self.warm_start and any(problem.needs_cycle):
 
@@ -87,13 +90,13 @@ class LevenbergMarquardt(LeastSquaresSolver):
 
             def run(z0):
                 sol = warm_least_squares(warm_fn, solver, z0, max_steps=self.max_steps)
-                return finish(sol.value, sol.num_steps, sol.starts)
+                return finish(sol.value, sol.num_steps, sol.result, sol.starts)
 
             return jax.jit(run)
 
         def run(z0):
             sol = optx.least_squares(fn, solver, z0, max_steps=self.max_steps, throw=False)
-            return finish(sol.value, sol.stats["num_steps"])
+            return finish(sol.value, sol.stats["num_steps"], sol.result)
 
         return jax.jit(run)
 
@@ -224,7 +227,10 @@ class LBFGS(LeastSquaresSolver):
             init = (z0, opt.init(z0), 0, jnp.asarray(1e300), jnp.asarray(1e300))
             z, _, k, _, _ = jax.lax.while_loop(cond, body, init)
             value, grad = jax.value_and_grad(loss)(z)
-            return z, value, k, jnp.linalg.norm(grad)
+            gnorm = jnp.linalg.norm(grad)
+            ok = (gnorm <= gtol * jnp.maximum(1.0, value)) & jnp.isfinite(value)
+            result = RESULTS.where(ok, RESULTS.successful, RESULTS.max_steps_reached)
+            return z, value, k, gnorm, result
 
         return jax.jit(run)
 
@@ -252,7 +258,8 @@ class Adam(LeastSquaresSolver):
 
             (z, _), _ = jax.lax.scan(body, (z0, opt.init(z0)), None, length=max_steps)
             value, grad = jax.value_and_grad(loss)(z)
-            return z, value, max_steps, jnp.linalg.norm(grad)
+            # Adam has no termination test: it always stops on its step budget
+            return z, value, max_steps, jnp.linalg.norm(grad), RESULTS.max_steps_reached
 
         return jax.jit(run)
 
@@ -304,7 +311,7 @@ def least_squares(
     initial = problem.start_design(starts, seed)
     runs = []
     for u in tqdm(initial, desc="fit starts", unit="start", disable=not progress):
-        z, value, steps, gnorm = run(problem.to_z(jnp.asarray(u)))
+        z, value, steps, gnorm, result = run(problem.to_z(jnp.asarray(u)))
         value = float(value)
         runs.append(
             {
@@ -312,6 +319,7 @@ def least_squares(
                 "loss": value if math.isfinite(value) else math.inf,
                 "steps": int(steps),
                 "gnorm": float(gnorm),
+                "result": result,
             }
         )
     wall = time.perf_counter() - t0
@@ -327,4 +335,5 @@ def least_squares(
         iterations=[r["steps"] for r in runs],
         wall_s=wall,
         starts=start_log,
+        result=runs[best]["result"],
     )

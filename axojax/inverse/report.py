@@ -11,9 +11,11 @@ parameters: a log-space standard error 0.1 is a 10 % uncertainty). Rules:
   ``IDENTIFIABLE_MAX_LINEAR_FRACTION`` = 5 % of the bound range for linear ones (0.3 for
   gamma's default (-3, 3): gamma is judged on its own scale, not relative to a value
   that may be near 0).
-- ``converged``: every scalar target reproduced within ``SCALAR_SIGMA_OK`` = 2 sigma (a
+- ``targets_met``: every scalar target reproduced within ``SCALAR_SIGMA_OK`` = 2 sigma (a
   correct model with honest sigmas misses 1 sigma a third of the time, 2 sigma one time
   in twenty) and every shape's rms normalised residual at most ``SHAPE_RMS_OK`` = 2.
+  (Called ``converged`` before; that name stays, deprecated, and as the report's JSON
+  key.) Whether the solver itself terminated is ``result`` (:mod:`axojax.results`).
 - ``chi2_per_dof``: ``sum r^2 / (m - k)`` (None when there are no more residuals than
   fitted values).
 """
@@ -24,11 +26,14 @@ import dataclasses
 import json
 import math
 import pathlib
+import warnings
 from typing import Any
 
 import numpy as np
 
+from .. import _io
 from ..params import PARAM_NAMES, Params
+from ..results import RESULTS, message, result_name
 from .problem import CYCLE_FAILED, Problem
 
 IDENTIFIABLE_MAX_LOG_SE = 1.0
@@ -51,7 +56,7 @@ class FitResult:
         residuals: normalised residual of each scalar target (keys as ``achieved``).
         shape_rms: rms normalised residual of the shape target(s) (None without one).
         loss: 0.5 * sum of squared normalised residuals.
-        converged: every target reproduced (scalars within 2 sigma, shapes rms <= 2).
+        targets_met: every target reproduced (scalars within 2 sigma, shapes rms <= 2).
         message: what is determined, what is not, and why.
         stderr: standard error of each fitted value, in its units (inf if not determined).
         correlation: (k, k) correlation matrix in the fitted coordinates.
@@ -70,6 +75,10 @@ class FitResult:
         method, iterations, wall_s: solver name, iterations per start, wall time (s).
         problem: summary of the problem (bounds, floor, exclusion).
         notes: the message's parts.
+        result: the least-squares solver's :class:`axojax.results.RESULTS` item at the
+            best start (``successful``: its termination test passed; e.g.
+            ``nonlinear_max_steps_reached`` when it ran out of steps). Independent of
+            ``targets_met``: a solver can terminate at an optimum that misses them.
     """
 
     params: dict[str, float]
@@ -78,7 +87,7 @@ class FitResult:
     residuals: dict[str, float]
     shape_rms: float | None
     loss: float
-    converged: bool
+    targets_met: bool
     message: str
     stderr: dict[str, float]
     correlation: np.ndarray
@@ -98,6 +107,24 @@ class FitResult:
     problem: dict[str, Any] = dataclasses.field(default_factory=dict)
     notes: list[str] = dataclasses.field(default_factory=list)
     condition_params: list[Params] = dataclasses.field(default_factory=list)
+    result: RESULTS = dataclasses.field(default_factory=lambda: RESULTS.successful)
+
+    @property
+    def converged(self) -> bool:
+        """Deprecated: :attr:`targets_met` (what it always meant: the targets are
+        reproduced, not that the solver converged; that is :attr:`result`)."""
+        warnings.warn(
+            "FitResult.converged is deprecated: use FitResult.targets_met (targets "
+            "reproduced) or FitResult.result (the solver's termination)",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return self.targets_met
+
+    @property
+    def result_message(self) -> str:
+        """The message of :attr:`result` on one line (``"successful"``)."""
+        return message(self.result)
 
     @property
     def multi(self) -> bool:
@@ -111,7 +138,10 @@ class FitResult:
             "loss": self.loss,
             "chi2_per_dof": self.chi2_per_dof,
             "dof": self.dof,
-            "converged": self.converged,
+            "converged": self.targets_met,
+            "targets_met": self.targets_met,
+            "result": result_name(self.result),
+            "result_message": self.result_message,
             "stderr": self.stderr,
             "stderr_fitted": self.stderr_fitted,
             "coordinate": self.coordinate,
@@ -138,8 +168,10 @@ class FitResult:
         return self.to_json()
 
     def save(self, path: str | pathlib.Path) -> None:
-        """Write :meth:`to_json` to ``path`` (read by ``axojax plot FILE.json``)."""
-        pathlib.Path(path).write_text(json.dumps(self.to_json(), indent=1, allow_nan=False) + "\n")
+        """Write :meth:`to_json` to ``path`` (read by ``axojax plot FILE.json``), through
+        a temporary file renamed into place (:func:`axojax._io.write_text`): a killed
+        run leaves the old file or none, never half of one."""
+        _io.write_text(path, json.dumps(self.to_json(), indent=1, allow_nan=False) + "\n")
 
 
 def _clean(obj):
@@ -172,6 +204,7 @@ def build_report(
     iterations=(),
     wall_s: float = 0.0,
     starts=(),
+    result: RESULTS | None = None,
 ) -> FitResult:
     """The :class:`FitResult` of ``problem`` at the fitted coordinates ``u`` (k,)."""
     u = np.asarray(u, dtype=float)
@@ -274,12 +307,12 @@ def build_report(
         for kk, v in residuals.items():
             res_all[kk + suffix] = v
     shape_rms = float(np.sqrt(shape_sq / shape_n)) if shape_n else None
-    converged = bool(reproduced and math.isfinite(loss))
+    targets_met = bool(reproduced and math.isfinite(loss))
     dof = problem.dof
     chi2 = float(np.sum(r**2) / dof) if dof > 0 else None
 
     notes = _notes(problem, names, values, se_u, stderr, ident, at_bound, corr, log, span, u)
-    if converged:
+    if targets_met:
         head = (
             f"targets reproduced (loss {loss:.3g}"
             + (f", chi2/dof {chi2:.3g}" if chi2 is not None else "")
@@ -309,7 +342,7 @@ def build_report(
                 f"basal stretch s < {ex['exclude_base_um']:g} um{(' of ' + c['label']) if multi else ''} left out: misfit there {ex['rms_rad']:.3g} rad rms "
                 f"({ex['rms_sigma']:.2g} sigma) vs {ex['kept_rms_rad']:.3g} rad rms on the fitted points"
             )
-    message = "; ".join([head] + notes)
+    text = "; ".join([head] + notes)
     shared = {p.name: values[p.name] for p in problem.parameters if p.condition is None}
     return FitResult(
         params=dict(values),
@@ -318,8 +351,8 @@ def build_report(
         residuals=res_all,
         shape_rms=shape_rms,
         loss=loss,
-        converged=converged,
-        message=message,
+        targets_met=targets_met,
+        message=text,
         stderr=stderr,
         correlation=corr,
         identifiable=ident,
@@ -338,6 +371,9 @@ def build_report(
         problem=problem.describe(),
         notes=notes,
         condition_params=[problem.condition_params(u, i) for i in range(problem.n_conditions)],
+        result=RESULTS.successful
+        if result is None
+        else (result if isinstance(result, RESULTS) else RESULTS.promote(result)),
     )
 
 

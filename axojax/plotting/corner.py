@@ -44,7 +44,7 @@ def plot_corner(
     Axes are in parameter values (dimensionless), logarithmic for parameters fitted in
     log coordinates. Returns the matplotlib Figure.
     """
-    from ..inverse.posterior import Posterior, load_truth
+    from ..inverse import Posterior, load_truth
 
     if isinstance(source, (str, pathlib.Path)):
         post = Posterior.load(source)

@@ -48,7 +48,8 @@ def plot_fit_report(report: dict | str | pathlib.Path) -> plt.Figure:
     title = f"{report.get('method', '')} fit: loss {report['loss']:.4g}" + (
         f", chi2/dof {report['chi2_per_dof']:.3g}" if report.get("chi2_per_dof") is not None else ""
     )
-    title += f", {'converged' if report['converged'] else 'targets NOT reproduced'}"
+    met = report.get("targets_met", report["converged"])  # reports before targets_met
+    title += f", {'targets reproduced' if met else 'targets NOT reproduced'}"
     if report.get("at_bound"):
         title += f"; at bound: {', '.join(report['at_bound'])}"
     if not shaped:

@@ -1,0 +1,229 @@
+"""The result of :func:`axojax.inverse.posterior`: :class:`Posterior` (draws and their
+summaries), its ``.npz`` file and the ``"posterior"`` block of a fit report."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+
+from .._io import atomic_path
+from ..results import RESULTS, result_name
+
+NPZ_KIND = "posterior"
+
+
+@dataclasses.dataclass(frozen=True)
+class Posterior:
+    """Draws of a posterior and their summaries.
+
+    Attributes:
+        names: the k free parameters.
+        u: (chains, draws, k) draws in the fitted coordinate (log or linear).
+        value_names: names of ``values``' last axis (the free parameters first, then
+            anything else ``problem.values`` reports, e.g. a tied kl).
+        values: (chains, draws, n_values) the same draws as dimensionless parameter values.
+        log_density: (chains, draws) log posterior density (in z) of each draw.
+        divergent: (chains, draws) whether the draw's trajectory diverged.
+        lower, upper: (k,) bounds in ``u``.
+        log_coordinate: per name, whether ``u`` is the natural log of the value.
+        mean, sd, q05, q50, q95: per name, of the parameter values (pooled over chains).
+        mean_u, sd_u: per name, in the fitted coordinate (compare ``sd_u`` with the
+            uniform prior's ``(upper - lower) / sqrt(12)``).
+        rhat: per name, rank-normalised split R-hat (:mod:`.diagnostics`).
+        ess, ess_tail: per name, bulk and tail effective sample size (total over chains).
+        divergences: divergent transitions after warm-up (all chains).
+        step_size: (chains,) adapted step sizes (in the whitened coordinates unless
+            ``NUTS(whiten=False)``); acceptance: mean acceptance rate.
+        warmup: warm-up steps per chain.
+        gradients: gradient evaluations (leapfrog steps) of all chains, warm-up included.
+        seconds: wall time of the whole call (compilation, optimisation, warm-up, sampling).
+        seconds_compile: the part spent compiling (0 when a problem of the same structure
+            was sampled before in this process: compiled programs are cached).
+        seconds_start, seconds_warmup, seconds_sampling: wall time of the starts (mode
+            and Laplace approximation), of the warm-up and of the draws (each with its
+            compilation, if any).
+        seconds_per_gradient: seconds of the warm-up and the draws, less their
+            compilation, over ``gradients`` (vmapped chains evaluate theirs together).
+        seconds_per_ess: seconds / the smallest bulk ESS.
+        start_u: (k,) centre of the starts (the posterior mode unless ``init`` was given).
+        message: what makes the draws untrustworthy (R-hat, ESS, divergences), one
+            clause each, or the message of ``result`` (``"successful"``).
+        result: :class:`axojax.results.RESULTS` item: ``successful``, or
+            ``chains_not_converged`` (``message`` says why). The one test of success is
+            ``post.result == RESULTS.successful``.
+    """
+
+    names: tuple[str, ...]
+    u: np.ndarray
+    value_names: tuple[str, ...]
+    values: np.ndarray
+    log_density: np.ndarray
+    divergent: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    log_coordinate: dict[str, bool]
+    mean: dict[str, float]
+    sd: dict[str, float]
+    q05: dict[str, float]
+    q50: dict[str, float]
+    q95: dict[str, float]
+    mean_u: dict[str, float]
+    sd_u: dict[str, float]
+    rhat: dict[str, float]
+    ess: dict[str, float]
+    ess_tail: dict[str, float]
+    divergences: int
+    step_size: np.ndarray
+    acceptance: float
+    warmup: int
+    gradients: int
+    seconds: float
+    seconds_compile: float
+    seconds_start: float
+    seconds_warmup: float
+    seconds_sampling: float
+    seconds_per_gradient: float
+    seconds_per_ess: float
+    start_u: np.ndarray
+    message: str
+    result: RESULTS = dataclasses.field(default_factory=lambda: RESULTS.successful)
+
+    @property
+    def chains(self) -> int:
+        return int(self.u.shape[0])
+
+    @property
+    def draws(self) -> int:
+        """Draws per chain."""
+        return int(self.u.shape[1])
+
+    def value_draws(self, name: str) -> np.ndarray:
+        """(chains, draws) draws of one parameter value."""
+        return self.values[..., self.value_names.index(name)]
+
+    @property
+    def start(self) -> dict[str, float]:
+        """The centre of the starts as parameter values (the posterior mode by default)."""
+        return {
+            n: float(math.exp(v) if self.log_coordinate[n] else v)
+            for n, v in zip(self.names, self.start_u)
+        }
+
+    def to_json(self) -> dict[str, Any]:
+        """The ``"posterior"`` block of ``axojax fit --posterior --json`` (INTERFACE.md):
+        ``draws`` (per chain), ``chains``, ``mean``, ``sd``, ``q05``, ``q95``, ``rhat``,
+        ``ess`` (bulk), ``seconds``; also ``q50``, ``ess_tail``, ``divergences``,
+        ``warmup``, ``seconds_per_gradient``, ``seconds_per_ess``, ``message``, ``result``
+        (the name of :attr:`result`)."""
+        return {
+            "draws": self.draws,
+            "chains": self.chains,
+            "mean": dict(self.mean),
+            "sd": dict(self.sd),
+            "q05": dict(self.q05),
+            "q50": dict(self.q50),
+            "q95": dict(self.q95),
+            "rhat": dict(self.rhat),
+            "ess": dict(self.ess),
+            "ess_tail": dict(self.ess_tail),
+            "divergences": self.divergences,
+            "warmup": self.warmup,
+            "seconds": self.seconds,
+            "seconds_per_gradient": self.seconds_per_gradient,
+            "seconds_per_ess": self.seconds_per_ess,
+            "message": self.message,
+            "result": result_name(self.result),
+        }
+
+    def save(self, path, *, truth: Mapping[str, float] | None = None) -> None:
+        """Write an ``.npz`` for ``axojax plot`` (corner plot): arrays ``u``, ``values``,
+        ``log_density``, ``divergent``, ``lower``, ``upper``, ``step_size``, ``start_u``
+        and a ``meta`` JSON string (``kind = "posterior"``, the names, the scalar
+        summaries, optional ``truth`` {name: value} drawn as markers)."""
+        meta = {
+            "kind": NPZ_KIND,
+            "names": list(self.names),
+            "value_names": list(self.value_names),
+            "log_coordinate": self.log_coordinate,
+            "truth": None if truth is None else {k: float(v) for k, v in truth.items()},
+            "result": result_name(self.result),
+            **{
+                f.name: getattr(self, f.name)
+                for f in dataclasses.fields(self)
+                if f.name in _SCALAR_FIELDS
+            },
+        }
+        with atomic_path(path) as tmp:  # a killed run leaves no half-written file
+            with open(tmp, "wb") as f:
+                np.savez(
+                    f,
+                    meta=json.dumps(meta),
+                    **{name: np.asarray(getattr(self, name)) for name in _ARRAY_FIELDS},
+                )
+
+    @classmethod
+    def load(cls, path) -> Posterior:
+        """Read what :meth:`save` wrote."""
+        with np.load(path, allow_pickle=False) as f:
+            meta = json.loads(str(f["meta"]))
+            if meta.get("kind") != NPZ_KIND:
+                raise ValueError(
+                    f"{str(path)!r} is not an axojax posterior (kind {meta.get('kind')!r})"
+                )
+            arrays = {name: np.asarray(f[name]) for name in _ARRAY_FIELDS}
+        scalars = {k: meta[k] for k in _SCALAR_FIELDS}
+        return cls(
+            names=tuple(meta["names"]),
+            value_names=tuple(meta["value_names"]),
+            log_coordinate=meta["log_coordinate"],
+            result=getattr(RESULTS, meta.get("result", "successful")),
+            **scalars,
+            **arrays,
+        )
+
+
+_ARRAY_FIELDS = (
+    "u",
+    "values",
+    "log_density",
+    "divergent",
+    "lower",
+    "upper",
+    "step_size",
+    "start_u",
+)
+_SCALAR_FIELDS = (
+    "mean",
+    "sd",
+    "q05",
+    "q50",
+    "q95",
+    "mean_u",
+    "sd_u",
+    "rhat",
+    "ess",
+    "ess_tail",
+    "divergences",
+    "acceptance",
+    "warmup",
+    "gradients",
+    "seconds",
+    "seconds_compile",
+    "seconds_start",
+    "seconds_warmup",
+    "seconds_sampling",
+    "seconds_per_gradient",
+    "seconds_per_ess",
+    "message",
+)
+
+
+def load_truth(path) -> dict[str, float] | None:
+    """The ``truth`` markers stored by :meth:`Posterior.save` (None if none)."""
+    with np.load(path, allow_pickle=False) as f:
+        return json.loads(str(f["meta"])).get("truth")

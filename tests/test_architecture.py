@@ -1,0 +1,198 @@
+"""The package's layering (issue 32, "one house"), read from the source by AST: every
+``import`` and ``from ... import`` of every module, at module level and inside functions.
+
+Nodes are axojax's first-level subpackages and modules (``eigen``, ``inverse``,
+``params``, ...). Rules:
+
+- no import circle between nodes (``cli``, ``paper`` and the top-level ``__init__``
+  excepted: they sit on top and may import anything);
+- nothing imports ``cli`` or ``paper``, and nothing imports the top-level package
+  (``import axojax`` inside the library would run every subpackage's import);
+- a fit's residual path goes only downward: ``inverse`` (the fits) -> ``waveform`` /
+  ``eigen`` / ``orbits`` / ``models``, never back up: nothing below ``inverse`` imports
+  it (or ``plotting``, which draws fits), observed beats (``beats``) import no model
+  physics, and ``models`` imports none of what is built on it.
+
+And no module of axojax is over ``MAX_LINES`` lines.
+"""
+
+from __future__ import annotations
+
+import ast
+import pathlib
+
+import pytest
+
+import axojax
+
+ROOT = pathlib.Path(axojax.__file__).parent
+TOP = {"cli", "paper", "__init__", "__main__"}
+"""Nodes that may import anything."""
+MAX_LINES = 600
+
+ABOVE_THE_MODEL = {"inverse", "plotting", "sweeps", "datasets"}
+"""What is built on the model and its solvers; none of the model's own packages may
+import these."""
+MODEL_STACK = {
+    "units",
+    "params",
+    "results",
+    "_io",
+    "_runtime",
+    "cache",
+    "fem",
+    "linalg",
+    "models",
+    "assembly",
+    "waveform",
+    "eigen",
+    "critical",
+    "dynamics",
+    "orbits",
+    "beats",
+}
+ALLOWED = {
+    # observed beats: readers and reduction only, no model physics
+    "beats": {"waveform", "units", "params", "results", "_io", "fem"},
+    # the model's structure: below every solver
+    "models": {"fem", "linalg", "params", "units", "results", "_io"},
+    "fem": {"params", "units", "results", "linalg"},
+    "units": set(),
+    "params": {"units"},
+    "results": set(),
+}
+"""Per node, everything it may import (nodes not listed: any node, within the rules
+above)."""
+
+
+def _module_name(path: pathlib.Path) -> str:
+    parts = list(path.relative_to(ROOT.parent).with_suffix("").parts)
+    if parts[-1] == "__init__":
+        parts = parts[:-1]
+    return ".".join(parts)
+
+
+def _exists(name: str) -> bool:
+    rel = pathlib.Path(*name.split("."))
+    return (ROOT.parent / rel).with_suffix(".py").is_file() or (
+        ROOT.parent / rel / "__init__.py"
+    ).is_file()
+
+
+def _imported(path: pathlib.Path) -> set[str]:
+    """Every axojax module that ``path`` imports (absolute names; ``from x import y``
+    gives ``x.y`` when that is a module, else ``x``)."""
+    name = _module_name(path)
+    package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
+    out = set()
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.Import):
+            out |= {a.name for a in node.names}
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package[: len(package) - (node.level - 1)]
+                mod = ".".join(base + ([node.module] if node.module else []))
+            else:
+                mod = node.module or ""
+            for a in node.names:
+                out.add(f"{mod}.{a.name}" if _exists(f"{mod}.{a.name}") else mod)
+    return {m for m in out if m == "axojax" or m.startswith("axojax.")}
+
+
+def _node(module: str) -> str:
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 else "__init__"
+
+
+def _graph() -> dict[str, dict[str, list[str]]]:
+    """node -> imported node -> the files (relative to the package) that import it."""
+    graph: dict[str, dict[str, list[str]]] = {}
+    for path in sorted(ROOT.rglob("*.py")):
+        a = _node(_module_name(path))
+        for m in _imported(path):
+            b = _node(m)
+            if a != b:
+                rel = str(path.relative_to(ROOT.parent))
+                graph.setdefault(a, {}).setdefault(b, []).append(rel)
+    return graph
+
+
+GRAPH = _graph()
+
+
+def test_the_walk_sees_imports_inside_functions():
+    """The reader itself: a deferred import in a function counts (cli/fit.py imports the
+    fit report's figure inside a function)."""
+    assert "plotting" in GRAPH["cli"]
+    assert any("cli/fit.py" in f for f in GRAPH["cli"]["plotting"])
+    assert "eigen" in GRAPH["inverse"] and "waveform" in GRAPH["beats"]
+
+
+def test_no_import_circle_between_subpackages():
+    inner = {a: {b for b in bs if b not in TOP} for a, bs in GRAPH.items() if a not in TOP}
+    circles = []
+
+    def visit(node, stack, seen):
+        for nxt in sorted(inner.get(node, ())):
+            if nxt in stack:
+                loop = stack[stack.index(nxt) :]
+                first = loop.index(min(loop))  # one rotation per circle
+                loop = loop[first:] + loop[:first]
+                circles.append(loop + [loop[0]])
+            elif nxt not in seen:
+                seen.add(nxt)
+                visit(nxt, stack + [nxt], seen)
+
+    for start in sorted(inner):
+        visit(start, [start], {start})
+    described = {
+        " -> ".join(c)
+        + " ("
+        + "; ".join(f"{a}->{b}: {', '.join(GRAPH[a][b])}" for a, b in zip(c, c[1:]))
+        + ")"
+        for c in circles
+    }
+    assert not described, "import circles:\n" + "\n".join(sorted(described))
+
+
+def test_nothing_imports_the_command_line_the_paper_or_the_top_package():
+    bad = [
+        f"{a} imports {b}: {', '.join(files)}"
+        for a, bs in GRAPH.items()
+        if a not in TOP
+        for b, files in bs.items()
+        if b in TOP
+    ]
+    assert not bad, "\n".join(bad)
+
+
+def test_the_residual_path_goes_only_downward():
+    bad = [
+        f"{a} imports {b}, which is built on it: {', '.join(files)}"
+        for a, bs in GRAPH.items()
+        if a in MODEL_STACK
+        for b, files in bs.items()
+        if b in ABOVE_THE_MODEL
+    ]
+    for a, allowed in ALLOWED.items():
+        bad += [
+            f"{a} may import only {', '.join(sorted(allowed)) or 'nothing of axojax'}; it imports {b}: {', '.join(files)}"
+            for b, files in GRAPH.get(a, {}).items()
+            if b not in allowed
+        ]
+    assert not bad, "\n".join(bad)
+
+
+def test_inverse_reaches_the_model_only_through_its_public_packages():
+    """The fits sit on top of the model: they import the beats, waveform, eigen, orbits
+    and models packages, and nothing that draws or runs sweeps."""
+    assert set(GRAPH["inverse"]) <= MODEL_STACK | {"_memory"}, GRAPH["inverse"]
+    assert {"beats", "eigen", "orbits", "models"} <= set(GRAPH["inverse"])
+
+
+@pytest.mark.parametrize(
+    "path", sorted(ROOT.rglob("*.py")), ids=lambda p: str(p.relative_to(ROOT.parent))
+)
+def test_no_module_is_over_max_lines(path):
+    lines = len(path.read_text().splitlines())
+    assert lines <= MAX_LINES, f"{path.relative_to(ROOT.parent)}: {lines} lines (split it)"
