@@ -108,6 +108,7 @@ def test_mesh_check_of_a_converged_fit_recovers_the_parameters(converged):
     assert m["elements"] == 16 and m["from_elements"] == 8
     assert m["params"]["p"] == pytest.approx(P_TRUE, rel=0.01)
     assert m["moved"] == [] and m["mesh_converged"]
+    assert m["refit_converged"]  # stopped on its tolerance, not on MESH_STEPS
     assert abs(m["relative_change"]["p"]) < MESH_TOLERANCE
     # the observables of the fitted p on 16 elements, recomputed without the check
     fine = ax.models.single(n_elements=16)

@@ -218,7 +218,9 @@ def mesh_check(
 
     Returns:
         ``elements`` (the finer models' elements per filament), ``from_elements``,
-        ``steps`` (iterations taken), ``params`` (refitted values), ``achieved``
+        ``steps`` (iterations taken), ``refit_converged`` (the refit stopped on its
+        tolerance before ``max_steps``; else the values are where ``max_steps`` got, on
+        the way along a ridge), ``params`` (refitted values), ``achieved``
         (observables at the refitted values, 2N), ``achieved_at_fit`` (observables of
         the *fitted* values on the finer mesh), ``relative_change`` (fitted value ->
         refitted value for parameters; N -> 2N at the fitted values for observables;
@@ -261,6 +263,7 @@ def mesh_check(
             else sorted({m.n_elements for m in problem.models})
         ),
         "steps": int(steps),
+        "refit_converged": int(steps) < max_steps,
         "params": params,
         "achieved": _observables(fine, ev_new),
         "achieved_at_fit": at_fit,
@@ -332,7 +335,9 @@ def render_checks(doc: dict[str, Any]) -> list[str]:
             if k in change and not k.startswith("shape_rms")
         ]
         lines.append(
-            f"mesh check ({m['from_elements']} -> {m['elements']} elements, refit {m['steps']} steps): "
+            f"mesh check ({m['from_elements']} -> {m['elements']} elements, refit {m['steps']} steps"
+            + ("" if m.get("refit_converged", True) else ", not converged")
+            + "): "
             + ", ".join(parts)
             + ("; observables at the fitted values: " + ", ".join(obs) if obs else "")
         )
