@@ -165,3 +165,12 @@ def test_far_past_onset_is_a_warning_line_and_json_is_plain(converged):
     assert lines[0].startswith("regime: far past onset")
     assert lines[1].startswith("warning: regime: far past the onset of beating")
     json.dumps(checks, allow_nan=False)  # plain numbers: the CLI writes it as it is
+
+
+def test_relative_change_from_zero_is_infinite_not_an_error():
+    from axojax.inverse.checks import _relative
+
+    assert _relative(0.5, 0.0) == math.inf and _relative(-0.5, 0.0) == -math.inf
+    assert _relative(0.0, 0.0) == 0.0 and math.isnan(_relative(1.0, math.nan))
+    assert _relative(1.1, 1.0) == pytest.approx(0.1)
+    assert _relative(0.02, 0.0, scale=0.06) == pytest.approx(1 / 3)

@@ -182,9 +182,15 @@ def _observables(problem: Problem, ev: dict) -> dict[str, float]:
 
 
 def _relative(new: float, old: float, scale: float | None = None) -> float:
+    """(new - old) / |old| (or / max(|old|, scale)); NaN where either is not finite,
+    +-inf from 0 to a non-zero value (e.g. a standing mode's frequency 0 that oscillates
+    on the finer mesh)."""
     if not (math.isfinite(new) and math.isfinite(old)):
         return math.nan
-    return (new - old) / (abs(old) if scale is None else max(abs(old), scale))
+    den = abs(old) if scale is None else max(abs(old), scale)
+    if den == 0:
+        return 0.0 if new == old else math.copysign(math.inf, new - old)
+    return (new - old) / den
 
 
 def _targeted(problem: Problem) -> list[str]:
