@@ -174,3 +174,33 @@ def test_relative_change_from_zero_is_infinite_not_an_error():
     assert _relative(0.0, 0.0) == 0.0 and math.isnan(_relative(1.0, math.nan))
     assert _relative(1.1, 1.0) == pytest.approx(0.1)
     assert _relative(0.02, 0.0, scale=0.06) == pytest.approx(1 / 3)
+
+
+def test_cli_fit_reports_regime_and_mesh_check(tmp_path, capsys):
+    """`axojax fit` prints both checks (text), --no-mesh-check leaves the mesh check out
+    (JSON null), and a --spec fit of two conditions names each condition's regime and
+    checks the per-condition values."""
+    from axojax.cli.main import main
+
+    model = ax.models.single(n_elements=4)
+    f = {p: float(ax.dominant_mode(model, ax.Params(p=p)).frequency_hz()) for p in (80.0, 90.0)}
+    base = ["fit", "--model", "single", "--elements", "4", "--free", "p", "--starts", "1"]
+    target = ["--p", "85", "--target-frequency", f"{f[80.0]!r}"]
+    assert main(base + target) == 0
+    out = capsys.readouterr().out
+    assert "regime: near onset" in out and "mesh check (4 -> 8 elements" in out
+    assert main(base + target + ["--no-mesh-check", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["mesh_check"] is None and doc["regime"][0]["regime"] == NEAR
+    spec = tmp_path / "two.toml"
+    lines = ['model = "single"', "elements = 4", 'free_per_condition = ["p"]']
+    for p, fp in f.items():
+        lines += ["[[condition]]", f'label = "c{p:g}"', f"p = {p + 5}"]
+        lines += [f"frequency_hz = {fp!r}", f"frequency_sigma_hz = {0.01 * fp!r}"]
+    spec.write_text("\n".join(lines) + "\n")
+    assert main(["fit", "--spec", str(spec), "--starts", "1", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert [c["label"] for c in doc["regime"]] == ["c80", "c90"]
+    m = doc["mesh_check"]
+    assert set(m["params"]) == {"p@c80", "p@c90"} and m["elements"] == 8
+    assert "frequency_hz@c80" in m["relative_change"]
