@@ -11,8 +11,8 @@ condition's dominant mode at the optimum and names it:
 
 - ``"near onset"``: ``|r| <= NEAR_ONSET`` (0.1): the normal form's correction is at most
   about 10 % (for ``|Im l1 / Re l1| <= 1``) and its neglected terms about 1 %, so the
-  linear frequency stands in for the beat's to about the spread of measured beat
-  frequencies; the amplitude grows by at most ``exp(2 pi 0.1) = 1.9`` per period;
+  linear frequency stands in for the beat's to about 10 %; the linear amplitude grows
+  by at most ``exp(2 pi 0.1) = 1.9`` per period;
 - ``"far past onset"``: ``r > NEAR_ONSET``: the linear mode grows several-fold in one
   period (``exp(2 pi r)``), the beat is set by the nonlinearity, and a fit of the
   linear frequency to it is a fit of a stand-in;
@@ -26,9 +26,10 @@ Levenberg-Marquardt iterations (``MESH_STEPS``), and reports the refitted values
 observables there, the observables of the *fitted* values on the finer mesh (the
 discretisation error of the predictions) and the relative changes; a change above
 ``MESH_TOLERANCE`` (5 %) of a fitted value or of a targeted observable is a warning.
-5 %: well above the refit's own tolerance (optimistix's 1e-5), and below the standard
-error of the best-determined parameters of these fits (about 10 %), so a warning means
-the mesh, not the noise, moves the answer. A fitted value on a ridge (strongly
+5 %: far above the refit's own tolerance (optimistix's 1e-5, so the refit never warns
+by itself), and half the standard error of the best-determined parameters of these fits
+(about 10 %: p x/ 1.11 in the human-sperm fit), so a warning means the mesh moves the
+answer by a sizeable part of its error bar. A fitted value on a ridge (strongly
 correlated with another) can move far along it while the observables barely do: the
 report then says the fit is not mesh-converged even though it reproduces its targets.
 
@@ -65,6 +66,7 @@ LINEAR_SCALE = 0.01
 """A linear-coordinate parameter's change is relative to max(|value|, this x its range)."""
 
 NEAR, FAR, DECAYING, STANDING = "near onset", "far past onset", "decaying", "not oscillating"
+UNKNOWN = "unknown"  # the eigen-solve gave no finite eigenvalue
 
 
 def classify_regime(eigenvalue: complex, threshold: float = NEAR_ONSET) -> tuple[str, float]:
@@ -93,15 +95,20 @@ def regime(
 ) -> list[dict[str, Any]]:
     """Every condition's dominant mode at the optimum, named by :func:`classify_regime`.
 
-    Returns one dict per condition: ``label``, ``regime``, ``ratio`` (Re lambda /
-    |Im lambda|, None when not oscillating), ``growth_rate_per_s``, ``frequency_hz``
+    Returns one dict per condition: ``label``, ``regime`` (``"unknown"`` where the
+    eigen-solve gave no finite eigenvalue), ``ratio`` (Re lambda / |Im lambda|, None
+    when not oscillating or unknown), ``growth_rate_per_s``, ``frequency_hz``
     (linear mode, physical units of the problem) and ``growth_per_period`` (the linear
     amplitude's factor over one period, ``exp(2 pi ratio)``; None when not oscillating).
     """
     out = []
     for i, label in enumerate(problem.labels):
         mode = dominant_mode(problem.models[i], result.condition_params[i], problem.solver)
-        name, r = classify_regime(complex(mode.eigenvalue), threshold)
+        lam = complex(mode.eigenvalue)
+        if math.isfinite(lam.real) and math.isfinite(lam.imag):
+            name, r = classify_regime(lam, threshold)
+        else:  # no eigenvalue at these values (the fit's own report says why)
+            name, r = UNKNOWN, math.nan
         finite = math.isfinite(r)
         out.append(
             {
@@ -287,7 +294,7 @@ def fit_checks(
     problem: Problem, result: FitResult, *, mesh: bool = True, **mesh_options
 ) -> dict[str, Any]:
     """``{"regime": regime(...), "mesh_check": mesh_check(...)}``: the JSON entries of a
-    fit report. ``mesh=False``: ``"mesh_check"`` is None; a finer model too large for
+    fit report (plain numbers; NaN and infinities as None). ``mesh=False``: ``"mesh_check"`` is None; a finer model too large for
     memory: ``{"skipped": reason}``. ``mesh_options`` go to :func:`mesh_check`."""
     checked: dict[str, Any] | None = None
     if mesh:
@@ -299,7 +306,22 @@ def fit_checks(
             if "memory" not in str(err):
                 raise
             checked = {"skipped": str(err)}
-    return {"regime": regime(problem, result), "mesh_check": checked}
+    return _plain({"regime": regime(problem, result), "mesh_check": checked})
+
+
+def _plain(obj):
+    """JSON-ready: NaN and +-inf as None, numpy scalars as Python numbers."""
+    if isinstance(obj, dict):
+        return {str(k): _plain(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_plain(v) for v in obj]
+    if isinstance(obj, (bool, np.bool_)):
+        return bool(obj)
+    if isinstance(obj, (int, np.integer)):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        return float(obj) if math.isfinite(float(obj)) else None
+    return obj
 
 
 def _pct(x: float | None) -> str:
@@ -314,7 +336,8 @@ def render_checks(doc: dict[str, Any]) -> list[str]:
         head = f"[{c['label']}] " if len(doc["regime"]) > 1 else ""
         r = c["ratio"]
         if r is None:
-            lines.append(f"{head}regime: {c['regime']} (real dominant eigenvalue)")
+            why = "real dominant eigenvalue" if c["regime"] == STANDING else "no finite eigenvalue"
+            lines.append(f"{head}regime: {c['regime']} ({why})")
             continue
         lines.append(
             f"{head}regime: {c['regime']} (Re/|Im| lambda = {r:.3g}, threshold {c['threshold']:g}: "
