@@ -203,6 +203,7 @@ def test_cli_fit_json_and_infeasible_exit(synthetic, capsys):
         "1e5",
         "--starts",
         "1",
+        "--no-mesh-check",  # the check has its own tests (tests/test_checks.py)
     ]
     r = subprocess.run(
         base + ["--free", "p", "--p", "300", "--target-frequency", f"{synthetic['f']}", "--json"],

@@ -24,6 +24,7 @@ from ..inverse import (
     read_spec,
     solver_from_name,
 )
+from ..inverse.checks import fit_checks, render_checks
 from ..params import DEFAULT_CUBIC
 from ..units import Units
 from . import common
@@ -180,6 +181,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=4,
         metavar="C",
         help="posterior chains (default 4; with --posterior)",
+    )
+    parser.add_argument(
+        "--no-mesh-check",
+        dest="mesh_check",
+        action="store_false",
+        help="skip the refit at twice the elements that says how far the fit moves with the mesh "
+        '(about as long as the fit; the report\'s "mesh_check")',
     )
 
 
@@ -423,6 +431,7 @@ def run(args: argparse.Namespace) -> dict:
     except ValueError as err:
         raise common.CLIError(f"{flag}: {err}") from None
     result, post = _run_fit(args, problem, options, flag)
+    extra.update(fit_checks(problem, result, mesh=args.mesh_check))  # regime, mesh_check
     return _finish(args, result, extra, post)
 
 
@@ -479,6 +488,7 @@ def _run_spec(args: argparse.Namespace) -> dict:
     extra = {"spec": str(args.spec)}
     if spec.data:
         extra["data"] = spec.data[0] if len(spec.data) == 1 else list(spec.data)
+    extra.update(fit_checks(problem, result, mesh=args.mesh_check))  # regime, mesh_check
     return _finish(args, result, extra, post)
 
 
@@ -523,6 +533,7 @@ def render(doc: dict) -> str:
             )
         if c.get("shape_rms") is not None:
             lines.append(f"{head}  mode shape rms residual {c['shape_rms']:.2f} sigma")
+    lines.extend(render_checks(doc))  # regime, mesh_check
     chi2 = doc.get("chi2_per_dof")
     lines.append(
         f"loss {doc['loss']:.4g}; chi2/dof {chi2:.3g}"

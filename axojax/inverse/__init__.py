@@ -11,7 +11,7 @@ priors), ``_laplace`` (where chains start), ``_nuts`` (the sampler's compiled pr
 ``_posterior_result`` (:class:`Posterior`).
 """
 
-from . import diagnostics
+from . import checks, diagnostics
 from ._densities import InverseProblem, NormalPrior, ScaledSigmas, normal_prior
 from ._nuts import NUTS
 from ._posterior_result import Posterior, load_truth
@@ -55,6 +55,7 @@ __all__ = [
     "ScaledSigmas",
     "WarmSolution",
     "build_report",
+    "checks",
     "diagnostics",
     "fit",
     "build_problem",
