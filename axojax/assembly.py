@@ -1,6 +1,6 @@
 """System assembly: C, A, b of ``C dq/dt + A q = b`` as pure functions of Params.
 
-MODEL.md section 3::
+docs/model.md section 3::
 
     A = K_bend + K_link + K_theta + K_G - P_follow - P_gain
     C = C_fluid + C_link
@@ -55,7 +55,7 @@ def imbalanced_forces(model: Model, params: Params) -> Float[Array, " P"]:
 def pair_forces(model: Model, params: Params) -> Float[Array, " P"]:
     """Force p_a on each active pair, as it enters A: :func:`imbalanced_forces` in the
     force reading of the imbalance, p on every pair in the moment reading
-    (``model.imbalance_kind``, MODEL.md section 3)."""
+    (``model.imbalance_kind``, docs/model.md section 3)."""
     if model.imbalance_kind == "force":
         return imbalanced_forces(model, params)
     p = jnp.asarray(params.p, dtype=float)
@@ -66,7 +66,7 @@ def static_couple(model: Model, params: Params) -> Float[Array, " n_fd"]:
     """The constant dynein couple per unit length on each (filament, direction),
     ``a0 sum_a p_a w_a`` with the R : 1 forces of :func:`imbalanced_forces` (both readings):
     zero for balanced presets at R = 1; at R != 1 the net couple p a0 (1 - 1/R) of group 0's
-    pairs (MODEL.md section 3, asymmetric beats)."""
+    pairs (docs/model.md section 3, asymmetric beats)."""
     return params.a0 * jnp.einsum(
         "a,ai->i", imbalanced_forces(model, params), jnp.asarray(model.pair_w)
     )
@@ -101,7 +101,7 @@ name of the filament-level matrix it multiplies (a field of
 def terms(model: Model, params: Params) -> tuple[list[Term], list[Term], Float[Array, " n"]]:
     """The terms of A and C and the load b (filament-major) at ``params``.
 
-    The single source of the equations (MODEL.md section 3): :func:`assemble` sums the
+    The single source of the equations (docs/model.md section 3): :func:`assemble` sums the
     terms as dense Kronecker products, :func:`assemble_blocks` as node blocks.
     """
     m = model.matrices
@@ -146,7 +146,7 @@ def _filament_matrix(model: Model, name: str) -> np.ndarray:
 
 
 def assemble(model: Model, params: Params) -> System:
-    """Assemble C, A, b for ``model`` at ``params`` (MODEL.md section 3).
+    """Assemble C, A, b for ``model`` at ``params`` (docs/model.md section 3).
 
     Args:
         model: static structure (mesh, topology), e.g. ``ax.models.seven()``.

@@ -2,7 +2,7 @@
 
 ``Params`` is an equinox Module, so it is a pytree: ``jax.vmap`` over a batch of
 parameters, ``jax.grad`` with respect to any field, ``optax`` updates on it. Every
-field is dimensionless (MODEL.md section 1); :class:`axojax.Units` converts from
+field is dimensionless (docs/model.md section 1); :class:`axojax.Units` converts from
 physical values.
 """
 
@@ -59,7 +59,7 @@ _BOUNDS = {
 
 
 class Params(eqx.Module):
-    """Dimensionless model parameters (defaults: paper figure 7, MODEL.md section 6).
+    """Dimensionless model parameters (defaults: paper figure 7, docs/model.md section 6).
 
     Attributes:
         p: dynein force per length on each active pair, p_dim L^3 / EI (for ``beck``,

@@ -1,5 +1,5 @@
 """Physical units: converting dimensionless results to Hz, 1/s and um, and physical
-parameters to the dimensionless ones (MODEL.md section 1).
+parameters to the dimensionless ones (docs/model.md section 1).
 
 Scales: length L, force EI / L^2 (EI of one filament), time tau = c_n L^4 / EI.
 """

@@ -1,4 +1,4 @@
-"""``axojax modes`` JSON output against the library and MODEL.md."""
+"""``axojax modes`` JSON output against the library and docs/model.md."""
 
 import json
 

@@ -1,4 +1,4 @@
-"""``axojax fit --posterior DRAWS [--chains C]`` (INTERFACE.md): NUTS from the fit's
+"""``axojax fit --posterior DRAWS [--chains C]`` (docs/interface.md): NUTS from the fit's
 optimum on the same problem; the report's "posterior" block, the draws file beside
 --out, its corner plot, and one-line errors for bad values. One parameter of a small
 model: the posterior of p given one frequency is narrow and single-peaked, so its mean

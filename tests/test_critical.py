@@ -1,4 +1,4 @@
-"""Hopf points: MODEL.md values, agreement with bisection on the dense spectrum, and the
+"""Hopf points: docs/model.md values, agreement with bisection on the dense spectrum, and the
 implicit derivative of p_c."""
 
 import jax

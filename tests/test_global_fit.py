@@ -36,7 +36,7 @@ def _spec(path, params: dict, starts_note: str = "") -> None:
 
 def test_fig7_global_fit_reproduces_all_five_and_modes_agrees(tmp_path, capsys):
     """One set of ks, kl, cl, gamma reproduces 17, 22, 51, 66, 245 Hz at p = 150, 200, 300,
-    400, 800 within 3 %. Quick form: one start, off the solution MODEL.md section 7 quotes
+    400, 800 within 3 %. Quick form: one start, off the solution docs/model.md section 7 quotes
     (ks ~ 4.6e5, kl ~ 15, cl ~ 1.4, gamma ~ -0.11); the multi-start form is
     ``test_fig7_multistart_from_the_stated_parameters``."""
     spec, out = tmp_path / "fig7.toml", tmp_path / "fig7.json"

@@ -1,6 +1,6 @@
-"""The two readings of the dynein imbalance (MODEL.md section 3, asymmetric beats): the
+"""The two readings of the dynein imbalance (docs/model.md section 3, asymmetric beats): the
 moment reading keeps the linear operator balanced and adds a static couple; the force
-reading changes the forces. Checked against hand computations and against MODEL.md's
+reading changes the forces. Checked against hand computations and against docs/model.md's
 independently measured beat of the seven-filament model."""
 
 import json
@@ -58,7 +58,7 @@ def test_moment_reading_keeps_the_balanced_operator_and_adds_the_couple():
 
 
 def test_moment_reading_keeps_the_seven_mode_planar(seven):
-    """Linear modes: the moment reading's are the balanced ones (out-of-plane 0.022, MODEL.md
+    """Linear modes: the moment reading's are the balanced ones (out-of-plane 0.022, docs/model.md
     section 6); the force reading turns the mode out of the plane (0.46, issue 20)."""
     params = ax.Params(p=300.0, imbalance=5.0)
     moment = ax.dominant_mode(seven, params)
@@ -68,7 +68,7 @@ def test_moment_reading_keeps_the_seven_mode_planar(seven):
 
 
 def test_moment_beat_matches_the_independent_simulation(seven):
-    """MODEL.md section 3 (independent scipy Radau, seven, N_e = 10, ks 1e6, kl 1e3, cl 1/200,
+    """docs/model.md section 3 (independent scipy Radau, seven, N_e = 10, ks 1e6, kl 1e3, cl 1/200,
     a0 = 0.2 um, cubic 10, R = 5, moment reading): p = 270 beats planar (minor/major axis
     of the tip trace 0.013) at 19.5 Hz, tip amplitude 4.7 um, wavelength 18.6 um, static
     curvature ~0.040 rad/um (size; its sign depends on the side); R = 1 at 19.7 Hz with
@@ -82,7 +82,7 @@ def test_moment_beat_matches_the_independent_simulation(seven):
     assert m["frequency_hz"] == pytest.approx(19.5, rel=0.01)
     assert m["tip_amplitude_um"] == pytest.approx(4.7, rel=0.02)
     assert m["out_of_plane"] < 0.02
-    # MODEL.md's 18.6 um is the least-squares slope of the unwrapped phase of psi_1 at the
+    # docs/model.md's 18.6 um is the least-squares slope of the unwrapped phase of psi_1 at the
     # nodes (numpy here); axojax's wavelength, the |psi_1|^2-weighted mean phase gradient,
     # is far longer for this beat (its large distal amplitude has a nearly constant phase):
     # checked against numpy on a fine sampling of the orbit's psi_1
@@ -96,7 +96,7 @@ def test_moment_beat_matches_the_independent_simulation(seven):
     )
     assert m["wavelength_um"] == pytest.approx(2 * np.pi / abs(k), rel=1e-4)
     # Group 0 (the stronger, on +y) bends the axoneme towards negative tangent angles in
-    # the y frame. Measured here: 0.029 rad/um at the nodes; MODEL.md quotes "~0.040" from
+    # the y frame. Measured here: 0.029 rad/um at the nodes; docs/model.md quotes "~0.040" from
     # its run: only the order of magnitude is asserted.
     assert -0.05 < m["static_curvature_rad_per_um"] < -0.02
     balanced = cycle_measures(

@@ -33,7 +33,7 @@ def test_inferred_set_reproduces_the_paper_within_3_percent(model, p):
 
 def test_stated_set_does_not(model):
     """Why the inferred set exists: at the caption's k_s = 1e6, k_l = 1e3, c_l = 1/200,
-    p = 150 does not beat (MODEL.md section 7)."""
+    p = 150 does not beat (docs/model.md section 7)."""
     mode = ax.dominant_mode(model, ax.Params(p=150.0, ks=1e6, kl=1e3, cl=1 / 200))
     assert ax.eigen.CLASSES[int(mode.classification)] != "flutter"
 

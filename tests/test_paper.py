@@ -1,4 +1,4 @@
-"""The paper-vs-axojax table (axojax.paper): its rows against MODEL.md section 7, its
+"""The paper-vs-axojax table (axojax.paper): its rows against docs/model.md section 7, its
 exact elasticities against finite differences, README and docs in step with the code."""
 
 import pathlib
@@ -38,7 +38,7 @@ def test_rows_match_model_md_section_7(rows):
 
 
 def test_two_row_cannot_discriminate(rows):
-    """MODEL.md section 7: Re lambda 12x Im lambda, 38-68 Hz under +-2 % of the follower
+    """docs/model.md section 7: Re lambda 12x Im lambda, 38-68 Hz under +-2 % of the follower
     load, 78 Hz at N_e = 6; the follower elasticity shows it beside the seven's."""
     note = rows["7b"].note
     for text in (
@@ -50,7 +50,7 @@ def test_two_row_cannot_discriminate(rows):
         assert text in note, note
     assert rows["7b"].elasticity["follower"] > 5 * rows["7d"].elasticity["follower"]
     assert rows["7c"].elasticity == pytest.approx(rows["7b"].elasticity, rel=1e-6)
-    assert "four = two (eigenvalues equal to 1e-9)" in rows["7c"].note  # MODEL.md section 6
+    assert "four = two (eigenvalues equal to 1e-9)" in rows["7c"].note  # docs/model.md section 6
 
 
 def test_rows_that_differ_say_why(rows):
@@ -156,7 +156,7 @@ def test_cli_errors(capsys, tmp_path):
 
 
 def test_inferred_json(capsys):
-    """``python -m axojax.paper --inferred --json`` (INTERFACE.md): fig12's set."""
+    """``python -m axojax.paper --inferred --json`` (docs/interface.md): fig12's set."""
     import json
 
     assert main(["--inferred", "--json"]) == 0

@@ -1,4 +1,4 @@
-"""The numbers of MODEL.md section 6, and an independent re-implementation check."""
+"""The numbers of docs/model.md section 6, and an independent re-implementation check."""
 
 import numpy as np
 import pytest
@@ -31,12 +31,12 @@ def test_two_p300():
 
 
 def test_seven_p300(seven):
-    """MODEL.md section 6 (paper fig. 7d: 51 Hz; sec. 3.6: out of plane < 5 %)."""
+    """docs/model.md section 6 (paper fig. 7d: 51 Hz; sec. 3.6: out of plane < 5 %)."""
     mode = dominant_mode(seven, ax.Params(p=300.0, ks=1e6, kl=1e3, cl=1 / 200))
     lam = complex(mode.eigenvalue)
     assert agrees(lam.real, "137.696") and agrees(lam.imag, "270.311"), lam
     assert agrees(float(mode.frequency_hz()), "50.30")
-    # MODEL.md's 20.72 um is the retired displacement form; the wavelength (psi_1's,
+    # docs/model.md's 20.72 um is the retired displacement form; the wavelength (psi_1's,
     # 31.7 um) is checked against scipy and numpy in tests/test_waveform_measures.py
     k_u = float(ax.eigen.displacement_wavenumber(seven, mode.eigenvector))
     assert agrees(2 * np.pi / abs(k_u) * ax.Units().length_um, "20.72")
@@ -52,7 +52,7 @@ def test_nine_p300():
 
 
 def test_four_equals_two():
-    """The two pairs of the square moving in step is an exact mode (MODEL.md section 6)."""
+    """The two pairs of the square moving in step is an exact mode (docs/model.md section 6)."""
     params = ax.Params(p=300.0, ks=1e6, kl=1e3, cl=1 / 200)
     four = dominant_mode(ax.models.four(), params)
     two = complex(dominant_mode(ax.models.two(), params).eigenvalue)
@@ -64,7 +64,7 @@ def test_four_equals_two():
     "ks,pc_ref", [(1e3, "66.9"), (1e4, "88.8"), (1e5, "136.6"), (1e6, "249.8")]
 )
 def test_seven_critical_force_scipy(seven, ks, pc_ref):
-    """p_c of the seven preset at k_l = k_s / 1e3 (MODEL.md section 6), by scipy's brentq on
+    """p_c of the seven preset at k_l = k_s / 1e3 (docs/model.md section 6), by scipy's brentq on
     scipy.linalg.eig; the stable checks below it make sure the root is the first crossing."""
     params = ax.Params(ks=ks, kl=ks / 1e3)
     growth = lambda p: scipy_max_real(seven, params.replace(p=p)).real

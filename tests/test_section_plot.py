@@ -1,4 +1,4 @@
-"""The orientation rule of MODEL.md section 4, rotation_deg, and the cross-section figure
+"""The orientation rule of docs/model.md section 4, rotation_deg, and the cross-section figure
 (``axojax.plotting.plot_section``, ``axojax plot --model``)."""
 
 import json
@@ -35,7 +35,7 @@ def test_active_groups_bend_along_y(name):
 
 def test_nine_groups_closest_to_the_rule():
     """Nine: the groups' middles sit 10 degrees from +-z, so each net direction is 10
-    degrees from +-y (MODEL.md section 4)."""
+    degrees from +-y (docs/model.md section 4)."""
     for v in net_directions(ax.models.nine().section).values():
         assert np.degrees(np.arccos(abs(v[0]) / np.hypot(*v))) == pytest.approx(10.0, abs=1e-9)
 
@@ -59,7 +59,7 @@ def test_rotation_deg_is_a_pure_rotation(name, deg):
 
 def test_rotation_moves_the_mode_out_of_plane():
     """With the paper's out_of_plane = 2 the orientation matters: seven at rotation 0 beats
-    in the y plane (out-of-plane 0.022, MODEL.md section 6), the old 30-degree placement does not."""
+    in the y plane (out-of-plane 0.022, docs/model.md section 6), the old 30-degree placement does not."""
     params = ax.Params(p=300.0)
     planar = ax.dominant_mode(ax.models.seven(n_elements=6), params)
     old = ax.dominant_mode(ax.models.seven(n_elements=6, rotation_deg=30.0), params)

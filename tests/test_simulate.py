@@ -298,7 +298,9 @@ def test_cli_reports_solver_failure_on_one_line(capsys):
     assert doc["state"] == "solver_failed" and doc["limit_cycle"] is None
     assert "\n" not in doc["reason"] and "maximum number of solver steps" in doc["reason"].lower()
     assert doc["solver"]["ok"] is False and doc["solver"]["t_reached_s"] < 0.05
-    assert doc["solver"]["reason"] == doc["reason"]  # INTERFACE.md: {"ok": false, "reason": ...}
+    assert (
+        doc["solver"]["reason"] == doc["reason"]
+    )  # docs/interface.md: {"ok": false, "reason": ...}
     # The text output (same document) leads with the state and that reason.
     assert render(doc).splitlines()[0] == f"state: solver_failed: {doc['reason']}"
     assert main(base[3:-1] + ["0"]) == 2  # in this process, as above

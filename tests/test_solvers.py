@@ -394,7 +394,7 @@ def test_critical_force_with_arnoldi_equals_dense():
 
 
 def test_cli_solver_flag(capsys):
-    """MODEL.md section 6: seven at p = 300 is 137.696 +- 270.311i (50.30 Hz)."""
+    """docs/model.md section 6: seven at p = 300 is 137.696 +- 270.311i (50.30 Hz)."""
     assert (
         main(
             [

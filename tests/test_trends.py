@@ -1,4 +1,4 @@
-"""Paper trends (MODEL.md section 6) on the seven-filament preset."""
+"""Paper trends (docs/model.md section 6) on the seven-filament preset."""
 
 import jax
 import numpy as np
@@ -28,7 +28,7 @@ def critical(model):
 def test_critical_force_rises_with_spoke_stiffness(critical):
     pc = np.asarray(critical.p)[: KS.size]
     assert np.all(np.diff(pc) > 0)
-    # MODEL.md section 6: p_c = 66.9, 88.8, 136.6, 249.8 at k_s = 1e3 .. 1e6
+    # docs/model.md section 6: p_c = 66.9, 88.8, 136.6, 249.8 at k_s = 1e3 .. 1e6
     for value, stated in zip(pc[1:5], ("66.9", "88.8", "136.6", "249.8")):
         assert agrees(value, stated), pc
 

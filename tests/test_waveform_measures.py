@@ -153,7 +153,7 @@ def _hermite(nodal: np.ndarray, n_elements: int, x: np.ndarray):
 def test_mode_wavelength_is_the_tangent_angles(seven):
     """Fig. 7d mode (seven filaments, p = 300): the wavelength of psi_1 = u' along the beat
     direction, from scipy's dense eigenvector, the Hermite interpolation written out here
-    and a fine finite-difference sampling; the displacement form gives MODEL.md's 20.72 um."""
+    and a fine finite-difference sampling; the displacement form gives docs/model.md's 20.72 um."""
     params = ax.Params(p=300.0, ks=1e6, kl=1e3, cl=1 / 200)
     mode = ax.dominant_mode(seven, params)
     s = ax.assemble(seven, params)
@@ -178,7 +178,7 @@ def test_mode_wavelength_is_the_tangent_angles(seven):
     assert float(mode.wavelength_um()) == pytest.approx(2 * np.pi / abs(k_psi) * length, rel=1e-5)
     assert float(mode.wavenumber) == pytest.approx(k_psi, rel=1e-5)
     assert float(displacement_wavenumber(seven, mode.eigenvector)) == pytest.approx(k_u, rel=1e-5)
-    assert abs(2 * np.pi / abs(k_u) * length - 20.72) < 0.005  # MODEL.md section 6
+    assert abs(2 * np.pi / abs(k_u) * length - 20.72) < 0.005  # docs/model.md section 6
     assert int(mode.direction) == (1 if k_psi * lam[i].imag < 0 else -1) == 1
     assert float(mode.velocity_um_per_s()) == pytest.approx(
         2 * np.pi / abs(k_psi) * length * float(mode.frequency_hz()), rel=1e-5

@@ -184,7 +184,7 @@ class BeatData:
         return finite_or_none(self.modes.wavelength)
 
     def summary(self) -> dict:
-        """What ``axojax data --json`` prints (keys in INTERFACE.md, plus extras).
+        """What ``axojax data --json`` prints (keys in docs/interface.md, plus extras).
         ``wavelength_um``, ``dynamic_amplitude_rad`` and ``static_curvature_rad_per_um`` are
         the in-plane component's; ``components`` lists every component's
         (:attr:`components`)."""

@@ -1,1 +1,1 @@
-"""The ``axojax`` command line (see INTERFACE.md). One module per subcommand."""
+"""The ``axojax`` command line (see docs/interface.md). One module per subcommand."""

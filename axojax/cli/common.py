@@ -119,7 +119,7 @@ def add_model_flags(
         choices=IMBALANCE_KINDS,
         default=IMBALANCE_KINDS[0],
         help="read --imbalance R as a static couple p a0 (1 - 1/R) with balanced forces (moment, the paper's reading, "
-        "default) or as group 1 carrying p / R (force); MODEL.md section 3",
+        "default) or as group 1 carrying p / R (force); docs/model.md section 3",
     )
     g.add_argument(
         "--kl-ratio",

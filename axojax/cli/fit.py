@@ -48,7 +48,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--spec",
         default=None,
         metavar="FIT.toml",
-        help="fit several conditions at once (global fit): model, free parameters and [[condition]] tables (see the module docs)",
+        help="fit several conditions at once (global fit): model, free parameters and [[condition]] tables (format: docs/interface.md, 'The fit spec')",
     )
     common.add_solver_flag(parser)
     parser.add_argument(

@@ -131,7 +131,7 @@ def run(args: argparse.Namespace) -> dict:
             animate_simulation(sim, tmp)
     if sim.state == "solver_failed":
         wrote = f"; {args.out} holds the record up to there" if args.out is not None else ""
-        # a state, not an input error (INTERFACE.md: exit 0, the document says why); one
+        # a state, not an input error (docs/interface.md: exit 0, the document says why); one
         # line on stderr so that a script that ignores the document still sees it
         print(f"axojax: simulate: solver_failed: {sim.reason}{wrote}", file=sys.stderr)
     return sim.to_json()

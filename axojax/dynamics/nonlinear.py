@@ -2,7 +2,7 @@
 
 Every link e (spoke or inter-doublet link) of stiffness k_e carries the force per unit
 length ``k_e (delta_a + kappa delta_a^3)``, with ``delta_a_e(x) = B_e . U(x)`` the change
-of spacing (MODEL.md section 3, in units of L; ``kappa`` in 1/L^2). The linear part is
+of spacing (docs/model.md section 3, in units of L; ``kappa`` in 1/L^2). The linear part is
 already in A (``K_link``). The cubic part, by virtual work::
 
     f_nl(q) = kappa sum_e k_e int k(x) delta_a_e(x)^3 (B_e (x) phi(x)) dx

@@ -146,7 +146,7 @@ class Simulation:
             if self.limit_cycle is None
             else {k: self.limit_cycle[k] for k in ("frequency_hz", "tip_amplitude_um", "period_s")}
         )
-        # INTERFACE.md: a failed solver's reason also under "solver"
+        # docs/interface.md: a failed solver's reason also under "solver"
         solver = {
             **self.meta["solver"],
             "reason": self.reason if self.state == "solver_failed" else None,

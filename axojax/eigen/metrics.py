@@ -1,4 +1,4 @@
-"""Mode shapes and mode metrics (MODEL.md section 5).
+"""Mode shapes and mode metrics (docs/model.md section 5).
 
 An eigenvector ``v`` (n,) is reshaped to ``(F, d, 2 N_e)`` and interpolated with the
 Hermite shape functions. The centreline displacement is the mean over filaments. In 3D

@@ -1,4 +1,4 @@
-"""Filament-level matrices M0, K0, D0, G0, F0 by Gauss quadrature (MODEL.md section 2).
+"""Filament-level matrices M0, K0, D0, G0, F0 by Gauss quadrature (docs/model.md section 2).
 
 With phi the free-dof shape functions of one filament direction:
 

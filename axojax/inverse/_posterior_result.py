@@ -115,7 +115,7 @@ class Posterior:
         }
 
     def to_json(self) -> dict[str, Any]:
-        """The ``"posterior"`` block of ``axojax fit --posterior --json`` (INTERFACE.md):
+        """The ``"posterior"`` block of ``axojax fit --posterior --json`` (docs/interface.md):
         ``draws`` (per chain), ``chains``, ``mean``, ``sd``, ``q05``, ``q95``, ``rhat``,
         ``ess`` (bulk), ``seconds``; also ``q50``, ``ess_tail``, ``divergences``,
         ``warmup``, ``seconds_per_gradient``, ``seconds_per_ess``, ``message``, ``result``

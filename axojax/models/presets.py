@@ -1,4 +1,4 @@
-"""The preset cross-sections of MODEL.md section 4.
+"""The preset cross-sections of docs/model.md section 4.
 
 Positions are (y, z) = (sin theta, cos theta) on the unit circle, theta measured from
 +z towards +y, y the beat-plane direction. In the 3D presets ring links that are not
@@ -129,7 +129,7 @@ def _preset(name: str):
 
     make.__name__ = name
     make.__doc__ = (
-        f"The ``{name}`` preset of MODEL.md section 4 with ``n_elements`` elements per filament;\n"
+        f"The ``{name}`` preset of docs/model.md section 4 with ``n_elements`` elements per filament;\n"
         "``rotation_deg`` turns its cross-section (degrees from +z towards +y, 3D presets only);\n"
         "``imbalance_kind`` reads ``Params.imbalance`` as a static moment (default) or as unequal forces."
     )

@@ -3,7 +3,7 @@
 A :class:`CrossSection` says where the filaments sit, how they are linked and which
 pairs carry dynein. A :class:`Model` adds the mesh and the filament-level matrices, and
 precomputes the small "truss" matrices over (filament, direction) pairs that the
-assembly Kronecker-multiplies with filament-level matrices (MODEL.md sections 2-3).
+assembly Kronecker-multiplies with filament-level matrices (docs/model.md sections 2-3).
 Nothing here is traced: a model is built once with numpy and is hashed by value (its
 arrays' bytes, see :meth:`Model.__hash__`), so it can be a static argument of
 ``jax.jit``, and two models built alike (``ax.models.seven()`` called twice) share their
@@ -29,7 +29,7 @@ KINDS = ("spoke", "link")
 ImbalanceKind = Literal["moment", "force"]
 IMBALANCE_KINDS = ("moment", "force")
 DEFAULT_IMBALANCE_KIND: ImbalanceKind = "moment"
-"""The paper's reading (section 3.7.1: "a constant distributed moment"; MODEL.md
+"""The paper's reading (section 3.7.1: "a constant distributed moment"; docs/model.md
 section 3, asymmetric beats): fig. 12 is reproduced with it."""
 
 
@@ -209,7 +209,7 @@ class Model:
         pair_group: (P,) 0 or 1.
 
     Static choice:
-        imbalance_kind: how ``Params.imbalance`` R is read (MODEL.md section 3,
+        imbalance_kind: how ``Params.imbalance`` R is read (docs/model.md section 3,
             asymmetric beats). ``"moment"`` (default, the paper's reading): every active
             pair carries p, so A and C are the balanced ones, and the static load b gains
             the net couple of an R : 1 force ratio, p a0 (1 - 1/R) per unit length.

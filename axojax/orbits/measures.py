@@ -54,7 +54,7 @@ def tangent_modes(
 def tip_trace_axes(cycle: LimitCycle) -> Float[Array, ""]:
     """Out-of-plane measure: minor / major axis of the tip trace in the cross-section,
     sqrt(smaller / larger eigenvalue of the tip motion's covariance over one period)
-    (0 for planar models; the MODEL.md section 3 measure of a simulated beat)."""
+    (0 for planar models; the docs/model.md section 3 measure of a simulated beat)."""
     model = cycle.model
     if model.n_dirs == 1:
         return jnp.zeros(())

@@ -39,7 +39,7 @@ class BeatSettings:
         p_factor: p as a multiple of the Hopf point p_c of the imbalanced model.
         imbalance: force ratio of the two dynein groups (paper: about 5).
         imbalance_kind: its reading, ``"moment"`` (the paper's: a static couple, forces
-            balanced) or ``"force"`` (group 1 carries p / imbalance); MODEL.md section 3.
+            balanced) or ``"force"`` (group 1 carries p / imbalance); docs/model.md section 3.
         cubic: link stiffening kappa (1/L^2).
         perturbation_um: initial tip displacement (um).
     """

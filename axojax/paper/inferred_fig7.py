@@ -4,7 +4,7 @@ unstated.
 Figure 7d-h shows the seven-filament mode at p = 300, 150, 200, 400, 800 with
 frequencies 51, 17, 22, 66, 245 Hz, "all parameters kept constant other than p". At the
 caption's k_s = 1e6, k_l = 1e3, c_l = 1/200 axojax reproduces panel d only (p = 150 and
-200 do not beat, 400 and 800 give 103 and 285 Hz; MODEL.md section 7).
+200 do not beat, 400 and 800 give 103 and 285 Hz; docs/model.md section 7).
 
 How this set was obtained: the global fit of ``notebooks/gallery_fig07_global_fit.ipynb``
 (2026-12-01): ``ax.inverse.Problem`` over the five panels (one
@@ -13,7 +13,7 @@ seven-filament preset at N_e = 10 (the paper's mesh), default units, shared free
 k_l, c_l and gamma within ``ax.inverse.DEFAULT_BOUNDS``, Levenberg-Marquardt with exact
 Jacobians from 16 starts (the caption's set and a Sobol design). It reproduces all five
 frequencies within 2 % (51.28, 17.08, 21.58, 66.77, 244.72 Hz), matching an earlier
-independent fit (MODEL.md section 7). What the five numbers determine (notebook): k_s
+independent fit (docs/model.md section 7). What the five numbers determine (notebook): k_s
 to about 15 %, c_l to about 10 %, gamma to +-0.03 (anti-correlated with c_l); k_l is
 **not** determined (standard error a factor ~16; its profile is flat from 0.1 to 30 and
 bounds it only from above, near 100): its value here is one point of a plateau, not a

@@ -8,9 +8,9 @@ differentiable dominant eigenpair (:func:`axojax.eigen.dominant_eigenpair`), for
 - ``p``, ``ks``, ``kl``: the dimensionless parameters;
 - ``follower``: a factor s on the balanced follower-force term alone,
   ``A(s) = A - (s - 1) P_follow`` (the distributed follower load of ``single``). It is a
-  formulation choice rather than a parameter (MODEL.md section 3), so this elasticity
+  formulation choice rather than a parameter (docs/model.md section 3), so this elasticity
   measures how strongly a row depends on how the dynein force is formulated
-  (MODEL.md section 7).
+  (docs/model.md section 7).
 
 At s = 1 the pencil is exactly the one :func:`axojax.dominant_mode` solves.
 """
@@ -148,7 +148,7 @@ def mode_rows(claims: Sequence[Claim], scan=None, units: Units = Units()) -> lis
     by_model: dict[str, list[tuple[Params, float, Claim | str]]] = {}
     for c in claims:
         by_model.setdefault(c.model, []).append((Params(**c.params), 1.0, c))
-        if c.key == "7b":  # the follower load +-2 % (MODEL.md section 7)
+        if c.key == "7b":  # the follower load +-2 % (docs/model.md section 7)
             by_model[c.model] += [(Params(**c.params), s, f"7b@{s}") for s in (0.98, 1.02)]
     results: dict[str, tuple[Evaluation, int]] = {}
     for name, entries in by_model.items():

@@ -18,7 +18,7 @@ GROUP_COLORS = ("tab:orange", "tab:purple")
 
 def group_bending_directions(section: CrossSection) -> dict[int, np.ndarray]:
     """Each active group's net dynein bending direction: the sum of its pairs' unit
-    vectors n_a (from filament i to j) in (y, z). MODEL.md section 4 turns every 3D
+    vectors n_a (from filament i to j) in (y, z). docs/model.md section 4 turns every 3D
     preset until these lie along +-y."""
     pos = section.positions
     out: dict[int, np.ndarray] = {}

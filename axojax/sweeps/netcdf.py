@@ -63,7 +63,7 @@ def to_xarray(result: "SweepResult") -> "xarray.Dataset":
         k: (
             k,
             np.asarray(v),
-            {"units": "1", "long_name": f"{k} (dimensionless, MODEL.md section 1)"},
+            {"units": "1", "long_name": f"{k} (dimensionless, docs/model.md section 1)"},
         )
         for k, v in result.coords.items()
     }
