@@ -12,7 +12,8 @@ from typing import Any
 import numpy as np
 
 from .._io import atomic_path
-from ..results import RESULTS, result_name
+from ..results import RESULTS
+from ..results import name as result_name
 
 NPZ_KIND = "posterior"
 

@@ -33,7 +33,8 @@ import numpy as np
 
 from .. import _io
 from ..params import PARAM_NAMES, Params
-from ..results import RESULTS, message, result_name
+from ..results import RESULTS, message
+from ..results import name as result_name
 from .problem import CYCLE_FAILED, Problem
 
 IDENTIFIABLE_MAX_LOG_SE = 1.0
