@@ -35,7 +35,11 @@ def test_fit_posterior_report_file_and_corner_plot(tmp_path, capsys):
         ]
     )
     assert rc == 0
-    doc = json.loads(capsys.readouterr().out)
+    out, err = capsys.readouterr()
+    doc = json.loads(out)
+    # one prefix per line (issue 33: "axojax: fit: posterior: posterior: R-hat ..." doubled it)
+    for line in err.splitlines():
+        assert line.count("posterior:") <= 1 and line.count("axojax:") == 1, line
     post = doc["posterior"]
     assert {"draws", "chains", "mean", "sd", "q05", "q95", "rhat", "ess", "seconds"} <= set(post)
     assert post["draws"] == 40 and post["chains"] == 2

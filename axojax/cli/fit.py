@@ -380,24 +380,7 @@ def run(args: argparse.Namespace) -> dict:
     targets = _targets(args)
     shape, extra = None, {}
     if args.data is not None:
-        beat, extra["data"] = _read_data(args.data, "--data")
-        length = getattr(beat, "length_um", None)
-        if length is not None and abs(length - units.length_um) > 1e-6 * length:
-            if _length_given(args):
-                raise common.CLIError(
-                    f"--length-um: {units.length_um:g} um conflicts with the data's length {length:g} um ({args.data})"
-                )
-            units = Units(length, units.ei_pn_um2, units.cn_pn_s_um2)  # the data's length
-        data_targets, shape = beat.targets()
-        if args.target == "limit-cycle":
-            # The whole waveform against the nonlinear beat: psi_0 and psi_1 in absolute
-            # amplitude, and the data's frequency as the limit cycle's.
-            data_targets = [
-                Target(t.name, t.value, t.sigma, source="limit_cycle")
-                for t in data_targets
-                if t.name in ("frequency_hz", "wavelength_um")
-            ]
-            shape = None if shape is None else dataclasses.replace(shape, source="limit_cycle")
+        data_targets, shape, units, extra["data"] = _data(args, units)
         targets += [t for t in data_targets if t.name not in {u.name for u in targets}]
     elif args.exclude_base_um:
         raise common.CLIError("--exclude-base-um: applies to a shape; give --data")
@@ -406,16 +389,7 @@ def run(args: argparse.Namespace) -> dict:
             "--free: nothing to fit to; give --target-frequency, --target-wavelength, --observation or --data"
         )
     if args.target == "limit-cycle":
-        kappa = DEFAULT_CUBIC if args.cubic is None else args.cubic
-        if not kappa > 0:
-            raise common.CLIError(
-                f"--cubic: must be > 0 (the stiffening that bounds the beat), got {kappa:g}"
-            )
-        if model.link_B.shape[0] == 0:
-            raise common.CLIError(
-                f"--target: {model.name!r} has no links, so it has no limit cycle; use a model with links"
-            )
-        options["cubic"] = kappa
+        options["cubic"] = _cubic(args, model)
     flag = "--exclude-base-um" if args.exclude_base_um else "--free"
     try:
         problem = build_problem(
@@ -433,6 +407,43 @@ def run(args: argparse.Namespace) -> dict:
     result, post = _run_fit(args, problem, options, flag)
     extra.update(fit_checks(problem, result, mesh=args.mesh_check))  # regime, mesh_check
     return _finish(args, result, extra, post)
+
+
+def _data(args: argparse.Namespace, units: Units):
+    """--data: its targets and shape (for --target limit-cycle, the whole waveform against
+    the nonlinear beat), the units at the data's length, and the data's summary."""
+    beat, summary = _read_data(args.data, "--data")
+    length = beat.length_um
+    if abs(length - units.length_um) > 1e-6 * length:
+        if _length_given(args):
+            raise common.CLIError(
+                f"--length-um: {units.length_um:g} um conflicts with the data's length {length:g} um ({args.data})"
+            )
+        units = Units(length, units.ei_pn_um2, units.cn_pn_s_um2)  # the data's length
+    targets, shape = beat.targets()
+    if args.target == "limit-cycle":
+        # psi_0 and psi_1 in absolute amplitude, and the data's frequency as the cycle's.
+        targets = [
+            Target(t.name, t.value, t.sigma, source="limit_cycle")
+            for t in targets
+            if t.name in ("frequency_hz", "wavelength_um")
+        ]
+        shape = None if shape is None else dataclasses.replace(shape, source="limit_cycle")
+    return targets, shape, units, summary
+
+
+def _cubic(args: argparse.Namespace, model) -> float:
+    """--cubic (default DEFAULT_CUBIC) for a limit-cycle fit of ``model``."""
+    kappa = DEFAULT_CUBIC if args.cubic is None else args.cubic
+    if not kappa > 0:
+        raise common.CLIError(
+            f"--cubic: must be > 0 (the stiffening that bounds the beat), got {kappa:g}"
+        )
+    if model.link_B.shape[0] == 0:
+        raise common.CLIError(
+            f"--target: {model.name!r} has no links, so it has no limit cycle; use a model with links"
+        )
+    return kappa
 
 
 def _free_names(text: str) -> list[str]:
@@ -543,23 +554,30 @@ def render(doc: dict) -> str:
     lines.append(f"targets met: {doc['targets_met']}; {doc['message']}")
     if doc["result"] != "successful":
         lines.append(f"solver: {doc['result_message']}")
-    post = doc.get("posterior")
-    if post:
-        lines.append(
-            f"posterior ({post['chains']} chains x {post['draws']} draws, {post['seconds']:.1f} s):"
-        )
-        lines.append(
-            f"{'parameter':>12s}  {'mean':>12s}  {'sd':>10s}  {'q05':>12s}  {'q95':>12s}  {'rhat':>6s}  {'ess':>7s}"
-        )
-        for k, m in post["mean"].items():
-            lines.append(
-                f"{k:>12s}  {m:12.5g}  {post['sd'][k]:10.3g}  {post['q05'][k]:12.5g}  {post['q95'][k]:12.5g}  {post['rhat'][k]:6.3f}  {post['ess'][k]:7.0f}"
-            )
-        if post.get("file"):
-            lines.append(f"wrote {post['file']} (axojax plot it for a corner plot)")
+    lines += _render_posterior(doc.get("posterior"))
     if doc.get("out"):
         lines.append(f"wrote {doc['out']}")
     return "\n".join(lines)
+
+
+def _render_posterior(post: dict | None) -> list[str]:
+    """The text of a report's posterior block (none without one)."""
+    if not post:
+        return []
+    lines = []
+    lines.append(
+        f"posterior ({post['chains']} chains x {post['draws']} draws, {post['seconds']:.1f} s):"
+    )
+    lines.append(
+        f"{'parameter':>12s}  {'mean':>12s}  {'sd':>10s}  {'q05':>12s}  {'q95':>12s}  {'rhat':>6s}  {'ess':>7s}"
+    )
+    for k, m in post["mean"].items():
+        lines.append(
+            f"{k:>12s}  {m:12.5g}  {post['sd'][k]:10.3g}  {post['q05'][k]:12.5g}  {post['q95'][k]:12.5g}  {post['rhat'][k]:6.3f}  {post['ess'][k]:7.0f}"
+        )
+    if post.get("file"):
+        lines.append(f"wrote {post['file']} (axojax plot it for a corner plot)")
+    return lines
 
 
 def figure_of_report(path) -> object:

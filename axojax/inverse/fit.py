@@ -25,7 +25,8 @@ from .conditions import Condition
 from .least_squares import LeastSquaresSolver, least_squares, solver_from_name
 from .parameters import DEFAULT_BOUNDS, LINEAR
 from .problem import CYCLE_FAILED, SHAPE_FLOOR, Problem
-from .report import IDENTIFIABLE_MAX_LOG_SE, SHAPE_RMS_OK, FitResult
+from .report import SHAPE_RMS_OK, FitResult
+from .verdicts import IDENTIFIABLE_MAX_LOG_SE
 
 __all__ = [
     "CYCLE_FAILED",

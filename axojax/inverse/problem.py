@@ -90,6 +90,43 @@ def _without_floquet(solver: AbstractOrbitSolver) -> AbstractOrbitSolver:
     return solver
 
 
+def _check(conditions, free, per_condition, kl_ratio, shape_floor, exclude_base_um):
+    """The conditions (a list) and their labels, after checking every argument of
+    :class:`Problem` that needs no model (one-line ``ValueError`` / ``TypeError``)."""
+    conditions = list(conditions)
+    if not conditions:
+        raise ValueError("conditions: give at least one condition")
+    for c in conditions:
+        if not isinstance(c, Condition):
+            raise TypeError(f"conditions must be axojax.inverse.Condition, got {c!r}")
+    free, per_condition = list(free), list(per_condition)
+    if not free and not per_condition:
+        raise ValueError("free: name at least one parameter to fit")
+    for name in free + per_condition:
+        if name not in PARAM_NAMES and name not in ORBIT_FIELDS:
+            raise ValueError(
+                f"free: unknown parameter {name!r}; choose from {', '.join((*PARAM_NAMES, *sorted(ORBIT_FIELDS)))}"
+            )
+    both = set(free) & set(per_condition)
+    if both or len(set(free)) < len(free) or len(set(per_condition)) < len(per_condition):
+        raise ValueError(
+            f"free: each parameter once, shared or per condition (repeated: {', '.join(sorted(both)) or 'a name'})"
+        )
+    if kl_ratio is not None:
+        if not (math.isfinite(kl_ratio) and kl_ratio > 0):
+            raise ValueError(f"kl_ratio must be > 0, got {kl_ratio!r}")
+        if "kl" in free + per_condition:
+            raise ValueError("free: kl is tied to ks by kl_ratio; fit ks instead")
+    if not (math.isfinite(shape_floor) and shape_floor >= 0):
+        raise ValueError(f"shape_floor must be >= 0 (rad), got {shape_floor!r}")
+    if not (math.isfinite(exclude_base_um) and exclude_base_um >= 0):
+        raise ValueError(f"exclude_base_um must be >= 0 (um), got {exclude_base_um!r}")
+    labels = [str(i) if c.label is None else str(c.label) for i, c in enumerate(conditions)]
+    if len(set(labels)) < len(labels):
+        raise ValueError(f"conditions: labels must differ, got {labels}")
+    return conditions, labels
+
+
 class Problem:
     """An inverse problem over one or several conditions.
 
@@ -131,37 +168,10 @@ class Problem:
         exclude_base_um: float = 0.0,
         prior: Callable[[Array], Array] | None = None,
     ):
-        conditions = list(conditions)
-        if not conditions:
-            raise ValueError("conditions: give at least one condition")
-        for c in conditions:
-            if not isinstance(c, Condition):
-                raise TypeError(f"conditions must be axojax.inverse.Condition, got {c!r}")
+        conditions, labels = _check(
+            conditions, free, per_condition, kl_ratio, shape_floor, exclude_base_um
+        )
         free, per_condition = list(free), list(per_condition)
-        if not free and not per_condition:
-            raise ValueError("free: name at least one parameter to fit")
-        for name in free + per_condition:
-            if name not in PARAM_NAMES and name not in ORBIT_FIELDS:
-                raise ValueError(
-                    f"free: unknown parameter {name!r}; choose from {', '.join((*PARAM_NAMES, *sorted(ORBIT_FIELDS)))}"
-                )
-        both = set(free) & set(per_condition)
-        if both or len(set(free)) < len(free) or len(set(per_condition)) < len(per_condition):
-            raise ValueError(
-                f"free: each parameter once, shared or per condition (repeated: {', '.join(sorted(both)) or 'a name'})"
-            )
-        if kl_ratio is not None:
-            if not (math.isfinite(kl_ratio) and kl_ratio > 0):
-                raise ValueError(f"kl_ratio must be > 0, got {kl_ratio!r}")
-            if "kl" in free + per_condition:
-                raise ValueError("free: kl is tied to ks by kl_ratio; fit ks instead")
-        if not (math.isfinite(shape_floor) and shape_floor >= 0):
-            raise ValueError(f"shape_floor must be >= 0 (rad), got {shape_floor!r}")
-        if not (math.isfinite(exclude_base_um) and exclude_base_um >= 0):
-            raise ValueError(f"exclude_base_um must be >= 0 (um), got {exclude_base_um!r}")
-        labels = [str(i) if c.label is None else str(c.label) for i, c in enumerate(conditions)]
-        if len(set(labels)) < len(labels):
-            raise ValueError(f"conditions: labels must differ, got {labels}")
         self.model, self.units, self.solver = model, units, solver
         self.conditions, self.labels = conditions, labels
         self.kl_ratio, self.shape_floor, self.exclude_base_um = (
@@ -175,7 +185,18 @@ class Problem:
         self.base = [params.with_values(c.params).validate() for c in conditions]
         self.models = [c.model if c.model is not None else model for c in conditions]
 
-        # Free parameters and the start (cubic starts at ``cubic``).
+        self._set_parameters(params, free, per_condition, cubic)
+        self._set_targets(cubic, orbit_solver, set(free + per_condition))
+        self._set_layout()
+        self._set_groups(solver)
+        self._jit_residuals = jax.jit(self.residuals)
+        self._jit_jacobian = jax.jit(jax.jacfwd(self.residuals))
+        self._jit_evaluate = None
+
+    def _set_parameters(self, params: Params, free: list, per_condition: list, cubic) -> None:
+        """The free parameters (shared, then per condition), their bounds in u and the
+        start ``u0`` (a free ``cubic`` starts at ``cubic``)."""
+        labels = self.labels
         start_of = lambda prm, name: (
             float(cubic) if name in ORBIT_FIELDS else float(getattr(prm, name))
         )  # noqa: E731
@@ -198,7 +219,10 @@ class Problem:
         span = self.upper - self.lower
         self.u0 = np.clip(u0, self.lower + EDGE * span, self.upper - EDGE * span)
 
-        # Targets: shapes trimmed to s >= exclude and given the floor.
+    def _set_targets(self, cubic, orbit_solver, fitted: set) -> None:
+        """Shapes trimmed to s >= exclude (and the excluded part, for the report), scalar
+        targets, and which conditions need the linear mode and which the limit cycle."""
+        conditions = self.conditions
         self.shapes: list[ShapeTarget | None] = []
         self.shapes_excluded: list[ShapeTarget | None] = []
         for c in conditions:
@@ -229,13 +253,16 @@ class Problem:
                         f"limit-cycle targets need a model with links; {m.name!r} has none"
                     )
             orbit_solver = _without_floquet(orbit_solver)  # stability is not fitted: skip it
-        elif set(free + per_condition) & ORBIT_FIELDS:
+        elif fitted & ORBIT_FIELDS:
             raise ValueError(
                 "free: cubic is the limit cycle's stiffening; only limit-cycle targets (source='limit_cycle') depend on it"
             )
         self.cubic, self.orbit_solver = cubic, orbit_solver
+
+    def _set_layout(self) -> None:
+        """Where each condition's scalar and shape residuals lie in the residual vector."""
         layout, start = [], 0
-        for i in range(len(conditions)):
+        for i in range(len(self.conditions)):
             n_scalar = len(self.scalar_targets[i])
             sh = self.shapes[i]
             n_shape = (
@@ -247,7 +274,10 @@ class Problem:
             layout.append(_Layout(start, n_scalar, n_shape))
             start += n_scalar + n_shape
         self.layout, self.n_residuals = layout, start
-        # Mode groups: conditions sharing a model (equal models: built alike) are vmapped together.
+
+    def _set_groups(self, solver) -> None:
+        """Conditions sharing a model (equal models: built alike), vmapped together, and
+        the eigen-solver each group resolves to."""
         groups: dict[Model, list[int]] = {}
         for i, m in enumerate(self.models):
             if self.needs_mode[i]:
@@ -256,9 +286,6 @@ class Problem:
         self._solvers = {
             self.models[g[0]]: solver.resolve(self.models[g[0]], len(g)) for g in self._groups
         }
-        self._jit_residuals = jax.jit(self.residuals)
-        self._jit_jacobian = jax.jit(jax.jacfwd(self.residuals))
-        self._jit_evaluate = None
 
     # -- targets ---------------------------------------------------------------------
     def _prepare_shape(self, shape: ShapeTarget, keep: bool, label) -> ShapeTarget | None:

@@ -10,7 +10,8 @@ parameters: a log-space standard error 0.1 is a 10 % uncertainty). Rules:
   ``IDENTIFIABLE_MAX_LOG_SE`` = 1 for log parameters (a factor e), at most
   ``IDENTIFIABLE_MAX_LINEAR_FRACTION`` = 5 % of the bound range for linear ones (0.3 for
   gamma's default (-3, 3): gamma is judged on its own scale, not relative to a value
-  that may be near 0).
+  that may be near 0). Each value gets one verdict (determined, at a bound, only a
+  combination with another determined, undetermined) from one rule: :mod:`.verdicts`.
 - ``targets_met``: every scalar target reproduced within ``SCALAR_SIGMA_OK`` = 2 sigma (a
   correct model with honest sigmas misses 1 sigma a third of the time, 2 sigma one time
   in twenty) and every shape's rms normalised residual at most ``SHAPE_RMS_OK`` = 2.
@@ -36,13 +37,15 @@ from ..params import PARAM_NAMES, Params
 from ..results import RESULTS, message
 from ..results import name as result_name
 from .problem import CYCLE_FAILED, Problem
+from .verdicts import (
+    strong_pairs,
+    uncertainty,
+    verdicts,
+)
 
-IDENTIFIABLE_MAX_LOG_SE = 1.0
-IDENTIFIABLE_MAX_LINEAR_FRACTION = 0.05
 AT_BOUND_FRACTION = 0.01
 SHAPE_RMS_OK = 2.0
 SCALAR_SIGMA_OK = 2.0
-STRONG_CORRELATION = 0.95
 
 
 @dataclasses.dataclass
@@ -212,137 +215,39 @@ def build_report(
     ev = problem.evaluate(u)
     r, J = ev["r"], ev["J"]
     loss = float(0.5 * np.sum(r**2)) if loss is None or not math.isfinite(loss) else float(loss)
-    names, k = problem.names, len(problem.names)
+    names = problem.names
     log = np.array([p.log for p in problem.parameters])
     values = problem.values(u)
     span = problem.upper - problem.lower
 
-    # Standard errors in u from the Gauss-Newton matrix.
-    fisher = J.T @ J
-    if np.all(np.isfinite(fisher)):
-        ridge = 1e-12 * max(
-            float(np.abs(fisher).max()), 1e-300
-        )  # a singular direction gets a huge, finite variance
-        cov = np.linalg.inv(fisher + ridge * np.eye(k))
-    else:
-        cov = np.full((k, k), np.inf)
-    se_u = np.sqrt(np.abs(np.diag(cov)))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        corr = cov / np.outer(se_u, se_u)
-    corr = np.where(np.isfinite(corr), corr, np.nan)
+    cov, se_u, corr = _covariance(J)
     frac = (u - problem.lower) / span
     at_bound = [
         n for n, f in zip(names, frac) if f <= AT_BOUND_FRACTION or f >= 1 - AT_BOUND_FRACTION
     ]
-    stderr, ident = {}, {}
-    for i, n in enumerate(names):
-        v = values[n]
-        stderr[n] = float(v * se_u[i]) if log[i] else float(se_u[i])
-        limit = IDENTIFIABLE_MAX_LOG_SE if log[i] else IDENTIFIABLE_MAX_LINEAR_FRACTION * span[i]
-        ident[n] = bool(np.isfinite(se_u[i]) and se_u[i] <= limit and n not in at_bound)
+    verdict, combos = verdicts(names, cov, log, span, at_bound)
+    ident = {n: verdict[n] == "determined" for n in names}
+    stderr = {
+        n: float(values[n] * se_u[i]) if log[i] else float(se_u[i]) for i, n in enumerate(names)
+    }
 
-    # Per condition: observables, residuals, shapes.
-    conditions, achieved_all, res_all, shape_sq, shape_n = [], {}, {}, 0.0, 0
-    multi = problem.n_conditions > 1
-    reproduced, off = True, []
-    for i, (cond, lay, pred) in enumerate(
-        zip(problem.conditions, problem.layout, ev["conditions"])
-    ):
-        label = problem.labels[i]
-        suffix = f"@{label}" if multi else ""
-        full = problem.condition_params(u, i)
-        achieved = {kk: float(v) for kk, v in pred.get("achieved", {}).items()}
-        if "cycle" in pred:
-            ok = bool(pred["cycle_converged"])
-            for kk, v in pred["cycle"].items():
-                achieved[f"limit_cycle_{kk}"] = float(v) if ok else math.nan
-        rs = r[lay.start : lay.start + lay.n_scalar]
-        targets, residuals = [], {}
-        for t, rv in zip(problem.scalar_targets[i], rs):
-            a = achieved.get(t.key, math.nan)
-            targets.append(
-                {
-                    "name": t.key,
-                    "value": t.value,
-                    "sigma": t.sigma,
-                    "achieved": a,
-                    "residual": float(rv),
-                }
-            )
-            residuals[t.key] = float(rv)
-            if not abs(rv) <= SCALAR_SIGMA_OK:
-                reproduced = False
-                off.append(
-                    f"{t.key}{suffix} {a:.4g} vs {t.value:.4g} +- {t.sigma:.3g} ({rv:+.1f} sigma)"
-                )
-        entry: dict[str, Any] = {
-            "label": label,
-            "params": {f: float(np.asarray(getattr(full, f))) for f in PARAM_NAMES}
-            | (
-                {"cubic": float(np.asarray(problem.condition_cubic(u, i)))}
-                if problem.needs_cycle[i]
-                else {}
-            ),
-            "fixed": dict(cond.params),
-            "source": cond.source,
-            "achieved": achieved,
-            "targets": targets,
-            "residuals": residuals,
-            "shape_rms": None,
-            "shape": None,
-            "excluded_base": None,
-        }
-        if lay.n_shape:
-            rsh = r[lay.start + lay.n_scalar : lay.start + lay.n_scalar + lay.n_shape]
-            rms = float(np.sqrt(np.mean(rsh**2)))
-            entry["shape_rms"] = rms
-            shape_sq += float(np.sum(rsh**2))
-            shape_n += rsh.size
-            if not rms <= SHAPE_RMS_OK:
-                reproduced = False
-                off.append(f"mode shape{suffix} rms residual {rms:.2f} sigma")
-            entry["shape"], entry["excluded_base"] = _shape_data(problem, i, pred)
-        conditions.append(entry)
-        for kk, v in achieved.items():
-            achieved_all[kk + suffix] = v
-        for kk, v in residuals.items():
-            res_all[kk + suffix] = v
-    shape_rms = float(np.sqrt(shape_sq / shape_n)) if shape_n else None
+    conditions, achieved_all, res_all, off, shape_r = _conditions(problem, u, r, ev)
+    reproduced = not off
+    shape_rms = float(np.sqrt(np.mean(np.square(shape_r)))) if shape_r.size else None
     targets_met = bool(reproduced and math.isfinite(loss))
     dof = problem.dof
     chi2 = float(np.sum(r**2) / dof) if dof > 0 else None
 
-    notes = _notes(problem, names, values, se_u, stderr, ident, at_bound, corr, log, span, u)
-    if targets_met:
-        head = (
-            f"targets reproduced (loss {loss:.3g}"
-            + (f", chi2/dof {chi2:.3g}" if chi2 is not None else "")
-            + ")"
-        )
-    else:
-        head = (
-            "targets not reproduced within their uncertainty (infeasible for this model and bounds?): "
-            + "; ".join(off)
-        )
-    failed = [
-        problem.labels[i]
-        for i, pred in enumerate(ev["conditions"])
-        if "cycle" in pred and not bool(pred["cycle_converged"])
-    ]
-    if failed:
-        notes.insert(
-            0,
-            f"no limit cycle found{' in condition(s) ' + ', '.join(failed) if multi else ''} at these parameters (Newton from the Hopf normal form "
-            f"did not converge, or the straight state does not beat there): its targets count {CYCLE_FAILED:g} sigma and give no gradient, so the fit "
-            "could not move; start nearer a beating state (p a little above the Hopf point of `axojax critical`), or follow the branch with `axojax orbit --p a:b:n`",
-        )
-    for c in conditions:
-        ex = c["excluded_base"]
-        if ex is not None:
-            notes.append(
-                f"basal stretch s < {ex['exclude_base_um']:g} um{(' of ' + c['label']) if multi else ''} left out: misfit there {ex['rms_rad']:.3g} rad rms "
-                f"({ex['rms_sigma']:.2g} sigma) vs {ex['kept_rms_rad']:.3g} rad rms on the fitted points"
-            )
+    notes = _notes(problem, u, values, se_u, cov, verdict, combos)
+    notes = _cycle_notes(problem, ev) + notes + _excluded_notes(conditions)
+    head = (
+        f"targets reproduced (loss {loss:.3g}"
+        + (f", chi2/dof {chi2:.3g}" if chi2 is not None else "")
+        + ")"
+        if targets_met
+        else "targets not reproduced within their uncertainty (infeasible for this model and bounds?): "
+        + "; ".join(off)
+    )
     text = "; ".join([head] + notes)
     shared = {p.name: values[p.name] for p in problem.parameters if p.condition is None}
     return FitResult(
@@ -376,6 +281,125 @@ def build_report(
         if result is None
         else (result if isinstance(result, RESULTS) else RESULTS.promote(result)),
     )
+
+
+def _covariance(J: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Covariance (k, k) in u from the Gauss-Newton matrix ``J^T J`` of the residuals
+    (a tiny ridge: a singular direction gets a huge, finite variance; inf when J is not
+    finite), the standard errors (k,) and correlations (k, k; NaN where undefined)."""
+    k = J.shape[1]
+    fisher = J.T @ J
+    if np.all(np.isfinite(fisher)):
+        ridge = 1e-12 * max(float(np.abs(fisher).max()), 1e-300)
+        cov = np.linalg.inv(fisher + ridge * np.eye(k))
+    else:
+        cov = np.full((k, k), np.inf)
+    se_u = np.sqrt(np.abs(np.diag(cov)))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = cov / np.outer(se_u, se_u)
+    return cov, se_u, np.where(np.isfinite(corr), corr, np.nan)
+
+
+def _conditions(problem: Problem, u, r, ev) -> tuple[list, dict, dict, list[str], np.ndarray]:
+    """Per condition its report entry; all achieved observables and residuals by name
+    (``"<name>@<label>"`` with several conditions); the targets missed, in words; and
+    the shape residuals of all conditions (flat)."""
+    multi = problem.n_conditions > 1
+    conditions, achieved_all, res_all, off, shape_r = [], {}, {}, [], []
+    for i, (cond, lay, pred) in enumerate(
+        zip(problem.conditions, problem.layout, ev["conditions"])
+    ):
+        suffix = f"@{problem.labels[i]}" if multi else ""
+        entry = _condition_entry(problem, u, i, cond, pred)
+        rs = r[lay.start : lay.start + lay.n_scalar]
+        for t, rv in zip(problem.scalar_targets[i], rs):
+            a = entry["achieved"].get(t.key, math.nan)
+            entry["targets"].append(
+                {
+                    "name": t.key,
+                    "value": t.value,
+                    "sigma": t.sigma,
+                    "achieved": a,
+                    "residual": float(rv),
+                }
+            )
+            entry["residuals"][t.key] = float(rv)
+            if not abs(rv) <= SCALAR_SIGMA_OK:
+                off.append(
+                    f"{t.key}{suffix} {a:.4g} vs {t.value:.4g} +- {t.sigma:.3g} ({rv:+.1f} sigma)"
+                )
+        if lay.n_shape:
+            rsh = r[lay.start + lay.n_scalar : lay.start + lay.n_scalar + lay.n_shape]
+            rms = float(np.sqrt(np.mean(rsh**2)))
+            entry["shape_rms"] = rms
+            shape_r.append(np.asarray(rsh, dtype=float))
+            if not rms <= SHAPE_RMS_OK:
+                off.append(f"mode shape{suffix} rms residual {rms:.2f} sigma")
+            entry["shape"], entry["excluded_base"] = _shape_data(problem, i, pred)
+        conditions.append(entry)
+        achieved_all |= {kk + suffix: v for kk, v in entry["achieved"].items()}
+        res_all |= {kk + suffix: v for kk, v in entry["residuals"].items()}
+    flat = np.concatenate(shape_r) if shape_r else np.zeros(0)
+    return conditions, achieved_all, res_all, off, flat
+
+
+def _condition_entry(problem: Problem, u, i: int, cond, pred) -> dict[str, Any]:
+    """One condition's report entry before its targets are compared: parameters,
+    achieved observables (the limit cycle's, NaN where no orbit was found)."""
+    full = problem.condition_params(u, i)
+    achieved = {kk: float(v) for kk, v in pred.get("achieved", {}).items()}
+    if "cycle" in pred:
+        ok = bool(pred["cycle_converged"])
+        for kk, v in pred["cycle"].items():
+            achieved[f"limit_cycle_{kk}"] = float(v) if ok else math.nan
+    cubic = (
+        {"cubic": float(np.asarray(problem.condition_cubic(u, i)))}
+        if problem.needs_cycle[i]
+        else {}
+    )
+    return {
+        "label": problem.labels[i],
+        "params": {f: float(np.asarray(getattr(full, f))) for f in PARAM_NAMES} | cubic,
+        "fixed": dict(cond.params),
+        "source": cond.source,
+        "achieved": achieved,
+        "targets": [],
+        "residuals": {},
+        "shape_rms": None,
+        "shape": None,
+        "excluded_base": None,
+    }
+
+
+def _cycle_notes(problem: Problem, ev) -> list[str]:
+    """Why a fit with limit-cycle targets could not move, where no orbit was found."""
+    failed = [
+        problem.labels[i]
+        for i, pred in enumerate(ev["conditions"])
+        if "cycle" in pred and not bool(pred["cycle_converged"])
+    ]
+    if not failed:
+        return []
+    where = " in condition(s) " + ", ".join(failed) if problem.n_conditions > 1 else ""
+    return [
+        f"no limit cycle found{where} at these parameters (Newton from the Hopf normal form "
+        f"did not converge, or the straight state does not beat there): its targets count {CYCLE_FAILED:g} sigma and give no gradient, so the fit "
+        "could not move; start nearer a beating state (p a little above the Hopf point of `axojax critical`), or follow the branch with `axojax orbit --p a:b:n`"
+    ]
+
+
+def _excluded_notes(conditions: list[dict]) -> list[str]:
+    """The misfit of every excluded basal stretch, against the fitted points'."""
+    multi = len(conditions) > 1
+    out = []
+    for c in conditions:
+        ex = c["excluded_base"]
+        if ex is not None:
+            out.append(
+                f"basal stretch s < {ex['exclude_base_um']:g} um{(' of ' + c['label']) if multi else ''} left out: misfit there {ex['rms_rad']:.3g} rad rms "
+                f"({ex['rms_sigma']:.2g} sigma) vs {ex['kept_rms_rad']:.3g} rad rms on the fitted points"
+            )
+    return out
 
 
 def _shape_data(problem: Problem, i: int, pred) -> tuple[dict, dict | None]:
@@ -419,51 +443,48 @@ def _shape_data(problem: Problem, i: int, pred) -> tuple[dict, dict | None]:
     return data, excluded
 
 
-def _notes(problem, names, values, se_u, stderr, ident, at_bound, corr, log, span, u) -> list[str]:
-    """Plain-language statements: determined values, values at a bound, undetermined ones
-    and the strongly correlated pairs."""
-    notes = []
-    determined = []
+def _notes(problem, u, values, se_u, cov, verdict, combos) -> list[str]:
+    """Plain-language statements, one verdict per value (:mod:`.verdicts`): determined
+    values, values at a bound, combinations, undetermined values; then the strong
+    correlations that no verdict already says."""
+    names, params = problem.names, problem.parameters
+    notes, determined = [], []
     for i, n in enumerate(names):
-        if ident[n]:
-            if log[i]:
-                determined.append(f"{n} = {_fmt(values[n])} (x/ {math.exp(se_u[i]):.3g})")
-            else:
-                determined.append(f"{n} = {_fmt(values[n])} +- {_fmt(stderr[n])}")
+        if verdict[n] == "determined":
+            spread = f"(x/ {math.exp(se_u[i]):.3g})" if params[i].log else f"+- {_fmt(se_u[i])}"
+            determined.append(f"{n} = {_fmt(values[n])} {spread}")
     if determined:
         notes.append("determined: " + ", ".join(determined))
     for i, n in enumerate(names):
-        if n in at_bound:
-            p = problem.parameters[i]
-            lower = (u[i] - p.lower) <= (p.upper - u[i])
-            edge = p.lower if lower else p.upper
-            edge = math.exp(edge) if p.log else edge
-            notes.append(
-                f"{n} sits at its {'lower' if lower else 'upper'} bound {_fmt(edge)}: the data push it out of the box (or do not constrain it); "
-                "it is not determined; widen the bound, fix it, or add data that depend on it"
-            )
-    bad = [n for n in names if not ident[n] and n not in at_bound]
+        if verdict[n] == "at_bound":
+            notes.append(_at_bound(n, params[i], u[i]))
+    if combos:
+        notes.append(
+            "only a combination is determined (each alone is not): "
+            + ", ".join(f"{a}-{b} (correlation {c:+.3f})" for a, b, c in combos)
+        )
+    bad = [i for i, n in enumerate(names) if verdict[n] == "undetermined"]
     if bad:
-        parts = []
-        for n in bad:
-            i = names.index(n)
-            if not np.isfinite(se_u[i]):
-                parts.append(f"{n} (no information)")
-            elif log[i]:
-                parts.append(f"{n} (uncertain by a factor {math.exp(min(se_u[i], 700)):.3g})")
-            else:
-                parts.append(f"{n} (+- {_fmt(se_u[i])}, {se_u[i] / span[i]:.0%} of its range)")
+        parts = [
+            f"{names[i]} ({uncertainty(se_u[i], params[i].log, params[i].upper - params[i].lower)})"
+            for i in bad
+        ]
         notes.append(
             "not identifiable from these targets: "
             + ", ".join(parts)
             + " (standard error over a factor e, or over 5 % of a linear range); fix them or add targets"
         )
-    pairs = []
-    for i in range(len(names)):
-        for j in range(i + 1, len(names)):
-            c = corr[i, j]
-            if np.isfinite(c) and abs(c) >= STRONG_CORRELATION:
-                pairs.append(f"{names[i]}-{names[j]} {c:+.3f}")
+    pairs = strong_pairs(names, cov, verdict)
     if pairs:
-        notes.append("strongly correlated (only a combination is determined): " + ", ".join(pairs))
+        notes.append("strongly correlated: " + ", ".join(f"{a}-{b} {c:+.3f}" for a, b, c in pairs))
     return notes
+
+
+def _at_bound(name: str, p, u: float) -> str:
+    lower = (u - p.lower) <= (p.upper - u)
+    edge = p.lower if lower else p.upper
+    edge = math.exp(edge) if p.log else edge
+    return (
+        f"{name} sits at its {'lower' if lower else 'upper'} bound {_fmt(edge)}: the data push it out of the box (or do not constrain it); "
+        "it is not determined; widen the bound, fix it, or add data that depend on it"
+    )

@@ -65,48 +65,18 @@ def plot_corner(
     step = max(1, draws[names[0]].size // max_points)
     size = 1.9 * k + 0.8
     fig, axes = plt.subplots(k, k, figsize=(size, size), squeeze=False)
+    marks = {"truth": truth or {}, "optimum": optimum or {}}
     for i, ni in enumerate(names):
         for j, nj in enumerate(names):
             ax = axes[i, j]
             if j > i:
                 ax.set_visible(False)
                 continue
-            log_x = post.log_coordinate.get(nj, False)
             if i == j:
-                x = draws[ni]
-                edges = (
-                    np.geomspace(x.min(), x.max(), bins + 1)
-                    if log_x and x.min() > 0 and x.max() > x.min()
-                    else bins
-                )
-                ax.hist(x, bins=edges, color="tab:blue", alpha=0.7)
-                for q, style in ((post.q05[ni], ":"), (post.q50[ni], "--"), (post.q95[ni], ":")):
-                    ax.axvline(q, color="tab:blue", ls=style, lw=1)
-                if truth and ni in truth:
-                    ax.axvline(truth[ni], color=TRUTH, lw=1.5)
-                if optimum and ni in optimum:
-                    ax.axvline(optimum[ni], color=START, lw=1, ls="-.")
-                ax.set_yticks([])
-                ax.set_title(
-                    f"{ni} = {post.q50[ni]:.3g} [{post.q05[ni]:.3g}, {post.q95[ni]:.3g}]",
-                    fontsize=8,
-                )
+                _diagonal(ax, post, ni, draws[ni], bins, marks)
             else:
-                x, y = draws[nj], draws[ni]
-                ok = ~divergent
-                ax.scatter(
-                    x[ok][::step], y[ok][::step], s=2, alpha=0.3, color="tab:blue", rasterized=True
-                )
-                if divergent.any():
-                    ax.scatter(x[divergent], y[divergent], s=6, color=DIVERGENT, label="divergent")
-                if truth and ni in truth and nj in truth:
-                    ax.plot(truth[nj], truth[ni], "*", color=TRUTH, ms=10)
-                if optimum and ni in optimum and nj in optimum:
-                    ax.plot(optimum[nj], optimum[ni], "x", color=START, ms=8)
-                if post.log_coordinate.get(ni, False):
-                    ax.set_yscale("log")
-                    _readable_log_ticks(ax.yaxis)
-            if log_x:
+                _pair(ax, post, nj, ni, draws, divergent, step, marks)
+            if post.log_coordinate.get(nj, False):
                 ax.set_xscale("log")
                 _readable_log_ticks(ax.xaxis)
             if i == k - 1:
@@ -129,6 +99,42 @@ def plot_corner(
 
         save_figure(fig, out, dpi=130)  # written whole
     return fig
+
+
+def _diagonal(ax, post, name: str, x: np.ndarray, bins: int, marks: dict) -> None:
+    """The histogram of one parameter's draws, its quantiles and markers."""
+    log_x = post.log_coordinate.get(name, False)
+    edges = (
+        np.geomspace(x.min(), x.max(), bins + 1)
+        if log_x and x.min() > 0 and x.max() > x.min()
+        else bins
+    )
+    ax.hist(x, bins=edges, color="tab:blue", alpha=0.7)
+    for q, style in ((post.q05[name], ":"), (post.q50[name], "--"), (post.q95[name], ":")):
+        ax.axvline(q, color="tab:blue", ls=style, lw=1)
+    if name in marks["truth"]:
+        ax.axvline(marks["truth"][name], color=TRUTH, lw=1.5)
+    if name in marks["optimum"]:
+        ax.axvline(marks["optimum"][name], color=START, lw=1, ls="-.")
+    ax.set_yticks([])
+    ax.set_title(
+        f"{name} = {post.q50[name]:.3g} [{post.q05[name]:.3g}, {post.q95[name]:.3g}]", fontsize=8
+    )
+
+
+def _pair(ax, post, nx: str, ny: str, draws: dict, divergent, step: int, marks: dict) -> None:
+    """The draws of two parameters (every ``step``-th; divergent ones all, in orange)."""
+    x, y = draws[nx], draws[ny]
+    ok = ~divergent
+    ax.scatter(x[ok][::step], y[ok][::step], s=2, alpha=0.3, color="tab:blue", rasterized=True)
+    if divergent.any():
+        ax.scatter(x[divergent], y[divergent], s=6, color=DIVERGENT, label="divergent")
+    for key, style, color, size in (("truth", "*", TRUTH, 10), ("optimum", "x", START, 8)):
+        if ny in marks[key] and nx in marks[key]:
+            ax.plot(marks[key][nx], marks[key][ny], style, color=color, ms=size)
+    if post.log_coordinate.get(ny, False):
+        ax.set_yscale("log")
+        _readable_log_ticks(ax.yaxis)
 
 
 def _readable_log_ticks(axis) -> None:

@@ -40,11 +40,8 @@ def _arr(v) -> np.ndarray:
     return np.array([np.nan if x is None else x for x in v], dtype=float)
 
 
-def plot_fit_report(report: dict | str | pathlib.Path) -> plt.Figure:
-    """The figure of a fit report (a ``to_json()`` dict or its saved file)."""
-    if not isinstance(report, dict):
-        report = json.loads(pathlib.Path(report).read_text())
-    shaped = [c for c in report.get("conditions", []) if c.get("shape")]
+def _title(report: dict) -> str:
+    """Method, loss, chi2/dof, whether the targets are met, values at a bound."""
     title = f"{report.get('method', '')} fit: loss {report['loss']:.4g}" + (
         f", chi2/dof {report['chi2_per_dof']:.3g}" if report.get("chi2_per_dof") is not None else ""
     )
@@ -52,6 +49,38 @@ def plot_fit_report(report: dict | str | pathlib.Path) -> plt.Figure:
     title += f", {'targets reproduced' if met else 'targets NOT reproduced'}"
     if report.get("at_bound"):
         title += f"; at bound: {', '.join(report['at_bound'])}"
+    return title
+
+
+def _psi0_panel(ax, s: np.ndarray, psi0, psi0_fit) -> None:
+    """Observed (and, for a limit cycle, fitted) psi_0(s); a note when none is observed."""
+    if psi0 is None:
+        ax.text(0.5, 0.5, "no psi_0 observed", ha="center", va="center", transform=ax.transAxes)
+        ax.set_axis_off()
+        return
+    ax.plot(s, psi0, "o", ms=3, label="observed")
+    if psi0_fit is not None:
+        ax.plot(s, psi0_fit, "-", label="fitted (limit cycle)")
+        ax.legend(fontsize=8)
+    ax.set(xlabel="s (um)", ylabel="psi_0 (rad)", title="static mode psi_0")
+
+
+def _waveform(ax, s: np.ndarray, psi0: np.ndarray, psi1: np.ndarray, name: str) -> None:
+    """Centrelines of psi_0 + Re(psi_1 e^{i phase}) over one cycle."""
+    x, y = _centrelines(s, psi0, psi1)
+    colors = plt.cm.viridis(np.linspace(0, 1, len(x)))
+    for xi, yi, col in zip(x, y, colors):
+        ax.plot(xi, yi, color=col, lw=1.2)
+    ax.set(xlabel="x (um)", ylabel="y (um)", title=f"{name} waveform over one cycle")
+    ax.set_aspect("equal", adjustable="datalim")
+
+
+def plot_fit_report(report: dict | str | pathlib.Path) -> plt.Figure:
+    """The figure of a fit report (a ``to_json()`` dict or its saved file)."""
+    if not isinstance(report, dict):
+        report = json.loads(pathlib.Path(report).read_text())
+    shaped = [c for c in report.get("conditions", []) if c.get("shape")]
+    title = _title(report)
     if not shaped:
         return _scalar_figure(report, title)
     c = shaped[0]
@@ -101,17 +130,7 @@ def plot_fit_report(report: dict | str | pathlib.Path) -> plt.Figure:
     a_phase.set(xlabel="s (um)", ylabel="arg psi_1 (rad)", title="phase of psi_1")
     a_phase.legend(fontsize=8)
     psi0_fit = None if sh.get("psi0_fit_rad") is None else _arr(sh["psi0_fit_rad"])
-    if psi0 is not None:
-        a_psi0.plot(s, psi0, "o", ms=3, label="observed")
-        if psi0_fit is not None:
-            a_psi0.plot(s, psi0_fit, "-", label="fitted (limit cycle)")
-            a_psi0.legend(fontsize=8)
-        a_psi0.set(xlabel="s (um)", ylabel="psi_0 (rad)", title="static mode psi_0")
-    else:
-        a_psi0.text(
-            0.5, 0.5, "no psi_0 observed", ha="center", va="center", transform=a_psi0.transAxes
-        )
-        a_psi0.set_axis_off()
+    _psi0_panel(a_psi0, s, psi0, psi0_fit)
     shade(a_res)
     d = (obs - fit) / sigma
     for name, m in groups:
@@ -126,20 +145,9 @@ def plot_fit_report(report: dict | str | pathlib.Path) -> plt.Figure:
     a_res.legend(fontsize=8)
     base = np.zeros_like(s) if psi0 is None else psi0
     own = groups[0][1]  # the first component's points (in-plane for a joined 3D target)
-    for ax, psi1, name, b in (
-        (a_obs, obs, "observed", base),
-        (a_fit, fit, "fitted", base if psi0_fit is None else psi0_fit),
-    ):
-        x, y = _centrelines(s[own], b[own], psi1[own])
-        colors = plt.cm.viridis(np.linspace(0, 1, len(x)))
-        for xi, yi, col in zip(x, y, colors):
-            ax.plot(xi, yi, color=col, lw=1.2)
-        ax.set(
-            xlabel="x (um)",
-            ylabel="y (um)",
-            title=tag(f"{name} waveform over one cycle", groups[0][0]),
-        )
-        ax.set_aspect("equal", adjustable="datalim")
+    fit_base = base if psi0_fit is None else psi0_fit
+    _waveform(a_obs, s[own], base[own], obs[own], tag("observed", groups[0][0]))
+    _waveform(a_fit, s[own], fit_base[own], fit[own], tag("fitted", groups[0][0]))
     fig.suptitle(title + "\n" + _values_line(report), fontsize=10)
     fig.tight_layout()
     return fig
