@@ -94,27 +94,40 @@ def test_fig7_multistart_from_the_stated_parameters():
 
 def test_synthetic_global_fit_recovers_the_truth():
     """Three dynein forces sharing ks, kl, cl: frequencies and wavelengths made here at a
-    known truth, perturbed by noise of the stated sigma; the fit recovers each shared
-    parameter within two standard errors."""
+    known truth. Without noise the fit recovers the truth exactly; perturbed by noise of
+    the stated sigma, each shared parameter within three standard errors (a 2-se band
+    fails one draw in seven by chance with three parameters: this draw puts kl at -2.8 se
+    with the tangent angle's wavelength, while seeds 0-6 give -1.1..+1.1 se)."""
     model = ax.models.seven(n_elements=6)
     truth = {"ks": 2e5, "kl": 300.0, "cl": 0.02}
     rng = np.random.default_rng(3)
-    conds = []
+    conds, exact = [], []
     for p in (260.0, 330.0, 420.0):
         mode = ax.dominant_mode(model, ax.Params(p=p, **truth))
         f, w = float(mode.frequency_hz()), float(mode.wavelength_um())
         sf, sw = 0.01 * f, 0.01 * w
+        noise = rng.normal(), rng.normal()
         conds.append(
             Condition(
                 {"p": p},
                 [
-                    Target("frequency_hz", f + sf * rng.normal(), sf),
-                    Target("wavelength_um", w + sw * rng.normal(), sw),
+                    Target("frequency_hz", f + sf * noise[0], sf),
+                    Target("wavelength_um", w + sw * noise[1], sw),
                 ],
                 label=f"p{p:g}",
             )
         )
+        exact.append(
+            Condition(
+                {"p": p},
+                [Target("frequency_hz", f, sf), Target("wavelength_um", w, sw)],
+                label=f"p{p:g}",
+            )
+        )
     start = ax.Params(ks=1e5, kl=600.0, cl=0.01)
+    clean = ax.fit(model, start, exact, ["ks", "kl", "cl"], starts=1)
+    for name, value in truth.items():
+        assert clean.params[name] == pytest.approx(value, rel=1e-6), name
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # with noise some target may sit beyond 1 sigma
         result = ax.fit(model, start, conds, ["ks", "kl", "cl"], starts=1)
@@ -123,6 +136,6 @@ def test_synthetic_global_fit_recovers_the_truth():
     for name, value in truth.items():
         se = result.stderr[name]
         assert np.isfinite(se) and se > 0
-        assert abs(result.params[name] - value) <= 2 * se, (name, result.params[name], value, se)
+        assert abs(result.params[name] - value) <= 3 * se, (name, result.params[name], value, se)
     assert result.correlation.shape == (3, 3)
     np.testing.assert_allclose(np.diag(result.correlation), 1.0)
