@@ -9,6 +9,7 @@ import json
 
 import pytest
 
+import axojax as ax
 from axojax.cli.main import main
 
 
@@ -78,3 +79,24 @@ def test_bad_posterior_flags_are_one_line(argv, flag, capsys):
     )
     err = capsys.readouterr().err.strip().splitlines()
     assert rc == 2 and len(err) == 1 and flag in err[0]
+
+
+def test_posterior_default_solver_is_the_structured_one_where_it_pays():
+    """A posterior's thousands of gradients make the default solver (auto) choose Arnoldi
+    for the seven-filament model at 10 elements (280 unknowns), where a fit alone keeps
+    the quicker-to-compile dense solver; two filaments (44 unknowns) stay dense, and an
+    explicit --solver is kept."""
+    import argparse
+
+    from axojax.cli.fit import _eigen_solver
+
+    seven, two = ax.models.seven(n_elements=10), ax.models.two(n_elements=10)
+
+    def chosen(posterior, solver="auto", model=seven):
+        args = argparse.Namespace(solver=solver, posterior=posterior)
+        return type(_eigen_solver(args).resolve(model, 1)).__name__
+
+    assert chosen(None) == "Dense"
+    assert chosen(200) == "Arnoldi"
+    assert chosen(200, model=two) == "Dense"
+    assert chosen(200, solver="dense") == "Dense"
