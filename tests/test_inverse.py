@@ -252,6 +252,10 @@ def test_report_json_and_figure(model, tmp_path):
     assert doc["chi2_per_dof"] == pytest.approx(2 * doc["loss"] / doc["dof"], rel=1e-9)
     sh = doc["conditions"][0]["shape"]
     assert len(sh["s_um"]) == s.size and len(sh["psi1_fit_re"]) == s.size
+    # Error bars are the measurement's sigma; the model-discrepancy floor is kept apart
+    # (the plot draws it as a band about the fit), and the residuals use both.
+    np.testing.assert_allclose(sh["sigma_rad"], np.broadcast_to(shape.sigma, s.shape))
+    assert sh["floor_rad"] == pytest.approx(ax.inverse.SHAPE_FLOOR) and sh["floor_rad"] > 0
     from axojax.cli.main import main
 
     fig = tmp_path / "fit.png"

@@ -409,9 +409,8 @@ def _shape_data(problem: Problem, i: int, pred) -> tuple[dict, dict | None]:
     s = np.asarray(shape.s_um, dtype=float)
     obs = np.asarray(shape.psi1)
     fit = np.asarray(pred["psi1_fit"])
-    sigma = np.sqrt(
-        np.broadcast_to(np.asarray(shape.sigma, dtype=float), s.shape) ** 2 + problem.shape_floor**2
-    )
+    measured = np.broadcast_to(np.asarray(shape.sigma, dtype=float), s.shape)
+    sigma = np.sqrt(measured**2 + problem.shape_floor**2)  # what the residuals are divided by
     kept = s >= problem.exclude_base_um
     data = {
         "s_um": s,
@@ -419,7 +418,8 @@ def _shape_data(problem: Problem, i: int, pred) -> tuple[dict, dict | None]:
         "psi1_obs_im": obs.imag,
         "psi1_fit_re": fit.real,
         "psi1_fit_im": fit.imag,
-        "sigma_rad": sigma,
+        "sigma_rad": measured,  # the measurement's sigma (error bars)
+        "floor_rad": float(problem.shape_floor),  # the model-discrepancy floor, drawn apart
         "psi0_rad": None if shape.psi0 is None else np.asarray(shape.psi0, dtype=float),
         "psi0_fit_rad": np.asarray(pred["psi0_fit"], dtype=float) if "psi0_fit" in pred else None,
         "source": shape.source,

@@ -88,7 +88,8 @@ def plot_fit_report(report: dict | str | pathlib.Path) -> plt.Figure:
     s = _arr(sh["s_um"])
     obs = _arr(sh["psi1_obs_re"]) + 1j * _arr(sh["psi1_obs_im"])
     fit = _arr(sh["psi1_fit_re"]) + 1j * _arr(sh["psi1_fit_im"])
-    sigma = _arr(sh["sigma_rad"])
+    sigma = _arr(sh["sigma_rad"])  # the measurement's
+    floor = float(sh.get("floor_rad") or 0.0)  # the model-discrepancy floor of the fit
     kept = np.array(sh["kept"], dtype=bool)
     psi0 = None if sh.get("psi0_rad") is None else _arr(sh["psi0_rad"])
     # A 3D beat's components (one target, one complex scale) are drawn one curve each;
@@ -112,6 +113,15 @@ def plot_fit_report(report: dict | str | pathlib.Path) -> plt.Figure:
             s[m], np.abs(obs[m]), yerr=sigma[m], fmt="o", ms=3, label=tag("observed", name)
         )
         a_amp.plot(s[m], np.abs(fit[m]), "-", color=bars[0].get_color(), label=tag("fitted", name))
+        if floor > 0:  # the floor is not measurement error: a band about the fit, not a bar
+            a_amp.fill_between(
+                s[m],
+                np.abs(fit[m]) - floor,
+                np.abs(fit[m]) + floor,
+                color=bars[0].get_color(),
+                alpha=0.12,
+                label=tag(f"fitted +- floor {floor:g} rad", name),
+            )
     a_amp.set(xlabel="s (um)", ylabel="|psi_1| (rad)", title="amplitude of psi_1")
     a_amp.legend(fontsize=8)
     shade(a_phase)
@@ -132,14 +142,14 @@ def plot_fit_report(report: dict | str | pathlib.Path) -> plt.Figure:
     psi0_fit = None if sh.get("psi0_fit_rad") is None else _arr(sh["psi0_fit_rad"])
     _psi0_panel(a_psi0, s, psi0, psi0_fit)
     shade(a_res)
-    d = (obs - fit) / sigma
+    d = (obs - fit) / np.sqrt(sigma**2 + floor**2)  # as the fit normalised them
     for name, m in groups:
         a_res.plot(s[m], d[m].real, "o-", ms=3, label=tag("Re", name))
         a_res.plot(s[m], d[m].imag, "s-", ms=3, label=tag("Im", name))
     a_res.axhline(0, color="k", lw=0.5)
     a_res.set(
         xlabel="s (um)",
-        ylabel="(observed - fitted) / sigma",
+        ylabel="(observed - fitted) / sqrt(sigma^2 + floor^2)",
         title=f"normalised residuals (shape rms {c['shape_rms']:.2f})",
     )
     a_res.legend(fontsize=8)
