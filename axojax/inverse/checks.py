@@ -250,7 +250,7 @@ def mesh_check(
     u_fit = _coordinates(fine, result.params)
     ev_fit = fine.evaluate(u_fit)
     run = LevenbergMarquardt(max_steps=max_steps).compile(fine)
-    z, loss, steps, _ = run(fine.to_z(jnp.asarray(u_fit)))
+    z, loss, steps, _, _ = run(fine.to_z(jnp.asarray(u_fit)))
     u_new = np.asarray(fine.to_u(z))
     if not np.all(np.isfinite(u_new)):
         u_new = u_fit  # the refit failed: report the fitted values on the finer mesh

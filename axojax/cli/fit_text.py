@@ -1,0 +1,84 @@
+"""The text that ``axojax fit`` prints for a report (the JSON document of
+:mod:`axojax.cli.fit`): fitted values with their verdicts, what each condition achieved,
+the regime and mesh check, the loss, and the posterior's summary."""
+
+from __future__ import annotations
+
+from ..inverse.checks import render_checks
+
+
+def render(doc: dict) -> str:
+    lines = [f"{'parameter':>12s}  {'value':>12s}  {'stderr':>12s}  note"]
+    for k, v in doc["fitted"].items():
+        se = doc["stderr"].get(k)
+        note = (
+            "at bound"
+            if k in doc["at_bound"]
+            else ("" if doc["identifiable"].get(k) else "not identifiable")
+        )
+        lines.append(f"{k:>12s}  {v:12.5g}  {se if se is not None else float('inf'):12.3g}  {note}")
+    for c in doc["conditions"]:
+        a = c["achieved"]
+        head = f"[{c['label']}] " if len(doc["conditions"]) > 1 else ""
+        if "frequency_hz" in a:
+            wl = (
+                "none (no travelling wave)"
+                if a["wavelength_um"] is None
+                else f"{a['wavelength_um']:.3f} um"
+            )
+            lines.append(
+                f"{head}achieved: {a['frequency_hz']:.3f} Hz, wavelength {wl}, growth {a['growth_rate_per_s']:.3f} /s"
+            )
+        if "limit_cycle_frequency_hz" in a:
+            f, amp, wl = (
+                a.get(f"limit_cycle_{k}") for k in ("frequency_hz", "amplitude_um", "wavelength_um")
+            )
+            lines.append(
+                f"{head}limit cycle: "
+                + (
+                    f"{f:.3f} Hz, tip amplitude {amp:.3f} um, wavelength {wl:.3f} um"
+                    if f is not None
+                    else "no orbit found"
+                )
+            )
+        for t in c["targets"]:
+            got = t["achieved"]
+            lines.append(
+                f"{head}  {t['name']}: {got if got is not None else float('nan'):.4g} vs {t['value']:.4g} +- {t['sigma']:.3g} ({t['residual']:+.2f} sigma)"
+            )
+        if c.get("shape_rms") is not None:
+            lines.append(f"{head}  mode shape rms residual {c['shape_rms']:.2f} sigma")
+    lines.extend(render_checks(doc))  # regime, mesh_check
+    chi2 = doc.get("chi2_per_dof")
+    lines.append(
+        f"loss {doc['loss']:.4g}; chi2/dof {chi2:.3g}"
+        if chi2 is not None
+        else f"loss {doc['loss']:.4g}; chi2/dof undefined (no more residuals than fitted values)"
+    )
+    lines.append(f"targets met: {doc['targets_met']}; {doc['message']}")
+    if doc["result"] != "successful":
+        lines.append(f"solver: {doc['result_message']}")
+    lines += _render_posterior(doc.get("posterior"))
+    if doc.get("out"):
+        lines.append(f"wrote {doc['out']}")
+    return "\n".join(lines)
+
+
+def _render_posterior(post: dict | None) -> list[str]:
+    """The text of a report's posterior block (none without one)."""
+    if not post:
+        return []
+    lines = []
+    lines.append(
+        f"posterior ({post['chains']} chains x {post['draws']} draws, {post['seconds']:.1f} s):"
+    )
+    lines.append(
+        f"{'parameter':>12s}  {'mean':>12s}  {'sd':>10s}  {'q05':>12s}  {'q95':>12s}  {'rhat':>6s}  {'ess':>7s}"
+    )
+    for k, m in post["mean"].items():
+        lines.append(
+            f"{k:>12s}  {m:12.5g}  {post['sd'][k]:10.3g}  {post['q05'][k]:12.5g}  {post['q95'][k]:12.5g}  {post['rhat'][k]:6.3f}  {post['ess'][k]:7.0f}"
+        )
+    if post.get("file"):
+        lines.append(f"wrote {post['file']} (axojax plot it for a corner plot)")
+    return lines
