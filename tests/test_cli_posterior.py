@@ -18,6 +18,7 @@ def test_fit_posterior_report_file_and_corner_plot(tmp_path, capsys):
     rc = main(
         [
             "fit",
+            "--no-mesh-check",
             "--model",
             "two",
             "--elements",
@@ -66,6 +67,7 @@ def test_bad_posterior_flags_are_one_line(argv, flag, capsys):
     rc = main(
         [
             "fit",
+            "--no-mesh-check",
             "--model",
             "seven",
             "--elements",

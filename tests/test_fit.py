@@ -193,6 +193,7 @@ def test_cli_fit_json_and_infeasible_exit(synthetic, capsys):
         "-m",
         "axojax.cli.main",
         "fit",
+        "--no-mesh-check",
         "--model",
         "seven",
         "--elements",
@@ -244,6 +245,7 @@ def test_cli_data_fit_report_exclusion_and_plot(synthetic, tmp_path, capsys):
     out, fig = tmp_path / "fit.json", tmp_path / "fit.png"
     argv = [
         "fit",
+        "--no-mesh-check",
         "--model",
         "seven",
         "--elements",
@@ -319,7 +321,18 @@ def test_achieved_wavelength_of_a_standing_mode_is_none_as_in_modes(capsys):
     mode = json.loads(capsys.readouterr().out)["dominant"]
     assert mode["frequency_hz"] == 0 and mode["wavelength_um"] is None
     assert main(
-        ["fit", *base, "--free", "p", "--target-frequency", "40", "--starts", "1", "--json"]
+        [
+            "fit",
+            "--no-mesh-check",
+            *base,
+            "--free",
+            "p",
+            "--target-frequency",
+            "40",
+            "--starts",
+            "1",
+            "--json",
+        ]
     ) in (0, 1)
     doc = json.loads(capsys.readouterr().out)
     achieved = doc["conditions"][0]["achieved"]

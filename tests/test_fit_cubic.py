@@ -103,6 +103,7 @@ def test_cubic_needs_a_limit_cycle_target(observed, capsys):
         main(
             [
                 "fit",
+                "--no-mesh-check",
                 "--model",
                 "two",
                 "--elements",

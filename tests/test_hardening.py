@@ -109,7 +109,7 @@ COMMANDS = {
     "simulate": ["simulate", *TWO, "--t-end", "0.01"],
     "orbit": ["orbit", *TWO],
     "sweep": ["sweep", *TWO, "--out", "s.npz"],
-    "fit": ["fit", *TWO, "--free", "ks", "--target-frequency", "30"],
+    "fit": ["fit", "--no-mesh-check", *TWO, "--free", "ks", "--target-frequency", "30"],
 }
 
 
