@@ -315,3 +315,49 @@ def test_units_give_sartoris_groups():
     np.testing.assert_allclose(float(u.chi_to_pn_per_um2(u.chi_from_pn_per_um2(5.0))), 5.0)
     np.testing.assert_allclose(float(u.beta_to_pn(u.beta_from_pn(5.0))), 5.0)
     np.testing.assert_allclose(float(u.omega0_to_hz(u.omega0_from_hz(5.0))), 5.0)
+
+
+# -- command line --------------------------------------------------------------------------
+@pytest.mark.parametrize(
+    "extra,flag",
+    [
+        (["--chi", "1,2"], "--chi"),
+        (["--beta", "1,2", "--mechanism", "sliding", "--chi", "1,0"], "--beta"),
+        (["--mechanism", "curvature"], "--mechanism"),
+        (["--omega0-hz", "3"], "--omega0-hz"),
+        (["--mechanism", "sliding", "--chi", "1,2"], "--omega0-hz"),
+        (["--mechanism", "sliding", "--chi", "1,0", "--omega0-hz", "-3"], "--omega0-hz"),
+        (["--mechanism", "sliding", "--chi", "nan,0"], "--chi"),
+        (["--mechanism", "sliding", "--chi", "1"], "--chi"),
+    ],
+)
+def test_cli_refuses_bad_mechanism_flags_in_one_line(extra, flag, capsys):
+    from axojax.cli.main import main
+
+    assert main(["modes", "--model", "two", "--elements", "4", *extra]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and flag in err
+
+
+def test_cli_mechanism_matches_the_library(capsys):
+    """``modes --mechanism sliding+curvature`` with physical coefficients gives the
+    eigenvalue of Params built with Units' conversions."""
+    import json
+
+    from axojax.cli.main import main
+
+    argv = ["modes", "--model", "two", "--elements", "6", "--mechanism", "sliding+curvature"]
+    argv += ["--chi", "19800,-3000", "--beta", "100,-650", "--omega0-hz", "68", "--json"]
+    assert main(argv) == 0
+    doc = json.loads(capsys.readouterr().out)
+    u = ax.Units()
+    params = ax.Params(
+        chi_re=float(u.chi_from_pn_per_um2(19800.0)),
+        chi_im=float(u.chi_from_pn_per_um2(-3000.0)),
+        beta_re=float(u.beta_from_pn(100.0)),
+        beta_im=float(u.beta_from_pn(-650.0)),
+        omega0=float(u.omega0_from_hz(68.0)),
+    )
+    mode = ax.dominant_mode(ax.models.two(n_elements=6), params, Dense())
+    lam = doc["dominant"]["eigenvalue"]
+    np.testing.assert_allclose(lam[0] + 1j * lam[1], complex(mode.eigenvalue), rtol=1e-9)

@@ -23,7 +23,7 @@ SYMMETRY_RTOL = 1e-12
 """C counts as symmetric when max |C - C^T| <= SYMMETRY_RTOL * max |C|."""
 
 
-def _spd(C: Float[Array, "n n"], L: Float[Array, "n n"]) -> Array:
+def symmetric_positive_definite(C: Float[Array, "n n"], L: Float[Array, "n n"]) -> Array:
     """Whether C is symmetric and its Cholesky factor L finite (C positive definite)."""
     sym = jnp.max(jnp.abs(C - C.T)) <= SYMMETRY_RTOL * jnp.max(jnp.abs(C))
     return sym & jnp.all(jnp.isfinite(L))
@@ -35,7 +35,7 @@ def reduced_matrix(
     """(S, L, spd): the reduced matrix S, L = chol(C) (the identity where C is not
     symmetric positive definite) and whether it is (see the module docstring)."""
     L = jnp.linalg.cholesky(C)
-    spd = _spd(C, L)
+    spd = symmetric_positive_definite(C, L)
     eye = jnp.eye(C.shape[0], dtype=C.dtype)
     L = jnp.where(spd, L, eye)
     LA = solve_triangular(L, A, lower=True)
