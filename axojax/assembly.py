@@ -2,8 +2,8 @@
 
 docs/model.md section 3::
 
-    A = K_bend + K_link + K_theta + K_G - P_follow - P_gain
-    C = C_fluid + C_link
+    A = K_bend + K_link + K_theta + K_G - P_follow - P_gain (+ regulated dynein, section 8)
+    C = C_fluid + C_link (+ regulated dynein's friction, section 8)
 
 Each term is a small truss matrix over (filament, direction) pairs, built from the
 model's static arrays and the traced parameters, Kronecker-multiplied by a
@@ -103,9 +103,10 @@ def mechanism_terms(model: Model, params: Params) -> tuple[list["Term"], list["T
     """The regulated dynein's terms of A and of C (docs/model.md, regulated dynein).
 
     Each active pair a gets a motor force per length f_a, which enters only through its
-    couple a0 f_a on u_bar = (u_i + u_j)/2 (virtual work int a0 f_a n_a . delta u_bar' dx,
-    with the sign that makes a positive chi' a passive shear stiffness: the two-filament
-    continuum limit is Sartori et al. 2016's equations with their chi and beta). With
+    couple a0 f_a on u_bar = (u_i + u_j)/2, as the virtual work -int a0 f_a n_a . delta
+    u_bar' dx: the sign that makes a positive chi' a passive shear stiffness (the
+    two-filament continuum limit is then Sartori et al. 2016's equations with their chi
+    and beta; section 3's "+" for the steady couple would make it a negative one). With
     n_a . u_bar = w_a . U (w_a holds n_a / 2 at i and j, ``model.pair_w``) and the clamped
     base (no basal sliding):
 
