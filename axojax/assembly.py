@@ -2,8 +2,8 @@
 
 docs/model.md section 3::
 
-    A = K_bend + K_link + K_theta + K_G - P_follow - P_gain
-    C = C_fluid + C_link
+    A = K_bend + K_link + K_theta + K_G - P_follow - P_gain (+ regulated dynein, section 8)
+    C = C_fluid + C_link (+ regulated dynein's friction, section 8)
 
 Each term is a small truss matrix over (filament, direction) pairs, built from the
 model's static arrays and the traced parameters, Kronecker-multiplied by a
@@ -92,6 +92,48 @@ def _truss(rows: Float[Array, "E n_fd"], weights: Float[Array, " E"]) -> Float[A
     return jnp.einsum("e,ei,ej->ij", weights, rows, rows)
 
 
+def _per_omega0(value: Array, omega0: Array) -> Array:
+    """value / omega0, 0 where omega0 <= 0 (there value must be 0: Params.validate), with
+    a finite derivative everywhere."""
+    positive = omega0 > 0
+    return jnp.where(positive, value / jnp.where(positive, omega0, 1.0), 0.0)
+
+
+def mechanism_terms(model: Model, params: Params) -> tuple[list["Term"], list["Term"]]:
+    """The regulated dynein's terms of A and of C (docs/model.md, regulated dynein).
+
+    Each active pair a gets a motor force per length f_a, which enters only through its
+    couple a0 f_a on u_bar = (u_i + u_j)/2, as the virtual work -int a0 f_a n_a . delta
+    u_bar' dx: the sign that makes a positive chi' a passive shear stiffness (the
+    two-filament continuum limit is then Sartori et al. 2016's equations with their chi
+    and beta; section 3's "+" for the steady couple would make it a negative one). With
+    n_a . u_bar = w_a . U (w_a holds n_a / 2 at i and j, ``model.pair_w``) and the clamped
+    base (no basal sliding):
+
+    - sliding, Delta_a = a0 n_a . u_bar': A += a0^2 chi' (w w^T) (x) D0,
+      C += a0^2 (chi''/omega0) (w w^T) (x) D0;
+    - curvature, kappa_a = n_a . u_bar'': A += a0 beta' (w w^T) (x) H0,
+      C += a0 (beta''/omega0) (w w^T) (x) H0, with H0 = int phi' phi''^T.
+
+    At lambda = i omega0 the sum A + lambda C holds chi' + i chi'' and beta' + i beta''
+    exactly. All coefficients 0 (the default): every term is zero.
+
+    Returns:
+        (A terms, C terms), each a list of (truss (n_fd, n_fd), filament-matrix name).
+    """
+    w = jnp.asarray(model.pair_w)
+    ww = jnp.einsum("ai,aj->ij", w, w)
+    a0 = jnp.asarray(params.a0, dtype=float)
+    omega0 = jnp.asarray(params.omega0, dtype=float)
+    chi_re = jnp.asarray(params.chi_re, dtype=float)
+    beta_re = jnp.asarray(params.beta_re, dtype=float)
+    chi_d = _per_omega0(jnp.asarray(params.chi_im, dtype=float), omega0)
+    beta_d = _per_omega0(jnp.asarray(params.beta_im, dtype=float), omega0)
+    stiff = [(a0**2 * chi_re * ww, "D0"), (a0 * beta_re * ww, "H0")]
+    damp = [(a0**2 * chi_d * ww, "D0"), (a0 * beta_d * ww, "H0")]
+    return stiff, damp
+
+
 Term = tuple[Float[Array, "n_fd n_fd"], str]
 """One term of a system matrix: a truss matrix over (filament, direction) pairs and the
 name of the filament-level matrix it multiplies (a field of
@@ -137,6 +179,9 @@ def terms(model: Model, params: Params) -> tuple[list[Term], list[Term], Float[A
         )
         A_terms += [(jnp.diag(nu), "G0"), (-follow, "F0"), (-gain, "F0T")]
         b = jnp.kron(static_couple(model, params), jnp.asarray(m.f1))
+        stiff, damp = mechanism_terms(model, params)
+        A_terms += stiff
+        C_terms += damp
     return A_terms, C_terms, b
 
 

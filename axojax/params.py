@@ -42,7 +42,15 @@ PARAM_NAMES = (
     "inactive_factor",
     "imbalance",
     "a0",
+    "chi_re",
+    "chi_im",
+    "beta_re",
+    "beta_im",
+    "omega0",
 )
+DYNAMIC_NAMES = ("chi_im", "beta_im")
+"""The coefficients that act through d/dt (chi''/omega0, beta''/omega0): non-zero only with
+omega0 > 0."""
 
 # (lower bound, inclusive?) of each field; gamma is unbounded below.
 _BOUNDS = {
@@ -55,6 +63,7 @@ _BOUNDS = {
     "inactive_factor": (0.0, True),
     "imbalance": (MIN_RATIO, True),
     "a0": (0.0, True),
+    "omega0": (0.0, True),
 }
 
 
@@ -74,7 +83,21 @@ class Params(eqx.Module):
         imbalance: force ratio R of active group 0 to group 1, read as the model says
             (:attr:`axojax.models.Model.imbalance_kind`: by default a static couple
             p a0 (1 - 1/R) with balanced forces; "force": group 1 carries p / R).
-        a0: dynein arm spacing / L, sets the static moment p a0 (only the load b).
+        a0: dynein arm spacing / L: the static moment p a0 (the load b) and the lever arm
+            of the regulated dynein force below.
+        chi_re, chi_im: sliding control chi = chi' + i chi'' (docs/model.md, regulated
+            dynein): the motor force per length responds to the pair's sliding Delta_a as
+            chi' Delta_a + (chi''/omega0) dDelta_a/dt; dimensionless chi_dim L^4 / EI
+            (:meth:`axojax.Units.chi_from_pn_per_um2`). chi' > 0 is a passive shear
+            stiffness (stabilises). 0 (default): no sliding control.
+        beta_re, beta_im: curvature control beta = beta' + i beta'': the motor force
+            responds to the pair's curvature kappa_a as beta' kappa_a + (beta''/omega0)
+            dkappa_a/dt; dimensionless beta_dim L^2 / EI
+            (:meth:`axojax.Units.beta_from_pn`). 0 (default): no curvature control.
+        omega0: angular frequency at which chi and beta hold, omega0_dim tau (the observed
+            beat's; :meth:`axojax.Units.omega0_from_hz`): at lambda = i omega0 the terms
+            equal chi and beta exactly. Must be > 0 when chi_im or beta_im is non-zero;
+            unused otherwise (default 0).
     """
 
     p: ArrayLike = 300.0
@@ -87,6 +110,11 @@ class Params(eqx.Module):
     inactive_factor: ArrayLike = 10.0
     imbalance: ArrayLike = 1.0
     a0: ArrayLike = 0.2 / 12
+    chi_re: ArrayLike = 0.0
+    chi_im: ArrayLike = 0.0
+    beta_re: ArrayLike = 0.0
+    beta_im: ArrayLike = 0.0
+    omega0: ArrayLike = 0.0
 
     def replace(self, **changes: Any) -> "Params":
         """A copy with some fields changed (unknown names raise ``ValueError``)."""
@@ -148,6 +176,16 @@ class Params(eqx.Module):
                 raise ValueError(
                     f"parameter {name} must be at most {MAX_MAGNITUDE:g} in magnitude (float64 loses the answer beyond), got {_show(value)}"
                 )
+        if not isinstance(self.omega0, jax.core.Tracer):
+            for name in DYNAMIC_NAMES:
+                value = getattr(self, name)
+                if isinstance(value, jax.core.Tracer):
+                    continue
+                dynamic = np.asarray(value, dtype=float) != 0
+                if bool(np.any(dynamic & (np.asarray(self.omega0, dtype=float) <= 0))):
+                    raise ValueError(
+                        f"parameter omega0 must be > 0 when {name} is non-zero (it is {_show(value)}), got {_show(self.omega0)}"
+                    )
         return self
 
 
@@ -165,6 +203,9 @@ def valid(params: Params) -> Any:
             low, inclusive = _BOUNDS[name]
             good = good & ((x >= low) if inclusive else (x > low))
         ok = ok & good
+    omega0 = jnp.asarray(params.omega0, dtype=float)
+    for name in DYNAMIC_NAMES:
+        ok = ok & ((jnp.asarray(getattr(params, name), dtype=float) == 0) | (omega0 > 0))
     return ok
 
 

@@ -92,3 +92,31 @@ class Units:
     def ktheta_from_pn_um2(self, ktheta_pn_um2: ArrayLike) -> ArrayLike:
         """Tangent-angle coupling (pN um^2 per rad, per length) to k_theta L^2 / EI."""
         return ktheta_pn_um2 * self.length_um**2 / self.ei_pn_um2
+
+    # -- regulated dynein (docs/model.md, regulated dynein) ----------------------------
+    # With kappa = 2 EI, xi_n = 2 c_n and a = a0 L (the two-filament continuum limit),
+    # Sartori et al.'s groups are Sp = omega0 (the dimensionless omega0 below),
+    # chi_bar = chi a^2 L^2 / kappa = a0^2 chi / 2 and beta_bar = beta a L / kappa
+    # = a0 beta / 2, with chi and beta the dimensionless values below.
+    def chi_from_pn_per_um2(self, chi_pn_per_um2: ArrayLike) -> ArrayLike:
+        """Sliding-control coefficient chi (pN/um^2, a force per length per sliding) to
+        chi_dim L^4 / EI (the scaling of a distributed stiffness)."""
+        return chi_pn_per_um2 * self.length_um**4 / self.ei_pn_um2
+
+    def chi_to_pn_per_um2(self, chi: ArrayLike) -> ArrayLike:
+        return chi * self.ei_pn_um2 / self.length_um**4
+
+    def beta_from_pn(self, beta_pn: ArrayLike) -> ArrayLike:
+        """Curvature-control coefficient beta (pN, a force per length per curvature) to
+        beta_dim L^2 / EI."""
+        return beta_pn * self.length_um**2 / self.ei_pn_um2
+
+    def beta_to_pn(self, beta: ArrayLike) -> ArrayLike:
+        return beta * self.ei_pn_um2 / self.length_um**2
+
+    def omega0_from_hz(self, frequency_hz: ArrayLike) -> ArrayLike:
+        """Beat frequency (Hz) to the dimensionless angular frequency omega0 = 2 pi f tau."""
+        return 2 * jnp.pi * frequency_hz * self.tau_s
+
+    def omega0_to_hz(self, omega0: ArrayLike) -> ArrayLike:
+        return omega0 / (2 * jnp.pi * self.tau_s)

@@ -48,6 +48,16 @@ PARAM_FLAGS = {
     "a0": "a0",
 }
 FIELD_FLAGS = {v: k for k, v in PARAM_FLAGS.items()}
+MECHANISMS = ("steady", "sliding", "curvature", "sliding+curvature")
+"""``--mechanism`` choices (docs/model.md section 8)."""
+MECHANISM_FLAGS = {
+    "chi_re": "chi",
+    "chi_im": "chi",
+    "beta_re": "beta",
+    "beta_im": "beta",
+    "omega0": "omega0-hz",
+}
+"""Params fields of regulated dynein -> the flag that sets them."""
 
 
 MAX_ROTATION_DEG = 360.0
@@ -115,6 +125,32 @@ def add_model_flags(
             help=f"dimensionless {field} (default {getattr(d, field):g})",
         )
     g.add_argument(
+        "--mechanism",
+        choices=MECHANISMS,
+        default="steady",
+        help="dynein regulation (docs/model.md section 8): the steady load (default), sliding "
+        "control (--chi), curvature control (--beta) or both",
+    )
+    g.add_argument(
+        "--chi",
+        default=None,
+        metavar="RE,IM",
+        help="sliding-control coefficient chi' + i chi'' in pN/um^2 (with --mechanism sliding)",
+    )
+    g.add_argument(
+        "--beta",
+        default=None,
+        metavar="RE,IM",
+        help="curvature-control coefficient beta' + i beta'' in pN (with --mechanism curvature)",
+    )
+    g.add_argument(
+        "--omega0-hz",
+        type=finite_float,
+        default=None,
+        metavar="HZ",
+        help="beat frequency at which --chi and --beta hold (needed when an IM part is non-zero)",
+    )
+    g.add_argument(
         "--imbalance-kind",
         choices=IMBALANCE_KINDS,
         default=IMBALANCE_KINDS[0],
@@ -175,6 +211,47 @@ def solver_from_args(args: argparse.Namespace) -> AbstractEigenSolver:
         raise CLIError(f"--solver: {err}") from None
 
 
+def _complex_pair(text: str, flag: str) -> tuple[float, float]:
+    parts = text.split(",")
+    try:
+        if len(parts) != 2:
+            raise argparse.ArgumentTypeError(f"expected RE,IM, got {text!r}")
+        return finite_float(parts[0]), finite_float(parts[1])
+    except argparse.ArgumentTypeError as err:
+        raise CLIError(f"--{flag}: {err}") from None
+
+
+def mechanism_values(args: argparse.Namespace) -> dict[str, float]:
+    """The regulated-dynein flags as dimensionless Params fields (docs/model.md section 8).
+    A coefficient without its mechanism, or a mechanism without its coefficient, is
+    refused in one line naming the flag."""
+    mechanism = getattr(args, "mechanism", "steady") or "steady"
+    parts = set(mechanism.split("+")) - {"steady"}
+    values: dict[str, float] = {}
+    units = units_from_args(args)
+    for flag, part, names, convert in (
+        ("chi", "sliding", ("chi_re", "chi_im"), units.chi_from_pn_per_um2),
+        ("beta", "curvature", ("beta_re", "beta_im"), units.beta_from_pn),
+    ):
+        text = getattr(args, flag, None)
+        if text is None:
+            if part in parts:
+                raise CLIError(f"--mechanism {mechanism}: needs --{flag} RE,IM")
+            continue
+        if part not in parts:
+            raise CLIError(f"--{flag}: needs --mechanism {part} or sliding+curvature")
+        re, im = _complex_pair(text, flag)
+        values[names[0]], values[names[1]] = float(convert(re)), float(convert(im))
+    hz = getattr(args, "omega0_hz", None)
+    if hz is not None:
+        if not parts:
+            raise CLIError("--omega0-hz: needs --mechanism sliding, curvature or sliding+curvature")
+        if hz <= 0:
+            raise CLIError(f"--omega0-hz: must be > 0, got {hz:g}")
+        values["omega0"] = float(units.omega0_from_hz(hz))
+    return values
+
+
 def split_axes(
     args: argparse.Namespace, argv: list[str]
 ) -> tuple[dict[str, float], dict[str, np.ndarray]]:
@@ -191,6 +268,7 @@ def split_axes(
                 fixed[field] = finite_float(text)
             except argparse.ArgumentTypeError as err:
                 raise CLIError(f"--{flag}: {err}") from None
+    fixed.update(mechanism_values(args))
     position = {
         f: min(
             [
@@ -303,6 +381,7 @@ def params_from_args(args: argparse.Namespace) -> Params:
         v = getattr(args, field, None)
         if v is not None:
             values[field] = v
+    values.update(mechanism_values(args))
     ratio = kl_ratio(args)
     check_params(Params().with_values(values))  # the flags as given, before kl is tied
     params = Params().with_values(values, ratio)
@@ -316,8 +395,14 @@ def check_params(params: Params, tied: str | None = None) -> None:
     try:
         params.validate()
     except ValueError as err:
-        bad = next((f for f in PARAM_NAMES if f" {f} " in f" {err} "), None)
-        flag = (tied if tied and bad == "kl" else f"--{FIELD_FLAGS[bad]}") if bad else "parameters"
+        named = str(err).split()[1] if str(err).startswith("parameter ") else None
+        bad = (
+            named
+            if named in PARAM_NAMES
+            else next((f for f in PARAM_NAMES if f" {f} " in f" {err} "), None)
+        )
+        name = FIELD_FLAGS.get(bad) or MECHANISM_FLAGS.get(bad) or bad
+        flag = (tied if tied and bad == "kl" else f"--{name}") if bad else "parameters"
         raise CLIError(f"{flag}: {err}") from None
 
 

@@ -34,6 +34,7 @@ import optimistix as optx
 from jaxtyping import Array, ArrayLike, Float, Real
 
 from ..assembly import assemble, assemble_blocks, node_major
+from ..eigen.pencil import symmetric_positive_definite
 from ..linalg import lu_factor
 from ..models.section import Model
 from ..params import Params
@@ -84,7 +85,17 @@ def mass_system(model: Model, params: Params, kappa: Real[ArrayLike, ""]) -> Mas
     (``C^{-1} A``, ``C^{-1} b`` and the block LU of ``C`` formed once)."""
     s = assemble(model, params)
     blocks = assemble_blocks(model, params)
-    C_inv = jsl.cho_solve(jsl.cho_factor(s.C, lower=True), jnp.eye(s.C.shape[0]))
+    eye = jnp.eye(s.C.shape[0])
+    factor = jsl.cho_factor(s.C, lower=True)
+    spd = symmetric_positive_definite(s.C, factor[0])
+    # C is symmetric positive definite except with the friction parts of regulated dynein
+    # (beta''/omega0 makes it non-symmetric): then an LU inverse; the select keeps the
+    # Cholesky inverse exactly where it applies.
+    C_inv = jnp.where(
+        spd,
+        jsl.cho_solve((jnp.where(spd, factor[0], eye), True), eye),
+        jnp.linalg.solve(jnp.where(spd, eye, s.C), eye),
+    )
     return MassSystem(
         C=s.C,
         A=s.A,

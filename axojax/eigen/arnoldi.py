@@ -81,6 +81,7 @@ from jaxtyping import Array, Complex, Float
 
 from ..linalg import BlockCholesky, BlockTridiagonal, arnoldi_steps, cholesky, lu_factor
 from .dominant import CLUSTER_RTOL, dominant_eigenpair, normalise
+from .pencil import SYMMETRY_RTOL
 
 TRIAL_POLES = 9
 """Trial poles 8^k - 1, k < 9: numerical abscissae up to ~1.7e7 are bracketed."""
@@ -115,6 +116,20 @@ def _start_vector(n: int, dtype=float) -> Array:
 def _symmetric_part_neg(A: BlockTridiagonal) -> BlockTridiagonal:
     """G = -(A + A^T) / 2."""
     return (A + A.T).scale(-0.5)
+
+
+def _symmetric(C: BlockTridiagonal) -> Array:
+    """Whether C is symmetric (to :data:`axojax.eigen.pencil.SYMMETRY_RTOL`): the pole's
+    bound holds only then. The friction parts of regulated dynein (beta''/omega0) make C
+    non-symmetric; such points are not certified and go to the dense solver."""
+    D = C + C.T.scale(-1.0)
+    asym = jnp.max(
+        jnp.stack([jnp.max(jnp.abs(x), initial=0.0) for x in (D.lower, D.diag, D.upper)])
+    )
+    size = jnp.max(
+        jnp.stack([jnp.max(jnp.abs(x), initial=0.0) for x in (C.lower, C.diag, C.upper)])
+    )
+    return asym <= SYMMETRY_RTOL * size
 
 
 def pole(
@@ -319,7 +334,7 @@ def _arnoldi_point(
 
     empty = _Primal(jnp.zeros((), complex), jnp.zeros((n,), complex), jnp.zeros(()))
     _, _, _, result = jax.lax.while_loop(cond, body, (0, V, H, empty))
-    result = result._replace(certified=result.certified * verified)
+    result = result._replace(certified=result.certified * verified * _symmetric(C))
     if batched or not opts.fallback:
         return result
     return jax.lax.cond(

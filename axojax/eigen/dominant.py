@@ -100,7 +100,7 @@ def dominant_eigenpair(
 
     Values: all eigenvalues (LAPACK, no eigenvectors), then the eigenvector by inverse
     iteration; the derivative rule computes the full left/right eigen-system."""
-    S, _ = reduced_matrix(A, C)
+    S, _, _ = reduced_matrix(A, C)
     lam = jax.lax.linalg.eig(S, compute_left_eigenvectors=False, compute_right_eigenvectors=False)[
         0
     ]

@@ -8,6 +8,8 @@ With phi the free-dof shape functions of one filament direction:
 - ``G0 = int n(x) phi' phi'^T`` with ``n(x) = int_x^1 p(s) ds`` (= 1 - x for uniform p)
 - ``F0[r, s] = int p(x) phi_r phi_s'``
 - ``Mk = int k(x) phi phi^T``       (links with a stiffness profile; = M0 by default)
+- ``H0[r, s] = int phi_r' phi_s''``  (curvature-controlled dynein: a couple ~ u'' tested
+  with the slope's variation; non-symmetric)
 - ``f1 = int p(x) phi'``            (static dynein moment load)
 - ``tip``: the Beck tip-force matrix, ``tip[u(1), u'(1)] = 1``.
 """
@@ -67,6 +69,7 @@ class FilamentMatrices:
     F0: np.ndarray
     Mk: np.ndarray
     f1: np.ndarray
+    H0: np.ndarray
     tip: np.ndarray
 
 
@@ -93,4 +96,5 @@ def filament_matrices(mesh: Mesh, profiles: Profiles = Profiles()) -> FilamentMa
         Mk=gram(phi, phi, evaluate_profile(profiles.k, x, "k")),
         f1=dphi.T @ (w * pw),
         tip=tip,
+        H0=gram(dphi, ddphi, ones),
     )
