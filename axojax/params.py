@@ -48,6 +48,8 @@ PARAM_NAMES = (
     "beta_im",
     "omega0",
 )
+MECHANISM_NAMES = ("chi_re", "chi_im", "beta_re", "beta_im", "omega0")
+"""The regulated-dynein coefficients (docs/model.md section 8); all 0 is the steady load."""
 DYNAMIC_NAMES = ("chi_im", "beta_im")
 """The coefficients that act through d/dt (chi''/omega0, beta''/omega0): non-zero only with
 omega0 > 0."""

@@ -26,6 +26,7 @@ def setup():
     return model, params, cyc
 
 
+@pytest.mark.slow
 def test_gradients_match_finite_differences(setup):
     model, params, start = setup
     point = np.array([3.0, 9.0])  # arc lengths (um) for psi_0 and |psi_1|
@@ -84,6 +85,7 @@ def test_gradients_match_finite_differences(setup):
     np.testing.assert_allclose(g, J[4], rtol=1e-8, atol=1e-12 * np.abs(J[4]).max())
 
 
+@pytest.mark.slow
 def test_measures_agree_with_a_simulation(setup):
     """The orbit's psi_0, psi_1 and measures against the Fourier modes of an independent
     time-domain run (diffrax, ax.simulate) from a small perturbation, over its last whole

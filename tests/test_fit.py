@@ -185,6 +185,7 @@ def test_malformed_data_names_the_problem(tmp_path, content, problem):
     assert "\n" not in str(info.value)
 
 
+@pytest.mark.slow
 def test_cli_fit_json_and_infeasible_exit(synthetic, capsys):
     from axojax.cli.main import main
 

@@ -42,6 +42,7 @@ def observed():
     return model, base, {**truth, "cubic": TRUTH_CUBIC}, shape, freq
 
 
+@pytest.mark.slow
 def test_fit_recovers_the_stiffening(observed):
     model, base, truth, shape, freq = observed
     start = base.replace(p=truth["p"] * 1.01, a0=truth["a0"] * 1.1)
@@ -121,6 +122,7 @@ def test_cubic_needs_a_limit_cycle_target(observed, capsys):
     assert "--free" in err and "cubic" in err and len(err.strip().splitlines()) == 1
 
 
+@pytest.mark.slow
 def test_no_orbit_at_the_start_is_said(observed):
     """Started where the straight state does not beat (p = 0.5 p_c), the fit cannot move
     (no orbit, no gradient): the report says so and what to do, not only "no information"."""

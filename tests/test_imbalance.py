@@ -67,6 +67,7 @@ def test_moment_reading_keeps_the_seven_mode_planar(seven):
     assert float(force.out_of_plane_ratio) > 0.3
 
 
+@pytest.mark.slow
 def test_moment_beat_matches_the_independent_simulation(seven):
     """docs/model.md section 3 (independent scipy Radau, seven, N_e = 10, ks 1e6, kl 1e3, cl 1/200,
     a0 = 0.2 um, cubic 10, R = 5, moment reading): p = 270 beats planar (minor/major axis

@@ -31,6 +31,9 @@ S_UM = np.linspace(0.0, 12.0, 21)
 CUBIC = 6.0
 
 
+pytestmark = pytest.mark.slow  # module fixtures fit two limit cycles (about 40 s)
+
+
 @pytest.fixture(scope="module")
 def observed():
     """Two filaments, 4 elements (one active pair: its moment is a static load ~ a0),

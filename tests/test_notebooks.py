@@ -33,6 +33,7 @@ def _source(nb) -> str:
     return "\n".join(c.source for c in nb.cells if c.cell_type == "code")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=[p.stem for p in NOTEBOOKS])
 def test_notebook_executes(path, monkeypatch, tmp_path):
     if path.stem in NOT_IN_SUITE:

@@ -4,7 +4,6 @@ wavelength, static curvature, dynamic amplitude and tip amplitude, because they 
 same functions (axojax/waveform/measures.py through axojax/orbits/measures.py)."""
 
 import json
-import os
 
 import pytest
 
@@ -24,6 +23,7 @@ QUANTITIES = (
 )
 
 
+@pytest.mark.slow
 def test_orbit_fit_report_and_paper_table_agree(capsys):
     inf = paper.INFERRED["fig12"]
     model, params = inf.build()
@@ -73,10 +73,7 @@ def test_orbit_fit_report_and_paper_table_agree(capsys):
     assert orbit["direction"] == "anterograde"
 
 
-@pytest.mark.skipif(
-    os.environ.get("AXOJAX_SLOW_TESTS") != "1",
-    reason="20-35 s: set AXOJAX_SLOW_TESTS=1 (also benchmarks/check_fig12_simulate.py)",
-)
+@pytest.mark.slow
 def test_simulate_from_rest_reaches_the_fig12_orbit():
     """``ax.simulate`` (diffrax, from a tip deflection) at the inferred fig. 12 set ends on
     the orbit that harmonic balance computes: the same frequency within 0.5 %, and the same

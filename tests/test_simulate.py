@@ -50,6 +50,7 @@ def test_linear_growth_and_frequency_match_dominant_eigenvalue(seven):
     assert freq == pytest.approx(float(mode.frequency_hz()), rel=0.01)
 
 
+@pytest.mark.slow
 def test_limit_cycle_just_past_hopf_is_supercritical(seven6, hopf6, capsys):
     pc, f_hopf = hopf6
     out = {}
@@ -222,6 +223,7 @@ def test_bad_simulation_input_is_one_line_error(seven6):
         ax.simulate(seven6, ax.Params(), 1e-300)
 
 
+@pytest.mark.slow
 def test_cli_simulate_json_file_and_plot(tmp_path, hopf6, capsys):
     from axojax.cli.main import main
 

@@ -345,6 +345,7 @@ def metrics(model, solver):
     return f
 
 
+@pytest.mark.slow
 def test_arnoldi_gradients_match_finite_differences_and_dense():
     model = ax.models.seven(
         n_elements=5
@@ -385,6 +386,7 @@ def test_arnoldi_gradients_match_finite_differences_and_dense():
     assert np.max(np.abs(batched - fd[None]) / scale[None]) < 1e-6
 
 
+@pytest.mark.slow
 def test_critical_force_with_arnoldi_equals_dense():
     model = ax.models.seven(n_elements=8)
     a = ax.critical_force(model, ax.Params(ks=1e5, kl=100.0), solver=Arnoldi())

@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 
 from .. import _io
-from ..params import PARAM_NAMES, Params
+from ..params import MECHANISM_NAMES, PARAM_NAMES, Params
 from ..results import RESULTS, message
 from ..results import name as result_name
 from .problem import CYCLE_FAILED, Problem
@@ -359,7 +359,7 @@ def _condition_entry(problem: Problem, u, i: int, cond, pred) -> dict[str, Any]:
     )
     return {
         "label": problem.labels[i],
-        "params": {f: float(np.asarray(getattr(full, f))) for f in PARAM_NAMES} | cubic,
+        "params": _condition_params(full) | cubic,
         "fixed": dict(cond.params),
         "source": cond.source,
         "achieved": achieved,
@@ -488,3 +488,13 @@ def _at_bound(name: str, p, u: float) -> str:
         f"{name} sits at its {'lower' if lower else 'upper'} bound {_fmt(edge)}: the data push it out of the box (or do not constrain it); "
         "it is not determined; widen the bound, fix it, or add data that depend on it"
     )
+
+
+def _condition_params(full: Params) -> dict[str, float]:
+    """Every parameter of a condition, without the regulated-dynein coefficients when they
+    are all 0 (the steady load: its report stays as it was, and each name it lists is a
+    command-line flag, e.g. for ``axojax modes``)."""
+    values = {f: float(np.asarray(getattr(full, f))) for f in PARAM_NAMES}
+    if not any(values[f] for f in MECHANISM_NAMES):
+        values = {f: v for f, v in values.items() if f not in MECHANISM_NAMES}
+    return values
