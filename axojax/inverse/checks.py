@@ -52,7 +52,7 @@ from ..eigen.mode import IMAG_RTOL, dominant_mode
 from ..models.section import Model, build_model
 from .least_squares import LevenbergMarquardt
 from .problem import EDGE, Problem
-from .report import FitResult
+from .report import FitResult, condition_achieved, shape_residuals
 
 NEAR_ONSET = 0.1
 """|Re lambda| / |Im lambda| up to which a mode counts as near onset (module docstring)."""
@@ -176,14 +176,10 @@ def _observables(problem: Problem, ev: dict) -> dict[str, float]:
     r = ev["r"]
     for i, (pred, lay) in enumerate(zip(ev["conditions"], problem.layout)):
         suffix = f"@{problem.labels[i]}" if multi else ""
-        for k, v in pred.get("achieved", {}).items():
-            out[k + suffix] = float(v)
-        if "cycle" in pred:
-            ok = bool(pred["cycle_converged"])
-            for k, v in pred["cycle"].items():
-                out[f"limit_cycle_{k}{suffix}"] = float(v) if ok else math.nan
+        for k, v in condition_achieved(pred).items():
+            out[k + suffix] = v
         if lay.n_shape:
-            rs = r[lay.start + lay.n_scalar : lay.start + lay.n_scalar + lay.n_shape]
+            rs = shape_residuals(r, lay)
             out["shape_rms" + suffix] = float(np.sqrt(np.mean(rs**2)))
     return out
 

@@ -329,7 +329,7 @@ def _conditions(problem: Problem, u, r, ev) -> tuple[list, dict, dict, list[str]
                     f"{t.key}{suffix} {a:.4g} vs {t.value:.4g} +- {t.sigma:.3g} ({rv:+.1f} sigma)"
                 )
         if lay.n_shape:
-            rsh = r[lay.start + lay.n_scalar : lay.start + lay.n_scalar + lay.n_shape]
+            rsh = shape_residuals(r, lay)
             rms = float(np.sqrt(np.mean(rsh**2)))
             entry["shape_rms"] = rms
             shape_r.append(np.asarray(rsh, dtype=float))
@@ -343,15 +343,27 @@ def _conditions(problem: Problem, u, r, ev) -> tuple[list, dict, dict, list[str]
     return conditions, achieved_all, res_all, off, flat
 
 
-def _condition_entry(problem: Problem, u, i: int, cond, pred) -> dict[str, Any]:
-    """One condition's report entry before its targets are compared: parameters,
-    achieved observables (the limit cycle's, NaN where no orbit was found)."""
-    full = problem.condition_params(u, i)
+def condition_achieved(pred: dict) -> dict[str, float]:
+    """A condition's achieved observables from its predictions: the linear mode's, and the
+    limit cycle's as ``limit_cycle_<name>`` (NaN where no orbit was found)."""
     achieved = {kk: float(v) for kk, v in pred.get("achieved", {}).items()}
     if "cycle" in pred:
         ok = bool(pred["cycle_converged"])
         for kk, v in pred["cycle"].items():
             achieved[f"limit_cycle_{kk}"] = float(v) if ok else math.nan
+    return achieved
+
+
+def shape_residuals(r, lay) -> np.ndarray:
+    """A condition's shape residuals out of the problem's residual vector ``r``."""
+    return np.asarray(r[lay.start + lay.n_scalar : lay.start + lay.n_scalar + lay.n_shape])
+
+
+def _condition_entry(problem: Problem, u, i: int, cond, pred) -> dict[str, Any]:
+    """One condition's report entry before its targets are compared: parameters,
+    achieved observables (the limit cycle's, NaN where no orbit was found)."""
+    full = problem.condition_params(u, i)
+    achieved = condition_achieved(pred)
     cubic = (
         {"cubic": float(np.asarray(problem.condition_cubic(u, i)))}
         if problem.needs_cycle[i]
