@@ -36,6 +36,7 @@ _LAZY = {
     "Mode": (".eigen", "Mode"),
     "dominant_mode": (".eigen", "dominant_mode"),
     "mode_shapes": (".eigen", "mode_shapes"),
+    "nearest_mode": (".eigen", "nearest_mode"),
     "spectrum": (".eigen", "spectrum"),
     "FitResult": (".inverse", "FitResult"),
     "ShapeTarget": (".beats", "ShapeTarget"),
@@ -80,7 +81,7 @@ if TYPE_CHECKING:  # the same names for static tools (type checkers, the API doc
     from .cache import enable_compilation_cache
     from .critical import Critical, critical_force
     from .dynamics import Simulation, simulate
-    from .eigen import Mode, dominant_mode, mode_shapes, spectrum
+    from .eigen import Mode, dominant_mode, mode_shapes, nearest_mode, spectrum
     from .inverse import FitResult, Posterior, fit, posterior
     from .orbits import LimitCycle, limit_cycle
     from .params import PARAM_NAMES, Params

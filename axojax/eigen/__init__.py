@@ -21,6 +21,7 @@ from .mode import (
     mode_from_eigenpair,
     spectrum,
 )
+from .nearest import nearest_eigenpair, nearest_mode
 from .pencil import eigensystem, eigenvalues
 from .solvers import (
     SOLVERS,
@@ -55,6 +56,8 @@ __all__ = [
     "eigenvalues",
     "mode_from_eigenpair",
     "mode_shapes",
+    "nearest_eigenpair",
+    "nearest_mode",
     "solver_from_name",
     "spectrum",
     "tangent_wavenumber",

@@ -65,13 +65,15 @@ def normalise(v: Complex[Array, " n"]) -> Complex[Array, " n"]:
     return v * (jnp.conj(big) / jnp.abs(big))
 
 
-def _primal(A, C, left: bool):
+def _primal(A, C, left: bool, select=None):
+    """Eigenvalue (cluster mean), cluster vectors and left vectors of the eigenvalue that
+    ``select`` (default: the dominant one, :func:`_select`) picks."""
     lam, V, W = eigensystem(A, C, left=left)
-    order, mask = _select(lam)
+    order, mask = (select or _select)(lam)
     lam_c = jnp.sum(mask * lam[order]) / jnp.sum(mask)
-    lam_c = jnp.where(
-        jnp.imag(lam_c) < 0, jnp.conj(lam_c), lam_c
-    )  # real clusters: drop the +-0i noise
+    if select is None:
+        # real clusters: drop the +-0i noise
+        lam_c = jnp.where(jnp.imag(lam_c) < 0, jnp.conj(lam_c), lam_c)
     Vc = jax.vmap(normalise, in_axes=1, out_axes=1)(V[:, order])
     Wc = None if W is None else W[:, order]
     return lam_c, Vc, Wc, mask
@@ -114,7 +116,13 @@ def dominant_eigenpair(
 def _dominant_jvp(primals, tangents):
     A, C = primals
     dA, dC = tangents
-    lam, Vc, Wc, mask = _primal(A, C, left=True)
+    return eigenpair_jvp(A, C, dA, dC, *_primal(A, C, left=True))
+
+
+def eigenpair_jvp(A, C, dA, dC, lam, Vc, Wc, mask):
+    """The tangent of a selected eigenpair (see the module docstring): ``lam`` the
+    (cluster-mean) eigenvalue, ``Vc``/``Wc`` the right/left vectors of the selected
+    eigenvalue and its ``MAX_CLUSTER - 1`` neighbours, ``mask`` their cluster membership."""
     n, k = A.shape[0], mask.shape[0]
     cdt = Vc.dtype
     v1 = Vc[:, 0]

@@ -33,6 +33,7 @@ from ..models.section import Model
 from ..params import Params
 from .arnoldi import ArnoldiOptions, structured_dominant
 from .dominant import dominant_eigenpair
+from .nearest import nearest_eigenpair
 
 
 class AbstractEigenSolver(eqx.Module):
@@ -44,6 +45,17 @@ class AbstractEigenSolver(eqx.Module):
     ) -> tuple[Complex[Array, ""], Complex[Array, " n"], Float[Array, ""]]:
         """(eigenvalue with Im >= 0, unit eigenvector in filament-major order, certified
         as 1.0/0.0). Differentiable in ``params``."""
+
+    def nearest(
+        self, model: Model, params: Params, shift: Complex[Array, ""]
+    ) -> tuple[Complex[Array, ""], Complex[Array, " n"], Float[Array, ""]]:
+        """(eigenvalue nearest ``shift``, unit eigenvector in filament-major order,
+        certified as 1.0/0.0): the beat of a regulated mechanism at ``shift = i omega0``
+        (:mod:`axojax.eigen.nearest`). Differentiable in ``params``. This default is the
+        dense eigen-decomposition (certified: every eigenvalue is computed)."""
+        system = assemble(model, params)
+        lam, v = nearest_eigenpair(system.A, system.C, shift)
+        return lam, v, jnp.ones((), float)
 
     def resolve(self, model: Model, n_points: int = 1) -> "AbstractEigenSolver":
         """The concrete solver for ``n_points`` points of ``model`` (itself, except for
@@ -140,6 +152,9 @@ class Auto(AbstractEigenSolver):
 
     def eigenpair(self, model, params):
         return self.resolve(model).eigenpair(model, params)
+
+    def nearest(self, model, params, shift):
+        return self.resolve(model).nearest(model, params, shift)
 
 
 SOLVERS = {"auto": Auto, "dense": Dense, "arnoldi": Arnoldi}

@@ -1,0 +1,109 @@
+"""The eigenpair nearest a given point of the complex plane, and its exact derivative.
+
+A regulated mechanism is fitted the way its anchors pose it (docs/model.md, regulated
+dynein): the beat is the eigenvalue at ``i omega0``, the observed angular frequency, and
+it need not be the dominant one (with an active friction, chi'' < 0, the pencil also has
+short-wavelength modes that grow faster; they are not the beat). So a fit follows the
+eigenvalue *nearest* a shift instead of the rightmost one.
+
+``nearest_eigenpair(A, C, shift)`` picks, among the pencil's eigenvalues, the one closest
+to ``shift`` (a cluster within :data:`~axojax.eigen.dominant.CLUSTER_RTOL` is averaged as
+for the dominant one), with the same derivative rule as
+:func:`~axojax.eigen.dominant.dominant_eigenpair` (implicit differentiation of
+``(A + lambda C) v = 0``). The shift only selects: its tangent is ignored (the selected
+eigenvalue does not move with it).
+
+``nearest_mode(model, params, shift, solver)`` is the model-level entry point: every
+metric of :class:`~axojax.eigen.Mode` for that eigenpair. The solvers' ``nearest`` method
+does the eigen-solve (dense by default; see :mod:`axojax.eigen.solvers`).
+"""
+
+from __future__ import annotations
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+from jaxtyping import Array, ArrayLike, Complex, Float
+
+from ..models.section import Model
+from ..params import Params, require_scalars, valid
+from ..results import RESULTS
+from .dominant import CLUSTER_RTOL, MAX_CLUSTER, _inverse_iteration, _primal, eigenpair_jvp
+from .pencil import reduced_matrix
+
+
+def _select_near(shift: Complex[Array, ""]):
+    """A selection rule for :func:`axojax.eigen.dominant._primal`: the eigenvalue nearest
+    ``shift`` first, then its nearest neighbours, and their cluster mask."""
+
+    def select(lam: Complex[Array, " n"]) -> tuple[Array, Array]:
+        j1 = jnp.argmin(jnp.abs(lam - shift))
+        dist = jnp.where(jnp.arange(lam.shape[0]) == j1, -1.0, jnp.abs(lam - lam[j1]))
+        order = jnp.argsort(dist)[:MAX_CLUSTER]
+        mask = (dist[order] <= CLUSTER_RTOL * (1.0 + jnp.abs(lam[j1]))).astype(float)
+        return order, mask
+
+    return select
+
+
+@jax.custom_jvp
+def nearest_eigenpair(
+    A: Float[Array, "n n"], C: Float[Array, "n n"], shift: Complex[Array, ""]
+) -> tuple[Complex[Array, ""], Complex[Array, " n"]]:
+    """Eigenvalue of ``(A + lambda C) v = 0`` nearest ``shift`` (cluster mean if
+    degenerate) and its unit eigenvector (gauge as :func:`dominant_eigenpair`).
+    Differentiable in A and C; ``shift`` only selects."""
+    S, _, _ = reduced_matrix(A, C)
+    lam = jax.lax.linalg.eig(S, compute_left_eigenvectors=False, compute_right_eigenvectors=False)[
+        0
+    ]
+    order, mask = _select_near(shift)(lam)
+    lam_c = jnp.sum(mask * lam[order]) / jnp.sum(mask)
+    return lam_c, _inverse_iteration(A, C, lam[order[0]])
+
+
+@nearest_eigenpair.defjvp
+def _nearest_jvp(primals, tangents):
+    A, C, shift = primals
+    dA, dC, _ = tangents
+    return eigenpair_jvp(A, C, dA, dC, *_primal(A, C, left=True, select=_select_near(shift)))
+
+
+def nearest_mode_impl(model: Model, params: Params, shift: ArrayLike, solver) -> "Mode":  # noqa: F821
+    """:func:`nearest_mode` without its validation and ``jax.jit`` (for code that traces
+    it inside its own transformations, e.g. fits)."""
+    from .mode import mode_from_eigenpair
+
+    require_scalars(params, "nearest_mode")
+    ok = valid(params)
+    lam, v, certified = solver.nearest(model, params, jnp.asarray(shift, dtype=complex))
+    lam = jnp.where(ok, lam, jnp.nan + 0j)
+    v = jnp.where(ok, v, jnp.nan + 0j)
+    mode = mode_from_eigenpair(model, lam, v, certified)
+    result = RESULTS.where(
+        ok,
+        RESULTS.where(jnp.isfinite(lam), RESULTS.successful, RESULTS.nonfinite),
+        RESULTS.invalid_params,
+    )
+    return eqx.tree_at(lambda m: m.result, mode, result)
+
+
+_nearest_mode_jit = jax.jit(nearest_mode_impl, static_argnums=(0, 3))
+
+
+def nearest_mode(model: Model, params: Params, shift: ArrayLike, solver=None) -> "Mode":  # noqa: F821
+    """The mode whose eigenvalue is nearest ``shift`` (dimensionless, 1/tau; e.g.
+    ``1j * params.omega0`` for the beat of a regulated mechanism).
+
+    Like :func:`axojax.dominant_mode` (validation, ``jit``, ``vmap``, ``grad``) except for
+    the selection; ``mode.certified`` says whether the solver certified that no eigenvalue
+    lies nearer the shift. ``solver`` defaults to :class:`~axojax.eigen.Dense`.
+    """
+    from .solvers import AbstractEigenSolver, Dense
+
+    solver = Dense() if solver is None else solver
+    if not isinstance(solver, AbstractEigenSolver):
+        raise TypeError(f"solver must be an axojax eigen-solver, got {solver!r}")
+    require_scalars(params, "nearest_mode")
+    shift = complex(shift) if not isinstance(shift, jax.core.Tracer) else shift
+    return _nearest_mode_jit(model, params.validate(), shift, solver)
