@@ -221,6 +221,18 @@ def _complex_pair(text: str, flag: str) -> tuple[float, float]:
         raise CLIError(f"--{flag}: {err}") from None
 
 
+def require_passive_friction(model: Model, params: Params, what: str) -> None:
+    """:func:`axojax.well_posed.require_passive_friction` as a CLI error naming the flag of
+    the active coefficient (``--beta`` or ``--chi``)."""
+    from ..well_posed import require_passive_friction as check
+
+    try:
+        check(model, params, what)
+    except ValueError as err:
+        flag = "--beta" if str(err).split(": ", 1)[1].startswith("beta") else "--chi"
+        raise CLIError(f"{flag}: {err}") from None
+
+
 def mechanism_values(args: argparse.Namespace) -> dict[str, float]:
     """The regulated-dynein flags as dimensionless Params fields (docs/model.md section 8).
     A coefficient without its mechanism, or a mechanism without its coefficient, is

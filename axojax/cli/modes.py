@@ -66,6 +66,18 @@ def run(args: argparse.Namespace) -> dict:
         "eigenvalues": [[float(z.real), float(z.imag)] for z in lam],
         "dominant": mode.to_json(units),
     }
+    if float(params.omega0) > 0:
+        # a regulated mechanism's beat is the eigenvalue at i omega0 (docs/model.md section
+        # 8); with an active friction the dominant one is a spurious short wave
+        from ..eigen import nearest_mode
+        from ..well_posed import TOLERANCE, friction_margin
+
+        beat = nearest_mode(model, params, 1j * float(params.omega0), solver)
+        doc["beat"] = {
+            **beat.to_json(units),
+            "omega0_hz": float(params.omega0) / (2 * np.pi * units.tau_s),
+            "active_friction": friction_margin(model, params) < -TOLERANCE,
+        }
     if names:
         doc["gradients"] = metric_gradients(
             model, params, names, common.kl_ratio(args), units, solver
@@ -97,6 +109,22 @@ def render(doc: dict) -> str:
         f"  direction       {d['direction'] or '-'}",
         f"  out-of-plane    {fmt(d['out_of_plane_ratio'], '', '.3g')}",
     ]
+    if "beat" in doc:
+        b = doc["beat"]
+        lines += [
+            "",
+            f"beat (the eigenvalue nearest i omega0, omega0 = 2 pi x {b['omega0_hz']:.4g} Hz):",
+            f"  eigenvalue      {b['eigenvalue'][0]:.6f} {b['eigenvalue'][1]:+.6f}i",
+            f"  growth rate     {fmt(b['growth_rate_per_s'], '1/s')}",
+            f"  frequency       {fmt(b['frequency_hz'], 'Hz')}",
+            f"  wavelength      {wavelength_text(b['wavelength_um'])}",
+            f"  direction       {b['direction'] or '-'}",
+        ]
+        if b["active_friction"]:
+            lines.append(
+                "  note: the friction is active (chi'' or beta'' < 0), so the dominant mode above is a "
+                "spurious short wave that grows faster on finer meshes; read the mode nearest i omega0 as the beat"
+            )
     if "gradients" in doc:
         lines += ["", "gradients (per unit of the dimensionless parameter):"]
         for metric, g in doc["gradients"].items():

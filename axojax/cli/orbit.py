@@ -59,6 +59,7 @@ def run(args: argparse.Namespace) -> dict:
     common.check_params(Params().with_values(fixed))
     params = Params().with_values(fixed, ratio)
     common.check_params(params, "--kl-ratio")
+    common.require_passive_friction(model, params, "orbit")
     for value in axes.get("p", []):
         common.check_params(params.replace(p=float(value)))
     if not (args.cubic > 0):

@@ -22,6 +22,7 @@ from ..units import Units
 from ..waveform import FourierModes, fourier_modes
 from ..waveform.measures import along, finite_or_none
 from ..waveform.shapes import centreline
+from ..well_posed import require_passive_friction
 from .analysis import classify_trajectory
 from .integrate import integrate, result_message
 
@@ -338,6 +339,7 @@ def simulate(
         :class:`Simulation`.
     """
     params = params.validate()
+    require_passive_friction(model, params, "simulate")
     t_end_s, cubic, perturbation_um, rtol = check_inputs(
         model, t_end_s, cubic, perturbation_um, rtol
     )

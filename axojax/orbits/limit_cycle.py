@@ -6,6 +6,7 @@ import math
 
 from ..models.section import Model
 from ..params import DEFAULT_CUBIC, Params
+from ..well_posed import require_passive_friction
 from ._solve import solve_jit
 from .branch import continue_to
 from .cycle import LimitCycle
@@ -46,6 +47,7 @@ def limit_cycle(
         jit-able ``solver.solve`` inside your own transformations).
     """
     params = params.validate()
+    require_passive_friction(model, params, "limit_cycle")
     kappa = float(kappa)
     if not math.isfinite(kappa) or kappa <= 0:
         raise ValueError(
