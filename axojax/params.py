@@ -47,7 +47,12 @@ PARAM_NAMES = (
     "beta_re",
     "beta_im",
     "omega0",
+    "kb",
+    "xib",
 )
+BASAL_NAMES = ("kb", "xib")
+"""The basal compliance (docs/model.md section 8, bases): used only by a model whose
+base has ``compliance=True``."""
 MECHANISM_NAMES = ("chi_re", "chi_im", "beta_re", "beta_im", "omega0")
 """The regulated-dynein coefficients (docs/model.md section 8); all 0 is the steady load."""
 DYNAMIC_NAMES = ("chi_im", "beta_im")
@@ -66,6 +71,8 @@ _BOUNDS = {
     "imbalance": (MIN_RATIO, True),
     "a0": (0.0, True),
     "omega0": (0.0, True),
+    "kb": (0.0, True),
+    "xib": (0.0, True),
 }
 
 
@@ -100,6 +107,12 @@ class Params(eqx.Module):
             beat's; :meth:`axojax.Units.omega0_from_hz`): at lambda = i omega0 the terms
             equal chi and beta exactly. Must be > 0 when chi_im or beta_im is non-zero;
             unused otherwise (default 0).
+        kb, xib: basal compliance (docs/model.md section 8, bases): the basal sliding
+            Delta_b,a of each active pair is resisted by kb Delta_b + xib dDelta_b/dt
+            (chi_b = kb + i omega xib); dimensionless k_b L^3 / EI and xi_b / (c_n L)
+            (:meth:`axojax.Units.kb_from_pn_per_um`, :meth:`axojax.Units.xib_from_pn_s_per_um`).
+            Used only when the model's base has ``compliance=True``; then xib must be
+            > 0 (:func:`axojax.assembly.check_base_params`; defaults 0).
     """
 
     p: ArrayLike = 300.0
@@ -117,6 +130,8 @@ class Params(eqx.Module):
     beta_re: ArrayLike = 0.0
     beta_im: ArrayLike = 0.0
     omega0: ArrayLike = 0.0
+    kb: ArrayLike = 0.0
+    xib: ArrayLike = 0.0
 
     def replace(self, **changes: Any) -> "Params":
         """A copy with some fields changed (unknown names raise ``ValueError``)."""

@@ -120,3 +120,32 @@ class Units:
 
     def omega0_to_hz(self, omega0: ArrayLike) -> ArrayLike:
         return omega0 / (2 * jnp.pi * self.tau_s)
+
+    # -- bases (docs/model.md section 8, bases) -----------------------------------------
+    # With kappa = 2 EI and a = a0 L, Sartori et al.'s basal group is
+    # chi_b_bar = chi_b a^2 L / kappa = a0^2 (kb + i omega0 xib) / 2.
+    def kb_from_pn_per_um(self, kb_pn_per_um: ArrayLike) -> ArrayLike:
+        """Basal sliding spring k_b (pN/um: force per basal sliding) to k_b L^3 / EI."""
+        return kb_pn_per_um * self.length_um**3 / self.ei_pn_um2
+
+    def kb_to_pn_per_um(self, kb: ArrayLike) -> ArrayLike:
+        return kb * self.ei_pn_um2 / self.length_um**3
+
+    def xib_from_pn_s_per_um(self, xib_pn_s_per_um: ArrayLike) -> ArrayLike:
+        """Basal sliding friction xi_b (pN s/um) to xi_b / (c_n L)."""
+        return xib_pn_s_per_um / (self.cn_pn_s_um2 * self.length_um)
+
+    def xib_to_pn_s_per_um(self, xib: ArrayLike) -> ArrayLike:
+        return xib * self.cn_pn_s_um2 * self.length_um
+
+    def head_translational_drag(self, zeta_pn_s_per_um: ArrayLike) -> ArrayLike:
+        """A body's translational drag zeta_t (pN s/um) to zeta_t / (c_n L)."""
+        return zeta_pn_s_per_um / (self.cn_pn_s_um2 * self.length_um)
+
+    def head_rotational_drag(self, zeta_pn_um_s: ArrayLike) -> ArrayLike:
+        """A body's (or a pivot's) rotational drag zeta_r (pN um s) to zeta_r / (c_n L^3)."""
+        return zeta_pn_um_s / (self.cn_pn_s_um2 * self.length_um**3)
+
+    def pivot_stiffness_from_pn_um(self, k_pn_um_per_rad: ArrayLike) -> ArrayLike:
+        """A pivot's rotational spring k_r (pN um/rad) to k_r L / EI."""
+        return k_pn_um_per_rad * self.length_um / self.ei_pn_um2

@@ -1,7 +1,9 @@
 """Mode shapes and mode metrics (docs/model.md section 5).
 
-An eigenvector ``v`` (n,) is reshaped to ``(F, d, 2 N_e)`` and interpolated with the
-Hermite shape functions. The centreline displacement is the mean over filaments. In 3D
+An eigenvector ``v`` (``model.n_unknowns``,) is read as ``(F, d, r)`` per-filament dofs
+(:meth:`axojax.models.Model.filament_dofs`: node 0's dofs too where the base is not
+clamped, the basal sliding left out) and interpolated with the Hermite shape functions
+(:meth:`axojax.models.Model.interpolation`). The centreline displacement is the mean over filaments. In 3D
 the beat direction is the principal axis of ``R = Re int u u^H dx`` (2 x 2) and the
 out-of-plane ratio is ``sqrt(smaller / larger eigenvalue of R)``. The mode's tangent
 angle along the beat direction is psi_1 = u'(x), and its wavenumber is the one of every
@@ -28,7 +30,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Complex, Float
 
-from ..fem import interpolation_matrix, make_mesh
+from ..fem import make_mesh
 from ..models.section import Model
 from ..waveform.measures import along, phase_gradient
 
@@ -36,13 +38,21 @@ MIN_POINTS = 200
 
 
 @functools.lru_cache(maxsize=64)
-def _quadrature(
-    n_elements: int,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """(x, weights, phi, dphi, ddphi) at the Gauss points (at least 4 per element)."""
+def _gauss(n_elements: int) -> tuple[np.ndarray, np.ndarray]:
+    """(x, weights): Gauss points on the mesh (at least 4 per element, MIN_POINTS in all)."""
     per = max(4, math.ceil(MIN_POINTS / n_elements))
     mesh = make_mesh(n_elements, per)
-    return mesh.x, mesh.weights, mesh.phi, mesh.dphi, mesh.ddphi
+    return mesh.x, mesh.weights
+
+
+@functools.lru_cache(maxsize=64)
+def _quadrature(
+    model: Model,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(x, weights, phi, dphi, ddphi) at the Gauss points, the shape functions from
+    :meth:`axojax.models.Model.interpolation` (its base's dofs included)."""
+    x, w = _gauss(model.n_elements)
+    return x, w, *(model.interpolation(x, r) for r in range(3))
 
 
 def mode_shapes(
@@ -61,9 +71,8 @@ def mode_shapes(
     """
     if x is None:
         x = np.linspace(0.0, 1.0, 201)
-    phi = jnp.asarray(interpolation_matrix(model.n_elements, np.asarray(x), derivative))
-    q = jnp.reshape(v, (model.n_filaments, model.n_dirs, model.mesh.n_dof))
-    return jnp.einsum("mr,fdr->fdm", phi, q)
+    phi = jnp.asarray(model.interpolation(np.asarray(x), derivative))
+    return jnp.einsum("mr,fdr->fdm", phi, model.filament_dofs(jnp.asarray(v)))
 
 
 def _safe_sqrt(x):
@@ -72,8 +81,9 @@ def _safe_sqrt(x):
 
 
 def _centreline(model: Model, v: Complex[Array, " n"]) -> Complex[Array, "d r"]:
-    """Mean over filaments of the nodal values of ``v``: (d, 2 N_e)."""
-    return jnp.reshape(v, (model.n_filaments, model.n_dirs, model.mesh.n_dof)).mean(axis=0)
+    """Mean over filaments of the nodal values of ``v``: (d, r) (r: the columns of
+    :meth:`axojax.models.Model.interpolation`)."""
+    return model.filament_dofs(jnp.asarray(v)).mean(axis=0)
 
 
 def beat_plane(
@@ -81,7 +91,7 @@ def beat_plane(
 ) -> tuple[Complex[Array, " m"], Complex[Array, " m"], Array, Array]:
     """Complex in-plane centreline displacement u and u' at the quadrature points, the
     beat-direction angle (radians from y towards z) and the out-of-plane ratio."""
-    x, w, phi, dphi, _ = _quadrature(model.n_elements)
+    x, w, phi, dphi, _ = _quadrature(model)
     q = _centreline(model, v)  # (d, r)
     u = q @ jnp.asarray(phi).T  # (d, m)
     du = q @ jnp.asarray(dphi).T
@@ -106,7 +116,7 @@ def tangent_wavenumber(
     complex state ``v`` (an eigenvector, or an orbit's first harmonic) along the beat
     direction ``angle``: :func:`axojax.waveform.measures.phase_gradient` with the exact
     psi_1 and psi_1' = u'' at the Gauss points."""
-    _, w, _, dphi, ddphi = _quadrature(model.n_elements)
+    _, w, _, dphi, ddphi = _quadrature(model)
     q = _centreline(model, v)
     psi = along(q @ jnp.asarray(dphi).T, angle)
     dpsi = along(q @ jnp.asarray(ddphi).T, angle)
@@ -124,6 +134,6 @@ def displacement_wavenumber(model: Model, v: Complex[Array, " n"]) -> Float[Arra
     """The same mean phase gradient taken of the displacement u instead of its slope
     (rad per L): axojax's wavenumber until 2026-12, kept for comparison only. Never a
     wavelength: axojax's wavelengths are the tangent angle's (:func:`wavenumber`)."""
-    _, w, _, _, _ = _quadrature(model.n_elements)
+    _, w, _, _, _ = _quadrature(model)
     u, du, _, _ = beat_plane(model, v)
     return phase_gradient(u, du, jnp.asarray(w))

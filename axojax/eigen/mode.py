@@ -10,7 +10,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, Complex, Float, Int
 
 from .. import results
-from ..assembly import assemble
+from ..assembly import assemble, check_base_params
 from ..models.section import Model
 from ..params import Params, require_scalars, valid
 from ..results import RESULTS
@@ -18,7 +18,7 @@ from ..units import Units
 from ..waveform import measures
 from . import pencil
 from .metrics import beat_plane, tangent_wavenumber
-from .solvers import AbstractEigenSolver, Auto
+from .solvers import AbstractEigenSolver, Arnoldi, Auto, Dense
 
 STABLE, FLUTTER, DIVERGENCE = 0, 1, 2
 CLASSES = ("stable", "flutter", "divergence")
@@ -142,6 +142,24 @@ def mode_from_eigenpair(
 DEFAULT_SOLVER = Auto()
 
 
+def for_base(model: Model, solver: AbstractEigenSolver) -> AbstractEigenSolver:
+    """``solver``, or :class:`~axojax.eigen.Dense` where the model has a border (a base
+    that is not clamped) and ``solver`` is :class:`~axojax.eigen.Auto`: the structured
+    solver does not read the border yet. An explicit :class:`~axojax.eigen.Arnoldi` on
+    such a model is refused (one-line ``ValueError``) rather than answered without its
+    base."""
+    if not model.n_border:
+        return solver
+    if isinstance(solver, Auto):
+        return Dense()
+    if isinstance(solver, Arnoldi):
+        raise ValueError(
+            f"the Arnoldi eigen-solver does not support the {model.base.kind!r} base yet "
+            f"(its {model.n_border} border unknowns); use ax.eigen.Dense()"
+        )
+    return solver
+
+
 def dominant_mode_impl(
     model: Model, params: Params, solver: AbstractEigenSolver = DEFAULT_SOLVER
 ) -> Mode:
@@ -150,7 +168,10 @@ def dominant_mode_impl(
     fits). Parameters out of range give NaN numbers and ``result = invalid_params``
     (:mod:`axojax.results`)."""
     require_scalars(params, "dominant_mode")
+    solver = for_base(model, solver)
     ok = valid(params)
+    if model.base.compliance:  # check_base_params's rule, traceable
+        ok = ok & (jnp.asarray(params.xib, dtype=float) > 0)
     lam, v, certified = solver.eigenpair(model, params)
     lam = jnp.where(ok, lam, jnp.nan + 0j)
     v = jnp.where(ok, v, jnp.nan + 0j)
@@ -208,7 +229,8 @@ def dominant_mode(
     if not isinstance(params, Params):
         raise TypeError(f"params must be an ax.Params, got {params!r}")
     require_scalars(params, "dominant_mode")
-    mode = _dominant_mode_jit(model, params.validate(), solver)
+    for_base(model, solver)
+    mode = _dominant_mode_jit(model, check_base_params(model, params.validate()), solver)
     if throw:
         mode = mode.result.error_if(mode, mode.result != RESULTS.successful)
     return mode
@@ -217,4 +239,4 @@ def dominant_mode(
 def spectrum(model: Model, params: Params, top: int | None = None) -> Complex[Array, " k"]:
     """Eigenvalues of the pencil (A + lambda C) v = 0 sorted by decreasing real part;
     the ``top`` first (all n by default). Dimensionless (1/tau)."""
-    return _spectrum_jit(model, params.validate(), top)
+    return _spectrum_jit(model, check_base_params(model, params.validate()), top)

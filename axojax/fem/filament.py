@@ -84,8 +84,8 @@ def filament_matrices(mesh: Mesh, profiles: Profiles = Profiles()) -> FilamentMa
     ones = np.ones_like(x)
     pw = evaluate_profile(profiles.p, x, "p")
     tip = np.zeros((mesh.n_dof, mesh.n_dof))
-    tip_row = interpolation_matrix(mesh.n_elements, np.array([1.0]))[0]
-    tip_slope = interpolation_matrix(mesh.n_elements, np.array([1.0]), derivative=1)[0]
+    tip_row = interpolation_matrix(mesh.n_elements, np.array([1.0]), 0, mesh.base_dofs)[0]
+    tip_slope = interpolation_matrix(mesh.n_elements, np.array([1.0]), 1, mesh.base_dofs)[0]
     tip += np.outer(tip_row, tip_slope)
     return FilamentMatrices(
         M0=gram(phi, phi, ones),

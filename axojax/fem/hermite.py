@@ -1,8 +1,10 @@
-"""Cubic Hermite beam elements on x in [0, 1] with a clamped base.
+"""Cubic Hermite beam elements on x in [0, 1].
 
-Nodal unknowns are (u, u') at nodes 1..N_e; node 0 is clamped (u = u' = 0) and removed,
-so one filament direction has ``2 * N_e`` unknowns ordered
-``[u_1, u'_1, u_2, u'_2, ..., u_Ne, u'_Ne]``.
+Nodal unknowns are (u, u') at nodes 1..N_e; node 0 (the base) is clamped (u = u' = 0)
+and removed, so one filament direction has ``2 * N_e`` unknowns ordered
+``[u_1, u'_1, u_2, u'_2, ..., u_Ne, u'_Ne]``. A base that is not clamped keeps some of
+node 0's dofs (``base_dofs``: 0 for u(0), 1 for u'(0)); they come first, in that order
+(``[u_0, u'_0, u_1, ...]`` for a free base, ``[u'_0, u_1, ...]`` for a pivot).
 """
 
 from __future__ import annotations
@@ -56,7 +58,7 @@ class Mesh:
         x: quadrature points, shape (N_e * q,), in [0, 1].
         weights: quadrature weights, shape (N_e * q,) (they sum to 1).
         phi, dphi, ddphi: shape functions of the *free* dofs and their derivatives at the
-            quadrature points, each of shape (N_e * q, 2 N_e). Rows are dense: the matrix
+            quadrature points, each of shape (N_e * q, n_dof). Rows are dense: the matrix
             is small (N_e <= a few hundred) and dense products keep assembly vectorised.
     """
 
@@ -66,15 +68,25 @@ class Mesh:
     phi: np.ndarray
     dphi: np.ndarray
     ddphi: np.ndarray
+    base_dofs: tuple[int, ...] = ()
 
     @property
     def n_dof(self) -> int:
-        """Unknowns per filament and direction, 2 N_e."""
-        return 2 * self.n_elements
+        """Unknowns per filament and direction, 2 N_e (plus the kept ``base_dofs``)."""
+        return 2 * self.n_elements + len(self.base_dofs)
 
 
-def _global_rows(n_elements: int, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Shape-function rows (phi, phi', phi'') of the free dofs at arbitrary points x in [0, 1]."""
+BASE_DOFS = ((), (1,), (0, 1))
+"""The accepted ``base_dofs``: clamped (none), pivot (u'(0)), free (u(0), u'(0))."""
+
+
+def _global_rows(
+    n_elements: int, x: np.ndarray, base_dofs: tuple[int, ...] = ()
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Shape-function rows (phi, phi', phi'') of the free dofs at arbitrary points x in
+    [0, 1]: node 0's ``base_dofs`` first, then the dofs of nodes 1..N_e."""
+    if tuple(base_dofs) not in BASE_DOFS:
+        raise ValueError(f"base_dofs must be one of {BASE_DOFS}, got {base_dofs!r}")
     x = np.asarray(x, dtype=float)
     h = 1.0 / n_elements
     elem = np.clip(np.floor(x / h).astype(int), 0, n_elements - 1)
@@ -86,7 +98,11 @@ def _global_rows(n_elements: int, x: np.ndarray) -> tuple[np.ndarray, np.ndarray
         full = np.zeros((m, 2 * (n_elements + 1)))
         cols = 2 * elem[None, :] + np.arange(4)[:, None]  # (4, m)
         np.put_along_axis(full, cols.T, vals.T, axis=1)
-        out.append(full[:, 2:])  # drop the clamped node 0
+        if base_dofs:
+            full = np.concatenate([full[:, list(base_dofs)], full[:, 2:]], axis=1)
+        else:
+            full = full[:, 2:]  # drop the clamped node 0
+        out.append(full)
     return out[0], out[1], out[2]
 
 
@@ -95,10 +111,13 @@ MAX_ELEMENTS = 100_000
 mesh's dense shape-function tables alone exceed any memory (10^9 raised MemoryError)."""
 
 
-def make_mesh(n_elements: int, points_per_element: int = 5) -> Mesh:
+def make_mesh(
+    n_elements: int, points_per_element: int = 5, base_dofs: tuple[int, ...] = ()
+) -> Mesh:
     """Uniform mesh with Gauss-Legendre quadrature (``points_per_element`` >= 4 is exact
     for every product of cubic shape functions and derivatives, including the (1 - x)
-    weight of G0)."""
+    weight of G0); ``base_dofs``: node 0's kept dofs (module docstring), first in the
+    shape-function tables."""
     if (
         isinstance(n_elements, bool)
         or not isinstance(n_elements, (int, np.integer))
@@ -118,11 +137,15 @@ def make_mesh(n_elements: int, points_per_element: int = 5) -> Mesh:
     left = np.arange(n_elements) * h
     x = (left[:, None] + (g[None, :] + 1) / 2 * h).ravel()
     weights = np.tile(w / 2 * h, n_elements)
-    phi, dphi, ddphi = _global_rows(n_elements, x)
-    return Mesh(int(n_elements), x, weights, phi, dphi, ddphi)
+    phi, dphi, ddphi = _global_rows(n_elements, x, base_dofs)
+    return Mesh(int(n_elements), x, weights, phi, dphi, ddphi, tuple(base_dofs))
 
 
-def interpolation_matrix(n_elements: int, x: np.ndarray, derivative: int = 0) -> np.ndarray:
-    """Matrix mapping the 2 N_e free dofs to u (or its ``derivative``-th x-derivative)
-    at the points ``x``; shape (len(x), 2 N_e)."""
-    return _global_rows(n_elements, np.asarray(x, dtype=float))[derivative]
+def interpolation_matrix(
+    n_elements: int, x: np.ndarray, derivative: int = 0, base_dofs: tuple[int, ...] = ()
+) -> np.ndarray:
+    """Matrix mapping the free dofs (``base_dofs`` of node 0, then the 2 N_e of nodes
+    1..N_e) to u (or its ``derivative``-th x-derivative) at the points ``x``; shape
+    (len(x), len(base_dofs) + 2 N_e). Models read it through
+    :meth:`axojax.models.Model.interpolation`, which knows their base."""
+    return _global_rows(n_elements, np.asarray(x, dtype=float), base_dofs)[derivative]

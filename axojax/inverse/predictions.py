@@ -11,7 +11,6 @@ from jaxtyping import Array, Complex, Float
 from ..beats.targets import ShapeTarget
 from ..eigen.metrics import beat_plane
 from ..eigen.mode import Mode
-from ..fem import interpolation_matrix
 from ..models.section import Model
 from ..orbits.measures import cycle_measures
 from ..units import Units
@@ -59,10 +58,8 @@ def model_psi1(
         raise ValueError(
             f"an out-of-plane shape target needs a 3D model; {model.name!r} beats in one plane"
         )
-    dphi = jnp.asarray(interpolation_matrix(model.n_elements, np.asarray(s), 1))
-    q = jnp.reshape(mode.eigenvector, (model.n_filaments, model.n_dirs, model.mesh.n_dof)).mean(
-        axis=0
-    )
+    dphi = jnp.asarray(model.interpolation(np.asarray(s), 1))
+    q = model.filament_dofs(jnp.asarray(mode.eigenvector)).mean(axis=0)
     _, _, angle, _ = beat_plane(model, mode.eigenvector)
     slope = q @ dphi.T  # (d, S)
     if not out.any():

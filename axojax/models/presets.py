@@ -19,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..fem import Profiles
+from .base import Base
 from .section import DEFAULT_IMBALANCE_KIND, ActivePair, CrossSection, Link, Model, build_model
 
 
@@ -124,14 +125,16 @@ def _preset(name: str):
         profiles: Profiles = Profiles(),
         rotation_deg: float = 0.0,
         imbalance_kind: str = DEFAULT_IMBALANCE_KIND,
+        base: Base | str = "clamped",
     ) -> Model:
-        return build_model(SECTIONS[name](rotation_deg), n_elements, profiles, imbalance_kind)
+        return build_model(SECTIONS[name](rotation_deg), n_elements, profiles, imbalance_kind, base)
 
     make.__name__ = name
     make.__doc__ = (
         f"The ``{name}`` preset of docs/model.md section 4 with ``n_elements`` elements per filament;\n"
         "``rotation_deg`` turns its cross-section (degrees from +z towards +y, 3D presets only);\n"
-        "``imbalance_kind`` reads ``Params.imbalance`` as a static moment (default) or as unequal forces."
+        "``imbalance_kind`` reads ``Params.imbalance`` as a static moment (default) or as unequal forces;\n"
+        "``base`` is the base condition (``axojax.models.Base`` or a kind's name; default clamped)."
     )
     return make
 
@@ -161,7 +164,10 @@ def preset(
     profiles: Profiles = Profiles(),
     rotation_deg: float = 0.0,
     imbalance_kind: str = DEFAULT_IMBALANCE_KIND,
+    base: Base | str = "clamped",
 ) -> Model:
     """Build a preset by name; unknown names (or a rotation of a planar preset) raise a
     one-line ``ValueError``."""
-    return build_model(preset_section(name, rotation_deg), n_elements, profiles, imbalance_kind)
+    return build_model(
+        preset_section(name, rotation_deg), n_elements, profiles, imbalance_kind, base
+    )

@@ -21,6 +21,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..fem import FilamentMatrices, Mesh, Profiles, filament_matrices, make_mesh
+from ..fem.hermite import interpolation_matrix
+from .base import Base, as_base
 
 LinkKind = Literal["spoke", "link"]
 LoadKind = Literal["pairs", "distributed", "tip"]
@@ -233,8 +235,14 @@ class Model:
     imbalance_kind: str = (
         DEFAULT_IMBALANCE_KIND  # an ImbalanceKind; any other string is a ValueError (__post_init__)
     )
+    base: Base = Base()
+    base_matrices: FilamentMatrices | None = None
 
     def __post_init__(self) -> None:
+        if not isinstance(self.base, Base):
+            raise ValueError(f"base must be an axojax Base, got {self.base!r}")
+        if (self.base_matrices is None) != (self.base.kind == "clamped"):
+            raise ValueError("base_matrices must be given exactly when the base is not clamped")
         if self.imbalance_kind not in IMBALANCE_KINDS:
             raise ValueError(
                 f"imbalance_kind must be one of {', '.join(IMBALANCE_KINDS)}, got {self.imbalance_kind!r}"
@@ -282,6 +290,56 @@ class Model:
             return self
         return dataclasses.replace(self, imbalance_kind=kind)
 
+    def with_base(self, base: Base | str) -> "Model":
+        """The same model with another base condition (a :class:`Base` or a kind's name:
+        ``"clamped"``, ``"pivot"``, ``"free"``, ``"head"``; a head needs its drags, so
+        pass a Base); ``self`` when unchanged."""
+        base = as_base(base)
+        if base == self.base:
+            return self
+        return dataclasses.replace(
+            self, base=base, base_matrices=_base_matrices(self.mesh, self.profiles, base)
+        )
+
+    @property
+    def n_base_dofs(self) -> int:
+        """Node 0's kept unknowns (all filaments and directions): the border's first part."""
+        return self.n_fd * len(self.base.dofs)
+
+    @property
+    def n_border(self) -> int:
+        """Unknowns after the node unknowns: node 0's kept dofs, then (with basal
+        compliance) one basal sliding per active pair; 0 for the clamped base."""
+        pairs = self.pair_B.shape[0] if self.base.compliance else 0
+        return self.n_base_dofs + pairs
+
+    @property
+    def n_unknowns(self) -> int:
+        """Length of a state or eigenvector: ``n_dof + n_border``."""
+        return self.n_dof + self.n_border
+
+    def interpolation(self, x: ArrayLike, derivative: int = 0) -> np.ndarray:
+        """(S, r) matrix from one filament direction's dofs (:meth:`filament_dofs`) to u
+        (or its ``derivative``-th x-derivative) at the points ``x`` in [0, 1]: the one
+        place that knows which base dofs exist."""
+        return interpolation_matrix(
+            self.n_elements, np.asarray(x, dtype=float), derivative, self.base.dofs
+        )
+
+    def filament_dofs(self, q):
+        """(..., F, d, r) per-filament dofs (node 0's kept ones first, then nodes 1..N_e)
+        of a state or eigenvector ``q`` (..., n_unknowns) (numpy or jax): the columns of
+        :meth:`interpolation`. The basal sliding unknowns are left out."""
+        xp = np if isinstance(q, np.ndarray) else _jnp()
+        shape = q.shape[:-1]
+        F, d = self.n_filaments, self.n_dirs
+        nodes = xp.reshape(q[..., : self.n_dof], shape + (F, d, self.mesh.n_dof))
+        if not self.base.dofs:
+            return nodes
+        k = len(self.base.dofs)
+        base = xp.reshape(q[..., self.n_dof : self.n_dof + self.n_base_dofs], shape + (F, d, k))
+        return xp.concatenate([base, nodes], axis=-1)
+
     @property
     def name(self) -> str:
         return self.section.name
@@ -312,11 +370,26 @@ class Model:
             f"Model({self.name!r}, filaments={self.n_filaments}, dirs={self.n_dirs}, "
             f"elements={self.n_elements}, n_dof={self.n_dof}, load={self.section.load!r}"
             + (
-                f", imbalance_kind={self.imbalance_kind!r})"
+                f", imbalance_kind={self.imbalance_kind!r}"
                 if self.imbalance_kind != DEFAULT_IMBALANCE_KIND
-                else ")"
+                else ""
             )
+            + (f", base={self.base!r})" if self.base != Base() else ")")
         )
+
+
+def _jnp():
+    import jax.numpy as jnp
+
+    return jnp
+
+
+def _base_matrices(mesh: Mesh, profiles: Profiles, base: Base) -> FilamentMatrices | None:
+    """Filament-level matrices with node 0's kept dofs first (None for a clamped base)."""
+    if not base.dofs:
+        return None
+    n_per = len(mesh.x) // mesh.n_elements
+    return filament_matrices(make_mesh(mesh.n_elements, n_per, base.dofs), profiles)
 
 
 def _freeze(obj) -> None:
@@ -357,9 +430,11 @@ def build_model(
     n_elements: int = 10,
     profiles: Profiles = Profiles(),
     imbalance_kind: str = DEFAULT_IMBALANCE_KIND,
+    base: Base | str = "clamped",
 ) -> Model:
     """Discretise ``section`` with ``n_elements`` cubic Hermite elements per filament
-    (``imbalance_kind``: see :class:`Model`)."""
+    (``imbalance_kind``, ``base``: see :class:`Model`)."""
+    base = as_base(base)
     mesh = make_mesh(n_elements)
     mats = filament_matrices(mesh, profiles)
     F, d = section.n_filaments, section.n_dirs
@@ -412,4 +487,4 @@ def build_model(
         pair_sign=np.array(pair_sign).reshape(P, nfd),
         pair_group=np.array([a.group for a in section.active_pairs], dtype=int),
         imbalance_kind=imbalance_kind,
-    )
+    ).with_base(base)

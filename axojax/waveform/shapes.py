@@ -7,7 +7,6 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, ArrayLike, Float, Inexact
 
-from ..fem import interpolation_matrix
 from ..models.section import Model
 
 
@@ -20,7 +19,7 @@ def centreline(
     """Centreline (mean over filaments) displacement, or its x-derivative, at points x.
 
     Args:
-        q: (..., n) states (real or complex), n = ``model.n_dof``: a numpy array, or a
+        q: (..., n) states (real or complex), n = ``model.n_unknowns``: a numpy array, or a
             jax array (then the result is one too, traceable and differentiable).
         x: (S,) points in [0, 1].
 
@@ -29,10 +28,8 @@ def centreline(
     """
     xp = jnp if isinstance(q, jax.Array) else np
     q = xp.asarray(q)
-    phi = xp.asarray(interpolation_matrix(model.n_elements, np.asarray(x, dtype=float), derivative))
-    per = xp.reshape(q, q.shape[:-1] + (model.n_filaments, model.n_dirs, model.mesh.n_dof)).mean(
-        axis=-3
-    )
+    phi = xp.asarray(model.interpolation(np.asarray(x, dtype=float), derivative))
+    per = model.filament_dofs(q).mean(axis=-3)
     return xp.einsum("sr,...dr->...ds", phi, per)
 
 
