@@ -24,7 +24,16 @@ from .._memory import (
 )
 from ..eigen.solvers import SOLVERS, AbstractEigenSolver, Auto, solver_from_name
 from ..fem import hermite
-from ..models import IMBALANCE_KINDS, PRESETS, CrossSection, Model, build_model, load_section
+from ..models import (
+    BASE_KINDS,
+    IMBALANCE_KINDS,
+    PRESETS,
+    Base,
+    CrossSection,
+    Model,
+    build_model,
+    load_section,
+)
 from ..models.presets import preset_section
 from ..params import PARAM_NAMES, Params
 from ..units import Units
@@ -58,6 +67,10 @@ MECHANISM_FLAGS = {
     "omega0": "omega0-hz",
 }
 """Params fields of regulated dynein -> the flag that sets them."""
+BASE_FLAGS = {"kb": "basal-compliance", "xib": "basal-compliance"}
+"""Params fields of the basal compliance -> the flag that sets them."""
+DEFAULT_VISCOSITY_PA_S = 1e-3
+"""``--viscosity-pa-s`` default (water): the fluid of a head given by ``--head-um``."""
 
 
 MAX_ROTATION_DEG = 360.0
@@ -151,6 +164,40 @@ def add_model_flags(
         help="beat frequency at which --chi and --beta hold (needed when an IM part is non-zero)",
     )
     g.add_argument(
+        "--base",
+        choices=BASE_KINDS,
+        default="clamped",
+        help="how the axoneme is held at its base (docs/model.md section 8): clamped (default, the "
+        "paper), pivot, free (an isolated axoneme) or head (a body with drag: --head-um or --head-drag)",
+    )
+    g.add_argument(
+        "--basal-compliance",
+        default=None,
+        metavar="K_B,XI_B",
+        help="basal sliding of each active pair resisted by a spring K_B (pN/um) and a friction "
+        "XI_B (pN s/um, > 0), with any --base",
+    )
+    g.add_argument(
+        "--head-um",
+        default=None,
+        metavar="A,B",
+        help="--base head: the head as a prolate ellipsoid of semi-axes A >= B (um) in a fluid of "
+        "--viscosity-pa-s",
+    )
+    g.add_argument(
+        "--head-drag",
+        default=None,
+        metavar="XI_T,XI_R",
+        help="--base head: its translational (pN s/um) and rotational (pN um s) drags, instead of --head-um",
+    )
+    g.add_argument(
+        "--viscosity-pa-s",
+        type=finite_float,
+        default=None,
+        metavar="MU",
+        help=f"fluid viscosity for --head-um (Pa s = pN s/um^2; default {DEFAULT_VISCOSITY_PA_S:g}, water)",
+    )
+    g.add_argument(
         "--imbalance-kind",
         choices=IMBALANCE_KINDS,
         default=IMBALANCE_KINDS[0],
@@ -233,6 +280,82 @@ def require_passive_friction(model: Model, params: Params, what: str) -> None:
         raise CLIError(f"{flag}: {err}") from None
 
 
+def base_from_args(args: argparse.Namespace) -> Base:
+    """The :class:`~axojax.models.Base` of ``--base``, ``--basal-compliance``,
+    ``--head-um``/``--head-drag`` and ``--viscosity-pa-s`` (units from the unit flags). A
+    base's constant without its base, or a head without its size or drags: one line
+    naming the flag."""
+    kind = getattr(args, "base", "clamped") or "clamped"
+    head_um, head_drag = getattr(args, "head_um", None), getattr(args, "head_drag", None)
+    mu = getattr(args, "viscosity_pa_s", None)
+    compliance = getattr(args, "basal_compliance", None) is not None
+    for flag, value in (("--head-um", head_um), ("--head-drag", head_drag)):
+        if value is not None and kind != "head":
+            raise CLIError(f"{flag}: needs --base head (got --base {kind})")
+    if mu is not None and head_um is None:
+        raise CLIError("--viscosity-pa-s: needs --base head with --head-um")
+    if kind != "head":
+        return Base(kind, compliance=compliance)
+    if (head_um is None) == (head_drag is None):
+        raise CLIError(
+            "--base head: needs its size --head-um A,B or its drags --head-drag XI_T,XI_R (one of them)"
+        )
+    units = units_from_args(args)
+    try:
+        if head_um is not None:
+            a, b = _positive_pair(head_um, "--head-um")
+            mu = DEFAULT_VISCOSITY_PA_S if mu is None else mu
+            if not mu > 0:
+                raise CLIError(f"--viscosity-pa-s: must be > 0, got {mu:g}")
+            return Base.head_from_ellipsoid(a, b, mu, units, compliance=compliance)
+        zt, zr = _positive_pair(head_drag, "--head-drag")
+        return Base(
+            "head",
+            compliance=compliance,
+            translational_drag=float(units.head_translational_drag(zt)),
+            rotational_drag=float(units.head_rotational_drag(zr)),
+        )
+    except ValueError as err:
+        raise CLIError(f"{'--head-um' if head_um is not None else '--head-drag'}: {err}") from None
+
+
+def _pair(text: str, flag: str) -> tuple[float, float]:
+    """Two finite numbers ``X,Y`` (one line naming ``flag``, with dashes, otherwise)."""
+    parts = text.split(",")
+    try:
+        if len(parts) != 2:
+            raise argparse.ArgumentTypeError(f"expected two numbers X,Y, got {text!r}")
+        return finite_float(parts[0]), finite_float(parts[1])
+    except argparse.ArgumentTypeError as err:
+        raise CLIError(f"{flag}: {err}") from None
+
+
+def _positive_pair(text: str, flag: str) -> tuple[float, float]:
+    x, y = _pair(text, flag)
+    for v in (x, y):
+        if not v > 0:
+            raise CLIError(f"{flag}: expected two numbers > 0, got {text!r}")
+    return x, y
+
+
+def basal_values(args: argparse.Namespace) -> dict[str, float]:
+    """``kb``, ``xib`` (dimensionless) of ``--basal-compliance K_B,XI_B`` (pN/um, pN s/um);
+    XI_B must be > 0 (it keeps the damping regular), K_B >= 0."""
+    text = getattr(args, "basal_compliance", None)
+    if text is None:
+        return {}
+    kb, xib = _pair(text, "--basal-compliance")
+    if not (kb >= 0 and xib > 0):
+        raise CLIError(
+            f"--basal-compliance: expected K_B >= 0 (pN/um) and XI_B > 0 (pN s/um), got {text!r}"
+        )
+    units = units_from_args(args)
+    return {
+        "kb": float(units.kb_from_pn_per_um(kb)),
+        "xib": float(units.xib_from_pn_s_per_um(xib)),
+    }
+
+
 def mechanism_values(args: argparse.Namespace) -> dict[str, float]:
     """The regulated-dynein flags as dimensionless Params fields (docs/model.md section 8).
     A coefficient without its mechanism, or a mechanism without its coefficient, is
@@ -281,6 +404,7 @@ def split_axes(
             except argparse.ArgumentTypeError as err:
                 raise CLIError(f"--{flag}: {err}") from None
     fixed.update(mechanism_values(args))
+    fixed.update(basal_values(args))
     position = {
         f: min(
             [
@@ -359,7 +483,10 @@ def model_from_args(args: argparse.Namespace, dense_spectrum: bool = False) -> M
         )
     try:
         return build_model(
-            section, n, imbalance_kind=getattr(args, "imbalance_kind", IMBALANCE_KINDS[0])
+            section,
+            n,
+            imbalance_kind=getattr(args, "imbalance_kind", IMBALANCE_KINDS[0]),
+            base=base_from_args(args),
         )
     except ValueError as err:
         raise CLIError(f"{source}: {err}") from None
@@ -394,6 +521,7 @@ def params_from_args(args: argparse.Namespace) -> Params:
         if v is not None:
             values[field] = v
     values.update(mechanism_values(args))
+    values.update(basal_values(args))
     ratio = kl_ratio(args)
     check_params(Params().with_values(values))  # the flags as given, before kl is tied
     params = Params().with_values(values, ratio)
@@ -413,7 +541,7 @@ def check_params(params: Params, tied: str | None = None) -> None:
             if named in PARAM_NAMES
             else next((f for f in PARAM_NAMES if f" {f} " in f" {err} "), None)
         )
-        name = FIELD_FLAGS.get(bad) or MECHANISM_FLAGS.get(bad) or bad
+        name = FIELD_FLAGS.get(bad) or MECHANISM_FLAGS.get(bad) or BASE_FLAGS.get(bad) or bad
         flag = (tied if tied and bad == "kl" else f"--{name}") if bad else "parameters"
         raise CLIError(f"{flag}: {err}") from None
 

@@ -56,12 +56,12 @@ def run(args: argparse.Namespace) -> dict:
     names = common.parse_names(args.grad, "--grad") if args.grad is not None else []
     # the spectrum is the dense pencil's, whatever --solver finds the dominant mode with
     # (its memory was checked with the model's, before the model was built)
-    lam = np.asarray(spectrum(model, params, min(args.top, model.n_dof)))
+    lam = np.asarray(spectrum(model, params, min(args.top, model.n_unknowns)))
     solver = common.solver_from_args(args)
     mode = dominant_mode(model, params, solver)
     doc = {
         "model": model.name,
-        "n_dof": model.n_dof,
+        "n_dof": model.n_unknowns,
         "tau_s": units.tau_s,
         "eigenvalues": [[float(z.real), float(z.imag)] for z in lam],
         "dominant": mode.to_json(units),
