@@ -241,12 +241,12 @@ def _rigid_modes(model: ax.models.Model, rotation: bool = True) -> np.ndarray:
     for a in range(d):
         for kind in ("translation", "rotation") if rotation else ("translation",):
             node = np.zeros((F, d, N, 2))
-            base = np.zeros((F, d, 2))
+            base = np.zeros((d, 2))  # node 0, shared by every filament
             if kind == "translation":
-                node[:, a, :, 0], base[:, a, 0] = 1.0, 1.0
+                node[:, a, :, 0], base[a, 0] = 1.0, 1.0
             else:
                 node[:, a, :, 0], node[:, a, :, 1] = xs[1:], 1.0
-                base[:, a, 1] = 1.0
+                base[a, 1] = 1.0
             k = [j for j in (0, 1) if j in model.base.dofs]
             v = np.concatenate(
                 [node.ravel(), base[..., k].ravel(), np.zeros(model.n_border - model.n_base_dofs)]
@@ -339,16 +339,12 @@ def test_clamped_base_has_an_empty_border():
 
 
 def test_interpolation_reads_the_base_node_and_skips_the_sliding():
-    """The centreline of a free model at x = 0 is node 0's value (from the border); the
-    basal sliding unknowns do not enter it."""
+    """The centreline of a free model at x = 0 is node 0's value (from the border, shared
+    by both filaments); the basal sliding unknowns do not enter it."""
     model = ax.models.two(n_elements=4, base=Base("free", compliance=True))
+    assert model.n_border == 3
     q = np.zeros(model.n_unknowns)
-    q[model.n_dof : model.n_dof + model.n_base_dofs] = [
-        0.3,
-        0.5,
-        0.3,
-        0.5,
-    ]  # u(0), u'(0) per filament
+    q[model.n_dof : model.n_dof + model.n_base_dofs] = [0.3, 0.5]  # u(0), u'(0)
     q[-1] = 7.0  # basal sliding
     u = ax.waveform.shapes.centreline(model, q, np.array([0.0, 0.1]))
     slope = ax.waveform.shapes.centreline(model, q, np.array([0.0]), derivative=1)
