@@ -457,3 +457,38 @@ def test_bad_bases_are_refused_in_one_line(make, word):
         make()
     message = str(info.value)
     assert word in message and "\n" not in message
+
+
+def test_gradients_through_the_border_match_finite_differences():
+    """Exact derivatives of the dominant eigenvalue (a flutter with a compliant clamped
+    base, where no rigid-body mode competes) with respect to kb and xib."""
+    import jax
+    import jax.numpy as jnp
+
+    model = ax.models.two(n_elements=6, base=Base("clamped", compliance=True))
+    base = dict(p=300.0, chi_re=2e4, beta_re=30.0, beta_im=40.0, omega0=200.0, kb=3e4, xib=20.0)
+    for name in ("kb", "xib"):
+
+        def lam(x, name=name):
+            return ax.dominant_mode(model, ax.Params(**{**base, name: x}), Dense()).eigenvalue
+
+        x0 = base[name]
+        g = complex(
+            jax.grad(lambda x: jnp.real(lam(x)))(x0) + 1j * jax.grad(lambda x: jnp.imag(lam(x)))(x0)
+        )
+        h = 1e-5 * x0
+        fd = (complex(lam(x0 + h)) - complex(lam(x0 - h))) / (2 * h)
+        assert abs(fd) > 0  # the basal sliding takes part in this mode
+        np.testing.assert_allclose(g, fd, rtol=1e-5, atol=1e-9)
+
+
+@pytest.mark.parametrize(
+    "kind", ["free", Base("clamped", compliance=True)], ids=["free", "compliant"]
+)
+def test_clamped_only_paths_can_refuse_a_border(kind):
+    model = ax.models.two(n_elements=4, base=kind)
+    with pytest.raises(ValueError) as info:
+        model.require_clamped("simulate")
+    message = str(info.value)
+    assert "simulate" in message and "clamped" in message and "\n" not in message
+    ax.models.two(n_elements=4).require_clamped("simulate")  # the clamped base passes

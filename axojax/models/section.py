@@ -301,6 +301,17 @@ class Model:
             self, base=base, base_matrices=_base_matrices(self.mesh, self.profiles, base)
         )
 
+    def require_clamped(self, what: str) -> None:
+        """Raise a one-line ``ValueError`` when the model has a border (a base that is not
+        clamped, or basal compliance): for code paths that assume the clamped base's
+        unknowns (``what`` names them, e.g. "simulate")."""
+        if self.n_border:
+            raise ValueError(
+                f"{what} supports the clamped base only; this model's base is "
+                f"{self.base.kind!r}{' with basal compliance' if self.base.compliance else ''} "
+                "(use ax.dominant_mode or ax.spectrum with it)"
+            )
+
     @property
     def n_base_dofs(self) -> int:
         """Node 0's kept unknowns, (direction, dof): the border's first part. Node 0 is
