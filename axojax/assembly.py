@@ -274,33 +274,52 @@ def _base_vectors(model: Model) -> dict[str, np.ndarray]:
     }
 
 
+def _per_filament(model: Model) -> int:
+    """Size of the border before node 0 is shared: node 0's dofs per (filament,
+    direction), then the basal slidings (the space :func:`border_terms` sums in)."""
+    return model.n_fd * len(model.base.dofs) + model.n_border - model.n_base_dofs
+
+
+@functools.lru_cache(maxsize=64)
+def _shared(model: Model) -> np.ndarray:
+    """(per-filament border, border) matrix R: node 0's dof (f, a, j) of every filament f
+    is the shared (a, j) (a rigid basal body); the basal slidings map to themselves."""
+    k, F, d = len(model.base.dofs), model.n_filaments, model.n_dirs
+    R = np.zeros((_per_filament(model), model.n_border))
+    for f in range(F):
+        for a in range(d):
+            for j in range(k):
+                R[(f * d + a) * k + j, a * k + j] = 1.0
+    rest = model.n_border - model.n_base_dofs
+    R[F * d * k :, model.n_base_dofs :] = np.eye(rest)
+    return R
+
+
 def _split(model: Model, w: np.ndarray, row: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The vector w (x) row (truss (n_fd,) times filament row (k + 2 N_e,)) as its node
-    part (n,) and border part (m,) (basal sliding entries 0)."""
+    part (n,) and per-filament border part (basal sliding entries 0)."""
     k = len(model.base.dofs)
     full = np.einsum("i,r->ir", w, row)
-    border = np.zeros(model.n_border)
-    border[: model.n_base_dofs] = full[:, :k].ravel()
+    border = np.zeros(_per_filament(model))
+    border[: model.n_fd * k] = full[:, :k].ravel()
     return full[:, k:].ravel(), border
 
 
 def _sliding_unit(model: Model, a: int) -> np.ndarray:
-    """Border vector of pair a's basal sliding Delta_b,a."""
-    e = np.zeros(model.n_border)
-    e[model.n_base_dofs + a] = 1.0
+    """Per-filament border vector of pair a's basal sliding Delta_b,a."""
+    e = np.zeros(_per_filament(model))
+    e[model.n_fd * len(model.base.dofs) + a] = 1.0
     return e
 
 
 def _body_rows(model: Model, dof: int) -> np.ndarray:
-    """(d, m) border rows of the centreline's basal displacement (``dof`` 0) or slope
-    (``dof`` 1) in each direction: the mean over filaments of node 0's dof."""
+    """(d, m) border rows of the basal displacement (``dof`` 0) or slope (``dof`` 1) of
+    the shared node 0, in each direction."""
     k = len(model.base.dofs)
     j = model.base.dofs.index(dof)
-    F, d = model.n_filaments, model.n_dirs
-    rows = np.zeros((d, model.n_border))
-    for a in range(d):
-        for f in range(F):
-            rows[a, (f * d + a) * k + j] = 1.0 / F
+    rows = np.zeros((model.n_dirs, model.n_border))
+    for a in range(model.n_dirs):
+        rows[a, a * k + j] = 1.0
     return rows
 
 
@@ -320,12 +339,15 @@ def border_terms(model: Model, params: Params, A_terms: list[Term], C_terms: lis
        curvature beta (e T^T - a0 D T^T); A takes chi', beta', C chi''/omega0, beta''/omega0.
     3. Basal compliance: kb e_a e_a^T in A, xib e_a e_a^T in C (the basal sliding
        equation is then chi_b Delta_b,a = -int f_a dx: a positive kb is a spring).
-    4. A head: drags against the centreline's basal displacement and slope (the mean
-       over filaments of u(0), u'(0)), in C; a pivot: its spring (A) and drag (C) on the
-       basal slope.
+    4. A head: drags against the basal displacement and slope, in C; a pivot: its spring
+       (A) and drag (C) on the basal slope.
+
+    Node 0 is shared by every filament (a rigid basal body, :attr:`Model.n_base_dofs`):
+    1-3 are summed with a dof of node 0 per filament and direction, then contracted with
+    the matrix R that maps each to the shared one (R^T X R, virtual work).
     """
     base = model.base
-    n, m = model.n_dof, model.n_border
+    n, m = model.n_dof, _per_filament(model)
     fa = {"A": [jnp.zeros((n, m)), jnp.zeros((m, n)), jnp.zeros((m, m))]}
     fa["C"] = [jnp.zeros((n, m)), jnp.zeros((m, n)), jnp.zeros((m, m))]
     has_node0 = bool(base.dofs)
@@ -341,7 +363,7 @@ def border_terms(model: Model, params: Params, A_terms: list[Term], C_terms: lis
         for which, ts in (("A", A_terms), ("C", C_terms)):
             for t, name in ts:
                 Xnb, Xbn, Xbb = (jnp.asarray(x) for x in _base_parts(model, name))
-                pad = m - model.n_base_dofs
+                pad = m - model.n_fd * len(base.dofs)
                 add(
                     which,
                     nb=jnp.pad(jnp.kron(t, Xnb), ((0, 0), (0, pad))),
@@ -392,6 +414,12 @@ def border_terms(model: Model, params: Params, A_terms: list[Term], C_terms: lis
                 add("A", bb=jnp.asarray(params.kb, dtype=float) * np.outer(e, e))
                 add("C", bb=jnp.asarray(params.xib, dtype=float) * np.outer(e, e))
 
+    # node 0 shared by every filament: R^T (.) R.
+    R = jnp.asarray(_shared(model))
+    for which in ("A", "C"):
+        nb, bn, bb = fa[which]
+        fa[which] = [nb @ R, R.T @ bn, R.T @ bb @ R]
+
     # 4. the body.
     if base.kind == "head":
         for dof, drag in ((0, base.translational_drag), (1, base.rotational_drag)):
@@ -406,7 +434,8 @@ def border_terms(model: Model, params: Params, A_terms: list[Term], C_terms: lis
     if has_node0 and model.pair_B.shape[0] and model.section.load == "pairs":
         k = len(base.dofs)
         f1 = np.asarray(model.base_matrices.f1)[:k]
-        b = b.at[: model.n_base_dofs].set(jnp.kron(static_couple(model, params), jnp.asarray(f1)))
+        b = b.at[: model.n_fd * k].set(jnp.kron(static_couple(model, params), jnp.asarray(f1)))
+    b = R.T @ b
     (A_nb, A_bn, A_bb), (C_nb, C_bn, C_bb) = fa["A"], fa["C"]
     return Border(A_nb, A_bn, A_bb, C_nb, C_bn, C_bb, b)
 

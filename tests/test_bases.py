@@ -241,12 +241,12 @@ def _rigid_modes(model: ax.models.Model, rotation: bool = True) -> np.ndarray:
     for a in range(d):
         for kind in ("translation", "rotation") if rotation else ("translation",):
             node = np.zeros((F, d, N, 2))
-            base = np.zeros((F, d, 2))
+            base = np.zeros((d, 2))  # node 0, shared by every filament
             if kind == "translation":
-                node[:, a, :, 0], base[:, a, 0] = 1.0, 1.0
+                node[:, a, :, 0], base[a, 0] = 1.0, 1.0
             else:
                 node[:, a, :, 0], node[:, a, :, 1] = xs[1:], 1.0
-                base[:, a, 1] = 1.0
+                base[a, 1] = 1.0
             k = [j for j in (0, 1) if j in model.base.dofs]
             v = np.concatenate(
                 [node.ravel(), base[..., k].ravel(), np.zeros(model.n_border - model.n_base_dofs)]
@@ -339,16 +339,12 @@ def test_clamped_base_has_an_empty_border():
 
 
 def test_interpolation_reads_the_base_node_and_skips_the_sliding():
-    """The centreline of a free model at x = 0 is node 0's value (from the border); the
-    basal sliding unknowns do not enter it."""
+    """The centreline of a free model at x = 0 is node 0's value (from the border, shared
+    by both filaments); the basal sliding unknowns do not enter it."""
     model = ax.models.two(n_elements=4, base=Base("free", compliance=True))
+    assert model.n_border == 3
     q = np.zeros(model.n_unknowns)
-    q[model.n_dof : model.n_dof + model.n_base_dofs] = [
-        0.3,
-        0.5,
-        0.3,
-        0.5,
-    ]  # u(0), u'(0) per filament
+    q[model.n_dof : model.n_dof + model.n_base_dofs] = [0.3, 0.5]  # u(0), u'(0)
     q[-1] = 7.0  # basal sliding
     u = ax.waveform.shapes.centreline(model, q, np.array([0.0, 0.1]))
     slope = ax.waveform.shapes.centreline(model, q, np.array([0.0]), derivative=1)
@@ -361,28 +357,30 @@ def test_interpolation_reads_the_base_node_and_skips_the_sliding():
     )
 
 
-def test_each_base_gives_a_mode():
+@pytest.mark.parametrize(
+    "preset,base",
+    [
+        ("two", Base("clamped", True)),
+        ("two", Base("pivot", False, 0.0, 0.1, 1.0)),
+        ("two", Base("free")),
+        ("two", Base("head", False, 2.0, 0.1)),
+        ("four", Base("free", True)),
+        ("four", "ellipsoid"),
+    ],
+    ids=["clamped-compliant", "pivot", "free", "head", "free-compliant-3d", "head-ellipsoid-3d"],
+)
+def test_each_base_gives_a_mode(preset, base):
     """Every kind (with and without compliance) builds, solves with the default solver
     (dense where the model has a border) and gives finite metrics."""
+    if base == "ellipsoid":
+        base = Base.head_from_ellipsoid(2.5, 1.5, 1e-3, ax.Units(), compliance=True)
     params = ax.Params(
         p=100.0, chi_re=1e4, beta_re=50.0, beta_im=80.0, omega0=100.0, kb=1e4, xib=1.0
     )
-    for base in (
-        Base(),
-        Base("clamped", True),
-        Base("pivot", False, 0.0, 0.1, 1.0),
-        Base("free"),
-        Base("free", True),
-        Base("head", False, 2.0, 0.1),
-        Base.head_from_ellipsoid(2.5, 1.5, 1e-3, ax.Units(), compliance=True),
-    ):
-        model = ax.models.four(n_elements=4, base=base)
-        for solver in (Dense(), ax.eigen.Auto()):
-            mode = ax.dominant_mode(model, params, solver)
-            assert mode.eigenvector.shape == (model.n_unknowns,)
-            assert np.isfinite(complex(mode.eigenvalue)) and np.isfinite(
-                float(mode.out_of_plane_ratio)
-            )
+    model = ax.models.preset(preset, n_elements=3, base=base)
+    mode = ax.dominant_mode(model, params)  # Auto: dense where there is a border
+    assert mode.eigenvector.shape == (model.n_unknowns,)
+    assert np.isfinite(complex(mode.eigenvalue)) and np.isfinite(float(mode.out_of_plane_ratio))
 
 
 # -- units and the head's drag -----------------------------------------------------------
@@ -461,3 +459,38 @@ def test_bad_bases_are_refused_in_one_line(make, word):
         make()
     message = str(info.value)
     assert word in message and "\n" not in message
+
+
+def test_gradients_through_the_border_match_finite_differences():
+    """Exact derivatives of the dominant eigenvalue (a flutter with a compliant clamped
+    base, where no rigid-body mode competes) with respect to kb and xib."""
+    import jax
+    import jax.numpy as jnp
+
+    model = ax.models.two(n_elements=6, base=Base("clamped", compliance=True))
+    base = dict(p=300.0, chi_re=2e4, beta_re=30.0, beta_im=40.0, omega0=200.0, kb=3e4, xib=20.0)
+    for name in ("kb", "xib"):
+
+        def lam(x, name=name):
+            return ax.dominant_mode(model, ax.Params(**{**base, name: x}), Dense()).eigenvalue
+
+        x0 = base[name]
+        g = complex(
+            jax.grad(lambda x: jnp.real(lam(x)))(x0) + 1j * jax.grad(lambda x: jnp.imag(lam(x)))(x0)
+        )
+        h = 1e-5 * x0
+        fd = (complex(lam(x0 + h)) - complex(lam(x0 - h))) / (2 * h)
+        assert abs(fd) > 0  # the basal sliding takes part in this mode
+        np.testing.assert_allclose(g, fd, rtol=1e-5, atol=1e-9)
+
+
+@pytest.mark.parametrize(
+    "kind", ["free", Base("clamped", compliance=True)], ids=["free", "compliant"]
+)
+def test_clamped_only_paths_can_refuse_a_border(kind):
+    model = ax.models.two(n_elements=4, base=kind)
+    with pytest.raises(ValueError) as info:
+        model.require_clamped("simulate")
+    message = str(info.value)
+    assert "simulate" in message and "clamped" in message and "\n" not in message
+    ax.models.two(n_elements=4).require_clamped("simulate")  # the clamped base passes

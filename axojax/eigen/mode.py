@@ -142,15 +142,18 @@ def mode_from_eigenpair(
 DEFAULT_SOLVER = Auto()
 
 
-def for_base(model: Model, solver: AbstractEigenSolver) -> AbstractEigenSolver:
+def for_base(
+    model: Model, solver: AbstractEigenSolver, strict: bool = False
+) -> AbstractEigenSolver:
     """``solver``, or :class:`~axojax.eigen.Dense` where the model has a border (a base
-    that is not clamped) and ``solver`` is :class:`~axojax.eigen.Auto`: the structured
-    solver does not read the border yet. An explicit :class:`~axojax.eigen.Arnoldi` on
-    such a model is refused (one-line ``ValueError``) rather than answered without its
-    base."""
+    that is not clamped) and ``solver`` is :class:`~axojax.eigen.Auto` or
+    :class:`~axojax.eigen.Arnoldi`: the structured solver does not read the border yet.
+    ``strict`` (a user's own call): an explicit Arnoldi is refused with a one-line
+    ``ValueError`` instead (the sweep engine and fits resolve Auto to Arnoldi themselves,
+    and get the dense answer)."""
     if not model.n_border:
         return solver
-    if isinstance(solver, Auto):
+    if isinstance(solver, Auto) or (isinstance(solver, Arnoldi) and not strict):
         return Dense()
     if isinstance(solver, Arnoldi):
         raise ValueError(
@@ -229,7 +232,7 @@ def dominant_mode(
     if not isinstance(params, Params):
         raise TypeError(f"params must be an ax.Params, got {params!r}")
     require_scalars(params, "dominant_mode")
-    for_base(model, solver)
+    for_base(model, solver, strict=True)
     mode = _dominant_mode_jit(model, check_base_params(model, params.validate()), solver)
     if throw:
         mode = mode.result.error_if(mode, mode.result != RESULTS.successful)

@@ -301,10 +301,23 @@ class Model:
             self, base=base, base_matrices=_base_matrices(self.mesh, self.profiles, base)
         )
 
+    def require_clamped(self, what: str) -> None:
+        """Raise a one-line ``ValueError`` when the model has a border (a base that is not
+        clamped, or basal compliance): for code paths that assume the clamped base's
+        unknowns (``what`` names them, e.g. "simulate")."""
+        if self.n_border:
+            raise ValueError(
+                f"{what} supports the clamped base only; this model's base is "
+                f"{self.base.kind!r}{' with basal compliance' if self.base.compliance else ''} "
+                "(use ax.dominant_mode or ax.spectrum with it)"
+            )
+
     @property
     def n_base_dofs(self) -> int:
-        """Node 0's kept unknowns (all filaments and directions): the border's first part."""
-        return self.n_fd * len(self.base.dofs)
+        """Node 0's kept unknowns, (direction, dof): the border's first part. Node 0 is
+        shared by every filament (a rigid basal body: u_f(0), u_f'(0) are the same for
+        all f), so it holds d * len(base.dofs) unknowns."""
+        return self.n_dirs * len(self.base.dofs)
 
     @property
     def n_border(self) -> int:
@@ -337,7 +350,8 @@ class Model:
         if not self.base.dofs:
             return nodes
         k = len(self.base.dofs)
-        base = xp.reshape(q[..., self.n_dof : self.n_dof + self.n_base_dofs], shape + (F, d, k))
+        base = xp.reshape(q[..., self.n_dof : self.n_dof + self.n_base_dofs], shape + (1, d, k))
+        base = xp.broadcast_to(base, shape + (F, d, k))  # node 0 is shared (n_base_dofs)
         return xp.concatenate([base, nodes], axis=-1)
 
     @property
