@@ -1,9 +1,27 @@
 """The rightmost eigenpair of a block-tridiagonal pencil by certified shift-invert Arnoldi.
 
 Problem: ``(A + lambda C) v = 0`` with A, C block-tridiagonal (node-major, see
-:func:`axojax.assembly.assemble_blocks`), C symmetric positive definite; wanted: the
-eigenvalue of largest real part, exactly (to the accuracy of a dense solver), and a
-statement that nothing lies to its right.
+:func:`axojax.assembly.assemble_blocks`), optionally with a border of m extra unknowns
+after the node unknowns (:class:`axojax.linalg.Bordered`, :func:`pencil_of`: every
+factorisation below then eliminates the border by its Schur complement), C symmetric
+positive definite; wanted: the eigenvalue of largest real part, exactly (to the accuracy
+of a dense solver), and a statement that nothing lies to its right.
+
+Regulated dynein (docs/model.md section 8): its elastic parts (chi', beta') change A
+only, and chi'' >= 0 with beta'' = 0 keeps C symmetric positive definite: certified
+here as the steady load is. beta'' != 0 makes C non-symmetric and chi'' < 0 indefinite;
+such points go to the dense solver (``certified = 0``; the eigenvalue nearest a shift,
+:mod:`axojax.eigen.arnoldi_nearest`, needs no pole and is structured for any C). No
+rigorous pole close to the spectrum is known there: the field of values of C is not in
+the right half plane when C is indefinite (then no bound exists: the spurious modes
+grow like N_e^2), and for non-symmetric C the bounds tried (measured on seven at 8 and
+16 elements, p = 300, beta = 300 + 500i, omega0 = 300, rightmost Re lambda = -24; the
+symmetric case's bound here is ~440) are far off: the Euclidean field of values of
+``-A C^{-1}`` (from ``Re(C^T (A + lambda C))``) 1.9e8 / 6.2e9, the ``C^T C_s^{-1} C``
+weighted one 5.7e5 / 7.6e6, and ``C_s``'s Cholesky plus the bound
+``Re lambda <= (omega + kappa |t|) / (1 + t^2)``, ``|t| <= tau`` (kappa, tau the
+C_s-weighted norms of the skew parts of A and C) 8.4e4 / 7.1e5, growing like N_e^3. A
+pole there leaves thousands of eigenvalues within the certificate's radius.
 
 Algorithm (per parameter point, fixed shapes: jit/vmap-able):
 
@@ -79,7 +97,14 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, Complex, Float
 
-from ..linalg import BlockCholesky, BlockTridiagonal, arnoldi_steps, cholesky, lu_factor
+from ..linalg import (
+    BlockTridiagonal,
+    Bordered,
+    arnoldi_steps,
+    bordered,
+    bordered_cholesky,
+    bordered_lu,
+)
 from .dominant import CLUSTER_RTOL, dominant_eigenpair, normalise
 from .pencil import SYMMETRY_RTOL
 
@@ -113,34 +138,41 @@ def _start_vector(n: int, dtype=float) -> Array:
     return (jnp.sin(1.3 * k + 0.4) + jnp.cos(0.71 * k) + 0.1).astype(dtype)
 
 
-def _symmetric_part_neg(A: BlockTridiagonal) -> BlockTridiagonal:
+def _symmetric_part_neg(A: Bordered) -> Bordered:
     """G = -(A + A^T) / 2."""
     return (A + A.T).scale(-0.5)
 
 
-def _symmetric(C: BlockTridiagonal) -> Array:
+def _symmetric(C: Bordered) -> Array:
     """Whether C is symmetric (to :data:`axojax.eigen.pencil.SYMMETRY_RTOL`): the pole's
     bound holds only then. The friction parts of regulated dynein (beta''/omega0) make C
     non-symmetric; such points are not certified and go to the dense solver."""
-    D = C + C.T.scale(-1.0)
-    asym = jnp.max(
-        jnp.stack([jnp.max(jnp.abs(x), initial=0.0) for x in (D.lower, D.diag, D.upper)])
+    return (C + C.T.scale(-1.0)).max_abs() <= SYMMETRY_RTOL * C.max_abs()
+
+
+def pencil_of(system) -> tuple[Bordered, Bordered]:
+    """(A, C) of a node-major block system (:func:`axojax.assembly.assemble_blocks`) as
+    bordered matrices: its border blocks ``A_nb``, ``A_bn``, ``A_bb``, ``C_nb``, ...
+    (extra unknowns after the node unknowns, e.g. a base's) where it has them, else none
+    (m = 0)."""
+    A_nb = getattr(system, "A_nb", None)
+    if A_nb is None:
+        return bordered(system.A), bordered(system.C)
+    return (
+        bordered(system.A, A_nb, system.A_bn, system.A_bb),
+        bordered(system.C, system.C_nb, system.C_bn, system.C_bb),
     )
-    size = jnp.max(
-        jnp.stack([jnp.max(jnp.abs(x), initial=0.0) for x in (C.lower, C.diag, C.upper)])
-    )
-    return asym <= SYMMETRY_RTOL * size
 
 
 def pole(
-    A: BlockTridiagonal, C: BlockTridiagonal, lanczos_dim: int, kernels: str = "lapack"
+    A: Bordered, C: Bordered, lanczos_dim: int, kernels: str = "lapack"
 ) -> tuple[Float[Array, ""], Array]:
     """A real pole sigma with ``sigma C - G`` positive definite (G the symmetric part of
     -A), close above the numerical abscissa omega. Returns (sigma, verified)."""
     G = _symmetric_part_neg(A)
 
     def factor(s):
-        return cholesky(C.scale(s) - G, kernels)
+        return bordered_cholesky(C.scale(s) - G, kernels)
 
     # Trial poles s_k = 8^k - 1, k = 0, ..., TRIAL_POLES - 1 (0, 7, 63, 511, ...): the
     # smallest that passes lies within a factor ~8 above omega when omega > 0; s = 0
@@ -167,9 +199,9 @@ def pole(
 
     # The loop starts from a failed stand-in so that one compiled factorisation serves
     # every trial.
-    N, b = C.diag.shape[0], C.diag.shape[-1]
-    failed = BlockCholesky(
-        jnp.full((N, b, b), jnp.nan), jnp.full((N - 1, b, b), jnp.nan), jnp.zeros((), bool)
+    failed = jax.tree.map(
+        lambda x: jnp.zeros(x.shape, bool) if x.dtype == bool else jnp.full(x.shape, jnp.nan),
+        jax.eval_shape(factor, 0.0),
     )
     _, k, _, chol = jax.lax.while_loop(cond, body, (-1, TRIAL_POLES, 0, failed))
     s = 8.0 ** jnp.minimum(k, TRIAL_POLES - 1) - 1.0
@@ -232,8 +264,12 @@ class _Primal(NamedTuple):
     certified: Float[Array, ""]
 
 
-def _ritz(V, H, sigma, m, opts: ArnoldiOptions, padded: bool = False) -> _Primal:
-    """Rightmost converged Ritz pair of the first m Arnoldi steps and its certificate.
+def _ritz(
+    V, H, sigma, m, opts: ArnoldiOptions, padded: bool = False, nearest: bool = False
+) -> _Primal:
+    """Rightmost converged Ritz pair of the first m Arnoldi steps and its certificate
+    (``nearest``: the converged one nearest the pole sigma, real or complex, with its
+    sign of Im kept; the same certificate).
 
     ``padded`` off: ``m`` is static, and the eigen-problem is the leading m x m block of
     H (the per-point path compiles one per stage, each of its own size: LAPACK's
@@ -260,28 +296,30 @@ def _ritz(V, H, sigma, m, opts: ArnoldiOptions, padded: bool = False) -> _Primal
     converged = (
         residual / jnp.abs(safe_theta) ** 2 <= opts.tol * (1.0 + jnp.abs(lam))
     ) & jnp.isfinite(lam)
-    i = jnp.argmax(jnp.where(converged, jnp.real(lam), -jnp.inf))
+    score = jnp.abs(theta) if nearest else jnp.real(lam)  # |theta| = 1 / |sigma - lambda|
+    i = jnp.argmax(jnp.where(converged, score, -jnp.inf))
     lam_r = lam[i]
     # Cluster mean, as the dense solver reports degenerate eigenvalues.
     near = converged & (jnp.abs(lam - lam_r) <= CLUSTER_RTOL * (1.0 + jnp.abs(lam_r)))
     lam_c = jnp.sum(jnp.where(near, lam, 0.0)) / jnp.maximum(jnp.sum(near), 1)
-    flip = jnp.imag(lam_c) < 0
-    lam_c = jnp.where(flip, jnp.conj(lam_c), lam_c)
     x = basis.T.astype(Y.dtype) @ Y[:, i]
-    x = jnp.where(flip, jnp.conj(x), x)
+    if not nearest:
+        flip = jnp.imag(lam_c) < 0
+        lam_c = jnp.where(flip, jnp.conj(lam_c), lam_c)
+        x = jnp.where(flip, jnp.conj(x), x)
     unresolved = jnp.where(converged | padding, 0.0, jnp.abs(theta))
     radius = 1.0 / jnp.maximum(jnp.max(unresolved), 1e-300)
     certified = jnp.any(converged) & (radius >= opts.certify_factor * jnp.abs(sigma - lam_r))
     return _Primal(lam_c, normalise(x), certified.astype(float))
 
 
-def _dense_primal(A: BlockTridiagonal, C: BlockTridiagonal) -> _Primal:
+def _dense_primal(A: Bordered, C: Bordered) -> _Primal:
     lam, v = dominant_eigenpair(A.to_dense(), C.to_dense())
     return _Primal(lam, v, jnp.zeros(()))
 
 
 def _arnoldi_point(
-    A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOptions, batched: bool = False
+    A: Bordered, C: Bordered, opts: ArnoldiOptions, batched: bool = False
 ) -> _Primal:
     """One parameter point: pole, factorisation, Arnoldi in stages until certified, and
     the dense solver where no stage certifies (``opts.fallback``). Scalar control flow:
@@ -296,7 +334,7 @@ def _arnoldi_point(
     kernels = "jnp" if batched else "lapack"
     sigma, verified = pole(A, C, opts.lanczos_dim, kernels)
     M = A + C.scale(sigma)
-    lu = lu_factor(M, kernels)
+    lu = bordered_lu(M, kernels)
     v0 = _start_vector(n)
     V = jnp.zeros((m_max + 1, n)).at[0].set(v0 / jnp.linalg.norm(v0))
     H = jnp.zeros((m_max + 1, m_max))
@@ -342,7 +380,7 @@ def _arnoldi_point(
     )
 
 
-def _batched_points(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOptions) -> _Primal:
+def _batched_points(A: Bordered, C: Bordered, opts: ArnoldiOptions) -> _Primal:
     """The batched path over a chunk of points (leading axis of A and C): one ``vmap``
     of :func:`_arnoldi_point` (every block operation one batched jnp operation; a point
     that certifies early idles through its batch's remaining stages), then the dense
@@ -361,46 +399,60 @@ def _batched_points(A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOptio
     )
 
 
-@functools.lru_cache(maxsize=None)
-def _batched(opts: ArnoldiOptions):
-    """:func:`_arnoldi_point` with its own ``vmap`` rule. ``opts.batched`` off (the
-    per-point path): the points run one after another (``lax.map``), every point with
-    its own stages and fallback, where a vmapped ``while``/``cond`` would make each
-    point pay for the slowest of its batch. On: :func:`_batched_points`."""
+def per_point_vmap(point, batched_points, batched: bool):
+    """``point`` (a function of one parameter point's arrays) with its own ``vmap`` rule.
+    ``batched`` off (the per-point path): the points run one after another
+    (``lax.map``), every point with its own stages and fallback, where a vmapped
+    ``while``/``cond`` would make each point pay for the slowest of its batch. On:
+    ``batched_points`` (the same arguments with a leading batch axis)."""
 
     @jax.custom_batching.custom_vmap
-    def point(A, C):
-        return _arnoldi_point(A, C, opts)
+    def one(*args):
+        return point(*args)
 
-    @point.def_vmap
-    def rule(axis_size, in_batched, A, C):
-        def full(x, batched):
-            return x if batched else jnp.broadcast_to(x, (axis_size,) + x.shape)
+    @one.def_vmap
+    def rule(axis_size, in_batched, *args):
+        def full(x, flag):
+            return x if flag else jnp.broadcast_to(x, (axis_size,) + jnp.shape(x))
 
-        A, C = (
-            jax.tree.map(full, M, flags) for M, flags in ((A, in_batched[0]), (C, in_batched[1]))
-        )
-        if opts.batched:
-            out = _batched_points(A, C, opts)
+        args = tuple(jax.tree.map(full, a, flags) for a, flags in zip(args, in_batched))
+        if batched:
+            out = batched_points(*args)
         else:
-            out = jax.lax.map(lambda args: point(*args), (A, C))
+            out = jax.lax.map(lambda xs: one(*xs), args)
         return out, jax.tree.map(lambda _: True, out)
 
-    return point
+    return one
+
+
+@functools.lru_cache(maxsize=None)
+def _batched(opts: ArnoldiOptions):
+    """:func:`_arnoldi_point` with its own ``vmap`` rule (:func:`per_point_vmap`; the
+    batched path is :func:`_batched_points`)."""
+    return per_point_vmap(
+        lambda A, C: _arnoldi_point(A, C, opts),
+        lambda A, C: _batched_points(A, C, opts),
+        opts.batched,
+    )
+
+
+def structured_dominant(
+    A: Bordered | BlockTridiagonal, C: Bordered | BlockTridiagonal, opts: ArnoldiOptions
+) -> tuple[Complex[Array, ""], Complex[Array, " n"], Float[Array, ""]]:
+    """Dominant eigenvalue (Im >= 0), unit eigenvector (node-major, then the border) and
+    certificate (1.0 certified; 0.0 recomputed densely, or not certified when
+    ``opts.fallback`` is off) of the block-tridiagonal pencil, bordered or not (see
+    :func:`pencil_of`). Differentiable in A and C (module docstring). Under ``jax.vmap``
+    the points are solved one after another (see :func:`_batched`)."""
+    return _structured_dominant(bordered(A), bordered(C), opts)
 
 
 @functools.partial(jax.custom_jvp, nondiff_argnums=(2,))
-def structured_dominant(
-    A: BlockTridiagonal, C: BlockTridiagonal, opts: ArnoldiOptions
-) -> tuple[Complex[Array, ""], Complex[Array, " n"], Float[Array, ""]]:
-    """Dominant eigenvalue (Im >= 0), unit eigenvector (node-major) and certificate
-    (1.0 certified; 0.0 recomputed densely, or not certified when ``opts.fallback`` is
-    off) of the block-tridiagonal pencil. Differentiable in A and C (module docstring).
-    Under ``jax.vmap`` the points are solved one after another (see :func:`_batched`)."""
+def _structured_dominant(A: Bordered, C: Bordered, opts: ArnoldiOptions):
     return tuple(_batched(opts)(A, C))
 
 
-def _left_factor(A: BlockTridiagonal, C: BlockTridiagonal, lam: Complex[Array, ""], kernels: str):
+def _left_factor(A: Bordered, C: Bordered, lam: Complex[Array, ""], kernels: str):
     """(LU of ``A + shift C``, unit left eigenvector w) for the derivative rule: the
     complex block LU at a shift just off lambda (nearly singular on purpose: inverse
     iteration), and ``(A^T + conj(lambda) C) w = 0`` by two steps of inverse iteration
@@ -408,7 +460,7 @@ def _left_factor(A: BlockTridiagonal, C: BlockTridiagonal, lam: Complex[Array, "
     relative size ~1e-10 / gap outside the eigenvector, the second squares it)."""
     cdt = jnp.result_type(lam, jnp.complex64)
     shift = lam + 1e-10 * (1.0 + jnp.abs(lam))
-    lu = lu_factor(A.astype(cdt) + C.astype(cdt).scale(shift), kernels)
+    lu = bordered_lu(A.astype(cdt) + C.astype(cdt).scale(shift), kernels)
     w = _start_vector(A.shape[0], cdt)
     for _ in range(2):
         w = jnp.conj(lu.solve_transpose(jnp.conj(C.matvec(w))))
@@ -434,13 +486,23 @@ _solve_seq = jax.custom_batching.sequential_vmap(_solve)
 _solve_transpose_seq = jax.custom_batching.sequential_vmap(_solve_transpose)
 
 
-@structured_dominant.defjvp
-def _structured_jvp(opts, primals, tangents):
-    A, C = primals
-    dA, dC = tangents
-    lam, x, certified = structured_dominant(A, C, opts)
+def eigenpair_tangent(
+    A: Bordered,
+    C: Bordered,
+    dA: Bordered,
+    dC: Bordered,
+    lam: Complex[Array, ""],
+    x: Complex[Array, " n"],
+    batched: bool,
+) -> tuple[Complex[Array, ""], Complex[Array, " n"]]:
+    """(dlambda, dx) of a simple eigenpair (lam, x) of the (bordered) pencil for the
+    tangents (dA, dC), by the rule of the module docstring (step 4): one complex LU of
+    ``A + lambda C``, the left eigenvector by inverse iteration, ``v^H dv = 0``. Shared
+    by the dominant (:func:`structured_dominant`) and the nearest
+    (:mod:`axojax.eigen.arnoldi_nearest`) eigenpairs. ``batched``: the jnp kernels of
+    the batched path, else LAPACK's, point by point under ``vmap``."""
     cdt = x.dtype
-    if opts.batched:
+    if batched:
         lu, w = _left_factor(A, C, lam, "jnp")
         solve_, solve_t = _solve, _solve_transpose
     else:
@@ -470,4 +532,13 @@ def _structured_jvp(opts, primals, tangents):
 
     dx = project(solve(rhs))
     dx = dx + project(solve(rhs - exact.matvec(dx)))  # one step of iterative refinement
+    return dlam, dx
+
+
+@_structured_dominant.defjvp
+def _structured_jvp(opts, primals, tangents):
+    A, C = primals
+    dA, dC = tangents
+    lam, x, certified = _structured_dominant(A, C, opts)
+    dlam, dx = eigenpair_tangent(A, C, dA, dC, lam, x, opts.batched)
     return (lam, x, certified), (dlam, dx, jnp.zeros_like(certified))

@@ -15,7 +15,8 @@ eigenvalue does not move with it).
 
 ``nearest_mode(model, params, shift, solver)`` is the model-level entry point: every
 metric of :class:`~axojax.eigen.Mode` for that eigenpair. The solvers' ``nearest`` method
-does the eigen-solve (dense by default; see :mod:`axojax.eigen.solvers`).
+does the eigen-solve (dense by default; :class:`~axojax.eigen.Arnoldi` by structured
+shift-invert Arnoldi about the shift, :mod:`axojax.eigen.arnoldi_nearest`).
 """
 
 from __future__ import annotations

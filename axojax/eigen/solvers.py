@@ -8,8 +8,11 @@ Every function that finds a dominant mode (``ax.dominant_mode``, ``ax.sweep``,
   derivative.
 - :class:`Arnoldi` (``arnoldi``): certified shift-invert Arnoldi on the node-major
   block-tridiagonal pencil (:mod:`axojax.eigen.arnoldi`), O(N_e (F d)^3): linear in the
-  number of elements. Returns the same eigenvalue as :class:`Dense`; points it cannot
-  certify are recomputed densely and flagged (``Mode.certified`` is False there).
+  number of elements; a border of extra unknowns (e.g. a base's) is eliminated by its
+  Schur complement. Returns the same eigenvalue as :class:`Dense`; points it cannot
+  certify are recomputed densely and flagged (``Mode.certified`` is False there). Its
+  ``nearest`` (the eigenpair nearest a shift) is shift-invert Arnoldi about the shift
+  (:mod:`axojax.eigen.arnoldi_nearest`).
 - :class:`Auto` (``auto``, the default): :class:`Arnoldi` for large models and for
   sweeps, :class:`Dense` for a few points of a small model (chosen statically from the
   model's size and the number of points).
@@ -31,7 +34,8 @@ from jaxtyping import Array, Complex, Float
 from ..assembly import assemble, assemble_blocks, node_major
 from ..models.section import Model
 from ..params import Params
-from .arnoldi import ArnoldiOptions, structured_dominant
+from .arnoldi import ArnoldiOptions, pencil_of, structured_dominant
+from .arnoldi_nearest import structured_nearest
 from .dominant import dominant_eigenpair
 from .nearest import nearest_eigenpair
 
@@ -122,10 +126,29 @@ class Arnoldi(AbstractEigenSolver):
         )
 
     def eigenpair(self, model, params):
-        system = assemble_blocks(model, params)
-        lam, x, certified = structured_dominant(system.A, system.C, self.options)
-        inverse = np.argsort(node_major(model))
-        return lam, x[inverse], certified
+        A, C = pencil_of(assemble_blocks(model, params))
+        lam, x, certified = structured_dominant(A, C, self.options)
+        return lam, filament_major(model, x), certified
+
+    def nearest(self, model, params, shift):
+        """The eigenpair nearest ``shift`` by structured shift-invert Arnoldi about the
+        shift itself (:mod:`axojax.eigen.arnoldi_nearest`): any C (non-symmetric,
+        indefinite), certified as the dominant one, dense where not certified."""
+        A, C = pencil_of(assemble_blocks(model, params))
+        lam, x, certified = structured_nearest(A, C, shift, self.options)
+        return lam, filament_major(model, x), certified
+
+
+def filament_major(model: Model, x: Complex[Array, " n"]) -> Complex[Array, " n"]:
+    """A node-major vector (:func:`axojax.assembly.node_major`, then any border
+    unknowns) in the dense solver's order: node unknowns filament-major, then the
+    border. Where ``node_major`` already covers the border (as many entries as x), it
+    is applied as it is."""
+    inverse = np.argsort(node_major(model))
+    n_nodes = inverse.shape[0]
+    if n_nodes == x.shape[-1]:
+        return x[inverse]
+    return jnp.concatenate([x[:n_nodes][inverse], x[n_nodes:]])
 
 
 class Auto(AbstractEigenSolver):

@@ -1,7 +1,29 @@
 """Structured linear algebra: block-tridiagonal matrices (node-major finite-element
-matrices) with pivoted LU and Cholesky factorisations in pure JAX, and the Arnoldi process."""
+matrices) with pivoted LU and Cholesky factorisations in pure JAX, the same with a small border of extra
+unknowns (Schur complement), and the Arnoldi process."""
 
 from .blocktri import BlockCholesky, BlockLU, BlockTridiagonal, cholesky, lu_factor
+from .bordered import (
+    Bordered,
+    BorderedCholesky,
+    BorderedLU,
+    bordered,
+    bordered_cholesky,
+    bordered_lu,
+)
 from .krylov import arnoldi_steps
 
-__all__ = ["BlockCholesky", "BlockLU", "BlockTridiagonal", "arnoldi_steps", "cholesky", "lu_factor"]
+__all__ = [
+    "BlockCholesky",
+    "BlockLU",
+    "BlockTridiagonal",
+    "Bordered",
+    "BorderedCholesky",
+    "BorderedLU",
+    "arnoldi_steps",
+    "bordered",
+    "bordered_cholesky",
+    "bordered_lu",
+    "cholesky",
+    "lu_factor",
+]

@@ -8,23 +8,24 @@ from collections.abc import Callable
 
 import jax
 import jax.numpy as jnp
-from jaxtyping import Array, Float
+from jaxtyping import Array, Inexact
 
 
 def arnoldi_steps(
-    op: Callable[[Float[Array, " N"]], Float[Array, " N"]],
-    V: Float[Array, "k1 N"],
-    H: Float[Array, "k1 k"],
+    op: Callable[[Inexact[Array, " N"]], Inexact[Array, " N"]],
+    V: Inexact[Array, "k1 N"],
+    H: Inexact[Array, "k1 k"],
     start,
     stop,
     windows: tuple[int, ...] = (),
-) -> tuple[Float[Array, "k1 N"], Float[Array, "k1 k"]]:
+) -> tuple[Inexact[Array, "k1 N"], Inexact[Array, "k1 k"]]:
     """Arnoldi steps j = start, ..., stop - 1 extending ``op V[:j] = V[:j+1] H[:j+1, :j]``.
 
     Classical Gram-Schmidt, twice, against the rows of V reached so far: rows not yet
     reached must be zero (start from ``V = zeros.at[0].set(unit start vector)``,
     ``H = zeros``). A breakdown (a zero new vector) leaves a zero row. ``start``/``stop``
-    may be traced, so that the space can grow in stages. Real arithmetic.
+    may be traced, so that the space can grow in stages. Real or complex arithmetic
+    (Hermitian inner products; for real V the conjugation is a no-op).
 
     ``windows``: static row counts; step j orthogonalises against the first rows of the
     smallest window above j (rows beyond j are zero), so that a space grown in stages
@@ -40,7 +41,7 @@ def arnoldi_steps(
         Vr = V[:r]
         h = jnp.zeros(r, w.dtype)
         for _ in range(2):
-            c = Vr @ w
+            c = jnp.conj(Vr) @ w
             w = w - Vr.T @ c
             h = h + c
         return w, jnp.zeros(V.shape[0], w.dtype).at[:r].set(h)

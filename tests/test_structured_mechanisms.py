@@ -1,0 +1,269 @@
+"""The structured eigen-solver with regulated dynein and with a border of extra unknowns
+(issue 30): ``Arnoldi.nearest`` (shift-invert about i omega0, any C) against the dense
+``nearest_eigenpair`` and scipy's full decomposition, on its per-point and batched
+paths, with derivatives; the dominant solver where C stays symmetric positive definite;
+bordered block algebra against numpy; bordered pencils (random border blocks on a real
+model's pencil, and one node block more than the model's elements) against scipy."""
+
+import types
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+import scipy.linalg as sl
+
+import axojax as ax
+from axojax.assembly import assemble_blocks
+from axojax.eigen import Arnoldi, Dense
+from axojax.eigen.arnoldi import pencil_of, structured_dominant
+from axojax.eigen.arnoldi_nearest import structured_nearest
+from axojax.eigen.nearest import nearest_eigenpair
+from axojax.linalg import BlockTridiagonal, bordered, bordered_cholesky, bordered_lu
+
+A0 = 0.2 / 12
+# Sliding control with an active friction (chi'' < 0: C indefinite) at omega0 = 1000: the
+# beat near i omega0 is not the dominant eigenvalue (tests/test_nearest.py).
+SLIDING = ax.Params(p=0.0, a0=A0, chi_re=-2 * 20 / A0**2, chi_im=-2 * 25 / A0**2, omega0=1000.0)
+# Curvature control with beta'' != 0 (C non-symmetric through H0 = int phi' phi''^T), on
+# top of the paper's steady load.
+CURVATURE = ax.Params(p=300.0, beta_re=300.0, beta_im=500.0, chi_im=-3e3, omega0=300.0)
+PATHS = [Arnoldi(batched=False), Arnoldi(batched=True)]
+PATH_IDS = ["per-point", "batched"]
+METRICS = ("eigenvalue", "wavelength", "growth_rate", "angular_frequency", "velocity", "beat_angle")
+
+
+def _scipy_nearest(A, C, shift):
+    lam = sl.eig(-np.asarray(A), np.asarray(C), right=False)
+    return lam[np.argmin(np.abs(lam - shift))]
+
+
+def _near_modes(model, params, shifts, solver):
+    return jax.jit(
+        jax.vmap(lambda prm, s: ax.eigen.nearest.nearest_mode_impl(model, prm, s, solver))
+    )(params, shifts)
+
+
+@pytest.mark.parametrize("arnoldi", PATHS, ids=PATH_IDS)
+def test_nearest_matches_dense_and_scipy_for_indefinite_and_nonsymmetric_c(arnoldi):
+    cases = [
+        (ax.models.two(n_elements=8), SLIDING, [1000j, 1050j]),
+        (ax.models.seven(n_elements=6), CURVATURE, [300j, 100 + 250j]),
+    ]
+    for model, params, shifts in cases:
+        C = np.asarray(ax.assemble(model, params).C)
+        assert np.abs(C - C.T).max() > 1e-6 * np.abs(C).max() or np.linalg.eigvalsh(C).min() < 0
+        batch = jax.tree.map(lambda x: jnp.stack([x, x]), params)
+        shifts = jnp.asarray(shifts, complex)
+        fast = _near_modes(model, batch, shifts, arnoldi)
+        dense = _near_modes(model, batch, shifts, Dense())
+        assert np.all(np.asarray(fast.certified)), np.asarray(fast.certified)
+        for name in METRICS:
+            f, d = np.asarray(getattr(fast, name)), np.asarray(getattr(dense, name))
+            assert np.all(np.abs(f - d) <= 1e-8 * np.abs(d)), (name, f, d)
+        system = ax.assemble(model, params)
+        for lam, shift in zip(np.asarray(fast.eigenvalue), np.asarray(shifts)):
+            ref = _scipy_nearest(system.A, system.C, shift)
+            assert abs(lam - ref) <= 1e-8 * abs(ref), (lam, ref)
+
+
+def test_nearest_derivatives_match_the_dense_rule_and_finite_differences():
+    model = ax.models.seven(n_elements=5)
+
+    def metrics(z, solver):  # beta'', chi', p
+        prm = CURVATURE.replace(beta_im=z[0], chi_re=z[1], p=z[2])
+        mode = ax.eigen.nearest.nearest_mode_impl(model, prm, 300j, solver)
+        return jnp.stack([mode.growth_rate, mode.angular_frequency, mode.wavelength])
+
+    z = jnp.array([500.0, 2e3, 300.0])
+    fast = np.asarray(jax.jit(jax.jacfwd(lambda z: metrics(z, Arnoldi())))(z))
+    rev = np.asarray(jax.jit(jax.jacrev(lambda z: metrics(z, Arnoldi())))(z))
+    dense = np.asarray(jax.jit(jax.jacfwd(lambda z: metrics(z, Dense())))(z))
+    scale = np.abs(dense).max(axis=1, keepdims=True)
+    assert np.max(np.abs(fast - dense) / scale) < 1e-7
+    assert np.max(np.abs(rev - dense) / scale) < 1e-7
+    h = 1e-4 * np.abs(np.asarray(z))
+    f = jax.jit(lambda z: metrics(z, Dense()))
+    fd = np.stack(
+        [
+            (np.asarray(f(z + h[i] * np.eye(3)[i])) - np.asarray(f(z - h[i] * np.eye(3)[i])))
+            / (2 * h[i])
+            for i in range(3)
+        ],
+        axis=1,
+    )
+    assert np.max(np.abs(fast - fd) / scale) < 1e-5
+
+
+def test_dominant_is_structured_and_certified_when_c_stays_positive_definite():
+    """chi'' >= 0 and beta'' = 0 keep C symmetric positive definite: the dominant solver
+    certifies on its own (no fallback) and agrees with the dense one; with beta'' != 0
+    (C non-symmetric) it says it did not certify (the dense fallback answered)."""
+    model = ax.models.seven(n_elements=8)
+    spd = ax.Params(p=300.0, chi_re=2e4, chi_im=2e4, beta_re=100.0, omega0=300.0)
+    mode = ax.dominant_mode(model, spd, Arnoldi(fallback=False))
+    dense = ax.dominant_mode(model, spd, Dense())
+    assert bool(mode.certified)
+    assert abs(complex(mode.eigenvalue - dense.eigenvalue)) <= 1e-8 * abs(complex(dense.eigenvalue))
+    skew = ax.dominant_mode(model, spd.replace(beta_im=50.0), Arnoldi())
+    assert not bool(skew.certified)
+
+
+# -- bordered block algebra -------------------------------------------------------------
+def _random_bordered(rng, N, b, m, complex_=False, symmetric=False):
+    def mk(*shape):
+        x = rng.normal(size=shape)
+        return x + 1j * rng.normal(size=shape) if complex_ else x
+
+    lower = mk(N - 1, b, b)
+    diag = mk(N, b, b)
+    if symmetric:
+        diag = np.stack([d @ d.T + 3 * b * np.eye(b) for d in diag])
+        upper = np.swapaxes(lower, 1, 2)
+        nb = mk(N * b, m)
+        bb = mk(m, m)
+        bb = bb @ bb.T + 40 * N * b * np.eye(m)
+        bn = nb.T
+    else:
+        upper = mk(N - 1, b, b)
+        nb, bn, bb = mk(N * b, m), mk(m, N * b), mk(m, m)
+    tri = BlockTridiagonal(jnp.asarray(lower), jnp.asarray(diag), jnp.asarray(upper))
+    return bordered(tri, jnp.asarray(nb), jnp.asarray(bn), jnp.asarray(bb))
+
+
+@pytest.mark.parametrize("kernels", ["lapack", "jnp"])
+@pytest.mark.parametrize("m,complex_", [(0, False), (3, False), (5, True)])
+def test_bordered_lu_and_cholesky_against_numpy(m, complex_, kernels):
+    rng = np.random.default_rng(m + 7)
+    M = _random_bordered(rng, 5, 4, m, complex_)
+    D = np.asarray(M.to_dense())
+    assert D.shape == (20 + m, 20 + m)
+    r = rng.normal(size=20 + m) + (1j * rng.normal(size=20 + m) if complex_ else 0)
+    lu = bordered_lu(M, kernels)
+    np.testing.assert_allclose(
+        np.asarray(lu.solve(jnp.asarray(r))), np.linalg.solve(D, r), rtol=1e-9, atol=1e-9
+    )
+    np.testing.assert_allclose(
+        np.asarray(lu.solve_transpose(jnp.asarray(r))),
+        np.linalg.solve(D.T, r),
+        rtol=1e-9,
+        atol=1e-9,
+    )
+    np.testing.assert_allclose(np.asarray(M.matvec(jnp.asarray(r))), D @ r, rtol=1e-12, atol=1e-12)
+    S = _random_bordered(rng, 5, 4, m, symmetric=True)
+    Ds = np.asarray(S.to_dense())
+    assert np.linalg.eigvalsh(Ds).min() > 0
+    chol = bordered_cholesky(S, kernels)
+    assert bool(chol.ok)
+    rr = r.real
+    np.testing.assert_allclose(
+        np.asarray(chol.solve(jnp.asarray(rr))), np.linalg.solve(Ds, rr), rtol=1e-9
+    )
+    if m:  # indefinite through the border alone: T stays positive definite
+        bad = bordered(
+            S.tri, S.nb, S.bn, S.bb - 2 * np.linalg.eigvalsh(np.asarray(S.bb)).max() * np.eye(m)
+        )
+        assert np.linalg.eigvalsh(np.asarray(bad.to_dense())).min() < 0
+        assert not bool(bordered_cholesky(bad, kernels).ok)
+
+
+# -- bordered pencils -------------------------------------------------------------------
+def _bordered_pencil(model, params, m, seed, extra_block=False):
+    """The model's pencil with m random border unknowns: A's border random (scaled to
+    A's entries), C's symmetric with a positive definite corner (C stays SPD), weakly
+    coupled. ``extra_block``: one more node block (a copy of the last, coupled to it),
+    as a free base adds."""
+    rng = np.random.default_rng(seed)
+    s = assemble_blocks(model, params)
+    A, C = s.A, s.C
+    if extra_block:
+        # A copy of the last node block (A's made stiffer, so that it adds no unstable
+        # mode), weakly coupled to it.
+        def grow(M, shift, sym):
+            cpl = 1e-2 * M.lower[-1]
+            return BlockTridiagonal(
+                jnp.concatenate([M.lower, cpl[None]]),
+                jnp.concatenate([M.diag, M.diag[-1:] + shift * jnp.eye(M.block_size)]),
+                jnp.concatenate([M.upper, (cpl.T if sym else 1e-2 * M.upper[-1])[None]]),
+            )
+
+        a_max = float(jnp.abs(A.diag).max())
+        A, C = grow(A, a_max, False), grow(C, 0.0, True)
+    n = A.shape[0]
+    # Scales of the diagonal blocks' largest entries (drag and stiffness per node).
+    a_scale = float(np.median(np.abs(np.asarray(A.diag)).max(axis=(1, 2))))
+    c_scale = float(np.median(np.abs(np.asarray(C.diag)).max(axis=(1, 2))))
+    A_nb = 1e-3 * a_scale * rng.normal(size=(n, m))
+    A_bn = 1e-3 * a_scale * rng.normal(size=(m, n))
+    A_bb = a_scale * (np.eye(m) + 0.1 / np.sqrt(m) * rng.normal(size=(m, m)))
+    C_nb = 0.01 * c_scale * rng.normal(size=(n, m))
+    X = rng.normal(size=(m, m))
+    # C's Schur complement c_scale (I + 0.1 X X^T): C symmetric positive definite.
+    Cd = np.asarray(C.to_dense())
+    C_bb = c_scale * (np.eye(m) + 0.1 * X @ X.T) + C_nb.T @ np.linalg.solve(Cd, C_nb)
+    C_bb = (C_bb + C_bb.T) / 2
+    system = types.SimpleNamespace(
+        A=A, C=C, b=None, A_nb=A_nb, A_bn=A_bn, A_bb=A_bb, C_nb=C_nb, C_bn=C_nb.T, C_bb=C_bb
+    )
+    return pencil_of(system)
+
+
+@pytest.mark.parametrize(
+    "arnoldi,cases",
+    [(PATHS[0], ((3, 1, False), (4, 3, True))), (PATHS[1], ((12, 2, False),))],
+    ids=PATH_IDS,
+)
+def test_bordered_pencils_against_scipy(arnoldi, cases):
+    """m = 3, 4 (with one node block more than the model's elements) on the per-point
+    path, m = 12 on the batched one (each shape compiles its own solver)."""
+    model = ax.models.seven(n_elements=6)
+    params = ax.Params(p=300.0)
+    cases = [_bordered_pencil(model, params, m, seed, extra) for m, seed, extra in cases]
+    opts = arnoldi.options._replace(fallback=False)
+    for A, C in cases:
+        assert A.tri.n_blocks in (6, 7) and A.m in (3, 4, 12)
+        Ad, Cd = np.asarray(A.to_dense()), np.asarray(C.to_dense())
+        assert np.linalg.eigvalsh(Cd).min() > 0 and np.allclose(Cd, Cd.T)
+        lam = sl.eig(-Ad, Cd, right=False)
+        top = lam[np.argmax(np.where(lam.imag >= -1e-9, lam.real, -np.inf))]
+        batch = jax.tree.map(lambda x: jnp.stack([x, x]), (A, C))
+        dom, vec, cert = jax.jit(jax.vmap(lambda a, c: structured_dominant(a, c, opts)))(*batch)
+        assert np.all(np.asarray(cert) == 1.0)
+        assert np.all(np.abs(np.asarray(dom) - top) <= 1e-8 * abs(top)), (dom, top)
+        v = np.asarray(vec[0])
+        assert v.shape == (Ad.shape[0],)
+        assert np.linalg.norm((Ad + complex(dom[0]) * Cd) @ v) <= 1e-8 * np.linalg.norm(Ad)
+        shift = complex(top) + 40.0 - 60j
+        ref = lam[np.argmin(np.abs(lam - shift))]
+        shifts = jnp.asarray([shift, shift])
+        near, _, cert = jax.jit(jax.vmap(lambda a, c, s: structured_nearest(a, c, s, opts)))(
+            *batch, shifts
+        )
+        assert np.all(np.asarray(cert) == 1.0)
+        assert np.all(np.abs(np.asarray(near) - ref) <= 1e-8 * abs(ref)), (near, ref)
+
+
+@pytest.mark.slow
+def test_bordered_derivatives_match_the_dense_rule():
+    """The JVP of both structured eigenpairs along random tangents of every block (the
+    border's included) equals the dense solvers' (full eigen-decomposition) rule."""
+    model = ax.models.seven(n_elements=5)
+    A, C = _bordered_pencil(model, ax.Params(p=300.0), 3, 4)
+    rng = np.random.default_rng(5)
+    dA = jax.tree.map(lambda x: jnp.asarray(rng.normal(size=x.shape)) * jnp.abs(x).max() * 1e-3, A)
+    dC = jax.tree.map(lambda x: jnp.asarray(rng.normal(size=x.shape)) * jnp.abs(x).max() * 1e-3, C)
+    dense = lambda M: M.to_dense()
+    opts = Arnoldi().options
+    lam, dlam = jax.jvp(lambda a, c: structured_dominant(a, c, opts)[0], (A, C), (dA, dC))
+    ref, dref = jax.jvp(
+        lambda a, c: ax.eigen.dominant.dominant_eigenpair(dense(a), dense(c))[0], (A, C), (dA, dC)
+    )
+    assert abs(complex(lam - ref)) <= 1e-9 * abs(complex(ref))
+    assert abs(complex(dlam - dref)) <= 1e-7 * abs(complex(dref))
+    shift = jnp.asarray(complex(ref) + 30.0 - 50j)
+    lam, dlam = jax.jvp(lambda a, c: structured_nearest(a, c, shift, opts)[0], (A, C), (dA, dC))
+    ref, dref = jax.jvp(
+        lambda a, c: nearest_eigenpair(dense(a), dense(c), shift)[0], (A, C), (dA, dC)
+    )
+    assert abs(complex(lam - ref)) <= 1e-9 * abs(complex(ref))
+    assert abs(complex(dlam - dref)) <= 1e-7 * abs(complex(dref))
