@@ -1,0 +1,135 @@
+"""The flags of regulated dynein and base conditions (docs/model.md section 8) as model
+and parameter values: ``--mechanism``/``--chi``/``--beta``/``--omega0-hz``, ``--base``,
+``--basal-compliance``, ``--head-um``/``--head-drag``/``--viscosity-pa-s``; and the refusal
+of an active friction where the time domain is needed."""
+
+from __future__ import annotations
+
+import argparse
+
+from ..models import Base, Model
+from ..params import Params
+from ._values import CLIError, _complex_pair, _pair, units_from_args
+
+MECHANISMS = ("steady", "sliding", "curvature", "sliding+curvature")
+"""``--mechanism`` choices (docs/model.md section 8)."""
+MECHANISM_FLAGS = {
+    "chi_re": "chi",
+    "chi_im": "chi",
+    "beta_re": "beta",
+    "beta_im": "beta",
+    "omega0": "omega0-hz",
+}
+"""Params fields of regulated dynein -> the flag that sets them."""
+BASE_FLAGS = {"kb": "basal-compliance", "xib": "basal-compliance"}
+"""Params fields of the basal compliance -> the flag that sets them."""
+DEFAULT_VISCOSITY_PA_S = 1e-3
+"""``--viscosity-pa-s`` default (water): the fluid of a head given by ``--head-um``."""
+
+
+def require_passive_friction(model: Model, params: Params, what: str) -> None:
+    """:func:`axojax.well_posed.require_passive_friction` as a CLI error naming the flag of
+    the active coefficient (``--beta`` or ``--chi``)."""
+    from ..well_posed import require_passive_friction as check
+
+    try:
+        check(model, params, what)
+    except ValueError as err:
+        flag = "--beta" if str(err).split(": ", 1)[1].startswith("beta") else "--chi"
+        raise CLIError(f"{flag}: {err}") from None
+
+
+def base_from_args(args: argparse.Namespace) -> Base:
+    """The :class:`~axojax.models.Base` of ``--base``, ``--basal-compliance``,
+    ``--head-um``/``--head-drag`` and ``--viscosity-pa-s`` (units from the unit flags). A
+    base's constant without its base, or a head without its size or drags: one line
+    naming the flag."""
+    kind = getattr(args, "base", "clamped") or "clamped"
+    head_um, head_drag = getattr(args, "head_um", None), getattr(args, "head_drag", None)
+    mu = getattr(args, "viscosity_pa_s", None)
+    compliance = getattr(args, "basal_compliance", None) is not None
+    for flag, value in (("--head-um", head_um), ("--head-drag", head_drag)):
+        if value is not None and kind != "head":
+            raise CLIError(f"{flag}: needs --base head (got --base {kind})")
+    if mu is not None and head_um is None:
+        raise CLIError("--viscosity-pa-s: needs --base head with --head-um")
+    if kind != "head":
+        return Base(kind, compliance=compliance)
+    if (head_um is None) == (head_drag is None):
+        raise CLIError(
+            "--base head: needs its size --head-um A,B or its drags --head-drag XI_T,XI_R (one of them)"
+        )
+    units = units_from_args(args)
+    try:
+        if head_um is not None:
+            a, b = _positive_pair(head_um, "--head-um")
+            mu = DEFAULT_VISCOSITY_PA_S if mu is None else mu
+            if not mu > 0:
+                raise CLIError(f"--viscosity-pa-s: must be > 0, got {mu:g}")
+            return Base.head_from_ellipsoid(a, b, mu, units, compliance=compliance)
+        zt, zr = _positive_pair(head_drag, "--head-drag")
+        return Base(
+            "head",
+            compliance=compliance,
+            translational_drag=float(units.head_translational_drag(zt)),
+            rotational_drag=float(units.head_rotational_drag(zr)),
+        )
+    except ValueError as err:
+        raise CLIError(f"{'--head-um' if head_um is not None else '--head-drag'}: {err}") from None
+
+
+def _positive_pair(text: str, flag: str) -> tuple[float, float]:
+    x, y = _pair(text, flag)
+    for v in (x, y):
+        if not v > 0:
+            raise CLIError(f"{flag}: expected two numbers > 0, got {text!r}")
+    return x, y
+
+
+def basal_values(args: argparse.Namespace) -> dict[str, float]:
+    """``kb``, ``xib`` (dimensionless) of ``--basal-compliance K_B,XI_B`` (pN/um, pN s/um);
+    XI_B must be > 0 (it keeps the damping regular), K_B >= 0."""
+    text = getattr(args, "basal_compliance", None)
+    if text is None:
+        return {}
+    kb, xib = _pair(text, "--basal-compliance")
+    if not (kb >= 0 and xib > 0):
+        raise CLIError(
+            f"--basal-compliance: expected K_B >= 0 (pN/um) and XI_B > 0 (pN s/um), got {text!r}"
+        )
+    units = units_from_args(args)
+    return {
+        "kb": float(units.kb_from_pn_per_um(kb)),
+        "xib": float(units.xib_from_pn_s_per_um(xib)),
+    }
+
+
+def mechanism_values(args: argparse.Namespace) -> dict[str, float]:
+    """The regulated-dynein flags as dimensionless Params fields (docs/model.md section 8).
+    A coefficient without its mechanism, or a mechanism without its coefficient, is
+    refused in one line naming the flag."""
+    mechanism = getattr(args, "mechanism", "steady") or "steady"
+    parts = set(mechanism.split("+")) - {"steady"}
+    values: dict[str, float] = {}
+    units = units_from_args(args)
+    for flag, part, names, convert in (
+        ("chi", "sliding", ("chi_re", "chi_im"), units.chi_from_pn_per_um2),
+        ("beta", "curvature", ("beta_re", "beta_im"), units.beta_from_pn),
+    ):
+        text = getattr(args, flag, None)
+        if text is None:
+            if part in parts:
+                raise CLIError(f"--mechanism {mechanism}: needs --{flag} RE,IM")
+            continue
+        if part not in parts:
+            raise CLIError(f"--{flag}: needs --mechanism {part} or sliding+curvature")
+        re, im = _complex_pair(text, flag)
+        values[names[0]], values[names[1]] = float(convert(re)), float(convert(im))
+    hz = getattr(args, "omega0_hz", None)
+    if hz is not None:
+        if not parts:
+            raise CLIError("--omega0-hz: needs --mechanism sliding, curvature or sliding+curvature")
+        if hz <= 0:
+            raise CLIError(f"--omega0-hz: must be > 0, got {hz:g}")
+        values["omega0"] = float(units.omega0_from_hz(hz))
+    return values
