@@ -42,12 +42,13 @@ from jaxtyping import Array, Float
 
 from ..beats.targets import SCALARS, ShapeTarget
 from ..eigen.mode import DEFAULT_SOLVER, dominant_mode_impl
+from ..eigen.nearest import nearest_mode_impl
 from ..eigen.solvers import AbstractEigenSolver
 from ..models.section import Model
 from ..orbits.cycle import LimitCycle
 from ..orbits.measures import cycle_measures
 from ..orbits.solvers import AbstractOrbitSolver, HarmonicBalance, WarmStart
-from ..params import DEFAULT_CUBIC, PARAM_NAMES, Params
+from ..params import DEFAULT_CUBIC, MECHANISM_NAMES, PARAM_NAMES, Params
 from ..units import Units
 from .conditions import Condition
 from .cycle_targets import aligned_psi1
@@ -59,6 +60,21 @@ SHAPE_FLOOR = 0.05  # rad: model-discrepancy floor of psi_1 (module docstring)
 CYCLE_FAILED = 1e3  # normalised residual of a limit-cycle target where no orbit is found
 EDGE = 1e-9  # starts are kept this fraction of the range inside the bounds
 WARM_STEPS = 10  # Newton iterations a warm-started orbit gets before the Hopf guess takes over
+SIGNED = frozenset(MECHANISM_NAMES) - {"omega0"}
+"""Regulated-dynein coefficients (chi', chi'', beta', beta''): signed, so fitted in a linear
+coordinate like ``gamma`` (give their bounds, e.g. :func:`axojax.inverse.mechanisms.row`)."""
+
+
+def _coordinate_bounds(name: str, bounds: dict) -> tuple[bool, float, float]:
+    """:func:`coordinate_bounds`, with the signed mechanism coefficients linear."""
+    if name not in SIGNED:
+        return coordinate_bounds(name, bounds)
+    if name not in bounds:
+        raise ValueError(f"bounds: no bounds for {name!r}; give bounds={{{name!r}: (low, high)}}")
+    a, b = (float(v) for v in bounds[name])
+    if not (math.isfinite(a) and math.isfinite(b) and a < b):
+        raise ValueError(f"bounds of {name} must satisfy low < high, got ({a:g}, {b:g})")
+    return False, a, b
 
 
 def _stack(params: Sequence[Params]) -> Params:
@@ -148,6 +164,13 @@ class Problem:
         shape_floor: model-discrepancy floor (rad) added in quadrature to psi_1's sigma.
         exclude_base_um: drop observed shape points with s < this (um).
         prior: optional ``log_prior(u) -> scalar``; default 0 (uniform in u).
+        shift: None (default): the beat is the dominant mode (the steady load). A complex
+            number (dimensionless, 1/tau): the beat is the eigenvalue nearest it, e.g.
+            ``1j * omega0`` for a regulated mechanism (docs/model.md section 8: with an
+            active friction the beat is not the dominant mode); its solver must have a
+            ``nearest`` method (:mod:`axojax.eigen.solvers`).
+        mechanism, base: names the report carries (``FitResult.mechanism``, ``.base``);
+            default: read from the parameters and the model.
     """
 
     def __init__(
@@ -167,6 +190,9 @@ class Problem:
         shape_floor: float = SHAPE_FLOOR,
         exclude_base_um: float = 0.0,
         prior: Callable[[Array], Array] | None = None,
+        shift: complex | None = None,
+        mechanism: str | None = None,
+        base: str | None = None,
     ):
         conditions, labels = _check(
             conditions, free, per_condition, kl_ratio, shape_floor, exclude_base_um
@@ -180,6 +206,10 @@ class Problem:
             float(exclude_base_um),
         )
         self.prior = prior
+        if shift is not None and not np.isfinite(complex(shift)):
+            raise ValueError(f"shift must be a finite complex number, got {shift!r}")
+        self.shift = None if shift is None else complex(shift)
+        self.mechanism, self.base_name = mechanism, base
         self.free_shared, self.free_per_condition = tuple(free), tuple(per_condition)
         self.bounds = {**DEFAULT_BOUNDS, **(bounds or {})}
         self.base = [params.with_values(c.params).validate() for c in conditions]
@@ -202,11 +232,11 @@ class Problem:
         )  # noqa: E731
         out, u0 = [], []
         for name in free:
-            log, lo, hi = coordinate_bounds(name, self.bounds)
+            log, lo, hi = _coordinate_bounds(name, self.bounds)
             out.append(FreeParameter(name, name, None, log, lo, hi))
             u0.append(start_of(params, name))
         for name in per_condition:
-            log, lo, hi = coordinate_bounds(name, self.bounds)
+            log, lo, hi = _coordinate_bounds(name, self.bounds)
             for i, lab in enumerate(labels):
                 out.append(FreeParameter(f"{name}@{lab}", name, i, log, lo, hi))
                 u0.append(start_of(self.base[i], name))
@@ -369,18 +399,25 @@ class Problem:
         }
 
     # -- the model's predictions -----------------------------------------------------
+    def _mode(self, model: Model, prm: Params, solver):
+        """The beat's mode: the dominant one, or the one nearest ``shift``."""
+        if self.shift is None:
+            return dominant_mode_impl(model, prm, solver)
+        return nearest_mode_impl(model, prm, self.shift, solver)
+
     def modes(self, u) -> list:
-        """Dominant mode of every condition (None where no target needs it)."""
+        """The beat's mode of every condition (None where no target needs it): the
+        dominant mode, or the one nearest ``shift``."""
         out: list = [None] * self.n_conditions
         for group in self._groups:
             model = self.models[group[0]]
             solver = self._solvers[model]
             prms = [self.condition_params(u, i) for i in group]
             if len(group) == 1:
-                out[group[0]] = dominant_mode_impl(model, prms[0], solver)
+                out[group[0]] = self._mode(model, prms[0], solver)
                 continue
             batch = jax.vmap(
-                lambda prm, model=model, solver=solver: dominant_mode_impl(model, prm, solver)
+                lambda prm, model=model, solver=solver: self._mode(model, prm, solver)
             )(_stack(prms))
             for k, i in enumerate(group):
                 out[i] = jax.tree_util.tree_map(lambda x, k=k: x[k], batch)
