@@ -200,3 +200,73 @@ def row(
     free = FREE[mechanism]
     bounds = {k: v for k, v in coefficient_bounds(model, prm).items() if k in free}
     return Row(mechanism, base, model, prm, free, bounds, None, 1j * omega0, targets)
+
+
+# -- exact Hopf points: starts of a regulated row ------------------------------------------
+def _unit_terms(row: Row) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(K0, U_chi, U_beta): at lambda = i omega0 the pencil A + lambda C of the row's
+    model is K0 + chi U_chi + beta U_beta, linear in the complex chi = chi' + i chi'' and
+    beta = beta' + i beta'' (docs/model.md section 8: the terms equal chi and beta there)."""
+    from ..assembly import assemble
+
+    lam = row.shift
+    base = row.params.replace(chi_re=0.0, chi_im=0.0, beta_re=0.0, beta_im=0.0)
+
+    def pencil(prm: Params) -> np.ndarray:
+        system = assemble(row.model, prm)
+        return np.asarray(system.A) + lam * np.asarray(system.C)
+
+    k0 = pencil(base)
+    return k0, pencil(base.replace(chi_re=1.0)) - k0, pencil(base.replace(beta_re=1.0)) - k0
+
+
+def _solve(k: np.ndarray, unit: np.ndarray) -> np.ndarray:
+    """Every complex g with K + g U singular (finite generalised eigenvalues)."""
+    import scipy.linalg as sl
+
+    g = sl.eig(k, -unit, right=False)
+    return g[np.isfinite(g)]
+
+
+def _grid(bound: float, n: int = 8) -> np.ndarray:
+    """0 and +- a geometric ladder up to ``bound`` (n values each side)."""
+    ladder = np.geomspace(bound * 1e-3, bound, n)
+    return np.concatenate([[0.0], ladder, -ladder])
+
+
+def hopf_starts(row: Row) -> np.ndarray:
+    """(c, k) values of the row's free fields at which i omega0 is exactly an eigenvalue
+    (the pins hold), inside the bounds: every Hopf point of ``sliding`` (a generalised
+    eigenproblem in chi), of ``curvature`` along a ladder of chi' (one in beta), and of
+    ``sliding+curvature`` along a ladder of complex beta (one in chi) and with either
+    coefficient 0. Empty for ``steady`` (its beat is the dominant mode)."""
+    if row.shift is None:
+        return np.zeros((0, len(row.free)))
+    k0, u_chi, u_beta = _unit_terms(row)
+    b = row.bounds
+    points: list[dict[str, float]] = []
+    if "chi_im" in row.free:  # sliding, or sliding + curvature: solve for chi
+        betas = [0.0]
+        if "beta_re" in row.free:
+            re, im = _grid(b["beta_re"][1], 3), _grid(b["beta_im"][1], 3)
+            betas += [complex(x, y) for x in re for y in im]
+        for beta in betas:
+            for chi in _solve(k0 + beta * u_beta, u_chi):
+                points.append(
+                    {
+                        "chi_re": chi.real,
+                        "chi_im": chi.imag,
+                        "beta_re": beta.real,
+                        "beta_im": beta.imag,
+                    }
+                )
+    if "beta_im" in row.free:  # curvature (chi' real), or chi'' = 0 of sliding + curvature
+        for chi in _grid(b["chi_re"][1]):
+            for beta in _solve(k0 + chi * u_chi, u_beta):
+                points.append(
+                    {"chi_re": chi, "chi_im": 0.0, "beta_re": beta.real, "beta_im": beta.imag}
+                )
+    out = np.array([[p[f] for f in row.free] for p in points]).reshape(-1, len(row.free))
+    lo = np.array([row.bounds[f][0] for f in row.free])
+    hi = np.array([row.bounds[f][1] for f in row.free])
+    return out[np.all((out > lo) & (out < hi), axis=1)]

@@ -48,33 +48,19 @@ from ..models.section import Model
 from ..orbits.cycle import LimitCycle
 from ..orbits.measures import cycle_measures
 from ..orbits.solvers import AbstractOrbitSolver, HarmonicBalance, WarmStart
-from ..params import DEFAULT_CUBIC, MECHANISM_NAMES, PARAM_NAMES, Params
+from ..params import DEFAULT_CUBIC, PARAM_NAMES, Params
 from ..units import Units
+from ._arguments import _check, _coordinate_bounds
 from .conditions import Condition
 from .cycle_targets import aligned_psi1
 from .cycle_targets import shape_residuals as cycle_shape_residuals
-from .parameters import DEFAULT_BOUNDS, ORBIT_FIELDS, FreeParameter, coordinate_bounds
+from .parameters import DEFAULT_BOUNDS, ORBIT_FIELDS, FreeParameter
 from .predictions import cycle_value, scalar_value, shape_fit
 
 SHAPE_FLOOR = 0.05  # rad: model-discrepancy floor of psi_1 (module docstring)
 CYCLE_FAILED = 1e3  # normalised residual of a limit-cycle target where no orbit is found
 EDGE = 1e-9  # starts are kept this fraction of the range inside the bounds
 WARM_STEPS = 10  # Newton iterations a warm-started orbit gets before the Hopf guess takes over
-SIGNED = frozenset(MECHANISM_NAMES) - {"omega0"}
-"""Regulated-dynein coefficients (chi', chi'', beta', beta''): signed, so fitted in a linear
-coordinate like ``gamma`` (give their bounds, e.g. :func:`axojax.inverse.mechanisms.row`)."""
-
-
-def _coordinate_bounds(name: str, bounds: dict) -> tuple[bool, float, float]:
-    """:func:`coordinate_bounds`, with the signed mechanism coefficients linear."""
-    if name not in SIGNED:
-        return coordinate_bounds(name, bounds)
-    if name not in bounds:
-        raise ValueError(f"bounds: no bounds for {name!r}; give bounds={{{name!r}: (low, high)}}")
-    a, b = (float(v) for v in bounds[name])
-    if not (math.isfinite(a) and math.isfinite(b) and a < b):
-        raise ValueError(f"bounds of {name} must satisfy low < high, got ({a:g}, {b:g})")
-    return False, a, b
 
 
 def _stack(params: Sequence[Params]) -> Params:
@@ -104,43 +90,6 @@ def _without_floquet(solver: AbstractOrbitSolver) -> AbstractOrbitSolver:
     if isinstance(inner, AbstractOrbitSolver):
         return dataclasses.replace(solver, solver=_without_floquet(inner))
     return solver
-
-
-def _check(conditions, free, per_condition, kl_ratio, shape_floor, exclude_base_um):
-    """The conditions (a list) and their labels, after checking every argument of
-    :class:`Problem` that needs no model (one-line ``ValueError`` / ``TypeError``)."""
-    conditions = list(conditions)
-    if not conditions:
-        raise ValueError("conditions: give at least one condition")
-    for c in conditions:
-        if not isinstance(c, Condition):
-            raise TypeError(f"conditions must be axojax.inverse.Condition, got {c!r}")
-    free, per_condition = list(free), list(per_condition)
-    if not free and not per_condition:
-        raise ValueError("free: name at least one parameter to fit")
-    for name in free + per_condition:
-        if name not in PARAM_NAMES and name not in ORBIT_FIELDS:
-            raise ValueError(
-                f"free: unknown parameter {name!r}; choose from {', '.join((*PARAM_NAMES, *sorted(ORBIT_FIELDS)))}"
-            )
-    both = set(free) & set(per_condition)
-    if both or len(set(free)) < len(free) or len(set(per_condition)) < len(per_condition):
-        raise ValueError(
-            f"free: each parameter once, shared or per condition (repeated: {', '.join(sorted(both)) or 'a name'})"
-        )
-    if kl_ratio is not None:
-        if not (math.isfinite(kl_ratio) and kl_ratio > 0):
-            raise ValueError(f"kl_ratio must be > 0, got {kl_ratio!r}")
-        if "kl" in free + per_condition:
-            raise ValueError("free: kl is tied to ks by kl_ratio; fit ks instead")
-    if not (math.isfinite(shape_floor) and shape_floor >= 0):
-        raise ValueError(f"shape_floor must be >= 0 (rad), got {shape_floor!r}")
-    if not (math.isfinite(exclude_base_um) and exclude_base_um >= 0):
-        raise ValueError(f"exclude_base_um must be >= 0 (um), got {exclude_base_um!r}")
-    labels = [str(i) if c.label is None else str(c.label) for i, c in enumerate(conditions)]
-    if len(set(labels)) < len(labels):
-        raise ValueError(f"conditions: labels must differ, got {labels}")
-    return conditions, labels
 
 
 class Problem:
@@ -564,11 +513,34 @@ class Problem:
             out.append(d)
         return out
 
+    def prefer(self, u: Float[np.ndarray, "c k"] | None) -> None:
+        """Starts to use before any other (e.g. exact Hopf points screened by their loss,
+        :func:`axojax.inverse.compare.screened_starts`): :meth:`start_design` returns
+        them first, clipped inside the bounds; None: none."""
+        if u is None:
+            self._preferred = None
+            return
+        u = np.atleast_2d(np.asarray(u, dtype=float))
+        if u.shape[1] != len(self.names) or not np.all(np.isfinite(u)):
+            raise ValueError(
+                f"starts: expected finite (c, {len(self.names)}) values, got {u.shape}"
+            )
+        span = self.upper - self.lower
+        self._preferred = np.clip(u, self.lower + EDGE * span, self.upper - EDGE * span)
+
     def start_design(self, n: int, seed: int = 0) -> np.ndarray:
-        """(n, k) starts: ``u0`` first, then a scrambled Sobol design of the bounded box
-        (points kept 1e-9 of the range inside the bounds)."""
+        """(n, k) starts: the preferred ones (:meth:`prefer`) if any, then ``u0``, then
+        a scrambled Sobol design of the bounded box (points kept 1e-9 of the range
+        inside the bounds)."""
         if n < 1:
             raise ValueError(f"starts must be >= 1, got {n}")
+        preferred = getattr(self, "_preferred", None)
+        if preferred is not None:
+            rest = self._design(max(n - len(preferred), 1), seed)
+            return np.vstack([preferred, rest])[:n]
+        return self._design(n, seed)
+
+    def _design(self, n: int, seed: int) -> np.ndarray:
         k = len(self.names)
         if n == 1:
             return self.u0[None]

@@ -41,7 +41,8 @@ from .. import _io
 from ..params import MECHANISM_NAMES, PARAM_NAMES, Params
 from ..results import RESULTS, message
 from ..results import name as result_name
-from .problem import CYCLE_FAILED, SIGNED, Problem
+from ._arguments import SIGNED
+from .problem import CYCLE_FAILED, Problem
 from .quality import information_criteria
 from .quality import r2 as r2_of
 from .verdicts import (
