@@ -179,8 +179,8 @@ def test_cli_json_has_every_interface_key(synthetic, tmp_path, capsys):
             "1",
             "--ei",
             str(EI),
-            "--cn",
-            str(CN),
+            "--sperm-number",
+            str(SP),
             "--out",
             str(out),
             "--json",
@@ -189,6 +189,8 @@ def test_cli_json_has_every_interface_key(synthetic, tmp_path, capsys):
     assert code == 0
     doc = json.loads(capsys.readouterr().out)
     assert {"data", "rows"} <= set(doc)
+    assert doc["model"]["sperm_number"] == pytest.approx(SP, rel=1e-9)  # c_n set to give it
+    assert doc["model"]["cn_pn_s_um2"] == pytest.approx(CN, rel=1e-9)
     assert {"s_um", "psi1", "frequency_hz"} <= set(doc["data"])
     assert len(doc["rows"]) == 2
     for r in doc["rows"]:
@@ -212,6 +214,8 @@ def test_cli_json_has_every_interface_key(synthetic, tmp_path, capsys):
         (["--elements", "1"], "--elements"),
         (["--starts", "0"], "--starts"),
         (["--out", "x.txt"], "--out"),
+        (["--sperm-number", "20", "--cn", "0.001"], "--sperm-number"),
+        (["--sperm-number", "-1"], "--sperm-number"),
     ],
 )
 def test_cli_bad_input_is_one_line(argv, flag, capsys):

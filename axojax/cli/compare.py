@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import warnings
 
+from .._progress import enabled as progress_enabled
 from ..inverse.compare import compare, render_table
 from ..inverse.mechanisms import (
     AVAILABLE_BASES,
@@ -79,9 +80,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--cn",
         type=common.finite_float,
-        default=du.cn_pn_s_um2,
+        default=None,
         metavar="PN_S_UM2",
         help="resistive coefficient of one filament, pN s um^-2 (default 0.003)",
+    )
+    parser.add_argument(
+        "--sperm-number",
+        type=common.finite_float,
+        default=None,
+        metavar="SP",
+        help="the beat's sperm number omega xi_n L^4 / kappa instead of --cn (c_n set to give it, with --ei)",
     )
     parser.add_argument(
         "--starts",
@@ -150,8 +158,14 @@ def run(args: argparse.Namespace) -> dict:
         raise common.CLIError(f"--shape-floor: must be >= 0 rad, got {args.shape_floor:g}")
     if not 0 < args.pin_tolerance < 1:
         raise common.CLIError(f"--pin-tolerance: must be in (0, 1), got {args.pin_tolerance:g}")
+    if args.sperm_number is not None:
+        if args.cn is not None:
+            raise common.CLIError("--sperm-number: sets c_n; give --sperm-number or --cn, not both")
+        if not args.sperm_number > 0:
+            raise common.CLIError(f"--sperm-number: must be > 0, got {args.sperm_number:g}")
+    cn = Units().cn_pn_s_um2 if args.cn is None else args.cn
     try:
-        units = Units(12.0, args.ei, args.cn)  # the length is the data's
+        units = Units(12.0, args.ei, cn)  # the length is the data's
     except ValueError as err:
         flag = "--ei" if "ei_pn_um2" in str(err) else "--cn"
         raise common.CLIError(f"{flag}: {err}") from None
@@ -171,11 +185,12 @@ def run(args: argparse.Namespace) -> dict:
                 args.model,
                 n_elements=args.elements,
                 units=units,
+                sperm_number=args.sperm_number,
                 starts=args.starts,
                 seed=args.seed,
                 shape_floor=args.shape_floor,
                 pin_tolerance=args.pin_tolerance,
-                json_output=args.json,
+                progress=progress_enabled(json_output=args.json),
             )
     except ValueError as err:
         raise common.CLIError(f"--data: {err}") from None

@@ -27,9 +27,9 @@ from typing import Any
 import jax
 import jax.numpy as jnp
 import numpy as np
+from tqdm.auto import tqdm
 
 from .. import _io
-from .._progress import progress as progress_bar
 from ..beats.data import BeatData, read_beat
 from ..units import Units
 from .fit import build_problem
@@ -280,13 +280,13 @@ def compare(
     *,
     n_elements: int = DEFAULT_ELEMENTS,
     units: Units | None = None,
+    sperm_number: float | None = None,
     starts: int = 3,
     seed: int = 0,
     shape_floor: float = SHAPE_FLOOR,
     pin_tolerance: float = PIN_TOLERANCE,
     method: str = "lm",
-    progress: bool | None = None,
-    json_output: bool = False,
+    progress: bool = False,
 ) -> Comparison:
     """Fit every mechanism x base to one beat and rank them by BIC.
 
@@ -302,13 +302,17 @@ def compare(
         n_elements: elements per filament.
         units: EI and c_n (per filament; the length is the data's). Default
             :class:`~axojax.Units` at the data's length.
+        sperm_number: Sp = omega xi_n L^4 / kappa of the beat (the dimensionless omega0
+            of every regulated row): when given, c_n is set to give it (EI from
+            ``units``). The shape a model can reach depends on it most
+            (docs/mechanisms.md).
         starts: least-squares starts per row (the best of the screened candidates).
         seed: seed of the Sobol part of the screened design.
         shape_floor: model-discrepancy floor (rad) added in quadrature to psi_1's sigma.
         pin_tolerance: relative sigma of the pins (growth rate and frequency).
         method: least-squares solver (``"lm"``, ``"lbfgs"``, ``"adam"``).
-        progress: a bar over rows (None: shown on a terminal; :mod:`axojax._progress`).
-        json_output: the caller prints JSON on stdout (no bar on a pipe).
+        progress: a bar over rows on stderr (``axojax compare`` shows it on a terminal,
+            never with ``--json`` on a pipe: :mod:`axojax._progress`'s rule).
 
     Raises:
         ValueError: an unknown or unavailable mechanism or base, a bad setting (one
@@ -325,12 +329,15 @@ def compare(
     f_obs = float(beat.frequency_hz)
     u0 = Units() if units is None else units
     units = Units(beat.length_um, u0.ei_pn_um2, u0.cn_pn_s_um2)
+    if sperm_number is not None:
+        if not (math.isfinite(sperm_number) and sperm_number > 0):
+            raise ValueError(f"sperm_number: must be > 0, got {sperm_number!r}")
+        cn = sperm_number / float(units.omega0_from_hz(f_obs)) * units.cn_pn_s_um2
+        units = Units(beat.length_um, u0.ei_pn_um2, cn)
     t0 = time.perf_counter()
     rows: list[CompareRow] = []
     combos = [(m, b) for b in bases for m in mechanisms]
-    for mech, base in progress_bar(
-        combos, desc="compare rows", unit="row", enable=progress, json_output=json_output
-    ):
+    for mech, base in tqdm(combos, desc="compare rows", unit="row", disable=not progress):
         the_model = build_model(model, n_elements, base)
         spec = row(mech, base, the_model, units, f_obs, pin_tolerance=pin_tolerance)
         rows.append(_fit_row(spec, shape, units, optimiser, starts, seed, shape_floor))
