@@ -42,6 +42,7 @@ _LAZY = {
     "ShapeTarget": (".beats", "ShapeTarget"),
     "Target": (".beats", "Target"),
     "fit": (".inverse", "fit"),
+    "compare": (".inverse", "compare"),
     "read_beat": (".beats", "read_beat"),
     "inverse": (".inverse", None),
     "posterior": (".inverse", "posterior"),
@@ -82,7 +83,7 @@ if TYPE_CHECKING:  # the same names for static tools (type checkers, the API doc
     from .critical import Critical, critical_force
     from .dynamics import Simulation, simulate
     from .eigen import Mode, dominant_mode, mode_shapes, nearest_mode, spectrum
-    from .inverse import FitResult, Posterior, fit, posterior
+    from .inverse import FitResult, Posterior, compare, fit, posterior
     from .orbits import LimitCycle, limit_cycle
     from .params import PARAM_NAMES, Params
     from .sweeps import SweepResult, sweep

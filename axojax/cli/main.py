@@ -19,6 +19,7 @@ SUBCOMMANDS = {
     "simulate": "nonlinear beat in the time domain (diffrax), saved to .npz",
     "orbit": "limit cycle computed directly, or its branch in p from the Hopf point",
     "data": "what axojax extracts from beat data (frequency, psi_0, psi_1, planarity) before any fit",
+    "compare": "rank mechanisms (steady load, sliding and curvature control) x base conditions on one observed beat",
     "plot": "figures of a sweep, simulation, orbit branch, posterior or fit report, or of a cross-section",
 }
 

@@ -28,7 +28,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=None,
         help="what to draw: a map ('axojax sweep' .npz), a beat ('axojax simulate' .npz), "
         "an orbit branch ('axojax orbit --out' .npz), posterior draws ('axojax fit --posterior' "
-        "FIT.posterior.npz: corner plot) or a fit report ('axojax fit --out' FIT.json)",
+        "FIT.posterior.npz: corner plot), a fit report ('axojax fit --out' FIT.json) or a "
+        "comparison ('axojax compare --out' REPORT.json)",
     )
     g = parser.add_argument_group("cross-section (instead of FILE)")
     common.add_model_source(g, elements=False, default="")
@@ -284,9 +285,7 @@ def run(args: argparse.Namespace) -> dict:
     if args.file is not None and str(args.file).endswith(
         ".json"
     ):  # a fit report (axojax fit --out)
-        from .fit import figure_of_report
-
-        fig, kind, model = figure_of_report(args.file), "fit", None
+        fig, kind, model = _json_figure(args.file)
     else:
         fig, kind, model = _figure(args)
     try:
@@ -298,6 +297,25 @@ def run(args: argparse.Namespace) -> dict:
     if model is not None:
         doc["model"] = model
     return doc
+
+
+def _json_figure(path: str):
+    """(figure, kind, None) of a JSON report: a comparison (``axojax compare --out``) or
+    a fit report (``axojax fit --out``)."""
+    from .fit import figure_of_report
+
+    try:
+        doc = json.loads(pathlib.Path(path).read_text())
+    except (OSError, UnicodeDecodeError, ValueError):
+        doc = None  # figure_of_report says what is wrong with the file
+    if not (isinstance(doc, dict) and doc.get("kind") == "comparison"):
+        return figure_of_report(path), "fit", None
+    from ..plotting.compare import plot_comparison
+
+    try:
+        return plot_comparison(doc), "comparison", None
+    except (KeyError, TypeError, ValueError, IndexError) as err:
+        raise common.CLIError(f"FILE: {str(path)!r}: malformed comparison ({err})") from None
 
 
 def render(doc: dict) -> str:

@@ -15,6 +15,7 @@ from . import checks, diagnostics
 from ._densities import InverseProblem, NormalPrior, ScaledSigmas, normal_prior
 from ._nuts import NUTS
 from ._posterior_result import Posterior, load_truth
+from .compare import CompareRow, Comparison, compare
 from .conditions import Condition
 from .fit import build_problem, fit
 from .least_squares import (
@@ -28,13 +29,23 @@ from .least_squares import (
     solver_from_name,
     warm_least_squares,
 )
+from .mechanisms import AVAILABLE_BASES, BASES, MECHANISMS
 from .parameters import DEFAULT_BOUNDS, LINEAR, FreeParameter
 from .posterior import posterior
 from .problem import SHAPE_FLOOR, Problem
+from .quality import information_criteria, r2
 from .report import FitResult, build_report
 from .spec import FitSpec, load_spec, read_spec
 
 __all__ = [
+    "AVAILABLE_BASES",
+    "BASES",
+    "MECHANISMS",
+    "CompareRow",
+    "Comparison",
+    "compare",
+    "information_criteria",
+    "r2",
     "DEFAULT_BOUNDS",
     "LBFGS",
     "LINEAR",

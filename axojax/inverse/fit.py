@@ -62,6 +62,7 @@ def fit(
     shape_floor: float = SHAPE_FLOOR,
     exclude_base_um: float = 0.0,
     prior=None,
+    shift: complex | None = None,
 ) -> FitResult:
     """Fit the ``free`` parameters of ``model`` so that its dominant mode (or limit cycle)
     matches ``targets`` (and ``shape``), in one condition or several at once.
@@ -95,6 +96,9 @@ def fit(
         exclude_base_um: leave shape points with s < this out of the fit (um); their
             misfit at the optimum is reported.
         prior: optional log prior in the fitted coordinates (used by samplers).
+        shift: None: the beat is the dominant mode; a complex number (dimensionless):
+            the eigenvalue nearest it (``1j * omega0`` for a regulated mechanism,
+            :mod:`axojax.inverse.mechanisms`).
 
     Warns (``UserWarning``) when the targets are not reproduced or a parameter is not
     identifiable.
@@ -120,6 +124,7 @@ def fit(
         shape_floor=shape_floor,
         exclude_base_um=exclude_base_um,
         prior=prior,
+        shift=shift,
     )
     result = least_squares(problem, optimiser, starts=starts, seed=seed, progress=progress)
     if not result.targets_met:
@@ -151,6 +156,9 @@ def build_problem(
     shape_floor: float = SHAPE_FLOOR,
     exclude_base_um: float = 0.0,
     prior=None,
+    shift: complex | None = None,
+    mechanism: str | None = None,
+    base: str | None = None,
 ) -> Problem:
     """The :class:`~axojax.inverse.Problem` that :func:`fit` solves, from the same
     arguments (less the least-squares settings): hand it to another solver, e.g.
@@ -184,4 +192,7 @@ def build_problem(
         shape_floor=shape_floor,
         exclude_base_um=exclude_base_um,
         prior=prior,
+        shift=shift,
+        mechanism=mechanism,
+        base=base,
     )

@@ -42,6 +42,7 @@ from jaxtyping import Array, Float
 
 from ..beats.targets import SCALARS, ShapeTarget
 from ..eigen.mode import DEFAULT_SOLVER, dominant_mode_impl
+from ..eigen.nearest import nearest_mode_impl
 from ..eigen.solvers import AbstractEigenSolver
 from ..models.section import Model
 from ..orbits.cycle import LimitCycle
@@ -49,10 +50,11 @@ from ..orbits.measures import cycle_measures
 from ..orbits.solvers import AbstractOrbitSolver, HarmonicBalance, WarmStart
 from ..params import DEFAULT_CUBIC, PARAM_NAMES, Params
 from ..units import Units
+from ._arguments import _check, _coordinate_bounds
 from .conditions import Condition
 from .cycle_targets import aligned_psi1
 from .cycle_targets import shape_residuals as cycle_shape_residuals
-from .parameters import DEFAULT_BOUNDS, ORBIT_FIELDS, FreeParameter, coordinate_bounds
+from .parameters import DEFAULT_BOUNDS, ORBIT_FIELDS, FreeParameter
 from .predictions import cycle_value, scalar_value, shape_fit
 
 SHAPE_FLOOR = 0.05  # rad: model-discrepancy floor of psi_1 (module docstring)
@@ -90,43 +92,6 @@ def _without_floquet(solver: AbstractOrbitSolver) -> AbstractOrbitSolver:
     return solver
 
 
-def _check(conditions, free, per_condition, kl_ratio, shape_floor, exclude_base_um):
-    """The conditions (a list) and their labels, after checking every argument of
-    :class:`Problem` that needs no model (one-line ``ValueError`` / ``TypeError``)."""
-    conditions = list(conditions)
-    if not conditions:
-        raise ValueError("conditions: give at least one condition")
-    for c in conditions:
-        if not isinstance(c, Condition):
-            raise TypeError(f"conditions must be axojax.inverse.Condition, got {c!r}")
-    free, per_condition = list(free), list(per_condition)
-    if not free and not per_condition:
-        raise ValueError("free: name at least one parameter to fit")
-    for name in free + per_condition:
-        if name not in PARAM_NAMES and name not in ORBIT_FIELDS:
-            raise ValueError(
-                f"free: unknown parameter {name!r}; choose from {', '.join((*PARAM_NAMES, *sorted(ORBIT_FIELDS)))}"
-            )
-    both = set(free) & set(per_condition)
-    if both or len(set(free)) < len(free) or len(set(per_condition)) < len(per_condition):
-        raise ValueError(
-            f"free: each parameter once, shared or per condition (repeated: {', '.join(sorted(both)) or 'a name'})"
-        )
-    if kl_ratio is not None:
-        if not (math.isfinite(kl_ratio) and kl_ratio > 0):
-            raise ValueError(f"kl_ratio must be > 0, got {kl_ratio!r}")
-        if "kl" in free + per_condition:
-            raise ValueError("free: kl is tied to ks by kl_ratio; fit ks instead")
-    if not (math.isfinite(shape_floor) and shape_floor >= 0):
-        raise ValueError(f"shape_floor must be >= 0 (rad), got {shape_floor!r}")
-    if not (math.isfinite(exclude_base_um) and exclude_base_um >= 0):
-        raise ValueError(f"exclude_base_um must be >= 0 (um), got {exclude_base_um!r}")
-    labels = [str(i) if c.label is None else str(c.label) for i, c in enumerate(conditions)]
-    if len(set(labels)) < len(labels):
-        raise ValueError(f"conditions: labels must differ, got {labels}")
-    return conditions, labels
-
-
 class Problem:
     """An inverse problem over one or several conditions.
 
@@ -148,6 +113,13 @@ class Problem:
         shape_floor: model-discrepancy floor (rad) added in quadrature to psi_1's sigma.
         exclude_base_um: drop observed shape points with s < this (um).
         prior: optional ``log_prior(u) -> scalar``; default 0 (uniform in u).
+        shift: None (default): the beat is the dominant mode (the steady load). A complex
+            number (dimensionless, 1/tau): the beat is the eigenvalue nearest it, e.g.
+            ``1j * omega0`` for a regulated mechanism (docs/model.md section 8: with an
+            active friction the beat is not the dominant mode); its solver must have a
+            ``nearest`` method (:mod:`axojax.eigen.solvers`).
+        mechanism, base: names the report carries (``FitResult.mechanism``, ``.base``);
+            default: read from the parameters and the model.
     """
 
     def __init__(
@@ -167,6 +139,9 @@ class Problem:
         shape_floor: float = SHAPE_FLOOR,
         exclude_base_um: float = 0.0,
         prior: Callable[[Array], Array] | None = None,
+        shift: complex | None = None,
+        mechanism: str | None = None,
+        base: str | None = None,
     ):
         conditions, labels = _check(
             conditions, free, per_condition, kl_ratio, shape_floor, exclude_base_um
@@ -180,6 +155,10 @@ class Problem:
             float(exclude_base_um),
         )
         self.prior = prior
+        if shift is not None and not np.isfinite(complex(shift)):
+            raise ValueError(f"shift must be a finite complex number, got {shift!r}")
+        self.shift = None if shift is None else complex(shift)
+        self.mechanism, self.base_name = mechanism, base
         self.free_shared, self.free_per_condition = tuple(free), tuple(per_condition)
         self.bounds = {**DEFAULT_BOUNDS, **(bounds or {})}
         self.base = [params.with_values(c.params).validate() for c in conditions]
@@ -202,11 +181,11 @@ class Problem:
         )  # noqa: E731
         out, u0 = [], []
         for name in free:
-            log, lo, hi = coordinate_bounds(name, self.bounds)
+            log, lo, hi = _coordinate_bounds(name, self.bounds)
             out.append(FreeParameter(name, name, None, log, lo, hi))
             u0.append(start_of(params, name))
         for name in per_condition:
-            log, lo, hi = coordinate_bounds(name, self.bounds)
+            log, lo, hi = _coordinate_bounds(name, self.bounds)
             for i, lab in enumerate(labels):
                 out.append(FreeParameter(f"{name}@{lab}", name, i, log, lo, hi))
                 u0.append(start_of(self.base[i], name))
@@ -369,18 +348,25 @@ class Problem:
         }
 
     # -- the model's predictions -----------------------------------------------------
+    def _mode(self, model: Model, prm: Params, solver):
+        """The beat's mode: the dominant one, or the one nearest ``shift``."""
+        if self.shift is None:
+            return dominant_mode_impl(model, prm, solver)
+        return nearest_mode_impl(model, prm, self.shift, solver)
+
     def modes(self, u) -> list:
-        """Dominant mode of every condition (None where no target needs it)."""
+        """The beat's mode of every condition (None where no target needs it): the
+        dominant mode, or the one nearest ``shift``."""
         out: list = [None] * self.n_conditions
         for group in self._groups:
             model = self.models[group[0]]
             solver = self._solvers[model]
             prms = [self.condition_params(u, i) for i in group]
             if len(group) == 1:
-                out[group[0]] = dominant_mode_impl(model, prms[0], solver)
+                out[group[0]] = self._mode(model, prms[0], solver)
                 continue
             batch = jax.vmap(
-                lambda prm, model=model, solver=solver: dominant_mode_impl(model, prm, solver)
+                lambda prm, model=model, solver=solver: self._mode(model, prm, solver)
             )(_stack(prms))
             for k, i in enumerate(group):
                 out[i] = jax.tree_util.tree_map(lambda x, k=k: x[k], batch)
@@ -527,11 +513,34 @@ class Problem:
             out.append(d)
         return out
 
+    def prefer(self, u: Float[np.ndarray, "c k"] | None) -> None:
+        """Starts to use before any other (e.g. exact Hopf points screened by their loss,
+        :func:`axojax.inverse.compare.screened_starts`): :meth:`start_design` returns
+        them first, clipped inside the bounds; None: none."""
+        if u is None:
+            self._preferred = None
+            return
+        u = np.atleast_2d(np.asarray(u, dtype=float))
+        if u.shape[1] != len(self.names) or not np.all(np.isfinite(u)):
+            raise ValueError(
+                f"starts: expected finite (c, {len(self.names)}) values, got {u.shape}"
+            )
+        span = self.upper - self.lower
+        self._preferred = np.clip(u, self.lower + EDGE * span, self.upper - EDGE * span)
+
     def start_design(self, n: int, seed: int = 0) -> np.ndarray:
-        """(n, k) starts: ``u0`` first, then a scrambled Sobol design of the bounded box
-        (points kept 1e-9 of the range inside the bounds)."""
+        """(n, k) starts: the preferred ones (:meth:`prefer`) if any, then ``u0``, then
+        a scrambled Sobol design of the bounded box (points kept 1e-9 of the range
+        inside the bounds)."""
         if n < 1:
             raise ValueError(f"starts must be >= 1, got {n}")
+        preferred = getattr(self, "_preferred", None)
+        if preferred is not None:
+            rest = self._design(max(n - len(preferred), 1), seed)
+            return np.vstack([preferred, rest])[:n]
+        return self._design(n, seed)
+
+    def _design(self, n: int, seed: int) -> np.ndarray:
         k = len(self.names)
         if n == 1:
             return self.u0[None]

@@ -19,6 +19,11 @@ parameters: a log-space standard error 0.1 is a 10 % uncertainty). Rules:
   key.) Whether the solver itself terminated is ``result`` (:mod:`axojax.results`).
 - ``chi2_per_dof``: ``sum r^2 / (m - k)`` (None when there are no more residuals than
   fitted values).
+- ``r2``, ``aic``, ``bic``, ``n_free`` (:mod:`.quality`): Sartori's R^2 of psi_1 over every
+  observed shape point (None without a shape), and the information criteria with
+  ``n_free`` = the fitted values plus 2 per shape fitted with a free complex amplitude.
+- ``mechanism`` (``steady``, ``sliding``, ``curvature``, ``sliding+curvature``) and
+  ``base`` (``clamped`` until other bases exist): the hypothesis that was fitted.
 """
 
 from __future__ import annotations
@@ -36,7 +41,10 @@ from .. import _io
 from ..params import MECHANISM_NAMES, PARAM_NAMES, Params
 from ..results import RESULTS, message
 from ..results import name as result_name
+from ._arguments import SIGNED
 from .problem import CYCLE_FAILED, Problem
+from .quality import information_criteria
+from .quality import r2 as r2_of
 from .verdicts import (
     strong_pairs,
     uncertainty,
@@ -79,6 +87,9 @@ class FitResult:
         method, iterations, wall_s: solver name, iterations per start, wall time (s).
         problem: summary of the problem (bounds, floor, exclusion).
         notes: the message's parts.
+        r2: Sartori's R^2 of psi_1 (:mod:`.quality`), None without a shape target.
+        aic, bic: information criteria (:mod:`.quality`); n_free: the count they use.
+        mechanism, base: the hypothesis fitted (regulated-dynein mechanism, base condition).
         result: the least-squares solver's :class:`axojax.results.RESULTS` item at the
             best start (``successful``: its termination test passed; e.g.
             ``nonlinear_max_steps_reached`` when it ran out of steps). Independent of
@@ -112,6 +123,12 @@ class FitResult:
     notes: list[str] = dataclasses.field(default_factory=list)
     condition_params: list[Params] = dataclasses.field(default_factory=list)
     result: RESULTS = dataclasses.field(default_factory=lambda: RESULTS.successful)
+    r2: float | None = None
+    aic: float | None = None
+    bic: float | None = None
+    n_free: int = 0
+    mechanism: str = "steady"
+    base: str = "clamped"
 
     @property
     def converged(self) -> bool:
@@ -162,6 +179,12 @@ class FitResult:
             "wall_s": self.wall_s,
             "problem": self.problem,
             "conditions": self.conditions,
+            "r2": self.r2,
+            "aic": self.aic,
+            "bic": self.bic,
+            "n_free": self.n_free,
+            "mechanism": self.mechanism,
+            "base": self.base,
         }
         if not self.multi:
             doc["achieved"] = self.achieved
@@ -238,6 +261,7 @@ def build_report(
     dof = problem.dof
     chi2 = float(np.sum(r**2) / dof) if dof > 0 else None
 
+    quality = _quality(problem, r, conditions)
     notes = _notes(problem, u, values, se_u, cov, verdict, combos)
     notes = _cycle_notes(problem, ev) + notes + _excluded_notes(conditions)
     head = (
@@ -280,7 +304,47 @@ def build_report(
         result=RESULTS.successful
         if result is None
         else (result if isinstance(result, RESULTS) else RESULTS.promote(result)),
+        **quality,
     )
+
+
+def mechanism_name(params: Params, free=()) -> str:
+    """``steady``, ``sliding``, ``curvature`` or ``sliding+curvature``: which regulated
+    coefficients act (non-zero, or fitted)."""
+    acts = {f for f in SIGNED if f in free or float(np.asarray(getattr(params, f))) != 0.0}
+    parts = [m for m, f in (("sliding", "chi"), ("curvature", "beta")) if any(f in a for a in acts)]
+    return "+".join(parts) or "steady"
+
+
+def _quality(problem: Problem, r, conditions: list[dict]) -> dict[str, Any]:
+    """r2, aic, bic, n_free, mechanism and base of a fit (:mod:`.quality`). R^2 pools
+    every condition's observed points; a linear-mode shape has a free complex amplitude
+    (2 real values in n_free); a limit cycle's is fixed."""
+    obs, fit, amplitudes = [], [], 0
+    for i, entry in enumerate(conditions):
+        data = entry.get("shape")
+        if data is None:
+            continue
+        obs.append(np.asarray(data["psi1_obs_re"]) + 1j * np.asarray(data["psi1_obs_im"]))
+        fit.append(np.asarray(data["psi1_fit_re"]) + 1j * np.asarray(data["psi1_fit_im"]))
+        amplitudes += problem.shapes[i] is not None and problem.shapes[i].source != "limit_cycle"
+        entry["r2"] = _finite(r2_of(obs[-1], fit[-1]))
+    n_free = len(problem.names) + 2 * int(amplitudes)
+    aic, bic = information_criteria(float(np.sum(np.square(r))), n_free, int(np.size(r)))
+    model = problem.models[0]
+    return {
+        "r2": _finite(r2_of(np.concatenate(obs), np.concatenate(fit))) if obs else None,
+        "aic": _finite(aic),
+        "bic": _finite(bic),
+        "n_free": n_free,
+        "mechanism": problem.mechanism
+        or mechanism_name(problem.base[0], {p.field for p in problem.parameters}),
+        "base": problem.base_name or str(getattr(model, "base", "clamped")),
+    }
+
+
+def _finite(x: float) -> float | None:
+    return float(x) if math.isfinite(x) else None
 
 
 def _covariance(J: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

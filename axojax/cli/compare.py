@@ -1,0 +1,216 @@
+"""``axojax compare``: every mechanism x base fitted to one observed beat, ranked by BIC
+(:func:`axojax.compare`; docs/mechanisms.md).
+
+Exit status 0; bad input (an unknown or unavailable mechanism or base, a coefficient
+named as a mechanism, a bad setting) is one line naming the flag, exit 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import warnings
+
+from .._progress import enabled as progress_enabled
+from ..inverse.compare import compare, render_table
+from ..inverse.mechanisms import (
+    AVAILABLE_BASES,
+    BASES,
+    COMPARE_PRESETS,
+    DEFAULT_ELEMENTS,
+    DEFAULT_PRESET,
+    MECHANISMS,
+    PIN_TOLERANCE,
+    check_names,
+)
+from ..inverse.problem import SHAPE_FLOOR
+from ..params import MECHANISM_NAMES
+from ..units import Units
+from . import common
+
+MAX_STARTS = 100
+COEFFICIENTS = {
+    "chi": "sliding",
+    "beta": "curvature",
+    **{n: ("sliding" if n.startswith("chi") else "curvature") for n in MECHANISM_NAMES},
+}
+"""Coefficient names a user may type instead of a mechanism, and the mechanism they belong
+to (``omega0`` is every regulated mechanism's: it is pinned at the data's frequency)."""
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--data",
+        required=True,
+        metavar="FILE",
+        help="beat data (kymograph, centreline or Fourier-mode file) or a bundled name (human_sperm)",
+    )
+    parser.add_argument(
+        "--mechanisms",
+        default=None,
+        metavar="LIST",
+        help=f"comma-separated mechanisms (default all: {','.join(MECHANISMS)})",
+    )
+    parser.add_argument(
+        "--bases",
+        default=None,
+        metavar="LIST",
+        help=f"comma-separated base conditions of {','.join(BASES)} (default and available in this version: {','.join(AVAILABLE_BASES)})",
+    )
+    parser.add_argument(
+        "--model",
+        default=DEFAULT_PRESET,
+        choices=COMPARE_PRESETS,
+        help=f"the preset every row uses (default {DEFAULT_PRESET}: the anchors' two-filament continuum limit, and the fastest)",
+    )
+    parser.add_argument(
+        "--elements",
+        type=int,
+        default=DEFAULT_ELEMENTS,
+        metavar="N",
+        help=f"elements per filament (default {DEFAULT_ELEMENTS})",
+    )
+    du = Units()
+    parser.add_argument(
+        "--ei",
+        type=common.finite_float,
+        default=du.ei_pn_um2,
+        metavar="PN_UM2",
+        help="EI of one filament, pN um^2 (default 800/11); with --cn it sets the beat's sperm number",
+    )
+    parser.add_argument(
+        "--cn",
+        type=common.finite_float,
+        default=None,
+        metavar="PN_S_UM2",
+        help="resistive coefficient of one filament, pN s um^-2 (default 0.003)",
+    )
+    parser.add_argument(
+        "--sperm-number",
+        type=common.finite_float,
+        default=None,
+        metavar="SP",
+        help="the beat's sperm number omega xi_n L^4 / kappa instead of --cn (c_n set to give it, with --ei)",
+    )
+    parser.add_argument(
+        "--starts",
+        type=int,
+        default=3,
+        metavar="N",
+        help="least-squares starts per row: the best of the screened Hopf points and Sobol design (default 3)",
+    )
+    parser.add_argument(
+        "--seed", type=int, default=0, metavar="N", help="seed of the Sobol design (default 0)"
+    )
+    parser.add_argument(
+        "--shape-floor",
+        type=common.finite_float,
+        default=SHAPE_FLOOR,
+        metavar="RAD",
+        help=f"model-discrepancy floor added in quadrature to psi_1's sigma (default {SHAPE_FLOOR:g} rad)",
+    )
+    parser.add_argument(
+        "--pin-tolerance",
+        type=common.finite_float,
+        default=PIN_TOLERANCE,
+        metavar="REL",
+        help=f"relative sigma of the pins of the beat: growth rate 0 and the data's frequency (default {PIN_TOLERANCE:g})",
+    )
+    parser.add_argument(
+        "--out",
+        default=None,
+        metavar="REPORT.json",
+        help="save the comparison (drawn by 'axojax plot REPORT.json')",
+    )
+    parser.add_argument("--json", action="store_true", help="print one JSON document on stdout")
+
+
+def _names(text: str | None, flag: str) -> list[str] | None:
+    if text is None:
+        return None
+    names = [t.strip() for t in text.split(",")]
+    if not all(names):
+        raise common.CLIError(f"{flag}: empty name in {text!r}")
+    if flag == "--mechanisms":
+        for n in names:
+            if n in COEFFICIENTS:
+                raise common.CLIError(
+                    f"--mechanisms: {n!r} is a coefficient of {COEFFICIENTS[n]}, not a mechanism; "
+                    f"give --mechanisms {COEFFICIENTS[n]} (its coefficients are fitted)"
+                )
+    return names
+
+
+def run(args: argparse.Namespace) -> dict:
+    common.check_output("--out", args.out, (".json",))
+    mechanisms = _names(args.mechanisms, "--mechanisms")
+    bases = _names(args.bases, "--bases")
+    try:
+        check_names(mechanisms, bases, mechanism_flag="--mechanisms", base_flag="--bases")
+    except ValueError as err:
+        raise common.CLIError(str(err)) from None
+    if not 2 <= args.elements <= 200:
+        raise common.CLIError(f"--elements: expected an integer in 2..200, got {args.elements}")
+    if not 1 <= args.starts <= MAX_STARTS:
+        raise common.CLIError(
+            f"--starts: expected an integer in 1..{MAX_STARTS}, got {args.starts}"
+        )
+    if args.shape_floor < 0:
+        raise common.CLIError(f"--shape-floor: must be >= 0 rad, got {args.shape_floor:g}")
+    if not 0 < args.pin_tolerance < 1:
+        raise common.CLIError(f"--pin-tolerance: must be in (0, 1), got {args.pin_tolerance:g}")
+    if args.sperm_number is not None:
+        if args.cn is not None:
+            raise common.CLIError("--sperm-number: sets c_n; give --sperm-number or --cn, not both")
+        if not args.sperm_number > 0:
+            raise common.CLIError(f"--sperm-number: must be > 0, got {args.sperm_number:g}")
+    cn = Units().cn_pn_s_um2 if args.cn is None else args.cn
+    try:
+        units = Units(12.0, args.ei, cn)  # the length is the data's
+    except ValueError as err:
+        flag = "--ei" if "ei_pn_um2" in str(err) else "--cn"
+        raise common.CLIError(f"{flag}: {err}") from None
+    from ..beats import read_beat
+
+    try:
+        beat = read_beat(args.data)
+    except (ValueError, OSError) as err:
+        raise common.CLIError(f"--data: {err}") from None
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            result = compare(
+                beat,
+                mechanisms,
+                bases,
+                args.model,
+                n_elements=args.elements,
+                units=units,
+                sperm_number=args.sperm_number,
+                starts=args.starts,
+                seed=args.seed,
+                shape_floor=args.shape_floor,
+                pin_tolerance=args.pin_tolerance,
+                progress=progress_enabled(json_output=args.json),
+            )
+    except ValueError as err:
+        raise common.CLIError(f"--data: {err}") from None
+    doc = result.to_json()
+    doc["data"]["file"] = str(args.data)
+    if args.out is not None:
+        import json
+
+        from .. import _io
+
+        try:
+            _io.write_text(args.out, json.dumps(doc, indent=1, allow_nan=False) + "\n")
+        except OSError as err:
+            raise common.CLIError(f"--out: cannot write {args.out!r} ({err})") from None
+        doc["out"] = str(args.out)
+    return doc
+
+
+def render(doc: dict) -> str:
+    text = render_table(doc)
+    if "out" in doc:
+        text += f"\nsaved {doc['out']} (draw it with 'axojax plot {doc['out']}')"
+    return text

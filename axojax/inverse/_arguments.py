@@ -1,0 +1,63 @@
+"""Checks of :class:`~axojax.inverse.Problem`'s arguments that need no model, and the
+fitted coordinate of each free parameter (kept apart so that ``problem.py`` stays short)."""
+
+from __future__ import annotations
+
+import math
+
+from ..params import MECHANISM_NAMES, PARAM_NAMES
+from .conditions import Condition
+from .parameters import ORBIT_FIELDS, coordinate_bounds
+
+SIGNED = frozenset(MECHANISM_NAMES) - {"omega0"}
+"""Regulated-dynein coefficients (chi', chi'', beta', beta''): signed, so fitted in a linear
+coordinate like ``gamma`` (give their bounds, e.g. :func:`axojax.inverse.mechanisms.row`)."""
+
+
+def _coordinate_bounds(name: str, bounds: dict) -> tuple[bool, float, float]:
+    """:func:`coordinate_bounds`, with the signed mechanism coefficients linear."""
+    if name not in SIGNED:
+        return coordinate_bounds(name, bounds)
+    if name not in bounds:
+        raise ValueError(f"bounds: no bounds for {name!r}; give bounds={{{name!r}: (low, high)}}")
+    a, b = (float(v) for v in bounds[name])
+    if not (math.isfinite(a) and math.isfinite(b) and a < b):
+        raise ValueError(f"bounds of {name} must satisfy low < high, got ({a:g}, {b:g})")
+    return False, a, b
+
+
+def _check(conditions, free, per_condition, kl_ratio, shape_floor, exclude_base_um):
+    """The conditions (a list) and their labels, after checking every argument of
+    :class:`Problem` that needs no model (one-line ``ValueError`` / ``TypeError``)."""
+    conditions = list(conditions)
+    if not conditions:
+        raise ValueError("conditions: give at least one condition")
+    for c in conditions:
+        if not isinstance(c, Condition):
+            raise TypeError(f"conditions must be axojax.inverse.Condition, got {c!r}")
+    free, per_condition = list(free), list(per_condition)
+    if not free and not per_condition:
+        raise ValueError("free: name at least one parameter to fit")
+    for name in free + per_condition:
+        if name not in PARAM_NAMES and name not in ORBIT_FIELDS:
+            raise ValueError(
+                f"free: unknown parameter {name!r}; choose from {', '.join((*PARAM_NAMES, *sorted(ORBIT_FIELDS)))}"
+            )
+    both = set(free) & set(per_condition)
+    if both or len(set(free)) < len(free) or len(set(per_condition)) < len(per_condition):
+        raise ValueError(
+            f"free: each parameter once, shared or per condition (repeated: {', '.join(sorted(both)) or 'a name'})"
+        )
+    if kl_ratio is not None:
+        if not (math.isfinite(kl_ratio) and kl_ratio > 0):
+            raise ValueError(f"kl_ratio must be > 0, got {kl_ratio!r}")
+        if "kl" in free + per_condition:
+            raise ValueError("free: kl is tied to ks by kl_ratio; fit ks instead")
+    if not (math.isfinite(shape_floor) and shape_floor >= 0):
+        raise ValueError(f"shape_floor must be >= 0 (rad), got {shape_floor!r}")
+    if not (math.isfinite(exclude_base_um) and exclude_base_um >= 0):
+        raise ValueError(f"exclude_base_um must be >= 0 (um), got {exclude_base_um!r}")
+    labels = [str(i) if c.label is None else str(c.label) for i, c in enumerate(conditions)]
+    if len(set(labels)) < len(labels):
+        raise ValueError(f"conditions: labels must differ, got {labels}")
+    return conditions, labels

@@ -1,0 +1,405 @@
+"""``compare``: every hypothesis (mechanism x base) fitted to one observed beat, ranked.
+
+Each row is built by :func:`axojax.inverse.mechanisms.row` (the one place that sets its
+model, fixed values, free values, bounds and beat selection), fitted by least squares
+(Levenberg-Marquardt by default) from ``starts`` starts, and reported with Sartori's R^2
+of psi_1, chi^2/dof, AIC and BIC (:mod:`axojax.inverse.quality`). Rows are ordered by
+BIC; ``delta_bic`` is each row's BIC minus the best's.
+
+Starts. A regulated row's pins hold exactly on a discrete set of coefficients (its Hopf
+points at the observed frequency); :func:`axojax.inverse.mechanisms.hopf_starts` finds
+them as generalised eigenvalues, and these candidates, with a Sobol design of the box,
+are *screened*: their loss is evaluated in one vmapped, compiled program, and the
+``starts`` best become the fit's starts (:meth:`Problem.prefer`). The steady row
+screens a Sobol design only. Every start of a row shares that row's compiled programs.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import pathlib
+import time
+import warnings
+from typing import Any
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+from tqdm.auto import tqdm
+
+from .. import _io
+from ..beats.data import BeatData, read_beat
+from ..units import Units
+from .fit import build_problem
+from .least_squares import least_squares, solver_from_name
+from .mechanisms import (
+    DEFAULT_ELEMENTS,
+    DEFAULT_PRESET,
+    PIN_TOLERANCE,
+    build_model,
+    check_names,
+    hopf_starts,
+    row,
+)
+from .problem import SHAPE_FLOOR, Problem
+from .report import FitResult
+
+SCREEN = 64
+"""Sobol points screened (with the Hopf points) for the starts of each row."""
+BATCH = 64
+"""Candidates per vmapped evaluation while screening (one compiled program per row)."""
+
+
+@dataclasses.dataclass
+class CompareRow:
+    """One fitted hypothesis.
+
+    Attributes:
+        mechanism, base: the hypothesis.
+        free: its fitted values' names (dimensionless :class:`~axojax.Params` fields).
+        params: their fitted values (dimensionless), and ``physical`` ones of chi
+            (pN/um^2) and beta (pN).
+        frequency_hz, growth_rate_per_s: the beat's (the pins' achieved values).
+        r2, chi2_per_dof, aic, bic, n_free: :mod:`axojax.inverse.quality`.
+        delta_bic: BIC minus the best row's.
+        at_bound: fitted values at a bound.
+        psi1_model: (S,) complex: the fitted psi_1 (rad) at the data's s.
+        fit: the row's full :class:`~axojax.inverse.FitResult`.
+    """
+
+    mechanism: str
+    base: str
+    free: tuple[str, ...]
+    params: dict[str, float]
+    physical: dict[str, float]
+    frequency_hz: float
+    growth_rate_per_s: float
+    r2: float | None
+    chi2_per_dof: float | None
+    aic: float | None
+    bic: float | None
+    n_free: int
+    at_bound: list[str]
+    psi1_model: np.ndarray
+    fit: FitResult
+    wall_s: float
+    delta_bic: float | None = None
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "mechanism": self.mechanism,
+            "base": self.base,
+            "free": list(self.free),
+            "params": dict(self.params),
+            "physical": dict(self.physical),
+            "frequency_hz": self.frequency_hz,
+            "growth_rate_per_s": self.growth_rate_per_s,
+            "r2": self.r2,
+            "chi2_per_dof": self.chi2_per_dof,
+            "aic": self.aic,
+            "bic": self.bic,
+            "delta_bic": self.delta_bic,
+            "n_free": self.n_free,
+            "at_bound": list(self.at_bound),
+            "psi1_model": [[float(z.real), float(z.imag)] for z in self.psi1_model],
+            "result": self.fit.to_json()["result"],
+            "wall_s": self.wall_s,
+        }
+
+
+@dataclasses.dataclass
+class Comparison:
+    """The rows of :func:`compare`, best (lowest BIC) first, and the observed beat.
+
+    Attributes:
+        data: the beat's summary (what ``axojax data`` prints).
+        s_um: (S,) observed arc lengths; psi1: (S,) observed psi_1 (rad, complex);
+            psi0: (S,) observed psi_0 (rad) or None.
+        frequency_hz: the observed frequency (every row's pin).
+        model, n_elements, units: the model all rows share.
+        rows: :class:`CompareRow` s ordered by BIC.
+        wall_s: total time (s).
+    """
+
+    data: dict[str, Any]
+    s_um: np.ndarray
+    psi1: np.ndarray
+    psi0: np.ndarray | None
+    frequency_hz: float
+    model: str
+    n_elements: int
+    units: Units
+    rows: list[CompareRow]
+    wall_s: float
+    pin_tolerance: float = PIN_TOLERANCE
+    shape_floor: float = SHAPE_FLOOR
+
+    @property
+    def best(self) -> CompareRow:
+        return self.rows[0]
+
+    def to_json(self) -> dict[str, Any]:
+        """The ``axojax compare --json`` document (docs/interface.md)."""
+        data = dict(self.data)
+        data.update(
+            s_um=self.s_um.tolist(),
+            psi1=[[float(z.real), float(z.imag)] for z in self.psi1],
+            psi0=None if self.psi0 is None else np.asarray(self.psi0, dtype=float).tolist(),
+        )
+        return _clean(
+            {
+                "kind": "comparison",
+                "data": data,
+                "model": {
+                    "preset": self.model,
+                    "elements": self.n_elements,
+                    "length_um": self.units.length_um,
+                    "ei_pn_um2": self.units.ei_pn_um2,
+                    "cn_pn_s_um2": self.units.cn_pn_s_um2,
+                    "sperm_number": float(self.units.omega0_from_hz(self.frequency_hz)),
+                },
+                "pin_tolerance": self.pin_tolerance,
+                "shape_floor_rad": self.shape_floor,
+                "rows": [r.to_json() for r in self.rows],
+                "wall_s": self.wall_s,
+            }
+        )
+
+    def save(self, path: str | pathlib.Path) -> None:
+        """Write :meth:`to_json` (read by ``axojax plot REPORT.json``), atomically."""
+        _io.write_text(path, json.dumps(self.to_json(), indent=1, allow_nan=False) + "\n")
+
+    def table(self) -> str:
+        """The rows as a text table, best first."""
+        return render_table(self.to_json())
+
+
+def render_table(doc: dict[str, Any]) -> str:
+    """A comparison document (:meth:`Comparison.to_json`) as a text table."""
+
+    def num(x, fmt):
+        return "-" if x is None else format(x, fmt)
+
+    f_obs = doc["data"].get("frequency_hz")
+    head = (
+        f"{'rank':>4}  {'mechanism':<18} {'base':<8} {'R^2':>7} {'f (Hz)':>8} {'df %':>7} "
+        f"{'chi2/dof':>9} {'BIC':>10} {'dBIC':>9} {'n':>2}  at bound"
+    )
+    lines = [head]
+    for i, r in enumerate(doc["rows"], 1):
+        df = (
+            None
+            if r["frequency_hz"] is None or not f_obs
+            else 100 * (r["frequency_hz"] - f_obs) / f_obs
+        )
+        lines.append(
+            f"{i:>4}  {r['mechanism']:<18} {r['base']:<8} {num(r['r2'], '7.3f')} "
+            f"{num(r['frequency_hz'], '8.3f')} {num(df, '+7.2f')} {num(r['chi2_per_dof'], '9.3g')} "
+            f"{num(r['bic'], '10.1f')} {num(r['delta_bic'], '9.1f')} {r['n_free']:>2}  "
+            + (", ".join(r["at_bound"]) or "-")
+        )
+    m = doc["model"]
+    lines.append(
+        f"model {m['preset']} ({m['elements']} elements), sperm number {m['sperm_number']:.4g}; "
+        f"observed {num(f_obs, '.4g')} Hz; rows by BIC (lower is better); "
+        f"R^2 is Sartori's of psi_1"
+    )
+    return "\n".join(lines)
+
+
+def _clean(obj):
+    if isinstance(obj, dict):
+        return {str(k): _clean(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_clean(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return _clean(obj.tolist())
+    if isinstance(obj, (bool, np.bool_)):
+        return bool(obj)
+    if isinstance(obj, (int, np.integer)):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        return float(obj) if math.isfinite(float(obj)) else None
+    return obj
+
+
+def screened_starts(problem: Problem, candidates: np.ndarray, n: int) -> np.ndarray:
+    """The ``n`` candidates (c, k; fitted coordinates u) of least loss, best first,
+    evaluated in one compiled, vmapped program (batches of :data:`BATCH`)."""
+    candidates = np.asarray(candidates, dtype=float)
+    if len(candidates) == 0:
+        return candidates
+    chi2 = jax.jit(jax.vmap(lambda u: jnp.sum(problem.residuals(u) ** 2)))
+    losses = []
+    for i in range(0, len(candidates), BATCH):
+        chunk = candidates[i : i + BATCH]
+        padded = np.vstack([chunk, np.repeat(chunk[-1:], BATCH - len(chunk), axis=0)])
+        losses.append(np.asarray(chi2(jnp.asarray(padded)))[: len(chunk)])
+    loss = np.concatenate(losses)
+    loss = np.where(np.isfinite(loss), loss, np.inf)
+    order = np.argsort(loss, kind="stable")
+    return candidates[order[:n]]
+
+
+def _to_u(problem: Problem, values: np.ndarray) -> np.ndarray:
+    """Values (c, k) of the problem's free parameters -> fitted coordinates u."""
+    out = np.array(values, dtype=float)
+    for j, p in enumerate(problem.parameters):
+        if p.log:
+            out[:, j] = np.log(np.maximum(out[:, j], 1e-300))
+    return out
+
+
+def _physical(values: dict[str, float], units: Units) -> dict[str, float]:
+    out = {}
+    for re_im in ("re", "im"):
+        if f"chi_{re_im}" in values:
+            out[f"chi_{re_im}_pn_per_um2"] = float(units.chi_to_pn_per_um2(values[f"chi_{re_im}"]))
+        if f"beta_{re_im}" in values:
+            out[f"beta_{re_im}_pn"] = float(units.beta_to_pn(values[f"beta_{re_im}"]))
+    if "p" in values:
+        out["p_pn_per_um"] = float(units.p_to_pn_per_um(values["p"]))
+    return out
+
+
+def _beat(data) -> BeatData:
+    if isinstance(data, BeatData):
+        return data
+    if isinstance(data, (str, pathlib.Path)):
+        return read_beat(data)
+    raise TypeError(f"data must be a BeatData, a file or a bundled name, got {data!r}")
+
+
+def compare(
+    data,
+    mechanisms=None,
+    bases=None,
+    model: str = DEFAULT_PRESET,
+    *,
+    n_elements: int = DEFAULT_ELEMENTS,
+    units: Units | None = None,
+    sperm_number: float | None = None,
+    starts: int = 3,
+    seed: int = 0,
+    shape_floor: float = SHAPE_FLOOR,
+    pin_tolerance: float = PIN_TOLERANCE,
+    method: str = "lm",
+    progress: bool = False,
+) -> Comparison:
+    """Fit every mechanism x base to one beat and rank them by BIC.
+
+    Args:
+        data: a :class:`~axojax.beats.BeatData`, a beat file or a bundled name
+            (``"human_sperm"``).
+        mechanisms: names of :data:`~axojax.inverse.mechanisms.MECHANISMS` (default all:
+            steady, sliding, curvature, sliding+curvature).
+        bases: names of :data:`~axojax.inverse.mechanisms.BASES` (default: the available
+            ones; this version builds ``clamped`` only).
+        model: the preset every row uses (default ``two``: the continuum limit of the
+            anchors, and the fastest; docs/mechanisms.md).
+        n_elements: elements per filament.
+        units: EI and c_n (per filament; the length is the data's). Default
+            :class:`~axojax.Units` at the data's length.
+        sperm_number: Sp = omega xi_n L^4 / kappa of the beat (the dimensionless omega0
+            of every regulated row): when given, c_n is set to give it (EI from
+            ``units``). The shape a model can reach depends on it most
+            (docs/mechanisms.md).
+        starts: least-squares starts per row (the best of the screened candidates).
+        seed: seed of the Sobol part of the screened design.
+        shape_floor: model-discrepancy floor (rad) added in quadrature to psi_1's sigma.
+        pin_tolerance: relative sigma of the pins (growth rate and frequency).
+        method: least-squares solver (``"lm"``, ``"lbfgs"``, ``"adam"``).
+        progress: a bar over rows on stderr (``axojax compare`` shows it on a terminal,
+            never with ``--json`` on a pipe: :mod:`axojax._progress`'s rule).
+
+    Raises:
+        ValueError: an unknown or unavailable mechanism or base, a bad setting (one
+            line naming it).
+    """
+    mechanisms, bases = check_names(mechanisms, bases)
+    if not (isinstance(starts, (int, np.integer)) and 1 <= starts <= 1000):
+        raise ValueError(f"starts: expected an integer in 1..1000, got {starts!r}")
+    optimiser = solver_from_name(method)
+    beat = _beat(data)
+    targets, shape = beat.targets()
+    if shape is None:
+        raise ValueError("data: the beat has no psi_1 shape to compare mechanisms on")
+    f_obs = float(beat.frequency_hz)
+    u0 = Units() if units is None else units
+    units = Units(beat.length_um, u0.ei_pn_um2, u0.cn_pn_s_um2)
+    if sperm_number is not None:
+        if not (math.isfinite(sperm_number) and sperm_number > 0):
+            raise ValueError(f"sperm_number: must be > 0, got {sperm_number!r}")
+        cn = sperm_number / float(units.omega0_from_hz(f_obs)) * units.cn_pn_s_um2
+        units = Units(beat.length_um, u0.ei_pn_um2, cn)
+    t0 = time.perf_counter()
+    rows: list[CompareRow] = []
+    combos = [(m, b) for b in bases for m in mechanisms]
+    for mech, base in tqdm(combos, desc="compare rows", unit="row", disable=not progress):
+        the_model = build_model(model, n_elements, base)
+        spec = row(mech, base, the_model, units, f_obs, pin_tolerance=pin_tolerance)
+        rows.append(_fit_row(spec, shape, units, optimiser, starts, seed, shape_floor))
+    rows.sort(key=lambda r: math.inf if r.bic is None else r.bic)
+    best = rows[0].bic
+    for r in rows:
+        r.delta_bic = None if r.bic is None or best is None else r.bic - best
+    return Comparison(
+        data=beat.summary(),
+        s_um=np.asarray(shape.s_um, dtype=float),
+        psi1=np.asarray(shape.psi1, dtype=complex),
+        psi0=None if shape.psi0 is None else np.asarray(shape.psi0, dtype=float),
+        frequency_hz=f_obs,
+        model=model,
+        n_elements=int(n_elements),
+        units=units,
+        rows=rows,
+        wall_s=time.perf_counter() - t0,
+        pin_tolerance=pin_tolerance,
+        shape_floor=shape_floor,
+    )
+
+
+def _fit_row(spec, shape, units, optimiser, starts, seed, shape_floor) -> CompareRow:
+    t0 = time.perf_counter()
+    problem = build_problem(
+        spec.model,
+        spec.params,
+        list(spec.targets),
+        spec.free,
+        shape=shape,
+        bounds=spec.bounds,
+        kl_ratio=spec.kl_ratio,
+        units=units,
+        shape_floor=shape_floor,
+        shift=spec.shift,
+        mechanism=spec.mechanism,
+        base=spec.base,
+    )
+    candidates = np.vstack([_to_u(problem, hopf_starts(spec)), problem.start_design(SCREEN, seed)])
+    problem.prefer(screened_starts(problem, candidates, starts))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = least_squares(problem, optimiser, starts=starts, seed=seed)
+    shape_data = fit.conditions[0]["shape"]
+    psi1 = np.asarray(shape_data["psi1_fit_re"]) + 1j * np.asarray(shape_data["psi1_fit_im"])
+    values = dict(fit.params)
+    return CompareRow(
+        mechanism=spec.mechanism,
+        base=spec.base,
+        free=tuple(spec.free),
+        params=values,
+        physical=_physical(values, units),
+        frequency_hz=float(fit.achieved.get("frequency_hz", math.nan)),
+        growth_rate_per_s=float(fit.achieved.get("growth_rate_per_s", math.nan)),
+        r2=fit.r2,
+        chi2_per_dof=fit.chi2_per_dof,
+        aic=fit.aic,
+        bic=fit.bic,
+        n_free=fit.n_free,
+        at_bound=list(fit.at_bound),
+        psi1_model=psi1,
+        fit=fit,
+        wall_s=time.perf_counter() - t0,
+    )

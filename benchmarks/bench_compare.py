@@ -1,0 +1,51 @@
+"""Time of ``axojax compare``'s default set on one beat (issue 30: under 5 minutes on 2 cores).
+
+Runs :func:`axojax.compare` with its defaults (every mechanism on the available bases,
+the ``two`` preset, 16 elements, 3 starts per row) on the bundled human sperm beat, and
+prints the total wall time, each row's (compilation, screening of its starts and the
+least-squares fit), and the table. Timings are for one machine and one run, not
+assertions; the machine may be shared, so the CPU time of the process is printed too.
+
+    python benchmarks/bench_compare.py [--elements 16] [--starts 3] [--model two] [--ei 72.7 --cn 0.003]
+"""
+
+import argparse
+import time
+import warnings
+
+import axojax as ax
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--elements", type=int, default=16)
+    parser.add_argument("--starts", type=int, default=3)
+    parser.add_argument("--model", default="two")
+    parser.add_argument("--ei", type=float, default=ax.Units().ei_pn_um2)
+    parser.add_argument("--cn", type=float, default=ax.Units().cn_pn_s_um2)
+    args = parser.parse_args()
+    beat = ax.datasets.human_sperm()
+    units = ax.Units(beat.length_um, args.ei, args.cn)
+    wall, cpu = time.perf_counter(), time.process_time()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = ax.compare(
+            beat,
+            model=args.model,
+            n_elements=args.elements,
+            units=units,
+            starts=args.starts,
+            progress=False,
+        )
+    wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+    print(result.table())
+    print(
+        f"default set ({len(result.rows)} rows, {args.model}, {args.elements} elements, "
+        f"{args.starts} starts): {wall:.1f} s wall, {cpu:.1f} s CPU (all threads)"
+    )
+    for r in result.rows:
+        print(f"  {r.mechanism:<18} {r.base:<8} {r.wall_s:6.1f} s")
+
+
+if __name__ == "__main__":
+    main()
