@@ -494,3 +494,41 @@ def test_clamped_only_paths_can_refuse_a_border(kind):
     message = str(info.value)
     assert "simulate" in message and "clamped" in message and "\n" not in message
     ax.models.two(n_elements=4).require_clamped("simulate")  # the clamped base passes
+
+
+@pytest.mark.parametrize(
+    "preset,base,p",
+    [
+        ("seven", "free", 100.0),
+        ("two", Base("head", True, 1.0, 0.2), 30.0),
+        ("two", "pivot", 100.0),
+    ],
+    ids=["seven-free", "two-head", "two-pivot"],
+)
+def test_dominant_mode_skips_rigid_body_motion(preset, base, p):
+    """The dominant mode of a base that lets the axoneme move rigidly is its rightmost
+    *deforming* mode: the rightmost eigenvalue of the full pencil that is not one of its
+    rigid-body zeros, with an eigenvector of the full pencil; exact derivatives."""
+    import jax
+    import jax.numpy as jnp
+
+    model = ax.models.preset(preset, n_elements=5, base=base)
+    params = ax.Params(p=p, chi_re=1e4, kb=1e3, xib=1.0)
+    n_rigid = model.rigid_modes().shape[1]
+    lam = np.asarray(ax.spectrum(model, params))
+    assert np.sum(np.abs(lam) < 1e-6) == n_rigid > 0
+    deforming = lam[np.abs(lam) >= 1e-6]
+    mode = ax.dominant_mode(model, params)
+    expected = deforming[0] if deforming[0].imag >= 0 else np.conj(deforming[0])
+    assert abs(complex(mode.eigenvalue) - expected) < 1e-8 * abs(expected)
+    system = ax.assemble(model, params)
+    v = np.asarray(mode.eigenvector)
+    residual = (np.asarray(system.A) + complex(mode.eigenvalue) * np.asarray(system.C)) @ v
+    assert np.linalg.norm(residual) < 1e-8 * np.abs(np.asarray(system.A)).max()
+
+    def growth(x):
+        return jnp.real(ax.dominant_mode(model, params.replace(p=x)).eigenvalue)
+
+    h = 1e-4 * p
+    fd = (float(growth(p + h)) - float(growth(p - h))) / (2 * h)
+    np.testing.assert_allclose(float(jax.grad(growth)(p)), fd, rtol=1e-5)

@@ -17,6 +17,7 @@ from ..results import RESULTS
 from ..units import Units
 from ..waveform import measures
 from . import pencil
+from .dominant import dominant_eigenpair, normalise
 from .metrics import beat_plane, tangent_wavenumber
 from .solvers import AbstractEigenSolver, Arnoldi, Auto, Dense
 
@@ -142,19 +143,46 @@ def mode_from_eigenpair(
 DEFAULT_SOLVER = Auto()
 
 
+class RigidDeflated(AbstractEigenSolver):
+    """Dense, without the rigid-body zero eigenvalues of a base that leaves the axoneme
+    free to move (:meth:`axojax.models.Model.rigid_modes`, Z): the dominant mode of a
+    free axoneme is its largest-real-part *deforming* mode.
+
+    Z is a right null space of A (A Z = 0: internal forces do not resist rigid motion,
+    tests/test_bases.py). With Y^T = (Z^T C Z)^{-1} Z^T C (Y^T Z = I) the pencil
+    (A + sigma C Z Y^T, C) has every eigenvalue of (A, C) except that the rigid ones move
+    from 0 to -sigma (Brauer's theorem), and an eigenvector v' of it at lambda gives the
+    original's, v = v' + (sigma / lambda) Z Y^T v' (exact; both differentiable). sigma =
+    10 max|A| / max|C| puts the rigid modes among the fastest-decaying ones.
+    """
+
+    def eigenpair(self, model, params):
+        system = assemble(model, params)
+        A, C = system.A, system.C
+        Z = jnp.asarray(model.rigid_modes())
+        ZtC = Z.T @ C
+        Yt = jnp.linalg.solve(ZtC @ Z, ZtC)
+        sigma = jax.lax.stop_gradient(10 * jnp.max(jnp.abs(A)) / jnp.max(jnp.abs(C)))
+        lam, w = dominant_eigenpair(A + sigma * (C @ Z) @ Yt, C)
+        v = normalise(w + (sigma / lam) * (Z @ (Yt @ w)))
+        return lam, v, jnp.ones((), float)
+
+
 def for_base(
     model: Model, solver: AbstractEigenSolver, strict: bool = False
 ) -> AbstractEigenSolver:
     """``solver``, or :class:`~axojax.eigen.Dense` where the model has a border (a base
     that is not clamped) and ``solver`` is :class:`~axojax.eigen.Auto` or
     :class:`~axojax.eigen.Arnoldi`: the structured solver does not read the border yet.
+    Where the base leaves rigid-body motion free, :class:`RigidDeflated` (dense) instead.
     ``strict`` (a user's own call): an explicit Arnoldi is refused with a one-line
     ``ValueError`` instead (the sweep engine and fits resolve Auto to Arnoldi themselves,
     and get the dense answer)."""
     if not model.n_border:
         return solver
-    if isinstance(solver, Auto) or (isinstance(solver, Arnoldi) and not strict):
-        return Dense()
+    rigid = model.rigid_modes().shape[1] > 0
+    if isinstance(solver, (Auto, Dense)) or (isinstance(solver, Arnoldi) and not strict):
+        return RigidDeflated() if rigid else Dense()
     if isinstance(solver, Arnoldi):
         raise ValueError(
             f"the Arnoldi eigen-solver does not support the {model.base.kind!r} base yet "

@@ -301,6 +301,32 @@ class Model:
             self, base=base, base_matrices=_base_matrices(self.mesh, self.profiles, base)
         )
 
+    def rigid_modes(self) -> np.ndarray:
+        """(n_unknowns, r) rigid-body motions the base leaves free, one column per
+        direction and motion, built from the node positions: a translation (u = 1) and a
+        rotation about x = 0 (u = x, u' = 1) for ``free`` and ``head``, the rotation for
+        a ``pivot`` without a spring, none otherwise (r = 0). The basal slidings are 0."""
+        kind = self.base.kind
+        motions = {"free": ("t", "r"), "head": ("t", "r")}.get(kind, ())
+        if kind == "pivot" and self.base.rotational_stiffness == 0:
+            motions = ("r",)
+        N, F, d = self.n_elements, self.n_filaments, self.n_dirs
+        xs = np.arange(1, N + 1) / N
+        cols = []
+        for a in range(d):
+            for motion in motions:
+                node = np.zeros((F, d, N, 2))
+                base = np.zeros((d, 2))
+                if motion == "t":
+                    node[:, a, :, 0], base[a, 0] = 1.0, 1.0
+                else:
+                    node[:, a, :, 0], node[:, a, :, 1], base[a, 1] = xs, 1.0, 1.0
+                rest = np.zeros(self.n_border - self.n_base_dofs)
+                cols.append(
+                    np.concatenate([node.ravel(), base[:, list(self.base.dofs)].ravel(), rest])
+                )
+        return np.array(cols).T.reshape(self.n_unknowns, len(cols))
+
     def require_clamped(self, what: str) -> None:
         """Raise a one-line ``ValueError`` when the model has a border (a base that is not
         clamped, or basal compliance): for code paths that assume the clamped base's
