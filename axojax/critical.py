@@ -19,7 +19,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, Float
 
 from . import results
-from .eigen.mode import DEFAULT_SOLVER
+from .eigen.mode import DEFAULT_SOLVER, for_base
 from .eigen.solvers import AbstractEigenSolver
 from .models.section import Model
 from .params import Params, require_scalars, valid
@@ -68,7 +68,8 @@ class Critical(eqx.Module):
 
 
 def _eig_at(model: Model, params: Params, p, solver: AbstractEigenSolver):
-    return solver.eigenpair(model, params.replace(p=p))[0]
+    # an unclamped base's rigid-body zero eigenvalues are no onset: for_base moves them
+    return for_base(model, solver).eigenpair(model, params.replace(p=p))[0]
 
 
 def _bracket(g, p_start, growth_factor, max_steps):

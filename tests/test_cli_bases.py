@@ -5,6 +5,7 @@ and each bad input ends in one line naming the flag."""
 
 import json
 
+import numpy as np
 import pytest
 
 import axojax as ax
@@ -91,3 +92,42 @@ def test_bad_base_input_is_one_line_naming_the_flag(flags, flag, capsys):
 def test_unknown_base_is_refused_by_the_parser(capsys):
     code, out, err = _run(["modes", *MODEL, "--base", "wall"], capsys)
     assert code == 2 and out == "" and err.count("\n") == 1 and "--base" in err
+
+
+@pytest.mark.parametrize("command", ["simulate", "orbit"])
+def test_time_domain_refuses_an_unclamped_base(command, capsys, tmp_path):
+    extra = ["--t-end", "0.01", "--out", str(tmp_path / "x.npz")] if command == "simulate" else []
+    argv = [command, "--model", "two", "--elements", "4", "--base", "free", *extra, "--json"]
+    code, out, err = _run(argv, capsys)
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert err.startswith(
+        f"axojax: error: --base: {'simulate' if command == 'simulate' else 'orbit'}"
+    )
+
+
+def test_library_time_domain_refuses_an_unclamped_base():
+    model = ax.models.two(n_elements=4, base="free")
+    with pytest.raises(ValueError, match="^simulate supports the clamped base only"):
+        ax.simulate(model, ax.Params(), 0.01)
+    with pytest.raises(ValueError, match="^limit_cycle supports the clamped base only"):
+        ax.limit_cycle(model, ax.Params())
+
+
+def test_critical_force_skips_the_rigid_modes_of_a_free_base():
+    """A free base's rigid-body zero eigenvalues are no onset: the critical force is where
+    a deforming mode crosses, checked against scipy's full decomposition of the pencil
+    (its eigenvalues at 0 removed) on both sides of the reported p_c."""
+    import scipy.linalg as sl
+
+    model = ax.models.two(n_elements=4, base="free")
+    crit = ax.critical_force(model, ax.Params(), solver=ax.eigen.Dense())
+    assert bool(crit.found)
+    p_c = float(crit.p)
+
+    def deforming_growth(p):
+        s = ax.assemble(model, ax.Params(p=p))
+        w = sl.eig(-np.asarray(s.A), np.asarray(s.C), right=False)
+        w = w[np.abs(w) > 1e-6 * np.max(np.abs(w))]
+        return float(np.max(w.real))
+
+    assert deforming_growth(0.98 * p_c) < 0 < deforming_growth(1.02 * p_c)

@@ -76,6 +76,7 @@ def report(synthetic):
     result = ax.compare(
         synthetic,
         mechanisms=("steady", "sliding", "curvature"),
+        bases=("clamped",),
         n_elements=10,
         units=UNITS,
         starts=2,
@@ -173,6 +174,8 @@ def test_cli_json_has_every_interface_key(synthetic, tmp_path, capsys):
             synthetic,
             "--mechanisms",
             "steady,curvature",
+            "--bases",
+            "clamped,head",
             "--elements",
             "8",
             "--starts",
@@ -192,7 +195,10 @@ def test_cli_json_has_every_interface_key(synthetic, tmp_path, capsys):
     assert doc["model"]["sperm_number"] == pytest.approx(SP, rel=1e-9)  # c_n set to give it
     assert doc["model"]["cn_pn_s_um2"] == pytest.approx(CN, rel=1e-9)
     assert {"s_um", "psi1", "frequency_hz"} <= set(doc["data"])
-    assert len(doc["rows"]) == 2
+    assert len(doc["rows"]) == 4
+    assert {(r["mechanism"], r["base"]) for r in doc["rows"]} == {
+        (m, b) for m in ("steady", "curvature") for b in ("clamped", "head")
+    }
     for r in doc["rows"]:
         assert ROW_KEYS <= set(r)
         assert len(r["psi1_model"]) == len(doc["data"]["s_um"])
@@ -210,7 +216,10 @@ def test_cli_json_has_every_interface_key(synthetic, tmp_path, capsys):
         (["--mechanisms", "steady,chi_re"], "--mechanisms"),
         (["--mechanisms", "beta"], "--mechanisms"),
         (["--bases", "hinge"], "--bases"),
-        (["--bases", "free"], "--bases"),
+        (["--bases", "free,free"], "--bases"),
+        (["--bases", "clamped", "--head-um", "2,1"], "--head-um"),
+        (["--head-um", "1,2"], "--head-um"),
+        (["--head-um", "2,1", "--viscosity-pa-s", "-1"], "--viscosity-pa-s"),
         (["--elements", "1"], "--elements"),
         (["--starts", "0"], "--starts"),
         (["--out", "x.txt"], "--out"),
@@ -229,5 +238,5 @@ def test_cli_bad_input_is_one_line(argv, flag, capsys):
 def test_library_bad_names_raise_one_line():
     with pytest.raises(ValueError, match="^mechanisms: unknown name 'flutter'"):
         ax.compare("human_sperm", mechanisms=("flutter",))
-    with pytest.raises(ValueError, match="^bases: base 'head' is not built yet"):
-        ax.compare("human_sperm", bases=("head",))
+    with pytest.raises(ValueError, match="^bases: each name once"):
+        ax.compare("human_sperm", bases=("head", "head"))

@@ -13,19 +13,22 @@ import warnings
 from .._progress import enabled as progress_enabled
 from ..inverse.compare import compare, render_table
 from ..inverse.mechanisms import (
-    AVAILABLE_BASES,
     BASES,
     COMPARE_PRESETS,
+    DEFAULT_BASES,
     DEFAULT_ELEMENTS,
+    DEFAULT_HEAD_UM,
     DEFAULT_PRESET,
+    DEFAULT_VISCOSITY_PA_S,
     MECHANISMS,
     PIN_TOLERANCE,
     check_names,
 )
 from ..inverse.problem import SHAPE_FLOOR
+from ..models import Base
 from ..params import MECHANISM_NAMES
 from ..units import Units
-from . import common
+from . import _values, common
 
 MAX_STARTS = 100
 COEFFICIENTS = {
@@ -54,7 +57,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--bases",
         default=None,
         metavar="LIST",
-        help=f"comma-separated base conditions of {','.join(BASES)} (default and available in this version: {','.join(AVAILABLE_BASES)})",
+        help=f"comma-separated base conditions of {','.join(BASES)} (default {','.join(DEFAULT_BASES)})",
     )
     parser.add_argument(
         "--model",
@@ -90,6 +93,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=None,
         metavar="SP",
         help="the beat's sperm number omega xi_n L^4 / kappa instead of --cn (c_n set to give it, with --ei)",
+    )
+    parser.add_argument(
+        "--head-um",
+        default=None,
+        metavar="A,B",
+        help="the head base's prolate ellipsoid semi-axes A >= B in um (default "
+        f"{DEFAULT_HEAD_UM[0]:g},{DEFAULT_HEAD_UM[1]:g}: a human sperm head) in --viscosity-pa-s",
+    )
+    parser.add_argument(
+        "--viscosity-pa-s",
+        type=common.finite_float,
+        default=None,
+        metavar="MU",
+        help=f"the head's fluid viscosity, Pa s (default {DEFAULT_VISCOSITY_PA_S:g}, water)",
     )
     parser.add_argument(
         "--starts",
@@ -169,6 +186,18 @@ def run(args: argparse.Namespace) -> dict:
     except ValueError as err:
         flag = "--ei" if "ei_pn_um2" in str(err) else "--cn"
         raise common.CLIError(f"{flag}: {err}") from None
+    head = None
+    if args.head_um is not None or args.viscosity_pa_s is not None:
+        if bases is not None and "head" not in bases:
+            flag = "--head-um" if args.head_um is not None else "--viscosity-pa-s"
+            raise common.CLIError(f"{flag}: needs the head base in --bases")
+        a, b = DEFAULT_HEAD_UM if args.head_um is None else _values._pair(args.head_um, "--head-um")
+        mu = DEFAULT_VISCOSITY_PA_S if args.viscosity_pa_s is None else args.viscosity_pa_s
+        try:
+            head = Base.head_from_ellipsoid(a, b, mu, units)
+        except ValueError as err:
+            flag = "--viscosity-pa-s" if "viscosity" in str(err) else "--head-um"
+            raise common.CLIError(f"{flag}: {err}") from None
     from ..beats import read_beat
 
     try:
@@ -191,6 +220,7 @@ def run(args: argparse.Namespace) -> dict:
                 shape_floor=args.shape_floor,
                 pin_tolerance=args.pin_tolerance,
                 progress=progress_enabled(json_output=args.json),
+                head=head,
             )
     except ValueError as err:
         raise common.CLIError(f"--data: {err}") from None

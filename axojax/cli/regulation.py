@@ -28,10 +28,15 @@ DEFAULT_VISCOSITY_PA_S = 1e-3
 
 
 def require_passive_friction(model: Model, params: Params, what: str) -> None:
-    """:func:`axojax.well_posed.require_passive_friction` as a CLI error naming the flag of
-    the active coefficient (``--beta`` or ``--chi``)."""
+    """The time domain's conditions as CLI errors: a clamped base (``--base``) and no
+    active friction (:func:`axojax.well_posed.require_passive_friction`, naming ``--beta``
+    or ``--chi``)."""
     from ..well_posed import require_passive_friction as check
 
+    try:
+        model.require_clamped(what)
+    except ValueError as err:
+        raise CLIError(f"--base: {err}") from None
     try:
         check(model, params, what)
     except ValueError as err:

@@ -339,6 +339,7 @@ def simulate(
         :class:`Simulation`.
     """
     params = params.validate()
+    model.require_clamped("simulate")
     require_passive_friction(model, params, "simulate")
     t_end_s, cubic, perturbation_um, rtol = check_inputs(
         model, t_end_s, cubic, perturbation_um, rtol

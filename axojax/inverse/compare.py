@@ -287,6 +287,7 @@ def compare(
     pin_tolerance: float = PIN_TOLERANCE,
     method: str = "lm",
     progress: bool = False,
+    head=None,
 ) -> Comparison:
     """Fit every mechanism x base to one beat and rank them by BIC.
 
@@ -295,8 +296,8 @@ def compare(
             (``"human_sperm"``).
         mechanisms: names of :data:`~axojax.inverse.mechanisms.MECHANISMS` (default all:
             steady, sliding, curvature, sliding+curvature).
-        bases: names of :data:`~axojax.inverse.mechanisms.BASES` (default: the available
-            ones; this version builds ``clamped`` only).
+        bases: names of :data:`~axojax.inverse.mechanisms.BASES` (default
+            :data:`~axojax.inverse.mechanisms.DEFAULT_BASES`: clamped, free, head).
         model: the preset every row uses (default ``two``: the continuum limit of the
             anchors, and the fastest; docs/mechanisms.md).
         n_elements: elements per filament.
@@ -311,6 +312,8 @@ def compare(
         shape_floor: model-discrepancy floor (rad) added in quadrature to psi_1's sigma.
         pin_tolerance: relative sigma of the pins (growth rate and frequency).
         method: least-squares solver (``"lm"``, ``"lbfgs"``, ``"adam"``).
+        head: the ``head`` base's :class:`~axojax.models.Base` (default: an ellipsoid of
+            :data:`~axojax.inverse.mechanisms.DEFAULT_HEAD_UM` in water).
         progress: a bar over rows on stderr (``axojax compare`` shows it on a terminal,
             never with ``--json`` on a pipe: :mod:`axojax._progress`'s rule).
 
@@ -338,7 +341,7 @@ def compare(
     rows: list[CompareRow] = []
     combos = [(m, b) for b in bases for m in mechanisms]
     for mech, base in tqdm(combos, desc="compare rows", unit="row", disable=not progress):
-        the_model = build_model(model, n_elements, base)
+        the_model = build_model(model, n_elements, base, units, head)
         spec = row(mech, base, the_model, units, f_obs, pin_tolerance=pin_tolerance)
         rows.append(_fit_row(spec, shape, units, optimiser, starts, seed, shape_floor))
     rows.sort(key=lambda r: math.inf if r.bic is None else r.bic)

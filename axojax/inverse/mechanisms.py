@@ -31,8 +31,12 @@ with Sp = omega0, the sperm number of the beat (the dispersion relation
 k^4 - beta_bar k^3 - chi_bar k^2 + i Sp = 0 gives wavenumbers k ~ Sp^(1/4) and
 chi_bar ~ k^2 at a balance). For presets of F filaments the factor 2 becomes F.
 
-Bases: only ``clamped`` exists so far; :func:`row` is the one place that builds a row's
-model and parameters, so a base is one more branch there.
+Bases (docs/model.md section 8): ``clamped`` (the paper's), ``pivot``, ``free`` (an
+isolated axoneme) and ``head`` (a body with drag; by default a prolate ellipsoid of
+semi-axes :data:`DEFAULT_HEAD_UM` in water, a human sperm head). On a base that is not
+clamped the rigid-body motions are neutral modes (eigenvalue 0), so every row there,
+the steady one too, follows the mode nearest i omega0 instead of the dominant one: the
+pins then ask that mode to be the beat. The default set is :data:`DEFAULT_BASES`.
 """
 
 from __future__ import annotations
@@ -43,7 +47,7 @@ import math
 import numpy as np
 
 from ..beats.targets import Target
-from ..models import presets
+from ..models import Base, presets
 from ..models.section import Model
 from ..params import Params
 from ..units import Units
@@ -53,8 +57,15 @@ MECHANISMS = ("steady", "sliding", "curvature", "sliding+curvature")
 """Every mechanism a row can have (docs/model.md section 8); the default set of compare."""
 BASES = ("clamped", "pivot", "free", "head")
 """Base conditions of docs/model.md section 8."""
-AVAILABLE_BASES = ("clamped",)
-"""The bases this version builds (the others are refused with one line)."""
+AVAILABLE_BASES = BASES
+"""The bases this version builds (every one of :data:`BASES`)."""
+DEFAULT_BASES = ("clamped", "free", "head")
+"""The bases of a comparison by default: held, isolated, and carrying a head."""
+DEFAULT_HEAD_UM = (2.5, 1.5)
+"""The default head's semi-axes (um): a prolate ellipsoid the size of a human sperm head
+(about 5 by 3 um)."""
+DEFAULT_VISCOSITY_PA_S = 1e-3
+"""The default head's fluid (water, Pa s)."""
 COMPARE_PRESETS = ("two", "four", "seven", "nine")
 """Presets with active pairs (``single`` and ``beck`` have no regulated dynein)."""
 DEFAULT_PRESET = "two"
@@ -106,7 +117,7 @@ def check_names(
     """The mechanisms and bases as tuples, each known and available, no repeats
     (one-line ``ValueError`` starting with the flag's name otherwise)."""
     mechanisms = tuple(MECHANISMS if mechanisms is None else mechanisms)
-    bases = tuple(AVAILABLE_BASES if bases is None else bases)
+    bases = tuple(DEFAULT_BASES if bases is None else bases)
     for flag, names, known in ((mechanism_flag, mechanisms, MECHANISMS), (base_flag, bases, BASES)):
         if not names:
             raise ValueError(f"{flag}: give at least one name ({', '.join(known)})")
@@ -160,9 +171,12 @@ def pins(frequency_hz: float, tolerance: float = PIN_TOLERANCE) -> tuple[Target,
     )
 
 
-def build_model(preset: str, n_elements: int, base: str) -> Model:
-    """The model of a row: ``preset`` at ``n_elements`` with ``base`` (only ``clamped``
-    so far: every preset's own base)."""
+def build_model(
+    preset: str, n_elements: int, base: str, units: Units | None = None, head: Base | None = None
+) -> Model:
+    """The model of a row: ``preset`` at ``n_elements`` with ``base``; a ``head`` base is
+    ``head`` (a :class:`~axojax.models.Base` of kind head), by default the ellipsoid of
+    :data:`DEFAULT_HEAD_UM` in water made dimensionless with ``units``."""
     if preset not in COMPARE_PRESETS:
         raise ValueError(
             f"model: {preset!r} has no active pairs to regulate; choose from {', '.join(COMPARE_PRESETS)}"
@@ -170,7 +184,17 @@ def build_model(preset: str, n_elements: int, base: str) -> Model:
     if not (isinstance(n_elements, (int, np.integer)) and 2 <= n_elements <= 200):
         raise ValueError(f"n_elements: expected an integer in 2..200, got {n_elements!r}")
     check_names(("steady",), (base,), base_flag="base")
-    return getattr(presets, preset)(n_elements=int(n_elements))
+    if base == "head":
+        if head is None:
+            head = Base.head_from_ellipsoid(
+                *DEFAULT_HEAD_UM, DEFAULT_VISCOSITY_PA_S, Units() if units is None else units
+            )
+        if not (isinstance(head, Base) and head.kind == "head"):
+            raise ValueError(f"head: expected a Base of kind 'head', got {head!r}")
+        the_base = head
+    else:
+        the_base = Base(base)
+    return getattr(presets, preset)(n_elements=int(n_elements), base=the_base)
 
 
 def row(
@@ -195,7 +219,10 @@ def row(
         ratio = STEADY_KL_RATIO if "ks" in free else None
         prm = params.replace(**zero)
         bounds = {k: DEFAULT_BOUNDS[k] for k in free}
-        return Row(mechanism, base, model, prm, free, bounds, ratio, None, targets)
+        # rigid-body modes (eigenvalue 0) of an unclamped base would tie with a beat at
+        # growth 0: follow the mode nearest the observed beat there (module docstring)
+        shift = None if base == "clamped" else 1j * omega0
+        return Row(mechanism, base, model, prm, free, bounds, ratio, shift, targets)
     prm = params.replace(**zero).replace(p=0.0, omega0=omega0)
     free = FREE[mechanism]
     bounds = {k: v for k, v in coefficient_bounds(model, prm).items() if k in free}
@@ -240,7 +267,7 @@ def hopf_starts(row: Row) -> np.ndarray:
     eigenproblem in chi), of ``curvature`` along a ladder of chi' (one in beta), and of
     ``sliding+curvature`` along a ladder of complex beta (one in chi) and with either
     coefficient 0. Empty for ``steady`` (its beat is the dominant mode)."""
-    if row.shift is None:
+    if row.shift is None or row.mechanism == "steady":
         return np.zeros((0, len(row.free)))
     k0, u_chi, u_beta = _unit_terms(row)
     b = row.bounds

@@ -201,6 +201,13 @@ class FitResult:
         _io.write_text(path, json.dumps(self.to_json(), indent=1, allow_nan=False) + "\n")
 
 
+def base_name(model) -> str:
+    """The report's name of a model's base: its kind, ``+compliance`` with basal
+    compliance (docs/model.md section 8)."""
+    base = model.base
+    return base.kind + ("+compliance" if base.compliance else "")
+
+
 def _clean(obj):
     if isinstance(obj, dict):
         return {str(k): _clean(v) for k, v in obj.items()}
@@ -339,7 +346,7 @@ def _quality(problem: Problem, r, conditions: list[dict]) -> dict[str, Any]:
         "n_free": n_free,
         "mechanism": problem.mechanism
         or mechanism_name(problem.base[0], {p.field for p in problem.parameters}),
-        "base": problem.base_name or str(getattr(model, "base", "clamped")),
+        "base": problem.base_name or base_name(model),
     }
 
 
