@@ -21,27 +21,28 @@ certified (a point not certified pays for a dense solve). The machine's load
 average is printed before and after.
 
 Measured (2026-12-03, 2 CPU cores shared with 3-4 other helpers' test runs, load
-average 7-9 during the run; seven filaments, 32 points at 10 and 8 at 40 elements), ms
+average 9-13 during the run; seven filaments, 32 points at 10 and 8 at 40 elements), ms
 per point, and in brackets the speed relative to the steady-load eigenpair / to the
 steady load with the same method:
 
-    N_e  steady eigenpair  regulated eigenpair  steady nearest  regulated nearest
-    10   5.03 (1.00)       3.92 (1.28)          34.9 (0.14)     41.5 (0.12 / 0.84)
-    40   19.9 (1.00)       24.8 (0.80)          94.2 (0.21)     109  (0.18 / 0.86)
+    N_e  steady     regulated    steady     regulated          steady     regulated
+         eigenpair  eigenpair    nearest    nearest            pinned     pinned
+    10   4.88       3.88 (1.26)  29.0       30.8 (0.16/0.94)   14.9       12.6 (0.39/1.18)
+    40   18.9       19.4 (0.97)  119        102  (0.18/1.16)   42.6       58.5 (0.32/0.73)
 
-Two earlier runs (each case timed in a block of its own, load 6-10) gave 1.18 and 1.41
-for the regulated eigenpair at 10 elements and 0.57 and 0.71 at 40, and 13-26 ms (10)
-and 75-138 ms (40) for the steady ``nearest``: single numbers move by tens of per cent
-on this machine. Every regulated point certified (no dense fallback; one steady point
-at 10 elements falls back, which makes the steady eigenpair slower there). The same
-Krylov sizes certify with and without the mechanism (at 40 elements 3/8 and 2/8 at 16
-vectors, 8/8 at 24). So the dominant eigenpair with a regulated mechanism (C
-symmetric positive definite) meets the 80 % target within this machine's noise;
-``nearest`` keeps >= 80 % of its own steady-load speed but is 5-8x slower than the
-dominant eigenpair: it runs in complex arithmetic (its pole is the complex shift; a
-complex solve measured 3.7x a real one at 10 elements) and needs 24-48 vectors where
-the dominant one needs 16-24. It is linear in N_e and certified for any C, where the
-dense ``nearest`` is O(N_e^3).
+Earlier runs (load 6-10) gave 1.18-1.41 for the regulated eigenpair at 10 elements and
+0.57-0.80 at 40: single numbers move by tens of per cent on this machine. Every
+regulated point certified (no dense fallback; one steady point at 10 elements falls
+back, which makes the steady eigenpair slower there). The same Krylov sizes certify
+with and without the mechanism (at 40 elements 3/8 and 2/8 points at 16 vectors, 8/8
+at 24). So the dominant eigenpair with a regulated mechanism (C symmetric positive
+definite) meets the 80 % target within this machine's noise. ``nearest`` keeps its own
+steady-load speed with a mechanism (within the noise) but is 2.5-3x slower than the
+dominant eigenpair with the shift near the beat (pinned) and 6x slower with the shift
+far from any eigenvalue: it runs in complex arithmetic (its pole is the complex shift;
+a complex block solve measured 3.7x a real one at 10 elements) and needs larger Krylov
+spaces (24-48 vectors against 16-24). It is linear in N_e and certified for any C,
+where the dense ``nearest`` is O(N_e^3).
 
     python benchmarks/bench_mechanisms.py [--points 32] [--points40 8]
 """
