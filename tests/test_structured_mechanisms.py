@@ -267,3 +267,21 @@ def test_bordered_derivatives_match_the_dense_rule():
     )
     assert abs(complex(lam - ref)) <= 1e-9 * abs(complex(ref))
     assert abs(complex(dlam - dref)) <= 1e-7 * abs(complex(dref))
+
+
+def test_filament_major_keeps_the_border_last_and_bad_borders_are_refused():
+    """The solvers' eigenvector order: node unknowns back to the dense solver's
+    filament-major order, the border unknowns after them, as they are."""
+    from axojax.assembly import node_major
+    from axojax.eigen.solvers import filament_major
+
+    model = ax.models.two(n_elements=3)
+    perm = node_major(model)
+    q = np.arange(perm.size + 2, dtype=float)  # filament-major values, then a border of 2
+    x = jnp.asarray(np.concatenate([q[perm], q[perm.size :]]))
+    np.testing.assert_array_equal(np.asarray(filament_major(model, x)), q)
+    tri = assemble_blocks(model, ax.Params()).A
+    n = tri.shape[0]
+    with pytest.raises(ValueError, match="border shapes") as info:
+        bordered(tri, np.zeros((n, 2)), np.zeros((2, n)), np.zeros((3, 3)))
+    assert "\n" not in str(info.value)

@@ -29,7 +29,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array, Complex, Float
+from jaxtyping import Array, Complex, Float, Inexact
 
 from ..assembly import assemble, assemble_blocks, node_major
 from ..models.section import Model
@@ -139,7 +139,7 @@ class Arnoldi(AbstractEigenSolver):
         return lam, filament_major(model, x), certified
 
 
-def filament_major(model: Model, x: Complex[Array, " n"]) -> Complex[Array, " n"]:
+def filament_major(model: Model, x: Inexact[Array, " n"]) -> Inexact[Array, " n"]:
     """A node-major vector (:func:`axojax.assembly.node_major`, then any border
     unknowns) in the dense solver's order: node unknowns filament-major, then the
     border. Where ``node_major`` already covers the border (as many entries as x), it

@@ -114,12 +114,13 @@ class Bordered(eqx.Module):
 
 def bordered(
     tri: "BlockTridiagonal | Bordered",
-    nb: Inexact[ArrayLike, "n m"] | None = None,
-    bn: Inexact[ArrayLike, "m n"] | None = None,
-    bb: Inexact[ArrayLike, "m m"] | None = None,
+    nb: Inexact[ArrayLike, "_ _"] | None = None,
+    bn: Inexact[ArrayLike, "_ _"] | None = None,
+    bb: Inexact[ArrayLike, "_ _"] | None = None,
 ) -> Bordered:
-    """``tri`` with the given border (``None``: no border, m = 0). A :class:`Bordered`
-    given as ``tri`` is returned as it is."""
+    """``tri`` with the given border, (n, m), (m, n), (m, m) (``None``: no border,
+    m = 0; shapes checked here, in one line). A :class:`Bordered` given as ``tri`` is
+    returned as it is."""
     if isinstance(tri, Bordered):
         return tri
     n, dt = tri.shape[0], tri.diag.dtype
