@@ -85,6 +85,7 @@ def report(synthetic):
     return result, result.to_json()
 
 
+@pytest.mark.slow  # the fits of a comparison: about 1-2 min (the slow set, .ci/run)
 def test_true_mechanism_is_recovered_and_ranked_first(report):
     result, doc = report
     best = doc["rows"][0]
@@ -100,6 +101,7 @@ def test_true_mechanism_is_recovered_and_ranked_first(report):
     assert a0**2 * best["params"]["chi_re"] / 2 == pytest.approx(CHI_BAR, rel=0.05)
 
 
+@pytest.mark.slow  # the fits of a comparison: about 1-2 min (the slow set, .ci/run)
 def test_every_reported_r2_is_sartoris_on_the_reported_arrays(report):
     """R^2 = 1 - sum |obs - model|^2 / sum |obs - mean obs|^2, recomputed with numpy from
     the report's observed psi_1 and each row's psi1_model (and the FitResult's own)."""
@@ -116,6 +118,7 @@ def test_every_reported_r2_is_sartoris_on_the_reported_arrays(report):
         assert row_obj.fit.to_json()["r2"] == pytest.approx(_r2(o, f), abs=1e-12)
 
 
+@pytest.mark.slow  # the fits of a comparison: about 1-2 min (the slow set, .ci/run)
 def test_rows_are_ordered_by_bic_with_the_stated_criteria(report):
     """BIC = chi^2 + n_free ln n, AIC = chi^2 + 2 n_free, from the fit's own residuals;
     n_free = the fitted values + 2 (the complex amplitude); at most 6."""
@@ -165,6 +168,7 @@ def test_regulated_row_is_posed_as_its_anchors():
     assert steady.shift is None and float(steady.params.omega0) == 0.0
 
 
+@pytest.mark.slow  # the fits of a comparison: about 1-2 min (the slow set, .ci/run)
 def test_cli_json_has_every_interface_key(synthetic, tmp_path, capsys):
     out = tmp_path / "cmp.json"
     code = main(

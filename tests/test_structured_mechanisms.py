@@ -30,6 +30,7 @@ SLIDING = ax.Params(p=0.0, a0=A0, chi_re=-2 * 20 / A0**2, chi_im=-2 * 25 / A0**2
 CURVATURE = ax.Params(p=300.0, beta_re=300.0, beta_im=500.0, chi_im=-3e3, omega0=300.0)
 PATHS = [Arnoldi(batched=False), Arnoldi(batched=True)]
 PATH_IDS = ["per-point", "batched"]
+SLOW = pytest.mark.slow  # the batched path: the same checks at several times the compilation
 METRICS = ("eigenvalue", "wavelength", "growth_rate", "angular_frequency", "velocity", "beat_angle")
 
 
@@ -44,7 +45,7 @@ def _near_modes(model, params, shifts, solver):
     )(params, shifts)
 
 
-@pytest.mark.parametrize("arnoldi", PATHS, ids=PATH_IDS)
+@pytest.mark.parametrize("arnoldi", [PATHS[0], pytest.param(PATHS[1], marks=SLOW)], ids=PATH_IDS)
 def test_nearest_matches_dense_and_scipy_for_indefinite_and_nonsymmetric_c(arnoldi):
     cases = [
         (ax.models.two(n_elements=8), SLIDING, [1000j, 1050j]),
@@ -67,6 +68,7 @@ def test_nearest_matches_dense_and_scipy_for_indefinite_and_nonsymmetric_c(arnol
             assert abs(lam - ref) <= 1e-8 * abs(ref), (lam, ref)
 
 
+@pytest.mark.slow  # 20-40 s of compilation; the dense rule is tests/test_nearest.py's
 def test_nearest_derivatives_match_the_dense_rule_and_finite_differences():
     model = ax.models.seven(n_elements=5)
 
@@ -210,7 +212,10 @@ def _bordered_pencil(model, params, m, seed, extra_block=False):
 
 @pytest.mark.parametrize(
     "arnoldi,cases",
-    [(PATHS[0], ((3, 1, False), (4, 3, True))), (PATHS[1], ((12, 2, False),))],
+    [
+        (PATHS[0], ((3, 1, False), (4, 3, True))),
+        pytest.param(PATHS[1], ((12, 2, False),), marks=SLOW),
+    ],
     ids=PATH_IDS,
 )
 def test_bordered_pencils_against_scipy(arnoldi, cases):
