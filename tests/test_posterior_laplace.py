@@ -1,0 +1,81 @@
+"""The fast answer of a posterior (issue 31): the Laplace approximation reported before
+sampling (exact for a linear-Gaussian problem: its posterior *is* that normal), the
+check of how far the draws moved from it, the NUTS tree depth and its saturation
+warning. The linear problem and its exact posterior come from tests/test_posterior.py."""
+
+import warnings
+
+import numpy as np
+import pytest
+from test_posterior import SMALL, LinearGaussian, linear_problem
+
+from axojax.inverse import NUTS, Posterior, posterior
+from axojax.inverse._laplace import Laplace, laplace_of
+
+
+def test_laplace_of_a_linear_problem_is_its_exact_posterior():
+    """Started at the exact mean, the Laplace approximation is N(mean, (A^T A / s^2)^-1)
+    exactly; the draws' sds then match it (ratio ~1, shift ~0 within Monte Carlo error)."""
+    problem = linear_problem(0)
+    mean, C = problem.exact()
+    seen = []
+    post = posterior(problem, init=mean, seed=0, on_laplace=seen.append, **SMALL)
+    assert len(seen) == 1 and seen[0] is post.laplace
+    lap = post.laplace
+    np.testing.assert_allclose(lap.centre_u, mean, rtol=1e-10)
+    np.testing.assert_allclose(lap.cov_u, C, rtol=1e-8)
+    sd = np.sqrt(np.diag(C))
+    doc = lap.to_json()
+    for i, n in enumerate(problem.names):
+        assert lap.log_coordinate[n]  # values are exp(u)
+        assert doc["centre"][n] == pytest.approx(np.exp(mean[i]), rel=1e-10)
+        assert doc["q05"][n] == pytest.approx(np.exp(mean[i] - 1.6448536 * sd[i]), rel=1e-6)
+        assert doc["q95"][n] == pytest.approx(np.exp(mean[i] + 1.6448536 * sd[i]), rel=1e-6)
+        assert doc["sd"][n] == pytest.approx(np.exp(mean[i]) * sd[i], rel=1e-8)
+        assert post.sd_ratio[n] == pytest.approx(1.0, abs=0.1)
+        assert abs(post.shift[n]) < 4 / np.sqrt(post.ess[n])  # 4 Monte Carlo errors, in sds
+    corr = C[0, 1] / (sd[0] * sd[1])
+    assert doc["corr"][0][1] == pytest.approx(corr, rel=1e-8)
+    # the report and the file keep it
+    out = post.to_json()
+    assert out["laplace"]["sd_u"] == pytest.approx(dict(zip(problem.names, sd)), rel=1e-8)
+    assert set(out["sd_ratio"]) == set(problem.names)
+
+
+def test_laplace_survives_save_and_load(tmp_path):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        post = posterior(linear_problem(0), draws=20, chains=2, warmup=50, seed=0)
+    post.save(tmp_path / "p.npz")
+    back = Posterior.load(tmp_path / "p.npz")
+    np.testing.assert_array_equal(back.laplace.cov_u, post.laplace.cov_u)
+    assert back.sd_ratio == post.sd_ratio and back.tree_depth == post.tree_depth
+
+
+def test_a_direction_the_data_miss_has_infinite_laplace_sd():
+    """b absent from the residuals: J^T J is singular along b, so its Laplace sd is
+    infinite (the posterior is then the prior's, which the sd ratio cannot compare)."""
+    A1 = np.array([[1.0, 0.0], [0.5, 0.0], [-0.4, 0.0]])
+    problem = LinearGaussian(A1, np.zeros(3), 0.1, [-3.0, -3.0], [3.0, 3.0], ["a", "b"])
+    lap = laplace_of(problem, problem.names, np.zeros(2), A1.T @ A1 / 0.01)
+    assert np.isinf(lap.sd_u["b"])
+    assert lap.sd_u["a"] == pytest.approx(0.1 / np.sqrt(np.sum(A1[:, 0] ** 2)), rel=1e-10)
+    assert np.isnan(lap.check({"a": 0.0, "b": 0.0}, {"a": 0.1, "b": 1.0})["sd_ratio"]["b"])
+    assert isinstance(lap, Laplace)
+
+
+def test_tree_depth_is_reported_and_saturation_warns():
+    """With at most one doubling every tree saturates: one warning that says what to do;
+    depth and gradients per draw are consistent with the limit (<= 2**d - 1 gradients)."""
+    with pytest.warns(UserWarning, match=r"tree depth reached max_num_doublings=1 .*raise it"):
+        post = posterior(
+            linear_problem(0), sampler=NUTS(max_num_doublings=1), draws=40, chains=2, warmup=50
+        )
+    assert post.tree_depth_saturated > 0.5 and post.max_num_doublings == 1
+    assert 0 < post.tree_depth <= 1 and 0 < post.gradients_per_draw <= 1
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UserWarning)
+        ok = posterior(linear_problem(0), seed=0, **SMALL)  # no warning of any kind
+    assert ok.tree_depth_saturated == 0.0
+    assert 1 <= ok.gradients_per_draw <= 2**8 - 1
+    assert 1 <= ok.tree_depth < 8
