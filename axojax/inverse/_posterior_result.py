@@ -136,7 +136,8 @@ class Posterior:
         """The ``"posterior"`` block of ``axojax fit --posterior --json`` (docs/interface.md):
         ``draws`` (per chain), ``chains``, ``mean``, ``sd``, ``q05``, ``q95``, ``rhat``,
         ``ess`` (bulk), ``seconds``; also ``q50``, ``ess_tail``, ``divergences``,
-        ``warmup``, ``seconds_per_gradient``, ``seconds_per_ess``, ``message``, ``result``
+        ``warmup``, ``seconds_compile``, ``seconds_start``, ``seconds_warmup``,
+        ``seconds_sampling``, ``seconds_per_gradient``, ``seconds_per_ess``, ``message``, ``result``
         (the name of :attr:`result`), ``laplace`` (:meth:`Laplace.to_json`, or None),
         ``sd_ratio``, ``shift``, ``tree_depth``, ``tree_depth_saturated``,
         ``max_num_doublings``, ``gradients_per_draw``."""
@@ -154,6 +155,10 @@ class Posterior:
             "divergences": self.divergences,
             "warmup": self.warmup,
             "seconds": self.seconds,
+            "seconds_compile": self.seconds_compile,
+            "seconds_start": self.seconds_start,
+            "seconds_warmup": self.seconds_warmup,
+            "seconds_sampling": self.seconds_sampling,
             "seconds_per_gradient": self.seconds_per_gradient,
             "seconds_per_ess": self.seconds_per_ess,
             "message": self.message,
