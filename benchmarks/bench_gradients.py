@@ -22,6 +22,17 @@ Targets (issue 22): value + gradient <= 1.3x value; a 4-point batch's value + gr
 
     python benchmarks/bench_gradients.py [--points 64] [--repeats 5] [--chains 4,8]
         [--skip-large] [--log-density-only]
+
+Part 3, measured 2026-12-03 18:06 UTC (``--log-density-only --repeats 8``, jax 0.10.2,
+2 cores shared with other jobs: load average 5.9 at start, 9.3 at end; value and
+value + gradient called in turn, best of 80 each): one point 5.03 ms -> 7.57 ms,
+**1.51x** (target 1.3x: not met); four vmapped points 18.0 -> 27.1 ms, 1.50x; the
+dominant mode alone (frequency + wavelength in log p, log ks) 5.09 -> 7.71 ms, 1.52x.
+So the log density adds nothing of its own: the excess is the eigen-solver's derivative
+rule (``axojax/eigen/arnoldi.py``, ``_structured_jvp``), which factors ``A + lambda C``
+afresh in complex arithmetic (1.4 ms of block LU at load ~8, more than the primal's real
+LU at the pole, 0.7 ms) and solves with it four times (0.13 ms each); see
+docs/benchmarks.md for the breakdown and the change it suggests.
 """
 
 import argparse
