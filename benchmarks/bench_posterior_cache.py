@@ -93,7 +93,8 @@ def main() -> None:
             rows.append((wall, post["seconds_compile"], start))
             print(
                 f"{label:22s} wall {wall:7.1f} s; posterior compilation {post['seconds_compile']:6.1f} s; "
-                f"up to the first draw {start:6.1f} s; sampling {post['seconds_sampling']:.1f} s"
+                f"up to the first draw {start:6.1f} s (warm-up {post['seconds_warmup']:.1f} s); "
+                f"sampling {post['seconds_sampling']:.1f} s"
             )
         files = sum(1 for _ in cache.rglob("*") if _.is_file())
         size = sum(f.stat().st_size for f in cache.rglob("*") if f.is_file()) / 1e6

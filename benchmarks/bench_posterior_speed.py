@@ -17,7 +17,22 @@ Laplace sd ratio and (synthetic) whether the truth lies in the 90 % intervals.
     python benchmarks/bench_posterior_speed.py [sperm|synthetic ...] [--draws 1000]
         [--chains 4] [--warmup W]
 
-Result: the docstring's numbers are in docs/benchmarks.md (issue 31), with the load.
+Result (2026-12-03 17:41-18:12 UTC, jax 0.10.2, 2 cores shared with three to four other
+jobs: load average 7-10 throughout, about 6x the quiet machine's time per gradient):
+**the acceptance runs were not made**; the one run made, ``synthetic --draws 100
+--warmup 150 --chains-as sequential``, took 1841 s: the fit 165 s (the first start's
+compilation 91 s), the posterior 1677 s = start 37 s + warm-up 1149 s + draws 478 s,
+137.8 s of it compilation; 25.2 gradients per draw, mean tree depth 3.87 (limit 8,
+reached in 3.8 % of draws), 44.7 ms per gradient (7.6 ms on a quieter machine:
+bench_gradients.py). The posterior of p and ks from a frequency and a wavelength alone
+(5 % sigmas) is a long curved ridge: the draws went from the fit's optimum (the truth,
+300 and 1e6, recovered exactly) down the ridge to p ~ 190 and ks ~ 8e4 (ks's 90 %
+interval 30 to 4.4e5), the chains disagreed (R-hat 1.66 and 1.61, bulk ESS 7) and the
+posterior sd of ks was 3.2x its Laplace sd. So on this target the chains need far more
+than 100 draws, and the truth lay outside the 90 % intervals of this unconverged run.
+Projection for 4 x 1000 draws after 1000 warm-up steps at 25 gradients per draw and
+7.6 ms per gradient on a quiet machine: 8000 x 25 x 7.6 ms = 25 min, 5x the target.
+A vmapped run of the same (the CLI's default) was stopped after 26 min without output.
 """
 
 import argparse
