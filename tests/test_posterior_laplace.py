@@ -61,6 +61,8 @@ def test_a_direction_the_data_miss_has_infinite_laplace_sd():
     assert np.isinf(lap.sd_u["b"])
     assert lap.sd_u["a"] == pytest.approx(0.1 / np.sqrt(np.sum(A1[:, 0] ** 2)), rel=1e-10)
     assert np.isnan(lap.check({"a": 0.0, "b": 0.0}, {"a": 0.1, "b": 1.0})["sd_ratio"]["b"])
+    q05, q50, q95 = lap.quantiles()  # no interval, but the centre is still reported
+    assert np.isnan(q05["b"]) and np.isnan(q95["b"]) and q50["b"] == pytest.approx(1.0)
     assert isinstance(lap, Laplace)
 
 

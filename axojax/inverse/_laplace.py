@@ -192,16 +192,19 @@ class Laplace:
         return float(math.exp(u)) if self.log_coordinate[name] else float(u)
 
     def quantiles(self) -> tuple[dict[str, float], dict[str, float], dict[str, float]]:
-        """Per name, the 5 %, 50 % and 95 % quantiles of the value (normal in u, mapped)."""
-        q = {}
-        for p, z in ((5, -Z90), (50, 0.0), (95, Z90)):
-            q[p] = {
-                n: self._value(n, c + z * self.sd_u[n])
-                if math.isfinite(self.sd_u[n])
-                else (self._value(n, c) if z == 0 else (math.nan))
+        """Per name, the 5 %, 50 % and 95 % quantiles of the value (normal in u, mapped);
+        NaN for the outer two where the sd is infinite."""
+        sd = self.sd_u
+
+        def at(z: float) -> dict[str, float]:
+            return {
+                n: self._value(n, c + z * sd[n] if z else c)
+                if z == 0 or math.isfinite(sd[n])
+                else math.nan
                 for n, c in zip(self.names, self.centre_u)
             }
-        return q[5], q[50], q[95]
+
+        return at(-Z90), at(0.0), at(Z90)
 
     def sd(self) -> dict[str, float]:
         """Per name, the sd of the value to first order (value x sd_u for a log coordinate)."""
