@@ -22,14 +22,22 @@ The bar is tqdm's (rate and time left), written to stderr, and shown only after
   going to a pipe (``axojax fit --json | jq``): a caller that writes JSON to stdout passes
   ``json_output=True``.
 
+A step that is one compiled program (e.g. the posterior's warm-up, blackjax's window
+adaptation in one ``lax.scan``) has no steps to count from Python; :func:`stage` shows
+its elapsed time instead. (A host callback inside the program could count them, but jax
+keeps no program with host callbacks in its persistent compilation cache, so every run
+would compile it again.)
+
 Bars never touch stdout, so JSON on stdout stays parseable whatever the setting.
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
 import sys
-from collections.abc import Iterable
+import threading
+from collections.abc import Iterable, Iterator
 from typing import Any
 
 from tqdm.auto import tqdm
@@ -99,3 +107,38 @@ def progress(
     options = {"delay": 0.0 if force else DELAY_S, "dynamic_ncols": True, "file": sys.stderr}
     options.update(kwargs)
     return tqdm(iterable, total=total, desc=desc, unit=unit, disable=not show, **options)
+
+
+TICK_S = 0.5
+"""Seconds between the refreshes of a :func:`stage` bar."""
+
+
+@contextlib.contextmanager
+def stage(desc: str, *, enable: bool | None = None, json_output: bool = False) -> Iterator[tqdm]:
+    """A bar for one step that cannot count its progress: its elapsed time, refreshed
+    every ``TICK_S`` by a thread while the ``with`` block runs (same rule and delay as
+    :func:`progress`)."""
+    bar = progress(
+        total=None,
+        desc=desc,
+        unit="",
+        enable=enable,
+        json_output=json_output,
+        bar_format="{desc}: {elapsed}",
+    )
+    done = threading.Event()
+
+    def tick():
+        while not done.wait(TICK_S):
+            bar.update(0)
+
+    thread = threading.Thread(target=tick, daemon=True)
+    if not bar.disable:
+        thread.start()
+    try:
+        yield bar
+    finally:
+        done.set()
+        if thread.is_alive():
+            thread.join()
+        bar.close()

@@ -39,6 +39,7 @@ MODEL_STACK = {
     "results",
     "_io",
     "_runtime",
+    "_progress",
     "cache",
     "fem",
     "linalg",

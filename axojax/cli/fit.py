@@ -14,7 +14,7 @@ import pathlib
 import sys
 import warnings
 
-from .. import _io
+from .. import _io, _progress
 from ..beats import OBSERVATIONS, Target, observation_targets, read_beat
 from ..eigen.solvers import AbstractEigenSolver, Auto
 from ..inverse import (
@@ -29,7 +29,10 @@ from ..inverse.checks import fit_checks
 from ..params import DEFAULT_CUBIC
 from ..units import Units
 from . import common
-from .fit_text import render  # noqa: F401  (the command's text output: main calls fit.render)
+from .fit_text import (
+    render,  # noqa: F401  (the command's text output: main calls fit.render)
+    render_laplace,
+)
 
 METHODS = ("lm", "lbfgs", "adam")
 MAX_DRAWS = 100_000  # draws per chain of --posterior (a 3-parameter posterior needs ~1000)
@@ -302,7 +305,7 @@ def _fit_options(args: argparse.Namespace) -> dict:
     return {
         "starts": args.starts,
         "method": args.method,
-        "progress": not args.json and sys.stderr.isatty(),
+        "progress": _progress.enabled(json_output=args.json),
         "solver": _eigen_solver(args),
         "shape_floor": args.shape_floor,
         "exclude_base_um": args.exclude_base_um,
@@ -371,12 +374,18 @@ def _run_fit(args, problem, options: dict, flag: str):
                 warmup=max(args.posterior, 150),
                 init=result,
                 progress=options["progress"],
+                on_laplace=None if args.json else _print_laplace,
             )
     except ValueError as err:
         raise common.CLIError(f"--posterior: {err}") from None
     for w in caught:  # R-hat, ESS and divergence warnings: one line each on stderr
         print(f"axojax: fit: posterior: {w.message}", file=sys.stderr)
     return result, post
+
+
+def _print_laplace(laplace) -> None:
+    """The fast answer, on stdout before the warm-up starts (text output only)."""
+    print("\n".join(render_laplace(laplace.to_json())), flush=True)
 
 
 def run(args: argparse.Namespace) -> dict:

@@ -73,12 +73,51 @@ def _render_posterior(post: dict | None) -> list[str]:
         f"posterior ({post['chains']} chains x {post['draws']} draws, {post['seconds']:.1f} s):"
     )
     lines.append(
-        f"{'parameter':>12s}  {'mean':>12s}  {'sd':>10s}  {'q05':>12s}  {'q95':>12s}  {'rhat':>6s}  {'ess':>7s}"
+        f"{'parameter':>12s}  {'mean':>12s}  {'sd':>10s}  {'q05':>12s}  {'q95':>12s}  {'rhat':>6s}  {'ess':>7s}  {'sd/Laplace':>10s}"
     )
+    ratio = post.get("sd_ratio") or {}
     for k, m in post["mean"].items():
         lines.append(
-            f"{k:>12s}  {m:12.5g}  {post['sd'][k]:10.3g}  {post['q05'][k]:12.5g}  {post['q95'][k]:12.5g}  {post['rhat'][k]:6.3f}  {post['ess'][k]:7.0f}"
+            f"{k:>12s}  {m:12.5g}  {post['sd'][k]:10.3g}  {post['q05'][k]:12.5g}  {post['q95'][k]:12.5g}  {post['rhat'][k]:6.3f}  {post['ess'][k]:7.0f}  {_num(ratio.get(k)):>10s}"
+        )
+    if post.get("gradients_per_draw") is not None:
+        lines.append(
+            f"NUTS: mean tree depth {post['tree_depth']:.2f} (limit {post['max_num_doublings']}, "
+            f"reached in {100 * post['tree_depth_saturated']:.0f} % of draws), "
+            f"{post['gradients_per_draw']:.1f} gradients per draw"
+        )
+    moved = [k for k, r in ratio.items() if r is not None and not 0.5 <= r <= 2.0]
+    if moved:
+        lines.append(
+            f"the draws moved from the Laplace approximation ({', '.join(moved)}: sd ratio "
+            "outside 0.5-2): trust the posterior, not the fit's stderr"
         )
     if post.get("file"):
         lines.append(f"wrote {post['file']} (axojax plot it for a corner plot)")
+    return lines
+
+
+def _num(x, fmt: str = ".3g") -> str:
+    return "n/a" if x is None else format(x, fmt)
+
+
+def render_laplace(lap: dict) -> list[str]:
+    """The Laplace approximation (``Laplace.to_json()``): centre, sd, 90 % interval per
+    parameter, and the largest correlation; printed before sampling starts."""
+    lines = ["Laplace approximation (J^T J at the optimum; the posterior's draws follow):"]
+    lines.append(f"{'parameter':>12s}  {'centre':>12s}  {'sd':>10s}  {'q05':>12s}  {'q95':>12s}")
+    for k, c in lap["centre"].items():
+        lines.append(
+            f"{k:>12s}  {c:12.5g}  {_num(lap['sd'][k]):>10s}  {_num(lap['q05'][k], '12.5g')}  {_num(lap['q95'][k], '12.5g')}"
+        )
+    names, corr = lap["names"], lap["corr"]
+    pairs = [
+        (abs(corr[i][j]), corr[i][j], names[i], names[j])
+        for i in range(len(names))
+        for j in range(i)
+        if corr[i][j] is not None
+    ]
+    if pairs:
+        _, c, a, b = max(pairs)
+        lines.append(f"largest correlation (in the fitted coordinates): {a}-{b} {c:+.3f}")
     return lines

@@ -16,7 +16,7 @@ import time
 
 import numpy as np
 
-from .. import _io
+from .. import _io, _progress
 from ..params import Params
 from ..results import is_successful
 from ..sweeps import netcdf, sweep
@@ -246,6 +246,7 @@ def run(args: argparse.Namespace) -> dict:
             chunk_size=args.chunk,
             out=args.out,
             solver=solver,
+            progress=_progress.enabled(json_output=args.json),
             log=lambda line: print(f"axojax: sweep: {line}", file=sys.stderr),
         )
     except _io.OutputBusy as err:

@@ -1,10 +1,15 @@
 """Where a posterior's chains start: the maximum of the log density (or a given point,
 e.g. a least-squares optimum), the Laplace approximation there (its covariance: the
-spread of the starts and the whitening of the sampled coordinates)."""
+spread of the starts and the whitening of the sampled coordinates), and that
+approximation as a result of its own (:class:`Laplace`: the fast answer, reported before
+sampling starts, and compared with the draws once they exist)."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
+from collections.abc import Mapping
+from typing import Any
 
 import jax
 import jax.numpy as jnp
@@ -12,6 +17,8 @@ import numpy as np
 import optimistix as optx
 from jaxtyping import Array, Float
 
+Z90 = 1.6448536269514722
+"""The standard normal's 95 % quantile: a normal's 90 % interval is mean +- Z90 sd."""
 CENTRE_NEWTON_STEPS = 3
 """Gauss-Newton steps on the whole log density after Levenberg-Marquardt (a non-uniform
 prior)."""
@@ -37,7 +44,9 @@ def _centre(settings, target, z0):
     each kept only if it raises the density; ``z0`` itself if nothing does. Without
     ``optimise``, ``z0``. The precision is the Gauss-Newton ``J^T J`` of the residuals
     minus the Hessian of the log prior and of the log-Jacobian of ``to_u`` (``forward``:
-    J by forward mode, else reverse)."""
+    J by forward mode, else reverse). Also the precision in u (the Laplace approximation
+    reported, :class:`Laplace`): ``J_u^T J_u`` minus the log prior's Hessian in u, where
+    ``J_u = J (du/dz)^-1``, the same Jacobian."""
     optimise, forward = settings
     problem = target.problem
 
@@ -49,9 +58,14 @@ def _centre(settings, target, z0):
             target.log_prior(problem.to_u(z)) + jnp.linalg.slogdet(jax.jacfwd(problem.to_u)(z))[1]
         )
 
-    def precision(z):
+    def precisions(z):
         J = (jax.jacfwd if forward else jax.jacrev)(r)(z)
-        return J.T @ J - jax.hessian(rest)(z)
+        J_u = J @ jnp.linalg.inv(jax.jacfwd(problem.to_u)(z))
+        u = problem.to_u(z)
+        return J.T @ J - jax.hessian(rest)(z), J_u.T @ J_u - jax.hessian(target.log_prior)(u)
+
+    def precision(z):
+        return precisions(z)[0]
 
     def better(z_new, z_old):
         return jnp.all(jnp.isfinite(z_new)) & (target(z_new) >= target(z_old))
@@ -71,12 +85,13 @@ def _centre(settings, target, z0):
             return jnp.where(better(z + step, z), z + step, z)
 
         z0 = jax.lax.fori_loop(0, CENTRE_NEWTON_STEPS, newton, z0)
-    return z0, precision(z0)
+    return z0, *precisions(z0)
 
 
-def _starts(target, init, chains: int, key, call) -> tuple[Array, Array, Array, np.ndarray]:
+def _starts(target, init, chains: int, key, call) -> tuple[Array, Array, Array, np.ndarray, Any]:
     """Starting points (chains, k) in z, their centre (k,) in z, the Laplace covariance
-    (k, k) in z there (the initial inverse mass matrix) and the centre in u (k,)."""
+    (k, k) in z there (the initial inverse mass matrix), the centre in u (k,) and the
+    precision (k, k) in u there (:func:`laplace_of`)."""
     problem = target.problem
     k = len(problem.names)
     lower, upper = np.asarray(problem.lower, dtype=float), np.asarray(problem.upper, dtype=float)
@@ -98,19 +113,22 @@ def _starts(target, init, chains: int, key, call) -> tuple[Array, Array, Array, 
             )
         z_c = jnp.asarray(problem.to_z(jnp.asarray(given.reshape(-1, k).mean(axis=0))), dtype=float)
     try:
-        z_c, precision = call(_centre, (init is None, True), target, z_c)
+        z_c, precision, precision_u = call(_centre, (init is None, True), target, z_c)
     except TypeError:  # residuals with a reverse-only (custom_vjp) derivative
-        z_c, precision = call(_centre, (init is None, False), target, z_c)
+        z_c, precision, precision_u = call(_centre, (init is None, False), target, z_c)
     cov = _covariance(np.asarray(precision, dtype=float))
+    u_c = np.asarray(problem.to_u(z_c), dtype=float)
+    precision_u = np.asarray(precision_u, dtype=float)
     if given is not None and given.ndim == 2:
         return (
             jnp.asarray(jax.vmap(problem.to_z)(jnp.asarray(given)), dtype=float),
             z_c,
             cov,
             given.mean(axis=0),
+            (u_c, precision_u),
         )
     z = z_c + jax.random.normal(key, (chains, k), dtype=float) @ jnp.linalg.cholesky(cov).T
-    return z, z_c, cov, np.asarray(problem.to_u(z_c), dtype=float)
+    return z, z_c, cov, u_c, (u_c, precision_u)
 
 
 def _fitted_u(result, names, lower, upper) -> np.ndarray:
@@ -141,3 +159,128 @@ def _covariance(precision: np.ndarray) -> Array:
     lam, vec = np.linalg.eigh(0.5 * (precision + precision.T))
     lam = np.maximum(lam, 1.0 / MAX_START_SD_Z**2)
     return jnp.asarray((vec / lam) @ vec.T)
+
+
+@dataclasses.dataclass(frozen=True)
+class Laplace:
+    """The Laplace approximation of a posterior: a normal in the fitted coordinate u
+    (log for positive parameters, linear for gamma) with mean ``centre_u`` (the least-squares
+    optimum, or the posterior mode) and covariance ``cov_u``, the inverse of the
+    Gauss-Newton ``J^T J`` of the residuals in u minus the log prior's Hessian (0 for the
+    default uniform prior; the bounds are ignored). Costs k model evaluations, so it is
+    reported before sampling; once draws exist :meth:`check` says how far they moved.
+
+    Attributes:
+        names: the k free parameters.
+        centre_u: (k,) the centre, in u.
+        cov_u: (k, k) the covariance in u; a direction the data do not constrain
+            (``J^T J`` singular) gives its parameters an infinite sd.
+        log_coordinate: per name, whether u is the natural log of the value.
+    """
+
+    names: tuple[str, ...]
+    centre_u: np.ndarray
+    cov_u: np.ndarray
+    log_coordinate: dict[str, bool]
+
+    @property
+    def sd_u(self) -> dict[str, float]:
+        """Per name, the sd in u (for a log coordinate: the relative sd of the value)."""
+        return {n: float(math.sqrt(max(v, 0.0))) for n, v in zip(self.names, np.diag(self.cov_u))}
+
+    def _value(self, name: str, u: float) -> float:
+        return float(math.exp(u)) if self.log_coordinate[name] else float(u)
+
+    def quantiles(self) -> tuple[dict[str, float], dict[str, float], dict[str, float]]:
+        """Per name, the 5 %, 50 % and 95 % quantiles of the value (normal in u, mapped);
+        NaN for the outer two where the sd is infinite."""
+        sd = self.sd_u
+
+        def at(z: float) -> dict[str, float]:
+            return {
+                n: self._value(n, c + z * sd[n] if z else c)
+                if z == 0 or math.isfinite(sd[n])
+                else math.nan
+                for n, c in zip(self.names, self.centre_u)
+            }
+
+        return at(-Z90), at(0.0), at(Z90)
+
+    def sd(self) -> dict[str, float]:
+        """Per name, the sd of the value to first order (value x sd_u for a log coordinate)."""
+        return {
+            n: (math.exp(c) * self.sd_u[n] if self.log_coordinate[n] else self.sd_u[n])
+            for n, c in zip(self.names, self.centre_u)
+        }
+
+    def check(self, mean_u: Mapping[str, float], sd_u: Mapping[str, float]) -> dict[str, dict]:
+        """How far draws (their mean and sd in u, per name) moved from this approximation:
+        ``sd_ratio`` (posterior sd / Laplace sd; near 1 where the approximation holds, below
+        1 where the bounds or a curved ridge narrow the posterior, above where the ridge is
+        longer than its curvature says) and ``shift`` (posterior mean - centre, in Laplace sds)."""
+        lap = self.sd_u
+        ratio, shift = {}, {}
+        for n, c in zip(self.names, self.centre_u):
+            s = lap[n]
+            ok = math.isfinite(s) and s > 0
+            ratio[n] = float(sd_u[n] / s) if ok else math.nan
+            shift[n] = float((mean_u[n] - c) / s) if ok else math.nan
+        return {"sd_ratio": ratio, "shift": shift}
+
+    def to_json(self) -> dict[str, Any]:
+        """``centre`` (values), ``sd`` (first order), ``q05``, ``q95``, ``sd_u`` and the
+        correlation matrix ``corr`` (rows in ``names`` order)."""
+        q05, q50, q95 = self.quantiles()
+        sd = np.sqrt(np.maximum(np.diag(self.cov_u), 0.0))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            corr = self.cov_u / np.outer(sd, sd)
+        return {
+            "names": list(self.names),
+            "centre": q50,
+            "sd": self.sd(),
+            "q05": q05,
+            "q95": q95,
+            "sd_u": self.sd_u,
+            "corr": [[float(x) if np.isfinite(x) else None for x in row] for row in corr],
+        }
+
+    def to_dict(self) -> dict[str, Any]:
+        """Everything :meth:`from_dict` needs (lists; JSON-safe where finite)."""
+        return {
+            "names": list(self.names),
+            "centre_u": [float(x) for x in self.centre_u],
+            "cov_u": [[float(x) for x in row] for row in self.cov_u],
+            "log_coordinate": dict(self.log_coordinate),
+        }
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> Laplace:
+        return cls(
+            names=tuple(d["names"]),
+            centre_u=np.asarray(d["centre_u"], dtype=float),
+            cov_u=np.asarray(d["cov_u"], dtype=float),
+            log_coordinate=dict(d["log_coordinate"]),
+        )
+
+
+def laplace_of(problem, names, u_c: np.ndarray, precision_u: np.ndarray) -> Laplace:
+    """:class:`Laplace` from a centre (k,) and precision (k, k) in u: the covariance by
+    eigen-decomposition, directions of precision <= 1e-12 x its largest (or not finite)
+    giving their parameters an infinite variance; log coordinates where the problem's
+    value at the centre is exp(u)."""
+    k = len(names)
+    if np.all(np.isfinite(precision_u)):
+        lam, vec = np.linalg.eigh(0.5 * (precision_u + precision_u.T))
+        good = lam > 1e-12 * max(float(np.max(np.abs(lam))), 1e-300)
+        cov = (vec[:, good] / lam[good]) @ vec[:, good].T
+        loose = np.any(np.abs(vec[:, ~good]) > 1e-8, axis=1)
+        cov[loose, :] = np.inf
+        cov[:, loose] = np.inf
+    else:
+        cov = np.full((k, k), np.inf)
+    values = problem.values(jnp.asarray(u_c, dtype=float))
+    log = {}
+    for n, u in zip(names, u_c):
+        v = float(values[n]) if n in values else math.nan
+        log[n] = bool(v > 0 and math.isclose(math.log(v), float(u), rel_tol=1e-9, abs_tol=1e-9))
+    return Laplace(tuple(names), np.asarray(u_c, dtype=float), cov, log)

@@ -168,7 +168,8 @@ def _over_chains(fn, vectorize: bool, *args):
 def _sample(settings, target, states, step_size, imm, keys):
     """``keys.shape[1]`` NUTS steps of every chain (steps scanned inside each chain,
     chains vmapped or mapped): the final states and, per chain and step, (positions,
-    log densities, divergent, gradients, acceptance rates), each (chains, steps, ...)."""
+    log densities, divergent, gradients, acceptance rates, tree depths), each
+    (chains, steps, ...)."""
     sampler, vectorize = settings
 
     def chain(state, eps, m, keys_c):
@@ -188,6 +189,7 @@ def _sample(settings, target, states, step_size, imm, keys):
                 info.is_divergent,
                 info.num_integration_steps,
                 info.acceptance_rate,
+                info.num_trajectory_expansions,
             )
 
         return jax.lax.scan(step, state, keys_c)

@@ -14,6 +14,7 @@ import numpy as np
 from .._io import atomic_path
 from ..results import RESULTS
 from ..results import name as result_name
+from ._laplace import Laplace
 
 NPZ_KIND = "posterior"
 
@@ -57,6 +58,15 @@ class Posterior:
         result: :class:`axojax.results.RESULTS` item: ``successful``, or
             ``chains_not_converged`` (``message`` says why). The one test of success is
             ``post.result == RESULTS.successful``.
+        laplace: the :class:`~axojax.inverse._laplace.Laplace` approximation at the centre
+            of the starts (the fast answer; None in files written before it existed).
+        sd_ratio: per name, posterior sd / Laplace sd, in u (1: the approximation holds).
+        shift: per name, (posterior mean - Laplace centre) / Laplace sd, in u.
+        tree_depth: mean NUTS tree depth of the draws (doublings; ``2**depth - 1``
+            gradients at most).
+        tree_depth_saturated: share of the draws whose tree reached ``max_num_doublings``.
+        max_num_doublings: the sampler's tree depth limit.
+        gradients_per_draw: mean gradients (leapfrog steps) per draw after warm-up.
     """
 
     names: tuple[str, ...]
@@ -93,6 +103,13 @@ class Posterior:
     start_u: np.ndarray
     message: str
     result: RESULTS = dataclasses.field(default_factory=lambda: RESULTS.successful)
+    laplace: Laplace | None = None
+    sd_ratio: dict[str, float] = dataclasses.field(default_factory=dict)
+    shift: dict[str, float] = dataclasses.field(default_factory=dict)
+    tree_depth: float = math.nan
+    tree_depth_saturated: float = math.nan
+    max_num_doublings: int = 0
+    gradients_per_draw: float = math.nan
 
     @property
     def chains(self) -> int:
@@ -119,8 +136,11 @@ class Posterior:
         """The ``"posterior"`` block of ``axojax fit --posterior --json`` (docs/interface.md):
         ``draws`` (per chain), ``chains``, ``mean``, ``sd``, ``q05``, ``q95``, ``rhat``,
         ``ess`` (bulk), ``seconds``; also ``q50``, ``ess_tail``, ``divergences``,
-        ``warmup``, ``seconds_per_gradient``, ``seconds_per_ess``, ``message``, ``result``
-        (the name of :attr:`result`)."""
+        ``warmup``, ``seconds_compile``, ``seconds_start``, ``seconds_warmup``,
+        ``seconds_sampling``, ``seconds_per_gradient``, ``seconds_per_ess``, ``message``, ``result``
+        (the name of :attr:`result`), ``laplace`` (:meth:`Laplace.to_json`, or None),
+        ``sd_ratio``, ``shift``, ``tree_depth``, ``tree_depth_saturated``,
+        ``max_num_doublings``, ``gradients_per_draw``."""
         return {
             "draws": self.draws,
             "chains": self.chains,
@@ -135,10 +155,21 @@ class Posterior:
             "divergences": self.divergences,
             "warmup": self.warmup,
             "seconds": self.seconds,
+            "seconds_compile": self.seconds_compile,
+            "seconds_start": self.seconds_start,
+            "seconds_warmup": self.seconds_warmup,
+            "seconds_sampling": self.seconds_sampling,
             "seconds_per_gradient": self.seconds_per_gradient,
             "seconds_per_ess": self.seconds_per_ess,
             "message": self.message,
             "result": result_name(self.result),
+            "laplace": None if self.laplace is None else self.laplace.to_json(),
+            "sd_ratio": dict(self.sd_ratio),
+            "shift": dict(self.shift),
+            "tree_depth": self.tree_depth,
+            "tree_depth_saturated": self.tree_depth_saturated,
+            "max_num_doublings": self.max_num_doublings,
+            "gradients_per_draw": self.gradients_per_draw,
         }
 
     def save(self, path, *, truth: Mapping[str, float] | None = None) -> None:
@@ -153,6 +184,7 @@ class Posterior:
             "log_coordinate": self.log_coordinate,
             "truth": None if truth is None else {k: float(v) for k, v in truth.items()},
             "result": result_name(self.result),
+            "laplace": None if self.laplace is None else self.laplace.to_dict(),
             **{
                 f.name: getattr(self, f.name)
                 for f in dataclasses.fields(self)
@@ -177,8 +209,10 @@ class Posterior:
                     f"{str(path)!r} is not an axojax posterior (kind {meta.get('kind')!r})"
                 )
             arrays = {name: np.asarray(f[name]) for name in _ARRAY_FIELDS}
-        scalars = {k: meta[k] for k in _SCALAR_FIELDS}
+        scalars = {k: meta[k] for k in _SCALAR_FIELDS if k in meta}  # older files: fewer
+        laplace = meta.get("laplace")
         return cls(
+            laplace=None if laplace is None else Laplace.from_dict(laplace),
             names=tuple(meta["names"]),
             value_names=tuple(meta["value_names"]),
             log_coordinate=meta["log_coordinate"],
@@ -221,6 +255,12 @@ _SCALAR_FIELDS = (
     "seconds_per_gradient",
     "seconds_per_ess",
     "message",
+    "sd_ratio",
+    "shift",
+    "tree_depth",
+    "tree_depth_saturated",
+    "max_num_doublings",
+    "gradients_per_draw",
 )
 
 

@@ -34,8 +34,8 @@ import numpy as np
 import optax
 import optimistix as optx
 from jaxtyping import Array, PyTree
-from tqdm.auto import tqdm
 
+from .._progress import progress as progress_bar
 from ..results import RESULTS
 from .problem import Problem
 from .report import FitResult, build_report
@@ -303,14 +303,14 @@ def least_squares(
         starts: the problem's start ``u0`` and ``starts - 1`` points of a scrambled Sobol
             design of the bounded box.
         seed: seed of the design.
-        progress: a progress bar over starts.
+        progress: a progress bar over starts (on stderr, :mod:`axojax._progress`).
     """
     solver = solver_from_name(solver)
     t0 = time.perf_counter()
     run = solver.compile(problem)
     initial = problem.start_design(starts, seed)
     runs = []
-    for u in tqdm(initial, desc="fit starts", unit="start", disable=not progress):
+    for u in progress_bar(initial, desc="fit starts", unit="start", enable=progress):
         z, value, steps, gnorm, result = run(problem.to_z(jnp.asarray(u)))
         value = float(value)
         runs.append(

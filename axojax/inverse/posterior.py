@@ -45,18 +45,21 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array
-from tqdm.auto import tqdm
 
+from .._progress import progress as progress_bar
+from .._progress import stage
 from ..results import RESULTS, message
 from . import diagnostics
 from ._densities import InverseProblem, _Target, _Whitened, normal_prior
-from ._laplace import _starts
+from ._laplace import Laplace, _starts, laplace_of
 from ._nuts import DEFAULT_NUTS, NUTS, _compiled, _init_states, _sample, _to_u, _values, _warmup
 from ._posterior_result import Posterior
 
 SAMPLE_CHUNK = 50
 """Draws per compiled sampling call: one program for any number of draws (the last
 chunk's surplus is dropped)."""
+SATURATION_WARN = 0.01
+"""Warn when more than this share of the draws' trees reached ``max_num_doublings``."""
 
 
 def posterior(
@@ -71,6 +74,7 @@ def posterior(
     sampler: NUTS = DEFAULT_NUTS,
     vectorize: bool = True,
     progress: bool = False,
+    on_laplace: Callable[[Laplace], None] | None = None,
 ) -> Posterior:
     """Sample the posterior of ``problem``'s free parameters with NUTS.
 
@@ -95,12 +99,18 @@ def posterior(
             ``False``, one after another inside the same compiled program (each chain
             pays only for its own trajectories: faster where a batch of k model
             evaluations costs k single ones, e.g. LAPACK-bound eigen-solves on few cores).
-        progress: a progress bar over the sampling (tqdm).
+        progress: progress bars on stderr (:mod:`axojax._progress`): the warm-up's
+            elapsed time (one compiled program), then the draws with rate and time left.
+        on_laplace: called with the :class:`Laplace` approximation at the centre as soon
+            as it exists, before the warm-up (e.g. to print the fast answer); the result
+            keeps it too (``Posterior.laplace``) and says how far the draws moved from it.
 
     Returns:
         :class:`Posterior`. Warns (one line each) when a parameter's R-hat exceeds
         ``diagnostics.RHAT_MAX`` (1.01), when its bulk or tail ESS is below
-        ``diagnostics.ESS_MIN_PER_CHAIN`` (100) per chain, or when transitions diverged.
+        ``diagnostics.ESS_MIN_PER_CHAIN`` (100) per chain, or when transitions diverged,
+        and when more than ``SATURATION_WARN`` of the draws' trees reached
+        ``sampler.max_num_doublings`` (what to do: in the warning).
     """
     t_start = time.perf_counter()
     names, lower, upper, prior = _check(problem, draws, chains, warmup, sampler, prior)
@@ -108,17 +118,23 @@ def posterior(
     clock = _Clock()
     key_init, key_warm, key_sample = jax.random.split(jax.random.PRNGKey(seed), 3)
     t0 = time.perf_counter()
-    z_start, z_c, cov, start_u = _starts(target, init, chains, key_init, clock.call)
+    z_start, z_c, cov, start_u, (u_c, precision_u) = _starts(
+        target, init, chains, key_init, clock.call
+    )
+    laplace = laplace_of(problem, names, u_c, precision_u)
     seconds_start = time.perf_counter() - t0
+    if on_laplace is not None:
+        on_laplace(laplace)
     compile_start = clock.seconds
 
     t0 = time.perf_counter()
-    sampled, states, step_size, imm, warm_grads = _adapt(
-        target, sampler, warmup, vectorize, key_warm, z_start, z_c, cov, clock.call
-    )
+    with stage(f"posterior warm-up ({chains} x {warmup} steps)", enable=progress):
+        sampled, states, step_size, imm, warm_grads = _adapt(
+            target, sampler, warmup, vectorize, key_warm, z_start, z_c, cov, clock.call
+        )
     seconds_warmup = time.perf_counter() - t0
     t0 = time.perf_counter()
-    z, logd, divergent, n_steps, accept = _draw(
+    z, logd, divergent, n_steps, accept, depth = _draw(
         sampled, sampler, states, step_size, imm, draws, vectorize, key_sample, progress, clock
     )
     seconds_sampling = time.perf_counter() - t0
@@ -138,6 +154,12 @@ def posterior(
     notes = diagnostics.sampler_notes(names, summ, chains, chains * draws, n_div)
     for note in notes:
         warnings.warn(note, stacklevel=2)
+    saturated = float(np.mean(depth >= sampler.max_num_doublings))
+    if saturated > SATURATION_WARN:
+        warnings.warn(_saturation_note(saturated, sampler, n_steps), stacklevel=2)
+    mean_u = {n: float(v) for n, v in zip(names, flat_u.mean(axis=0))}
+    sd_u = {n: float(v) for n, v in zip(names, flat_u.std(axis=0, ddof=1))}
+    moved = laplace.check(mean_u, sd_u)
     work = seconds_warmup + seconds_sampling - compile_chains
 
     def per(key):
@@ -159,8 +181,8 @@ def posterior(
         q05=per("q05"),
         q50=per("q50"),
         q95=per("q95"),
-        mean_u={n: float(v) for n, v in zip(names, flat_u.mean(axis=0))},
-        sd_u={n: float(v) for n, v in zip(names, flat_u.std(axis=0, ddof=1))},
+        mean_u=mean_u,
+        sd_u=sd_u,
         rhat=per("rhat"),
         ess=per("ess_bulk"),
         ess_tail=per("ess_tail"),
@@ -179,6 +201,24 @@ def posterior(
         start_u=start_u,
         message="; ".join(notes) or message(result),
         result=result,
+        laplace=laplace,
+        sd_ratio=moved["sd_ratio"],
+        shift=moved["shift"],
+        tree_depth=float(np.mean(depth)),
+        tree_depth_saturated=saturated,
+        max_num_doublings=int(sampler.max_num_doublings),
+        gradients_per_draw=float(np.mean(n_steps)),
+    )
+
+
+def _saturation_note(saturated: float, sampler: NUTS, n_steps: np.ndarray) -> str:
+    """One line: how often the trees hit the depth limit, and what to do."""
+    return (
+        f"NUTS tree depth reached max_num_doublings={sampler.max_num_doublings} in "
+        f"{100 * saturated:.0f} % of draws ({float(np.mean(n_steps)):.0f} gradients per draw): "
+        "the trajectories were cut short, so the draws are more correlated than they need be; "
+        f"raise it (NUTS(max_num_doublings={sampler.max_num_doublings + 2})), or fix or "
+        "reparametrise the parameters along the posterior's longest ridge"
     )
 
 
@@ -255,20 +295,24 @@ def _adapt(target, sampler, warmup, vectorize, key, z_start, z_c, cov, call):
 
 def _draw(sampled, sampler, states, step_size, imm, draws, vectorize, key, progress, clock):
     """``draws`` NUTS steps of every chain, in chunks of :data:`SAMPLE_CHUNK` (one
-    compiled program): positions, log densities, divergent, gradients and acceptance
-    rates, each (chains, draws, ...)."""
+    compiled program): positions, log densities, divergent, gradients, acceptance
+    rates and tree depths, each (chains, draws, ...)."""
     chains = step_size.shape[0]
     n_chunks = -(-draws // SAMPLE_CHUNK)
     keys = jax.random.split(key, n_chunks * chains * SAMPLE_CHUNK).reshape(
         n_chunks, chains, SAMPLE_CHUNK, -1
     )
     outs = []
-    for i in tqdm(range(n_chunks), desc="posterior", unit="chunk", disable=not progress):
-        states, out = clock.call(
-            _sample, (sampler, bool(vectorize)), sampled, states, step_size, imm, keys[i]
-        )
-        outs.append(jax.device_get(out))
-    return tuple(np.concatenate([o[j] for o in outs], axis=1)[:, :draws] for j in range(5))
+    with progress_bar(
+        total=chains * draws, desc="posterior draws", unit="draw", enable=progress
+    ) as bar:
+        for i in range(n_chunks):
+            states, out = clock.call(
+                _sample, (sampler, bool(vectorize)), sampled, states, step_size, imm, keys[i]
+            )
+            outs.append(jax.device_get(out))
+            bar.update(chains * min(SAMPLE_CHUNK, draws - i * SAMPLE_CHUNK))
+    return tuple(np.concatenate([o[j] for o in outs], axis=1)[:, :draws] for j in range(6))
 
 
 def _value_draws(problem, names, u, call):

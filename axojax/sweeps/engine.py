@@ -42,9 +42,9 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 from jax.sharding import Mesh, NamedSharding, PartitionSpec
-from tqdm.auto import tqdm
 
 from .. import _io
+from .._progress import progress as progress_bar
 from ..eigen.mode import DEFAULT_SOLVER, dominant_mode_impl
 from ..eigen.solvers import AbstractEigenSolver
 from ..models.section import Model
@@ -193,7 +193,8 @@ def sweep(
         out: ``.npz`` path; makes the sweep resumable (see module docstring). Needed,
             on a file system every process sees, when ``jax.distributed`` runs several
             processes: each computes its share of the chunks (module docstring).
-        progress: tqdm progress bar (default: only on a terminal).
+        progress: a progress bar on stderr (:mod:`axojax._progress`; default: its rule,
+            i.e. only on a terminal).
         devices: how many of this process's local devices to split each chunk over
             (default all).
         solver: dominant-eigenpair solver (:mod:`axojax.eigen.solvers`); the result's
@@ -355,12 +356,7 @@ def _run_chunks(
     results: dict[int, dict[str, np.ndarray]] = {}
     mine = [c for c in range(n_chunks) if share.owns(c)]
     resumed = damaged = 0
-    for c in tqdm(
-        mine,
-        desc=f"sweep {model.name}",
-        unit="chunk",
-        disable=(None if progress is None else not progress),
-    ):
+    for c in progress_bar(mine, desc=f"sweep {model.name}", unit="chunk", enable=progress):
         part = part_path(c)
         if part is not None and part.exists():
             vals = _read_chunk(part)
