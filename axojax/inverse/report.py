@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 
 from .. import _io
-from ..params import MECHANISM_NAMES, PARAM_NAMES, Params
+from ..params import BASAL_NAMES, MECHANISM_NAMES, PARAM_NAMES, Params
 from ..results import RESULTS, message
 from ..results import name as result_name
 from ._arguments import SIGNED
@@ -575,9 +575,11 @@ def _at_bound(name: str, p, u: float) -> str:
 
 def _condition_params(full: Params) -> dict[str, float]:
     """Every parameter of a condition, without the regulated-dynein coefficients when they
-    are all 0 (the steady load: its report stays as it was, and each name it lists is a
-    command-line flag, e.g. for ``axojax modes``)."""
+    are all 0 (the steady load) and without the basal compliance when it is all 0 (no
+    compliance): its report stays as it was, and each name it lists is a command-line
+    flag, e.g. for ``axojax modes``."""
     values = {f: float(np.asarray(getattr(full, f))) for f in PARAM_NAMES}
-    if not any(values[f] for f in MECHANISM_NAMES):
-        values = {f: v for f, v in values.items() if f not in MECHANISM_NAMES}
+    for group in (MECHANISM_NAMES, BASAL_NAMES):
+        if not any(values[f] for f in group):
+            values = {f: v for f, v in values.items() if f not in group}
     return values
