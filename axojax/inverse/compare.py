@@ -288,6 +288,7 @@ def compare(
     method: str = "lm",
     progress: bool = False,
     head=None,
+    profiles=None,
 ) -> Comparison:
     """Fit every mechanism x base to one beat and rank them by BIC.
 
@@ -314,6 +315,9 @@ def compare(
         method: least-squares solver (``"lm"``, ``"lbfgs"``, ``"adam"``).
         head: the ``head`` base's :class:`~axojax.models.Base` (default: an ellipsoid of
             :data:`~axojax.inverse.mechanisms.DEFAULT_HEAD_UM` in water).
+        profiles: static relative x-profiles of EI, p and the links for every row's model
+            (:class:`axojax.fem.Profiles`; e.g. ``Profiles(ei=lambda x: 3 - 2 * x)``, a base
+            three times stiffer than the tip); uniform by default.
         progress: a bar over rows on stderr (``axojax compare`` shows it on a terminal,
             never with ``--json`` on a pipe: :mod:`axojax._progress`'s rule).
 
@@ -341,7 +345,7 @@ def compare(
     rows: list[CompareRow] = []
     combos = [(m, b) for b in bases for m in mechanisms]
     for mech, base in tqdm(combos, desc="compare rows", unit="row", disable=not progress):
-        the_model = build_model(model, n_elements, base, units, head)
+        the_model = build_model(model, n_elements, base, units, head, profiles)
         spec = row(mech, base, the_model, units, f_obs, pin_tolerance=pin_tolerance)
         rows.append(_fit_row(spec, shape, units, optimiser, starts, seed, shape_floor))
     rows.sort(key=lambda r: math.inf if r.bic is None else r.bic)

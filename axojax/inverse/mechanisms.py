@@ -47,7 +47,9 @@ import math
 import numpy as np
 
 from ..beats.targets import Target
+from ..fem import Profiles
 from ..models import Base, presets
+from ..models import build_model as build_section_model
 from ..models.section import Model
 from ..params import Params
 from ..units import Units
@@ -172,11 +174,18 @@ def pins(frequency_hz: float, tolerance: float = PIN_TOLERANCE) -> tuple[Target,
 
 
 def build_model(
-    preset: str, n_elements: int, base: str, units: Units | None = None, head: Base | None = None
+    preset: str,
+    n_elements: int,
+    base: str,
+    units: Units | None = None,
+    head: Base | None = None,
+    profiles: Profiles | None = None,
 ) -> Model:
     """The model of a row: ``preset`` at ``n_elements`` with ``base``; a ``head`` base is
     ``head`` (a :class:`~axojax.models.Base` of kind head), by default the ellipsoid of
-    :data:`DEFAULT_HEAD_UM` in water made dimensionless with ``units``."""
+    :data:`DEFAULT_HEAD_UM` in water made dimensionless with ``units``. ``profiles``:
+    static relative x-profiles of EI, p and the links (:class:`axojax.fem.Profiles`, e.g.
+    a stiffer base), uniform by default."""
     if preset not in COMPARE_PRESETS:
         raise ValueError(
             f"model: {preset!r} has no active pairs to regulate; choose from {', '.join(COMPARE_PRESETS)}"
@@ -194,7 +203,8 @@ def build_model(
         the_base = head
     else:
         the_base = Base(base)
-    return getattr(presets, preset)(n_elements=int(n_elements), base=the_base)
+    section = getattr(presets, f"{preset}_section")()
+    return build_section_model(section, int(n_elements), profiles or Profiles(), base=the_base)
 
 
 def row(
