@@ -290,3 +290,18 @@ def test_filament_major_keeps_the_border_last_and_bad_borders_are_refused():
     with pytest.raises(ValueError, match="border shapes") as info:
         bordered(tri, np.zeros((n, 2)), np.zeros((2, n)), np.zeros((3, 3)))
     assert "\n" not in str(info.value)
+
+
+def test_arnoldi_on_a_compliant_clamped_base_is_structured_and_equals_dense():
+    """Basal compliance on a clamped base is a border without rigid motion: the structured
+    solver takes it itself (certified, no dense fallback) and agrees with the dense one."""
+    from axojax.models import Base
+
+    model = ax.models.seven(n_elements=6, base=Base("clamped", compliance=True))
+    params = ax.Params(kb=1e3, xib=1.0)
+    dense = ax.dominant_mode(model, params, Dense())
+    arnoldi = ax.dominant_mode(model, params, Arnoldi())
+    assert bool(arnoldi.certified)
+    lam = complex(dense.eigenvalue)
+    assert abs(complex(arnoldi.eigenvalue) - lam) < 1e-8 * abs(lam)
+    assert abs(float(arnoldi.wavelength - dense.wavelength)) < 1e-7 * float(dense.wavelength)

@@ -171,24 +171,39 @@ class RigidDeflated(AbstractEigenSolver):
 def for_base(
     model: Model, solver: AbstractEigenSolver, strict: bool = False
 ) -> AbstractEigenSolver:
-    """``solver``, or :class:`~axojax.eigen.Dense` where the model has a border (a base
-    that is not clamped) and ``solver`` is :class:`~axojax.eigen.Auto` or
-    :class:`~axojax.eigen.Arnoldi`: the structured solver does not read the border yet.
-    Where the base leaves rigid-body motion free, :class:`RigidDeflated` (dense) instead.
-    ``strict`` (a user's own call): an explicit Arnoldi is refused with a one-line
-    ``ValueError`` instead (the sweep engine and fits resolve Auto to Arnoldi themselves,
-    and get the dense answer)."""
-    if not model.n_border:
+    """``solver``, except where the base leaves rigid-body motion free (free, head, a
+    pivot without a spring): their zero eigenvalues are no mode of deformation, and
+    :class:`RigidDeflated` (dense) moves them out of the way. There an explicit
+    :class:`~axojax.eigen.Arnoldi` is refused with a one-line ``ValueError`` when
+    ``strict`` (a user's own call); the sweep engine and fits, which resolve
+    :class:`~axojax.eigen.Auto` to Arnoldi themselves, get the deflated dense answer.
+    A border without rigid motion (basal compliance on a clamped base) is solved by
+    every solver as it is: both eliminate the border by a Schur complement."""
+    if not model.n_border or model.rigid_modes().shape[1] == 0:
         return solver
-    rigid = model.rigid_modes().shape[1] > 0
     if isinstance(solver, (Auto, Dense)) or (isinstance(solver, Arnoldi) and not strict):
-        return RigidDeflated() if rigid else Dense()
+        return RigidDeflated()
     if isinstance(solver, Arnoldi):
         raise ValueError(
-            f"the Arnoldi eigen-solver does not support the {model.base.kind!r} base yet "
-            f"(its {model.n_border} border unknowns); use ax.eigen.Dense()"
+            f"the Arnoldi eigen-solver does not deflate the rigid-body modes of the "
+            f"{model.base.kind!r} base yet; use ax.eigen.Dense()"
         )
     return solver
+
+
+def with_result(model: Model, lam, v, certified, ok) -> Mode:
+    """The :class:`Mode` of an eigenpair with its ``result``: NaN numbers and
+    ``invalid_params`` where ``ok`` is False (parameters out of range), ``nonfinite``
+    where the eigenvalue is not finite (:mod:`axojax.results`)."""
+    lam = jnp.where(ok, lam, jnp.nan + 0j)
+    v = jnp.where(ok, v, jnp.nan + 0j)
+    mode = mode_from_eigenpair(model, lam, v, certified)
+    result = RESULTS.where(
+        ok,
+        RESULTS.where(jnp.isfinite(lam), RESULTS.successful, RESULTS.nonfinite),
+        RESULTS.invalid_params,
+    )
+    return eqx.tree_at(lambda m: m.result, mode, result)
 
 
 def dominant_mode_impl(
@@ -204,15 +219,7 @@ def dominant_mode_impl(
     if model.base.compliance:  # check_base_params's rule, traceable
         ok = ok & (jnp.asarray(params.xib, dtype=float) > 0)
     lam, v, certified = solver.eigenpair(model, params)
-    lam = jnp.where(ok, lam, jnp.nan + 0j)
-    v = jnp.where(ok, v, jnp.nan + 0j)
-    mode = mode_from_eigenpair(model, lam, v, certified)
-    result = RESULTS.where(
-        ok,
-        RESULTS.where(jnp.isfinite(lam), RESULTS.successful, RESULTS.nonfinite),
-        RESULTS.invalid_params,
-    )
-    return eqx.tree_at(lambda m: m.result, mode, result)
+    return with_result(model, lam, v, certified, ok)
 
 
 _dominant_mode_impl = dominant_mode_impl  # the old private name, for existing callers

@@ -21,14 +21,12 @@ shift-invert Arnoldi about the shift, :mod:`axojax.eigen.arnoldi_nearest`).
 
 from __future__ import annotations
 
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 from jaxtyping import Array, ArrayLike, Complex, Float
 
 from ..models.section import Model
 from ..params import Params, require_scalars, valid
-from ..results import RESULTS
 from .dominant import CLUSTER_RTOL, MAX_CLUSTER, _inverse_iteration, _primal, eigenpair_jvp
 from .pencil import reduced_matrix
 
@@ -73,20 +71,14 @@ def _nearest_jvp(primals, tangents):
 def nearest_mode_impl(model: Model, params: Params, shift: ArrayLike, solver) -> "Mode":  # noqa: F821
     """:func:`nearest_mode` without its validation and ``jax.jit`` (for code that traces
     it inside its own transformations, e.g. fits)."""
-    from .mode import mode_from_eigenpair
+    from .mode import with_result
 
     require_scalars(params, "nearest_mode")
     ok = valid(params)
+    if model.base.compliance:  # check_base_params's rule, traceable
+        ok = ok & (jnp.asarray(params.xib, dtype=float) > 0)
     lam, v, certified = solver.nearest(model, params, jnp.asarray(shift, dtype=complex))
-    lam = jnp.where(ok, lam, jnp.nan + 0j)
-    v = jnp.where(ok, v, jnp.nan + 0j)
-    mode = mode_from_eigenpair(model, lam, v, certified)
-    result = RESULTS.where(
-        ok,
-        RESULTS.where(jnp.isfinite(lam), RESULTS.successful, RESULTS.nonfinite),
-        RESULTS.invalid_params,
-    )
-    return eqx.tree_at(lambda m: m.result, mode, result)
+    return with_result(model, lam, v, certified, ok)
 
 
 _nearest_mode_jit = jax.jit(nearest_mode_impl, static_argnums=(0, 3))

@@ -50,6 +50,7 @@ import numpy as np
 from .._memory import check_model_size
 from ..eigen.mode import IMAG_RTOL, dominant_mode
 from ..models.section import Model, build_model
+from ..results import jsonable
 from .least_squares import LevenbergMarquardt
 from .problem import EDGE, Problem
 from .report import FitResult, condition_achieved, shape_residuals
@@ -302,22 +303,7 @@ def fit_checks(
             if "memory" not in str(err):
                 raise
             checked = {"skipped": str(err)}
-    return _plain({"regime": regime(problem, result), "mesh_check": checked})
-
-
-def _plain(obj):
-    """JSON-ready: NaN and +-inf as None, numpy scalars as Python numbers."""
-    if isinstance(obj, dict):
-        return {str(k): _plain(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_plain(v) for v in obj]
-    if isinstance(obj, (bool, np.bool_)):
-        return bool(obj)
-    if isinstance(obj, (int, np.integer)):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        return float(obj) if math.isfinite(float(obj)) else None
-    return obj
+    return jsonable({"regime": regime(problem, result), "mesh_check": checked})
 
 
 def _pct(x: float | None) -> str:

@@ -31,6 +31,7 @@ from tqdm.auto import tqdm
 
 from .. import _io
 from ..beats.data import BeatData, read_beat
+from ..results import jsonable
 from ..units import Units
 from .fit import build_problem
 from .least_squares import least_squares, solver_from_name
@@ -148,7 +149,7 @@ class Comparison:
             psi1=[[float(z.real), float(z.imag)] for z in self.psi1],
             psi0=None if self.psi0 is None else np.asarray(self.psi0, dtype=float).tolist(),
         )
-        return _clean(
+        return jsonable(
             {
                 "kind": "comparison",
                 "data": data,
@@ -207,22 +208,6 @@ def render_table(doc: dict[str, Any]) -> str:
         f"R^2 is Sartori's of psi_1"
     )
     return "\n".join(lines)
-
-
-def _clean(obj):
-    if isinstance(obj, dict):
-        return {str(k): _clean(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_clean(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return _clean(obj.tolist())
-    if isinstance(obj, (bool, np.bool_)):
-        return bool(obj)
-    if isinstance(obj, (int, np.integer)):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        return float(obj) if math.isfinite(float(obj)) else None
-    return obj
 
 
 def screened_starts(problem: Problem, candidates: np.ndarray, n: int) -> np.ndarray:

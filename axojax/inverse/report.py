@@ -39,7 +39,7 @@ import numpy as np
 
 from .. import _io
 from ..params import BASAL_NAMES, MECHANISM_NAMES, PARAM_NAMES, Params
-from ..results import RESULTS, message
+from ..results import RESULTS, jsonable, message
 from ..results import name as result_name
 from ._arguments import SIGNED
 from .problem import CYCLE_FAILED, Problem
@@ -188,7 +188,7 @@ class FitResult:
         }
         if not self.multi:
             doc["achieved"] = self.achieved
-        return _clean(doc)
+        return jsonable(doc)
 
     def report(self) -> dict[str, Any]:
         """Alias of :meth:`to_json` (the historical name)."""
@@ -206,22 +206,6 @@ def base_name(model) -> str:
     compliance (docs/model.md section 8)."""
     base = model.base
     return base.kind + ("+compliance" if base.compliance else "")
-
-
-def _clean(obj):
-    if isinstance(obj, dict):
-        return {str(k): _clean(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_clean(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return _clean(obj.tolist())
-    if isinstance(obj, (np.bool_, bool)):
-        return bool(obj)
-    if isinstance(obj, (np.integer,)):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        return float(obj) if math.isfinite(float(obj)) else None
-    return obj
 
 
 def _fmt(x: float) -> str:
