@@ -24,21 +24,17 @@ def finite_float(text: str) -> float:
 
 
 def _complex_pair(text: str, flag: str) -> tuple[float, float]:
+    """``RE,IM`` of the flag ``--{flag}`` (named without its dashes)."""
+    return _pair(text, f"--{flag}", "RE,IM")
+
+
+def _pair(text: str, flag: str, form: str = "two numbers X,Y") -> tuple[float, float]:
+    """Two finite numbers ``X,Y`` (one line naming ``flag``, with dashes, otherwise;
+    ``form`` says what was expected)."""
     parts = text.split(",")
     try:
         if len(parts) != 2:
-            raise argparse.ArgumentTypeError(f"expected RE,IM, got {text!r}")
-        return finite_float(parts[0]), finite_float(parts[1])
-    except argparse.ArgumentTypeError as err:
-        raise CLIError(f"--{flag}: {err}") from None
-
-
-def _pair(text: str, flag: str) -> tuple[float, float]:
-    """Two finite numbers ``X,Y`` (one line naming ``flag``, with dashes, otherwise)."""
-    parts = text.split(",")
-    try:
-        if len(parts) != 2:
-            raise argparse.ArgumentTypeError(f"expected two numbers X,Y, got {text!r}")
+            raise argparse.ArgumentTypeError(f"expected {form}, got {text!r}")
         return finite_float(parts[0]), finite_float(parts[1])
     except argparse.ArgumentTypeError as err:
         raise CLIError(f"{flag}: {err}") from None

@@ -318,26 +318,19 @@ def _dense_primal(A: Bordered, C: Bordered) -> _Primal:
     return _Primal(lam, v, jnp.zeros(()))
 
 
-def _arnoldi_point(
-    A: Bordered, C: Bordered, opts: ArnoldiOptions, batched: bool = False
+def staged_arnoldi(
+    M: Bordered, lu, C: Bordered, sigma, dims: tuple[int, ...], ritz, batched: bool, dtype
 ) -> _Primal:
-    """One parameter point: pole, factorisation, Arnoldi in stages until certified, and
-    the dense solver where no stage certifies (``opts.fallback``). Scalar control flow:
-    each stage and the fallback run only when needed.
-
-    ``batched``: written to be ``vmap``-ed over a chunk of points (see :func:`_batched`):
-    plain jnp block kernels (:mod:`axojax.linalg.small`), no fallback here (the caller
-    runs it for the uncertified points only)."""
-    n = A.shape[0]
-    dims = tuple(sorted({min(m, n - 1) for m in opts.krylov_dims}))
+    """Shift-invert Arnoldi on ``(A + sigma C)^{-1} C`` (``M = A + sigma C`` factorised as
+    ``lu``) in stages of ``dims`` Krylov vectors until ``ritz`` certifies a pair: the
+    common core of the dominant solver (real pole) and :mod:`axojax.eigen.arnoldi_nearest`
+    (complex shift). ``ritz(V, H, sigma, m, padded=...)`` picks and certifies the pair;
+    ``dtype`` is the Krylov vectors' (float, or complex for a complex shift)."""
+    n = M.shape[0]
     m_max = dims[-1]
-    kernels = "jnp" if batched else "lapack"
-    sigma, verified = pole(A, C, opts.lanczos_dim, kernels)
-    M = A + C.scale(sigma)
-    lu = bordered_lu(M, kernels)
-    v0 = _start_vector(n)
-    V = jnp.zeros((m_max + 1, n)).at[0].set(v0 / jnp.linalg.norm(v0))
-    H = jnp.zeros((m_max + 1, m_max))
+    v0 = _start_vector(n, dtype)
+    V = jnp.zeros((m_max + 1, n), dtype).at[0].set(v0 / jnp.linalg.norm(v0))
+    H = jnp.zeros((m_max + 1, m_max), dtype)
 
     def shift_invert(v):
         """(A + sigma C)^{-1} C v: the solve, then one step of iterative refinement, as
@@ -363,15 +356,37 @@ def _arnoldi_point(
             shift_invert, V, H, starts[stage], ends[stage], windows=() if batched else dims
         )
         if batched:
-            result = _ritz(V, H, sigma, ends[stage], opts, padded=True)
+            result = ritz(V, H, sigma, ends[stage], padded=True)
         else:
             result = jax.lax.switch(
-                stage, [functools.partial(_ritz, m=m, opts=opts) for m in dims], V, H, sigma
+                stage, [functools.partial(ritz, m=m) for m in dims], V, H, sigma
             )
         return stage + 1, V, H, result
 
     empty = _Primal(jnp.zeros((), complex), jnp.zeros((n,), complex), jnp.zeros(()))
     _, _, _, result = jax.lax.while_loop(cond, body, (0, V, H, empty))
+    return result
+
+
+def _arnoldi_point(
+    A: Bordered, C: Bordered, opts: ArnoldiOptions, batched: bool = False
+) -> _Primal:
+    """One parameter point: pole, factorisation, Arnoldi in stages until certified, and
+    the dense solver where no stage certifies (``opts.fallback``). Scalar control flow:
+    each stage and the fallback run only when needed.
+
+    ``batched``: written to be ``vmap``-ed over a chunk of points (see :func:`_batched`):
+    plain jnp block kernels (:mod:`axojax.linalg.small`), no fallback here (the caller
+    runs it for the uncertified points only)."""
+    n = A.shape[0]
+    dims = tuple(sorted({min(m, n - 1) for m in opts.krylov_dims}))
+    kernels = "jnp" if batched else "lapack"
+    sigma, verified = pole(A, C, opts.lanczos_dim, kernels)
+    M = A + C.scale(sigma)
+    lu = bordered_lu(M, kernels)
+    result = staged_arnoldi(
+        M, lu, C, sigma, dims, functools.partial(_ritz, opts=opts), batched, float
+    )
     result = result._replace(certified=result.certified * verified * _symmetric(C))
     if batched or not opts.fallback:
         return result

@@ -40,14 +40,14 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, ArrayLike, Complex, Float
 
-from ..linalg import BlockTridiagonal, Bordered, arnoldi_steps, bordered, bordered_lu
+from ..linalg import BlockTridiagonal, Bordered, bordered, bordered_lu
 from .arnoldi import (
     ArnoldiOptions,
     _Primal,
     _ritz,
-    _start_vector,
     eigenpair_tangent,
     per_point_vmap,
+    staged_arnoldi,
 )
 from .nearest import nearest_eigenpair
 
@@ -64,47 +64,13 @@ def _nearest_point(
     ``vmap``-ed over a chunk (jnp kernels, no fallback here: :func:`_batched_points`)."""
     n = A.shape[0]
     dims = tuple(sorted({min(m, n - 1) for m in opts.krylov_dims}))
-    m_max = dims[-1]
     kernels = "jnp" if batched else "lapack"
     cdt = jnp.result_type(shift, A.tri.diag.dtype, jnp.complex64)
     sigma = jnp.asarray(shift, cdt)
     M = A.astype(cdt) + C.astype(cdt).scale(sigma)
     lu = bordered_lu(M, kernels)
-    v0 = _start_vector(n, cdt)
-    V = jnp.zeros((m_max + 1, n), cdt).at[0].set(v0 / jnp.linalg.norm(v0))
-    H = jnp.zeros((m_max + 1, m_max), cdt)
-
-    def shift_invert(v):
-        """(A + sigma C)^{-1} C v with one step of iterative refinement (as the dominant
-        solver's)."""
-        b = C.matvec(v)
-        return jax.lax.fori_loop(
-            0, 2, lambda _, w: w + lu.solve(b - M.matvec(w)), jnp.zeros_like(b)
-        )
-
-    starts = jnp.asarray((0,) + dims[:-1])
-    ends = jnp.asarray(dims)
     ritz = functools.partial(_ritz, opts=opts, nearest=True)
-
-    def cond(state):
-        stage, _, _, result = state
-        return (stage < len(dims)) & (result.certified < 0.5)
-
-    def body(state):
-        stage, V, H, _ = state
-        V, H = arnoldi_steps(
-            shift_invert, V, H, starts[stage], ends[stage], windows=() if batched else dims
-        )
-        if batched:
-            result = ritz(V, H, sigma, ends[stage], padded=True)
-        else:
-            result = jax.lax.switch(
-                stage, [functools.partial(ritz, m=m) for m in dims], V, H, sigma
-            )
-        return stage + 1, V, H, result
-
-    empty = _Primal(jnp.zeros((), cdt), jnp.zeros((n,), cdt), jnp.zeros(()))
-    _, _, _, result = jax.lax.while_loop(cond, body, (0, V, H, empty))
+    result = staged_arnoldi(M, lu, C, sigma, dims, ritz, batched, cdt)
     finite = jnp.isfinite(result.eigenvalue) & jnp.all(jnp.isfinite(result.vector))
     result = result._replace(certified=result.certified * finite)
     if batched or not opts.fallback:
