@@ -6,32 +6,15 @@ so simulate and limit_cycle refuse it with one line, while a passive friction pa
 import numpy as np
 import pytest
 import scipy.linalg as sl
+from test_mechanisms import _params  # the continuum's chi_bar, beta_bar as Params
 
 import axojax as ax
 from axojax.well_posed import friction_margin, require_passive_friction
 
-A0 = 0.2 / 12
-
-
-def _params(chi_bar=0.0, beta_bar=0.0, sp=68.0) -> ax.Params:
-    """The two-filament continuum's dimensionless chi_bar, beta_bar (tests/test_mechanisms.py)
-    as axojax parameters."""
-    chi, beta = 2 * chi_bar / A0**2, 2 * beta_bar / A0
-    return ax.Params(
-        p=0.0,
-        a0=A0,
-        chi_re=float(np.real(chi)),
-        chi_im=float(np.imag(chi)),
-        beta_re=float(np.real(beta)),
-        beta_im=float(np.imag(beta)),
-        omega0=sp,
-    )
-
-
 # Sartori et al. 2016's wild-type fit in dimensionless form (chi_bar 24.4, beta_bar -11.4 i
 # at Sp 68: beta'' < 0) and an active sliding control; then their passive mirror images.
-ACTIVE = {"beta": _params(24.4, -11.4j), "chi": _params(-20 - 25j, 0.0, 1000.0)}
-PASSIVE = {"beta": _params(24.4, 11.4j), "chi": _params(20 + 25j, 0.0, 1000.0)}
+ACTIVE = {"beta": _params(24.4, -11.4j, 68.0), "chi": _params(-20 - 25j, 0.0, 1000.0)}
+PASSIVE = {"beta": _params(24.4, 11.4j, 68.0), "chi": _params(20 + 25j, 0.0, 1000.0)}
 
 
 def _max_growth(params, n):
