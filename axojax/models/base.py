@@ -27,7 +27,11 @@ import dataclasses
 import math
 from typing import Any
 
+from ..params import MAX_MAGNITUDE
+
 BASE_KINDS = ("clamped", "pivot", "free", "head")
+MAX_ASPECT = 1e6
+"""Largest accepted semi-axis ratio of an ellipsoidal head (beyond, 1 - e rounds to 0)."""
 BASE_DOFS = {"clamped": (), "pivot": (1,), "free": (0, 1), "head": (0, 1)}
 """Node 0's dofs each kind keeps (0: u(0), 1: u'(0)), per filament and direction."""
 
@@ -65,6 +69,11 @@ class Base:
                 raise ValueError(f"base {name} must be a number, got {value!r}")
             if not math.isfinite(value) or value < 0:
                 raise ValueError(f"base {name} must be finite and >= 0, got {value!r}")
+            if value > MAX_MAGNITUDE:
+                raise ValueError(
+                    f"base {name} must be at most {MAX_MAGNITUDE:g} (dimensionless; float64 "
+                    f"loses the answer beyond), got {value!r}"
+                )
             object.__setattr__(self, name, float(value))
         allowed = {
             "clamped": (),
@@ -138,6 +147,11 @@ def spheroid_drags(
         if not math.isfinite(value) or value <= 0:
             raise ValueError(f"head {name} must be finite and > 0, got {value!r}")
     a, b, mu = float(semi_major_um), float(semi_minor_um), float(viscosity_pa_s)
+    if a / b > MAX_ASPECT:
+        raise ValueError(
+            f"head semi_major_um / semi_minor_um must be at most {MAX_ASPECT:g} (a body, not a "
+            f"needle: the drag formulas lose their digits beyond), got {a:g} / {b:g}"
+        )
     if b > a:
         raise ValueError(
             f"head semi_minor_um ({b:g}) must not exceed semi_major_um ({a:g}): a prolate spheroid"
