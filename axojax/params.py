@@ -55,6 +55,9 @@ BASAL_NAMES = ("kb", "xib")
 base has ``compliance=True``."""
 MECHANISM_NAMES = ("chi_re", "chi_im", "beta_re", "beta_im", "omega0")
 """The regulated-dynein coefficients (docs/model.md section 8); all 0 is the steady load."""
+KNOT_NAMES = ("ei_knots", "drag_knots", "p_knots")
+"""The non-uniform profiles (docs/model.md section 8): relative values at knots along x,
+arrays whose last axis holds the K knots; None (default) is uniform."""
 DYNAMIC_NAMES = ("chi_im", "beta_im")
 """The coefficients that act through d/dt (chi''/omega0, beta''/omega0): non-zero only with
 omega0 > 0."""
@@ -113,6 +116,15 @@ class Params(eqx.Module):
             (:meth:`axojax.Units.kb_from_pn_per_um`, :meth:`axojax.Units.xib_from_pn_s_per_um`).
             Used only when the model's base has ``compliance=True``; then xib must be
             > 0 (:func:`axojax.assembly.check_base_params`; defaults 0).
+        ei_knots, drag_knots, p_knots: non-uniform bending stiffness EI(x), fluid drag
+            c(x) and dynein force p(x) (docs/model.md section 8), each as relative values
+            (1 = uniform; dimensionless multipliers of the filaments' EI, of their drag and
+            of p) at K >= 2 knots along x, linear between them; shape (..., K), the
+            batch axes first like every other field. The knots are the model's
+            (:meth:`axojax.models.Model.with_knots`), K equally spaced ones from 0 to 1 when
+            it has none. None (default): uniform. Traced and differentiable like the
+            scalars; p_knots scales the steady load only (the regulated coefficients stay
+            uniform).
     """
 
     p: ArrayLike = 300.0
@@ -132,15 +144,20 @@ class Params(eqx.Module):
     omega0: ArrayLike = 0.0
     kb: ArrayLike = 0.0
     xib: ArrayLike = 0.0
+    ei_knots: ArrayLike | None = None
+    drag_knots: ArrayLike | None = None
+    p_knots: ArrayLike | None = None
 
     def replace(self, **changes: Any) -> "Params":
         """A copy with some fields changed (unknown names raise ``ValueError``)."""
-        bad = set(changes) - set(PARAM_NAMES)
+        bad = set(changes) - set(PARAM_NAMES) - set(KNOT_NAMES)
         if bad:
-            raise ValueError(f"unknown parameter(s) {sorted(bad)}; known: {', '.join(PARAM_NAMES)}")
+            raise ValueError(
+                f"unknown parameter(s) {sorted(bad)}; known: {', '.join(PARAM_NAMES + KNOT_NAMES)}"
+            )
         out = self
         for k, v in changes.items():
-            out = eqx.tree_at(lambda prm, k=k: getattr(prm, k), out, v)
+            out = eqx.tree_at(lambda prm, k=k: getattr(prm, k), out, v, is_leaf=_is_none)
         return out
 
     def with_values(self, values: dict[str, Any], kl_ratio: Any = None) -> "Params":
@@ -153,16 +170,41 @@ class Params(eqx.Module):
 
     def broadcast(self, shape: tuple[int, ...] | None = None) -> "Params":
         """Every field as a float64 array of a common ``shape`` (default: the broadcast
-        of the fields' shapes), ready for ``jax.vmap`` over the leading axis."""
+        of the fields' shapes; knot profiles, :data:`KNOT_NAMES`, get ``shape + (K,)``),
+        ready for ``jax.vmap`` over the leading axis."""
         import jax.numpy as jnp
 
         leaves = [jnp.asarray(getattr(self, k), dtype=float) for k in PARAM_NAMES]
+        knots = {k: self.knot_values(k) for k in KNOT_NAMES}
+        knots = {k: jnp.asarray(v, dtype=float) for k, v in knots.items() if v is not None}
         if shape is None:
-            shape = jnp.broadcast_shapes(*(x.shape for x in leaves))
-        return Params(**{k: jnp.broadcast_to(x, shape) for k, x in zip(PARAM_NAMES, leaves)})
+            shape = jnp.broadcast_shapes(
+                *(x.shape for x in leaves), *(v.shape[:-1] for v in knots.values())
+            )
+        out = {k: jnp.broadcast_to(x, shape) for k, x in zip(PARAM_NAMES, leaves)}
+        out.update({k: jnp.broadcast_to(v, tuple(shape) + v.shape[-1:]) for k, v in knots.items()})
+        return Params(**out)
 
     def as_dict(self) -> dict[str, Any]:
+        """The scalar fields (:data:`PARAM_NAMES`) by name; see :meth:`knot_dict`."""
         return {k: getattr(self, k) for k in PARAM_NAMES}
+
+    def knot_dict(self) -> dict[str, Any]:
+        """The knot profiles that are set (:data:`KNOT_NAMES`), by name."""
+        return {k: getattr(self, k) for k in KNOT_NAMES if getattr(self, k) is not None}
+
+    def knot_values(self, name: str) -> Any:
+        """The knot profile ``name`` (None when uniform); a one-line ``ValueError`` when
+        it has fewer than 2 knots (its last axis)."""
+        value = getattr(self, name)
+        if value is None:
+            return None
+        shape = np.shape(value)
+        if len(shape) < 1 or shape[-1] < 2:
+            raise ValueError(
+                f"parameter {name} needs values at K >= 2 knots (its last axis), got shape {shape}"
+            )
+        return value
 
     def validate(self) -> "Params":
         """Check concrete values; raise a one-line ``ValueError`` naming the bad one.
@@ -192,6 +234,15 @@ class Params(eqx.Module):
             if not bool(np.all(np.abs(arr) <= MAX_MAGNITUDE)):
                 raise ValueError(
                     f"parameter {name} must be at most {MAX_MAGNITUDE:g} in magnitude (float64 loses the answer beyond), got {_show(value)}"
+                )
+        for name in KNOT_NAMES:
+            value = self.knot_values(name)
+            if value is None or isinstance(value, jax.core.Tracer):
+                continue
+            arr = np.asarray(value, dtype=float)
+            if not (np.all(np.isfinite(arr)) and np.all(arr >= 0) and np.all(arr <= MAX_MAGNITUDE)):
+                raise ValueError(
+                    f"parameter {name} must be finite, >= 0 and at most {MAX_MAGNITUDE:g} at every knot, got {arr.tolist()!r}"
                 )
         if not isinstance(self.omega0, jax.core.Tracer):
             for name in DYNAMIC_NAMES:
@@ -223,19 +274,29 @@ def valid(params: Params) -> Any:
     omega0 = jnp.asarray(params.omega0, dtype=float)
     for name in DYNAMIC_NAMES:
         ok = ok & ((jnp.asarray(getattr(params, name), dtype=float) == 0) | (omega0 > 0))
+    for name in KNOT_NAMES:
+        value = params.knot_values(name)
+        if value is not None:
+            x = jnp.asarray(value, dtype=float)
+            ok = ok & jnp.all(jnp.isfinite(x) & (x >= 0) & (x <= MAX_MAGNITUDE), axis=-1)
     return ok
 
 
 def require_scalars(params: Params, what: str) -> None:
     """Raise a one-line ``ValueError`` naming ``jax.vmap`` when a field is not a scalar
     (``what`` names the function): array-valued ``Params`` are batches, to be mapped."""
-    for name in PARAM_NAMES:
-        shape = np.shape(getattr(params, name))
+    knots = {k: np.shape(v)[:-1] for k, v in params.knot_dict().items()}
+    for name in PARAM_NAMES + tuple(knots):
+        shape = knots[name] if name in knots else np.shape(getattr(params, name))
         if shape != ():
             raise ValueError(
                 f"{what} takes one parameter point, but {name} has shape {shape}: map over a batch of Params "
                 f"with jax.vmap (e.g. jax.vmap(lambda prm: {what}(model, prm))(params)), or use ax.sweep for a grid"
             )
+
+
+def _is_none(x: Any) -> bool:
+    return x is None
 
 
 def _show(value: Any) -> str:

@@ -37,6 +37,7 @@ from ..models.presets import preset_section
 from ..params import PARAM_NAMES, Params
 from ..units import Units
 from ._values import CLIError, _complex_pair, finite_float, units_from_args  # noqa: F401
+from .profiles import add_profile_flags, knots_from_args, profile_values
 from .regulation import (  # noqa: F401
     BASE_FLAGS,
     DEFAULT_VISCOSITY_PA_S,
@@ -176,6 +177,7 @@ def add_model_flags(
         metavar="MU",
         help=f"fluid viscosity for --head-um (Pa s = pN s/um^2; default {DEFAULT_VISCOSITY_PA_S:g}, water)",
     )
+    add_profile_flags(g)
     g.add_argument(
         "--imbalance-kind",
         choices=IMBALANCE_KINDS,
@@ -255,6 +257,7 @@ def split_axes(
                 raise CLIError(f"--{flag}: {err}") from None
     fixed.update(mechanism_values(args))
     fixed.update(basal_values(args))
+    fixed.update(profile_values(args))
     position = {
         f: min(
             [
@@ -331,8 +334,9 @@ def model_from_args(args: argparse.Namespace, dense_spectrum: bool = False) -> M
             "--elements",
             f"the full spectrum of {dense_unknowns(section, n)} unknowns (dense matrices)",
         )
+    knots = knots_from_args(args)
     try:
-        return build_model(
+        model = build_model(
             section,
             n,
             imbalance_kind=getattr(args, "imbalance_kind", IMBALANCE_KINDS[0]),
@@ -340,6 +344,11 @@ def model_from_args(args: argparse.Namespace, dense_spectrum: bool = False) -> M
         )
     except ValueError as err:
         raise CLIError(f"{source}: {err}") from None
+    if getattr(args, "p_knots", None) is not None and section.load == "tip":
+        raise CLIError(
+            f"--p-knots: {source} {section.name!r} is loaded by a tip force, not along its length"
+        )
+    return model.with_knots(knots)
 
 
 def check_output(flag: str, path: str | None, suffixes: tuple[str, ...]) -> None:
@@ -372,6 +381,7 @@ def params_from_args(args: argparse.Namespace) -> Params:
             values[field] = v
     values.update(mechanism_values(args))
     values.update(basal_values(args))
+    values.update(profile_values(args))
     ratio = kl_ratio(args)
     check_params(Params().with_values(values))  # the flags as given, before kl is tied
     params = Params().with_values(values, ratio)

@@ -48,7 +48,7 @@ from ..models.section import Model
 from ..orbits.cycle import LimitCycle
 from ..orbits.measures import cycle_measures
 from ..orbits.solvers import AbstractOrbitSolver, HarmonicBalance, WarmStart
-from ..params import DEFAULT_CUBIC, PARAM_NAMES, Params
+from ..params import DEFAULT_CUBIC, Params
 from ..units import Units
 from ._arguments import _check, _coordinate_bounds
 from .conditions import Condition
@@ -64,12 +64,8 @@ WARM_STEPS = 10  # Newton iterations a warm-started orbit gets before the Hopf g
 
 
 def _stack(params: Sequence[Params]) -> Params:
-    return Params(
-        **{
-            k: jnp.stack([jnp.asarray(getattr(p, k), dtype=float) for p in params])
-            for k in PARAM_NAMES
-        }
-    )
+    """A batch (leading axis) of parameter points that share their knot profiles' shapes."""
+    return jax.tree.map(lambda *xs: jnp.stack([jnp.asarray(x, dtype=float) for x in xs]), *params)
 
 
 @dataclasses.dataclass(frozen=True)

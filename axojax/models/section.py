@@ -237,6 +237,7 @@ class Model:
     )
     base: Base = Base()
     base_matrices: FilamentMatrices | None = None
+    knots: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.base, Base):
@@ -300,6 +301,31 @@ class Model:
         return dataclasses.replace(
             self, base=base, base_matrices=_base_matrices(self.mesh, self.profiles, base)
         )
+
+    def with_knots(self, knots) -> "Model":
+        """The same model with the knots of its non-uniform profiles at ``knots`` (x / L,
+        strictly increasing from 0 to 1; ``Params.ei_knots`` etc. must then have one value
+        per knot); ``None``: K equally spaced knots for a profile of K values (the
+        default). ``self`` when unchanged."""
+        from ..fem.knots import check_knots
+
+        knots = None if knots is None else check_knots(knots)
+        if knots == self.knots:
+            return self
+        return dataclasses.replace(self, knots=knots)
+
+    def knot_positions(self, name: str, n_values: int) -> tuple[float, ...]:
+        """The knots of a profile of ``n_values`` values (``name`` is its parameter, for
+        the one-line ``ValueError`` when the count does not match :attr:`knots`)."""
+        from ..fem.knots import equally_spaced
+
+        if self.knots is None:
+            return equally_spaced(n_values)
+        if n_values != len(self.knots):
+            raise ValueError(
+                f"parameter {name} has {n_values} values but the model has {len(self.knots)} knots at {list(self.knots)}"
+            )
+        return self.knots
 
     def rigid_modes(self) -> np.ndarray:
         """(n_unknowns, r) rigid-body motions the base leaves free, one column per
@@ -414,7 +440,8 @@ class Model:
                 if self.imbalance_kind != DEFAULT_IMBALANCE_KIND
                 else ""
             )
-            + (f", base={self.base!r})" if self.base != Base() else ")")
+            + (f", base={self.base!r}" if self.base != Base() else "")
+            + (f", knots={list(self.knots)})" if self.knots is not None else ")")
         )
 
 

@@ -156,6 +156,8 @@ def _fingerprint(
         "model": repr(model),
         "positions": np.asarray(model.section.positions).round(12).tolist(),
         "params": {k: np.asarray(getattr(params, k)).tolist() for k in PARAM_NAMES},
+        "knots": {k: np.asarray(v).tolist() for k, v in params.knot_dict().items()},
+        "model_knots": model.knots,
         "axes": {k: np.asarray(v).tolist() for k, v in axes.items()},
         "kl_ratio": kl_ratio,
         "units": [units.length_um, units.ei_pn_um2, units.cn_pn_s_um2],
@@ -416,6 +418,9 @@ def _merge(
         k: np.concatenate([results[c][k] for c in range(n_chunks)]).reshape(shape) for k in METRICS
     }
     fixed = {k: np.asarray(getattr(params, k)).tolist() for k in PARAM_NAMES if k not in names}
+    fixed.update({k: np.asarray(v).tolist() for k, v in params.knot_dict().items()})
+    if model.knots is not None:
+        fixed["knots"] = list(model.knots)
     if kl_ratio is not None:
         fixed.pop("kl", None)
     meta = {
