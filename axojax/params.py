@@ -9,6 +9,7 @@ physical values.
 from __future__ import annotations
 
 import math
+import re
 from typing import Any
 
 import equinox as eqx
@@ -59,6 +60,22 @@ KNOT_NAMES = ("ei_knots", "drag_knots", "p_knots")
 """The non-uniform profiles (docs/model.md section 8): relative values at knots along x,
 arrays whose last axis holds the K knots; None (default) is uniform."""
 DYNAMIC_NAMES = ("chi_im", "beta_im")
+_KNOT_ELEMENT = re.compile(r"^(ei_knots|drag_knots|p_knots)\[(\d+)\]$")
+
+
+def knot_element(name: str) -> tuple[str, int] | None:
+    """``"ei_knots[2]"`` -> ``("ei_knots", 2)``: one knot value of a profile, a name that
+    fits and :meth:`Params.replace` take like a field's; None for any other name."""
+    m = _KNOT_ELEMENT.match(name) if isinstance(name, str) else None
+    return None if m is None else (m.group(1), int(m.group(2)))
+
+
+def is_parameter_name(name: str) -> bool:
+    """A field of :class:`Params` (:data:`PARAM_NAMES`, :data:`KNOT_NAMES`) or one knot
+    value (``"ei_knots[2]"``)."""
+    return name in PARAM_NAMES or name in KNOT_NAMES or knot_element(name) is not None
+
+
 """The coefficients that act through d/dt (chi''/omega0, beta''/omega0): non-zero only with
 omega0 > 0."""
 
@@ -149,16 +166,42 @@ class Params(eqx.Module):
     p_knots: ArrayLike | None = None
 
     def replace(self, **changes: Any) -> "Params":
-        """A copy with some fields changed (unknown names raise ``ValueError``)."""
-        bad = set(changes) - set(PARAM_NAMES) - set(KNOT_NAMES)
+        """A copy with some fields changed (unknown names raise ``ValueError``); a knot
+        value ``"ei_knots[2]"`` sets one value of a profile that is set."""
+        bad = sorted(k for k in changes if not is_parameter_name(k))
         if bad:
             raise ValueError(
-                f"unknown parameter(s) {sorted(bad)}; known: {', '.join(PARAM_NAMES + KNOT_NAMES)}"
+                f"unknown parameter(s) {bad}; known: {', '.join(PARAM_NAMES + KNOT_NAMES)} and knot values such as ei_knots[0]"
             )
         out = self
         for k, v in changes.items():
+            element = knot_element(k)
+            if element is not None:
+                field, index = element
+                values = out._knot_array(field, index)
+                v = values.at[..., index].set(v)
+                k = field
             out = eqx.tree_at(lambda prm, k=k: getattr(prm, k), out, v, is_leaf=_is_none)
         return out
+
+    def _knot_array(self, field: str, index: int):
+        import jax.numpy as jnp
+
+        values = self.knot_values(field)
+        if values is None or index >= np.shape(values)[-1]:
+            n = 0 if values is None else np.shape(values)[-1]
+            raise ValueError(
+                f"parameter {field}[{index}]: {field} has {n} knot values; set the profile first (Params({field}=...))"
+            )
+        return jnp.asarray(values, dtype=float)
+
+    def value_of(self, name: str) -> Any:
+        """The value of a field, or of one knot value (``"ei_knots[2]"``)."""
+        element = knot_element(name)
+        if element is None:
+            return getattr(self, name)
+        field, index = element
+        return self._knot_array(field, index)[..., index]
 
     def with_values(self, values: dict[str, Any], kl_ratio: Any = None) -> "Params":
         """A copy with ``values`` set; with ``kl_ratio`` R, kl is tied to ks / R (after

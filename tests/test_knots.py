@@ -261,3 +261,42 @@ def test_cli_bad_profiles_are_one_line_errors(flags, flag, capsys):
 def test_cli_tip_load_refuses_a_force_profile(capsys):
     code, _, err = _cli(["modes", "--model", "beck", "--elements", "4", "--p-knots", "1,0"], capsys)
     assert code == 2 and "error: --p-knots:" in err and err.count("\n") == 1
+
+
+# ---- knot values as fitted parameters
+
+
+def test_a_knot_value_is_fitted_like_a_field():
+    """A basal stiffening ei_knots[0] and p recovered from the frequency and wavelength
+    they produce (two filaments, 6 elements); the names, start and bounds of a knot value
+    work as a field's do."""
+    model = ax.models.two(6)
+    truth = ax.Params(p=180.0, ei_knots=jnp.array([2.5, 1.0, 1.0]))
+    mode = ax.dominant_mode(model, truth)
+    targets = [
+        ax.beats.Target(
+            "frequency_hz", float(mode.frequency_hz()), 1e-3 * float(mode.frequency_hz())
+        ),
+        ax.beats.Target(
+            "wavelength_um", float(mode.wavelength_um()), 1e-3 * float(mode.wavelength_um())
+        ),
+    ]
+    start = ax.Params(p=160.0, ei_knots=jnp.array([1.5, 1.0, 1.0]))
+    result = ax.fit(
+        model, start, targets, ["p", "ei_knots[0]"], starts=2, bounds={"p": (50.0, 500.0)}
+    )
+    values = result.params
+    assert abs(values["ei_knots[0]"] - 2.5) < 1e-3 * 2.5
+    assert abs(values["p"] - 180.0) < 1e-3 * 180.0
+
+
+def test_knot_value_names_are_checked():
+    prm = ax.Params(ei_knots=jnp.array([2.0, 1.0]))
+    assert float(prm.replace(**{"ei_knots[1]": 3.0}).ei_knots[1]) == 3.0
+    assert float(prm.value_of("ei_knots[0]")) == 2.0
+    with pytest.raises(ValueError, match=r"ei_knots\[2\]: ei_knots has 2 knot values"):
+        prm.replace(**{"ei_knots[2]": 1.0})
+    with pytest.raises(ValueError, match=r"p_knots\[0\]: p_knots has 0 knot values"):
+        prm.replace(**{"p_knots[0]": 1.0})
+    with pytest.raises(ValueError, match="unknown parameter"):
+        prm.replace(**{"ei_knot[0]": 1.0})

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-from ..params import MECHANISM_NAMES, PARAM_NAMES
+from ..params import MECHANISM_NAMES, PARAM_NAMES, is_parameter_name
 from .conditions import Condition
 from .parameters import ORBIT_FIELDS, coordinate_bounds
 
@@ -39,7 +39,7 @@ def _check(conditions, free, per_condition, kl_ratio, shape_floor, exclude_base_
     if not free and not per_condition:
         raise ValueError("free: name at least one parameter to fit")
     for name in free + per_condition:
-        if name not in PARAM_NAMES and name not in ORBIT_FIELDS:
+        if not is_parameter_name(name) and name not in ORBIT_FIELDS:
             raise ValueError(
                 f"free: unknown parameter {name!r}; choose from {', '.join((*PARAM_NAMES, *sorted(ORBIT_FIELDS)))}"
             )

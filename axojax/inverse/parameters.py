@@ -16,6 +16,8 @@ from __future__ import annotations
 import dataclasses
 import math
 
+from ..params import knot_element
+
 DEFAULT_BOUNDS = {
     "p": (10.0, 1e4),
     "ks": (1e1, 1e8),
@@ -28,7 +30,12 @@ DEFAULT_BOUNDS = {
     "imbalance": (0.1, 10.0),
     "a0": (1e-4, 1.0),
     "cubic": (1e-3, 1e4),
+    "ei_knots": (0.01, 100.0),
+    "drag_knots": (0.01, 100.0),
+    "p_knots": (1e-3, 100.0),
 }
+"""Value bounds by name; a knot value (``"ei_knots[2]"``) takes its profile's bounds
+(relative values, 1 = uniform) unless given by its own name."""
 ORBIT_FIELDS = frozenset({"cubic"})
 """Free parameters that are not :class:`~axojax.Params` fields but options of the limit
 cycle: ``cubic``, the link stiffening kappa (1/L^2) of ``C dq/dt = -A q - f_nl(q) + b``
@@ -70,6 +77,9 @@ def coordinate_bounds(
     field: str, bounds: dict[str, tuple[float, float]]
 ) -> tuple[bool, float, float]:
     """(log?, lower u, upper u) of ``field`` from value bounds; one-line ValueError if bad."""
+    element = knot_element(field)
+    if field not in bounds and element is not None and element[0] in bounds:
+        bounds = {field: bounds[element[0]]}
     if field not in bounds:
         raise ValueError(f"bounds: no bounds for {field!r}; give bounds={{{field!r}: (low, high)}}")
     a, b = (float(v) for v in bounds[field])

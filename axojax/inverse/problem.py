@@ -173,7 +173,7 @@ class Problem:
         start ``u0`` (a free ``cubic`` starts at ``cubic``)."""
         labels = self.labels
         start_of = lambda prm, name: (
-            float(cubic) if name in ORBIT_FIELDS else float(getattr(prm, name))
+            float(cubic) if name in ORBIT_FIELDS else float(prm.value_of(name))
         )  # noqa: E731
         out, u0 = [], []
         for name in free:
