@@ -34,7 +34,7 @@ from ..models import (
     load_section,
 )
 from ..models.presets import preset_section
-from ..params import PARAM_NAMES, Params
+from ..params import PARAM_NAMES, Params, knot_element
 from ..units import Units
 from ._values import CLIError, _complex_pair, finite_float, units_from_args  # noqa: F401
 from .profiles import add_profile_flags, knots_from_args, profile_values
@@ -413,9 +413,15 @@ def parse_names(text: str, flag: str) -> list[str]:
         raise CLIError(f"{flag}: expected comma-separated parameter names")
     out = []
     for n in names:
+        # a knot value: ei-knots[0] (the flag's spelling) or ei_knots[0]
+        element = knot_element(n.replace("-", "_"))
         field = PARAM_FLAGS.get(n) or (n if n in PARAM_NAMES else None)
+        if element is not None:
+            field = f"{element[0]}[{element[1]}]"
         if field is None:
-            raise CLIError(f"{flag}: unknown parameter {n!r}; choose from {', '.join(PARAM_FLAGS)}")
+            raise CLIError(
+                f"{flag}: unknown parameter {n!r}; choose from {', '.join(PARAM_FLAGS)} or a knot value such as ei-knots[0]"
+            )
         out.append(field)
     return out
 
