@@ -11,8 +11,11 @@ import numpy as np
 import pytest
 import scipy.linalg as sl
 
-from axojax.eigen.tangent import eigenpair_tangent
+from axojax.eigen import tangent as _tangent
 from axojax.linalg import BlockTridiagonal, bordered, bordered_lu, lu_factor_packed
+
+# jitted: the rule's scans run compiled, as in use (eagerly they take ~10 s a test).
+eigenpair_tangent = jax.jit(_tangent.eigenpair_tangent, static_argnums=6)
 
 
 def _blocks(rng, N, b, complex_=False):

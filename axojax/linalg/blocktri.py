@@ -331,7 +331,6 @@ def lu_factor_packed(M: BlockTridiagonal) -> PackedBlockLU:
     seven filaments, 10 elements), solves as fast. For a matrix solved only a few times."""
     N, b = M.n_blocks, M.block_size
     P = _padded(M)
-    eye = jnp.eye(b, dtype=M.diag.dtype)
 
     def step(carry, k):
         row_k, row_k1 = carry
@@ -339,8 +338,9 @@ def lu_factor_packed(M: BlockTridiagonal) -> PackedBlockLU:
         right = jnp.block([[row_k1, jnp.zeros((b, b), lu.dtype)], [P.diag[k + 1], P.upper[k + 1]]])[
             perm
         ]
-        l11 = jnp.tril(lu[:b], -1) + eye
-        u1 = solve_triangular(l11, right[:b], lower=True, unit_diagonal=True)
+        # The unit-lower L11 is read from the packed factors (the triangular solve reads
+        # only the strictly lower part).
+        u1 = solve_triangular(lu[:b], right[:b], lower=True, unit_diagonal=True)
         schur = right[b:] - lu[b:] @ u1
         return (schur[:, :b], schur[:, b:]), (lu, perm, u1[:, :b], u1[:, b:])
 
