@@ -23,16 +23,16 @@ Targets (issue 22): value + gradient <= 1.3x value; a 4-point batch's value + gr
     python benchmarks/bench_gradients.py [--points 64] [--repeats 5] [--chains 4,8]
         [--skip-large] [--log-density-only]
 
-Part 3, measured 2026-12-03 18:06 UTC (``--log-density-only --repeats 8``, jax 0.10.2,
-2 cores shared with other jobs: load average 5.9 at start, 9.3 at end; value and
-value + gradient called in turn, best of 80 each): one point 5.03 ms -> 7.57 ms,
-**1.51x** (target 1.3x: not met); four vmapped points 18.0 -> 27.1 ms, 1.50x; the
-dominant mode alone (frequency + wavelength in log p, log ks) 5.09 -> 7.71 ms, 1.52x.
-So the log density adds nothing of its own: the excess is the eigen-solver's derivative
-rule (``axojax/eigen/arnoldi.py``, ``_structured_jvp``), which factors ``A + lambda C``
-afresh in complex arithmetic (1.4 ms of block LU at load ~8, more than the primal's real
-LU at the pole, 0.7 ms) and solves with it four times (0.13 ms each); see
-docs/benchmarks.md for the breakdown and the change it suggests.
+Part 3, measured 2026-12-03 20:54 UTC (``--log-density-only --repeats 8``, jax 0.10.2,
+2 cores shared with other jobs: load average 2.4 at start, 1.8 at end; value and
+value + gradient called in turn, best of 80 each), with the derivative rule of
+``axojax/eigen/tangent.py`` (one bordered system, packed complex LU, two passes): one
+point 4.56 ms -> 5.88 ms, **1.29x** (target 1.3x: at it, not clearly below: a run at
+load ~4.5 gave 1.34x); four vmapped points 17.0 -> 22.5 ms, 1.32x; the dominant mode
+alone 4.51 -> 5.92 ms, 1.31x. The previous rule (a fresh complex LU with block inverses,
+two passes for the left eigenvector, two for the tangent), measured by the same command
+just before on a copy of commit 7800d3b: 4.90 -> 7.08 ms, 1.45x; four points 1.45x;
+the dominant mode 1.42x. See docs/benchmarks.md for where the rest goes.
 """
 
 import argparse

@@ -76,16 +76,14 @@ Algorithm (per parameter point, fixed shapes: jit/vmap-able):
    far faster than the dominant mode.
    Points that no stage certifies are solved by the dense solver (only those points) and
    report ``certified = 0``.
-4. **Derivatives** (custom JVP, no eigen-decomposition): one complex block LU of
-   ``A + lambda C`` gives the left eigenvector w by inverse iteration (two transposed
-   solves; on the per-point path the factorisation and every solve of the rule also run
-   point by point under ``vmap``);
-   ``dlambda = -w^H (dA + lambda dC) v / (w^H C v)``, and dv solves
-   ``(A + lambda C) dv = -(dA + lambda dC) v - dlambda C v`` with ``v^H dv = 0`` (the
-   right-hand side lies in the range; the near-singular factor's component along v is
-   projected out, then one step of iterative refinement). Assumes a simple dominant
-   eigenvalue: for degenerate ones (e.g. out_of_plane = 1 on a symmetric cross-section)
-   use the dense solver, whose derivative handles clusters.
+4. **Derivatives** (custom JVP, no eigen-decomposition, :mod:`axojax.eigen.tangent`):
+   ``(A + lambda C) dv + dlambda C v = -(dA + lambda dC) v``, ``v^H dv = 0``, a bordered
+   system solved with one complex block LU just off lambda (packed: no block inverses
+   on the per-point path) in two passes, the first with two right-hand sides; reverse
+   mode solves the transposed system with the same factors. No left eigenvector is
+   formed. Assumes a simple dominant eigenvalue: for degenerate ones (e.g.
+   out_of_plane = 1 on a symmetric cross-section) use the dense solver, whose
+   derivative handles clusters.
 """
 
 from __future__ import annotations
@@ -107,6 +105,7 @@ from ..linalg import (
 )
 from .dominant import CLUSTER_RTOL, dominant_eigenpair, normalise
 from .pencil import SYMMETRY_RTOL
+from .tangent import eigenpair_tangent
 
 TRIAL_POLES = 9
 """Trial poles 8^k - 1, k < 9: numerical abscissae up to ~1.7e7 are bracketed."""
@@ -465,89 +464,6 @@ def structured_dominant(
 @functools.partial(jax.custom_jvp, nondiff_argnums=(2,))
 def _structured_dominant(A: Bordered, C: Bordered, opts: ArnoldiOptions):
     return tuple(_batched(opts)(A, C))
-
-
-def _left_factor(A: Bordered, C: Bordered, lam: Complex[Array, ""], kernels: str):
-    """(LU of ``A + shift C``, unit left eigenvector w) for the derivative rule: the
-    complex block LU at a shift just off lambda (nearly singular on purpose: inverse
-    iteration), and ``(A^T + conj(lambda) C) w = 0`` by two steps of inverse iteration
-    with its transpose (from a generic start the first already leaves a component of
-    relative size ~1e-10 / gap outside the eigenvector, the second squares it)."""
-    cdt = jnp.result_type(lam, jnp.complex64)
-    shift = lam + 1e-10 * (1.0 + jnp.abs(lam))
-    lu = bordered_lu(A.astype(cdt) + C.astype(cdt).scale(shift), kernels)
-    w = _start_vector(A.shape[0], cdt)
-    for _ in range(2):
-        w = jnp.conj(lu.solve_transpose(jnp.conj(C.matvec(w))))
-        w = w / jnp.linalg.norm(w)
-    return lu, w
-
-
-def _solve(lu, b):
-    return lu.solve(b)
-
-
-def _solve_transpose(lu, b):
-    return lu.solve_transpose(b)
-
-
-# The per-point path: under vmap, the derivative rule's factorisation and solves run
-# point by point too (LAPACK's kernels one matrix at a time, like the primal), where a
-# vmapped complex LU and its scans were measured ~1.5x slower on CPU.
-_left_factor_seq = jax.custom_batching.sequential_vmap(
-    functools.partial(_left_factor, kernels="lapack")
-)
-_solve_seq = jax.custom_batching.sequential_vmap(_solve)
-_solve_transpose_seq = jax.custom_batching.sequential_vmap(_solve_transpose)
-
-
-def eigenpair_tangent(
-    A: Bordered,
-    C: Bordered,
-    dA: Bordered,
-    dC: Bordered,
-    lam: Complex[Array, ""],
-    x: Complex[Array, " n"],
-    batched: bool,
-) -> tuple[Complex[Array, ""], Complex[Array, " n"]]:
-    """(dlambda, dx) of a simple eigenpair (lam, x) of the (bordered) pencil for the
-    tangents (dA, dC), by the rule of the module docstring (step 4): one complex LU of
-    ``A + lambda C``, the left eigenvector by inverse iteration, ``v^H dv = 0``. Shared
-    by the dominant (:func:`structured_dominant`) and the nearest
-    (:mod:`axojax.eigen.arnoldi_nearest`) eigenpairs. ``batched``: the jnp kernels of
-    the batched path, else LAPACK's, point by point under ``vmap``."""
-    cdt = x.dtype
-    if batched:
-        lu, w = _left_factor(A, C, lam, "jnp")
-        solve_, solve_t = _solve, _solve_transpose
-    else:
-        lu, w = _left_factor_seq(A, C, lam)
-        solve_, solve_t = _solve_seq, _solve_transpose_seq
-    # Nearly singular on purpose (inverse iteration); the component of a solution along
-    # x that the tiny offset amplifies is projected out below.
-    K_matvec = lambda y: (
-        A.astype(cdt).matvec(y) + C.astype(cdt).scale(lam + 1e-10 * (1.0 + jnp.abs(lam))).matvec(y)
-    )
-    Cx = C.matvec(x.astype(cdt))
-    dKx = dA.astype(cdt).matvec(x) + lam * dC.astype(cdt).matvec(x)
-    dlam = -jnp.vdot(w, dKx) / jnp.vdot(w, Cx)
-    dlam = jnp.where(jnp.imag(lam) == 0, jnp.real(dlam).astype(cdt), dlam)
-    rhs = -dKx - dlam * Cx
-    exact = A.astype(cdt) + C.astype(cdt).scale(lam)
-
-    def project(y):
-        return y - x * jnp.vdot(x, y)
-
-    def solve(r):
-        # Linear in r with a known transpose: reverse mode transposes through the same
-        # factorisation (lu.solve_transpose) instead of through the scans.
-        return jax.lax.custom_linear_solve(
-            K_matvec, r, lambda _, b: solve_(lu, b), lambda _, b: solve_t(lu, b)
-        )
-
-    dx = project(solve(rhs))
-    dx = dx + project(solve(rhs - exact.matvec(dx)))  # one step of iterative refinement
-    return dlam, dx
 
 
 @_structured_dominant.defjvp

@@ -2,7 +2,15 @@
 matrices) with pivoted LU and Cholesky factorisations in pure JAX, the same with a small border of extra
 unknowns (Schur complement), and the Arnoldi process."""
 
-from .blocktri import BlockCholesky, BlockLU, BlockTridiagonal, cholesky, lu_factor
+from .blocktri import (
+    BlockCholesky,
+    BlockLU,
+    BlockTridiagonal,
+    PackedBlockLU,
+    cholesky,
+    lu_factor,
+    lu_factor_packed,
+)
 from .bordered import (
     Bordered,
     BorderedCholesky,
@@ -20,10 +28,12 @@ __all__ = [
     "Bordered",
     "BorderedCholesky",
     "BorderedLU",
+    "PackedBlockLU",
     "arnoldi_steps",
     "bordered",
     "bordered_cholesky",
     "bordered_lu",
     "cholesky",
     "lu_factor",
+    "lu_factor_packed",
 ]

@@ -10,6 +10,10 @@ elements, where a dense LU costs O((N b)^3).
 - :func:`lu_factor` -> :class:`BlockLU`: LU with partial pivoting across each pair of
   block rows (the blocked form of LAPACK's banded ``gbtrf``; as stable as partial
   pivoting on the band). ``solve`` and ``solve_transpose`` (for left eigenvectors).
+- :func:`lu_factor_packed` -> :class:`PackedBlockLU`: the same elimination, kept as
+  LAPACK's packed panel factors (no block inverses): about half the factorisation's cost,
+  for matrices that are solved with only a few times (the derivative rule of
+  :mod:`axojax.eigen.arnoldi`).
 - :func:`cholesky` -> :class:`BlockCholesky`: for symmetric positive definite matrices;
   its ``ok`` flag doubles as a positive-definiteness test.
 
@@ -247,6 +251,101 @@ def lu_factor(M: BlockTridiagonal, kernels: str = "lapack") -> BlockLU:
 
     _, factors = jax.lax.scan(step, (P.diag[0], P.upper[0]), jnp.arange(N))
     return BlockLU(*factors)
+
+
+class PackedBlockLU(eqx.Module):
+    """Factors of :func:`lu_factor_packed`: the elimination of :func:`lu_factor`, kept in
+    LAPACK's packed form, so that solves are triangular solves (cheaper to factor than
+    :class:`BlockLU`, whose block inverses pay off only over many solves).
+
+    For block column k: ``lu[k]`` (2b, b) the pivoted panel factors (unit-lower L11 and
+    U11 packed in the top b rows, L21 below), ``perm[k]`` (2b,) its row permutation (the
+    panel's rows ``perm`` are ``L U``), ``u12[k]``, ``u13[k]`` U's blocks (k, k+1) and
+    (k, k+2). One padding block is kept internally.
+    """
+
+    lu: Inexact[Array, "N b2 b"]
+    perm: Array
+    u12: Inexact[Array, "N b b"]
+    u13: Inexact[Array, "N b b"]
+
+    @property
+    def n_blocks(self) -> int:
+        return self.lu.shape[-3]
+
+    def solve(self, rhs: Inexact[Array, " n"]) -> Inexact[Array, " n"]:
+        """``M^{-1} rhs`` for a flat (N b,) vector."""
+        N, b = self.n_blocks, self.lu.shape[-1]
+        R = jnp.concatenate([rhs.reshape(N, b), jnp.zeros((1, b), rhs.dtype)]).astype(self.lu.dtype)
+
+        def forward(carry, k):
+            v = jnp.concatenate([carry, R[k + 1]])[self.perm[k]]
+            z = solve_triangular(self.lu[k, :b], v[:b], lower=True, unit_diagonal=True)
+            return v[b:] - self.lu[k, b:] @ z, z
+
+        _, Z = jax.lax.scan(forward, R[0], jnp.arange(N))
+
+        def backward(carry, k):
+            x1, x2 = carry
+            r = Z[k] - self.u12[k] @ x1 - self.u13[k] @ x2
+            x = solve_triangular(self.lu[k, :b], r, lower=False)
+            return (x, x1), x
+
+        zeros = jnp.zeros((b,), Z.dtype)
+        _, X = jax.lax.scan(backward, (zeros, zeros), jnp.arange(N), reverse=True)
+        return X.reshape(-1)
+
+    def solve_transpose(self, rhs: Inexact[Array, " n"]) -> Inexact[Array, " n"]:
+        """``M^{-T} rhs`` (transpose, not conjugated), as :meth:`BlockLU.solve_transpose`:
+        ``U^T y = r``, then the transposed eliminations in reverse order."""
+        N, b = self.n_blocks, self.lu.shape[-1]
+        R = rhs.reshape(N, b).astype(self.lu.dtype)
+        tr = lambda a: jnp.swapaxes(a, -1, -2)
+
+        def forward(carry, k):
+            y1, y2 = carry  # y_{k-1}, y_{k-2}
+            u12_prev = jnp.where(k >= 1, tr(self.u12[k - 1]), 0.0)
+            u13_prev = jnp.where(k >= 2, tr(self.u13[k - 2]), 0.0)
+            r = R[k] - u12_prev @ y1 - u13_prev @ y2
+            y = solve_triangular(self.lu[k, :b], r, lower=False, trans=1)
+            return (y, y1), y
+
+        zeros = jnp.zeros((b,), R.dtype)
+        _, Y = jax.lax.scan(forward, (zeros, zeros), jnp.arange(N))
+
+        def backward(carry, k):
+            # E_k^T [y_k; carry] with E_k = L_k^{-1} P_k: L_k^{-T} first, then P_k^T.
+            top = Y[k] - tr(self.lu[k, b:]) @ carry
+            top = solve_triangular(self.lu[k, :b], top, lower=True, unit_diagonal=True, trans=1)
+            w = jnp.zeros((2 * b,), top.dtype).at[self.perm[k]].set(jnp.concatenate([top, carry]))
+            return w[:b], w[b:]
+
+        x0, X = jax.lax.scan(backward, zeros, jnp.arange(N), reverse=True)
+        return jnp.concatenate([x0[None], X[:-1]]).reshape(-1)
+
+
+def lu_factor_packed(M: BlockTridiagonal) -> PackedBlockLU:
+    """The pivoted block LU of :func:`lu_factor` (same elimination, same stability), with
+    LAPACK's kernels, kept packed (:class:`PackedBlockLU`): no block inverses, about half
+    the cost of :func:`lu_factor` for complex blocks (measured 0.69 against 1.28 ms at
+    seven filaments, 10 elements), solves as fast. For a matrix solved only a few times."""
+    N, b = M.n_blocks, M.block_size
+    P = _padded(M)
+
+    def step(carry, k):
+        row_k, row_k1 = carry
+        lu, _, perm = jax.lax.linalg.lu(jnp.concatenate([row_k, P.lower[k]]))
+        right = jnp.block([[row_k1, jnp.zeros((b, b), lu.dtype)], [P.diag[k + 1], P.upper[k + 1]]])[
+            perm
+        ]
+        # The unit-lower L11 is read from the packed factors (the triangular solve reads
+        # only the strictly lower part).
+        u1 = solve_triangular(lu[:b], right[:b], lower=True, unit_diagonal=True)
+        schur = right[b:] - lu[b:] @ u1
+        return (schur[:, :b], schur[:, b:]), (lu, perm, u1[:, :b], u1[:, b:])
+
+    _, factors = jax.lax.scan(step, (P.diag[0], P.upper[0]), jnp.arange(N))
+    return PackedBlockLU(*factors)
 
 
 class BlockCholesky(eqx.Module):

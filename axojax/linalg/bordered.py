@@ -29,7 +29,16 @@ from jax.scipy.linalg import solve_triangular
 from jaxtyping import Array, ArrayLike, Bool, Float, Inexact
 
 from . import small
-from .blocktri import BlockCholesky, BlockLU, BlockTridiagonal, _check, cholesky, lu_factor
+from .blocktri import (
+    BlockCholesky,
+    BlockLU,
+    BlockTridiagonal,
+    PackedBlockLU,
+    _check,
+    cholesky,
+    lu_factor,
+    lu_factor_packed,
+)
 
 
 class Bordered(eqx.Module):
@@ -155,10 +164,11 @@ def _small_inverse_lu(S: Inexact[Array, "m m"], kernels: str) -> Inexact[Array, 
 
 
 class BorderedLU(eqx.Module):
-    """Factors of :func:`bordered_lu`: T's block LU, ``Z = T^{-1} B_nb`` and the inverse
-    of the Schur complement (m x m)."""
+    """Factors of :func:`bordered_lu`: T's block LU (:class:`BlockLU`, or
+    :class:`PackedBlockLU` when packed), ``Z = T^{-1} B_nb`` and the inverse of the Schur
+    complement (m x m)."""
 
-    tri: BlockLU
+    tri: BlockLU | PackedBlockLU
     z: Inexact[Array, "n m"]
     sinv: Inexact[Array, "m m"]
     bn: Inexact[Array, "m n"]
@@ -186,13 +196,19 @@ class BorderedLU(eqx.Module):
         return jnp.concatenate([self.tri.solve_transpose(f - self.bn.T @ y), y])
 
 
-def bordered_lu(M: Bordered | BlockTridiagonal, kernels: str = "lapack") -> BorderedLU:
+def bordered_lu(
+    M: Bordered | BlockTridiagonal, kernels: str = "lapack", packed: bool = False
+) -> BorderedLU:
     """LU of a bordered matrix through T's pivoted block LU
     (:func:`~axojax.linalg.lu_factor`) and the Schur complement's (pivoted, dense).
-    ``kernels``: see :data:`axojax.linalg.blocktri.KERNELS`."""
+    ``kernels``: see :data:`axojax.linalg.blocktri.KERNELS`. ``packed``: T's factors in
+    LAPACK's packed form (:func:`~axojax.linalg.lu_factor_packed`; LAPACK kernels only),
+    about half the factorisation's cost, for a matrix solved only a few times."""
     _check(kernels)
+    if packed and kernels != "lapack":
+        raise ValueError(f"packed factors need kernels='lapack', got {kernels!r}")
     M = bordered(M)
-    lu = lu_factor(M.tri, kernels)
+    lu = lu_factor_packed(M.tri) if packed else lu_factor(M.tri, kernels)
     if M.m == 0:
         return BorderedLU(lu, M.nb, M.bb, M.bn, M.nb)
     z = jax.vmap(lu.solve, in_axes=1, out_axes=1)(M.nb)
