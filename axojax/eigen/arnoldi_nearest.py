@@ -27,9 +27,9 @@ per-point and batched paths as the dominant solver):
    it), and none of them is nearer sigma than lambda_r. Points no stage certifies (and
    points where the factorisation is singular) are solved by the dense
    :func:`~axojax.eigen.nearest.nearest_eigenpair` and report ``certified = 0``.
-4. Derivatives: the dominant solver's rule (:func:`axojax.eigen.arnoldi.eigenpair_tangent`:
-   left eigenvector by inverse iteration on a complex block LU of ``A + lambda C``); the
-   shift only selects, its tangent is ignored.
+4. Derivatives: the dominant solver's rule (:func:`axojax.eigen.tangent.eigenpair_tangent`:
+   one bordered system on a packed complex block LU just off lambda); the shift only
+   selects, its tangent is ignored.
 """
 
 from __future__ import annotations
