@@ -15,6 +15,7 @@ from ..inverse.compare import compare, render_table
 from ..inverse.mechanisms import (
     BASES,
     COMPARE_PRESETS,
+    COMPLIANCE,
     DEFAULT_BASES,
     DEFAULT_ELEMENTS,
     DEFAULT_HEAD_UM,
@@ -23,6 +24,7 @@ from ..inverse.mechanisms import (
     MECHANISMS,
     PIN_TOLERANCE,
     check_names,
+    with_compliance,
 )
 from ..inverse.problem import SHAPE_FLOOR
 from ..models import Base
@@ -31,6 +33,8 @@ from ..units import Units
 from . import _values, common
 
 MAX_STARTS = 100
+COMPLIANCE_MODES = {"off": False, "on": True, "both": "both"}
+"""``--compliance``'s values and :func:`axojax.compare`'s ``compliance`` for each."""
 COEFFICIENTS = {
     "chi": "sliding",
     "beta": "curvature",
@@ -57,7 +61,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--bases",
         default=None,
         metavar="LIST",
-        help=f"comma-separated base conditions of {','.join(BASES)} (default {','.join(DEFAULT_BASES)})",
+        help=f"comma-separated base conditions of {','.join(BASES)}, each optionally with "
+        f"{COMPLIANCE} (e.g. head{COMPLIANCE}; default {','.join(DEFAULT_BASES)})",
+    )
+    parser.add_argument(
+        "--compliance",
+        default="off",
+        metavar="MODE",
+        help="basal compliance chi_b = k_b + i omega xi_b on every base (kb and xib fitted; "
+        "a row keeps two values of its own): off (default: as --bases names them), on, or "
+        "both (every base without and with it)",
     )
     parser.add_argument(
         "--model",
@@ -165,6 +178,15 @@ def run(args: argparse.Namespace) -> dict:
         check_names(mechanisms, bases, mechanism_flag="--mechanisms", base_flag="--bases")
     except ValueError as err:
         raise common.CLIError(str(err)) from None
+    if args.compliance not in COMPLIANCE_MODES:
+        raise common.CLIError(
+            f"--compliance: expected one of {', '.join(COMPLIANCE_MODES)}, got {args.compliance!r}"
+        )
+    try:
+        bases = with_compliance(bases, COMPLIANCE_MODES[args.compliance])
+        check_names(mechanisms, bases, mechanism_flag="--mechanisms", base_flag="--compliance")
+    except ValueError as err:
+        raise common.CLIError(str(err)) from None
     if not 2 <= args.elements <= 200:
         raise common.CLIError(f"--elements: expected an integer in 2..200, got {args.elements}")
     if not 1 <= args.starts <= MAX_STARTS:
@@ -188,7 +210,7 @@ def run(args: argparse.Namespace) -> dict:
         raise common.CLIError(f"{flag}: {err}") from None
     head = None
     if args.head_um is not None or args.viscosity_pa_s is not None:
-        if bases is not None and "head" not in bases:
+        if bases is not None and not any(b.startswith("head") for b in bases):
             flag = "--head-um" if args.head_um is not None else "--viscosity-pa-s"
             raise common.CLIError(f"{flag}: needs the head base in --bases")
         a, b = DEFAULT_HEAD_UM if args.head_um is None else _values._pair(args.head_um, "--head-um")
