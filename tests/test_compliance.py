@@ -157,6 +157,22 @@ def test_sartoris_free_base_beat_is_recovered_with_compliance(beat):
     assert abs(fitted - chib) < 0.05 * abs(chib)
     assert r["physical"]["kb_pn_per_um"] == pytest.approx(p["kb"] * EI / LENGTH**3)
     assert r["physical"]["xib_pn_s_per_um"] == pytest.approx(p["xib"] * CN * LENGTH)
+    # the Laplace approximation at the optimum: (J^T J)^-1 with J by central differences
+    row_obj = result.rows[0]
+    lap = row_obj.laplace()
+    problem = row_obj.problem
+    u = lap.centre_u
+    h = 1e-5 * np.maximum(1.0, np.abs(u))
+    jac = np.stack(
+        [
+            (problem.residuals_at(u + h[j] * e) - problem.residuals_at(u - h[j] * e)) / (2 * h[j])
+            for j, e in enumerate(np.eye(len(u)))
+        ],
+        axis=1,
+    )
+    # (central differences lose ~1e-6 of J; the inverse of a near-ridge J^T J magnifies it)
+    np.testing.assert_allclose(lap.cov_u, np.linalg.inv(jac.T @ jac), rtol=1e-2)
+    assert lap.names == problem.names and all(lap.log_coordinate[n] for n in ("kb", "xib"))
 
 
 def test_with_compliance_names_every_kind():

@@ -69,6 +69,8 @@ class CompareRow:
         at_bound: fitted values at a bound.
         psi1_model: (S,) complex: the fitted psi_1 (rad) at the data's s.
         fit: the row's full :class:`~axojax.inverse.FitResult`.
+        problem: the row's :class:`~axojax.inverse.Problem` (not in the JSON), e.g. for
+            its posterior: ``ax.posterior(row.problem, init=row.fit, ...)``.
     """
 
     mechanism: str
@@ -88,6 +90,23 @@ class CompareRow:
     fit: FitResult
     wall_s: float
     delta_bic: float | None = None
+    problem: Problem | None = dataclasses.field(default=None, repr=False)
+
+    def laplace(self):
+        """The Laplace approximation of the row's posterior at its optimum: normal in the
+        fitted coordinate u (log for positive values, linear for chi and beta) with
+        covariance (J^T J)^-1, J the Jacobian of the normalised residuals (shape points
+        and pins) in u, uniform prior (:class:`axojax.inverse._laplace.Laplace`: its
+        ``quantiles``, ``sd`` and ``to_json`` with the correlations). k model
+        derivatives: seconds, where sampling (:func:`axojax.posterior`) takes minutes."""
+        from ._laplace import laplace_of
+
+        if self.problem is None:
+            raise ValueError("laplace: this row has no problem (rows read from JSON do not)")
+        p = self.problem
+        u = _to_u(p, np.array([[self.fit.params[n] for n in p.names]]))[0]
+        jac = np.asarray(p.jacobian(u), dtype=float)
+        return laplace_of(p, p.names, u, jac.T @ jac)
 
     def to_json(self) -> dict[str, Any]:
         return {
@@ -408,4 +427,5 @@ def _fit_row(spec, shape, units, optimiser, starts, seed, shape_floor) -> Compar
         psi1_model=psi1,
         fit=fit,
         wall_s=time.perf_counter() - t0,
+        problem=problem,
     )

@@ -109,8 +109,9 @@ FREE_WITH_COMPLIANCE = {
 }
 """A regulated row's free values with basal compliance (module docstring); the steady
 row's are :func:`steady_free`'s first two and kb, xib."""
-COMPLIANCE_GRID = 33
-"""Values of each of a compliant row's own free values in :func:`compliance_starts`."""
+COMPLIANCE_GRID = 33 * 33
+"""Points of the grid of a compliant row's own free values in :func:`compliance_starts`
+(33 values each for two)."""
 CHI_B_RANGE = (1e-3, 1e2)
 """Bounds of each part of chi_b_bar = a0^2 (kb + i omega0 xib) / F (Sartori's basal group,
 F filaments) in units of 1 + Sp^(1/2), as chi's (Sartori's chi_b_bar is about 4 at
@@ -360,19 +361,21 @@ def _grid(bound: float, n: int = 8) -> np.ndarray:
     return np.concatenate([[0.0], ladder, -ladder])
 
 
-def _ladder(row: Row, name: str, n: int = COMPLIANCE_GRID) -> np.ndarray:
+def _ladder(row: Row, name: str, n: int) -> np.ndarray:
     """``n`` values of a free field inside its bounds: 0 and a signed geometric ladder for
     chi and beta, a geometric one for a positive field."""
     lo, hi = row.bounds[name]
     if name in MECHANISM_NAMES:
         return _grid(hi, n // 2)
+    if lo <= 0:  # gamma: signed, fitted linearly
+        return np.linspace(lo, hi, n + 2)[1:-1]
     return np.geomspace(lo, hi, n + 2)[1:-1]
 
 
 def compliance_starts(row: Row) -> np.ndarray:
     """(c, k) values of a row with basal compliance at which i omega (the observed beat)
     is exactly an eigenvalue: on a grid of the row's own free values
-    (:data:`COMPLIANCE_GRID` each), the complex chi_b = kb + i omega xib that makes the
+    (:data:`COMPLIANCE_GRID` points in all), the complex chi_b = kb + i omega xib that makes the
     pencil A + i omega C singular, kept where kb and xib are inside their bounds. The
     compliance adds kb E + xib E to A and C (E of rank m, the active pairs), so chi_b
     solves det(I + chi_b E K^-1) = 0: m values per grid point (Sartori et al. determine
@@ -384,7 +387,8 @@ def compliance_starts(row: Row) -> np.ndarray:
 
     lam = 1j * row.omega
     own = [f for f in row.free if f not in BASAL_NAMES]
-    grids = np.meshgrid(*[_ladder(row, f) for f in own], indexing="ij")
+    n = max(3, int(round(COMPLIANCE_GRID ** (1 / max(len(own), 1)))))
+    grids = np.meshgrid(*[_ladder(row, f, n) for f in own], indexing="ij")
     values = np.stack([g.ravel() for g in grids], axis=1)
     base = row.params.replace(kb=0.0, xib=0.0)
 
@@ -392,20 +396,28 @@ def compliance_starts(row: Row) -> np.ndarray:
         system = assemble(row.model, base.with_values(dict(zip(own, v)), row.kl_ratio))
         return system.A + lam * system.C
 
-    k = np.asarray(jax.jit(jax.vmap(pencil))(jnp.asarray(values)))
     unit = np.asarray(assemble(row.model, base.replace(kb=1.0)).A) - np.asarray(
         assemble(row.model, base).A
     )
     idx = np.flatnonzero(np.any(unit != 0, axis=1))
-    rhs = np.zeros((k.shape[1], idx.size))
-    rhs[idx, np.arange(idx.size)] = 1.0
-    keep = np.isfinite(k).all(axis=(1, 2)) & (np.linalg.cond(k) < 1e14)
-    x = np.linalg.solve(k[keep], np.broadcast_to(rhs, (int(keep.sum()), *rhs.shape)))
-    mu = np.linalg.eigvals(unit[np.ix_(idx, idx)] @ x[:, idx, :])  # (G, m)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        chi_b = -1.0 / mu
+    pencils = jax.jit(jax.vmap(pencil))
+    kept, chi_b = [], []
+    batch = min(256, len(values))  # pencils at a time (bounded memory), one compilation
+    for i in range(0, len(values), batch):
+        chunk = values[i : i + batch]
+        padded = np.vstack([chunk, np.repeat(chunk[-1:], batch - len(chunk), axis=0)])
+        k = np.asarray(pencils(jnp.asarray(padded)))[: len(chunk)]
+        keep = np.isfinite(k).all(axis=(1, 2)) & (np.linalg.cond(k) < 1e14)
+        rhs = np.zeros((int(keep.sum()), k.shape[1], idx.size))
+        rhs[:, idx, np.arange(idx.size)] = 1.0
+        x = np.linalg.solve(k[keep], rhs)
+        mu = np.linalg.eigvals(unit[np.ix_(idx, idx)] @ x[:, idx, :])  # (G, m)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            chi_b.append(-1.0 / mu)
+        kept.append(chunk[keep])
+    values, chi_b = np.concatenate(kept), np.concatenate(chi_b)
     rows = []
-    for v, gs in zip(values[keep], chi_b):
+    for v, gs in zip(values, chi_b):
         for g in gs[np.isfinite(gs)]:
             point = dict(zip(own, v), kb=g.real, xib=g.imag / row.omega)
             rows.append([point[f] for f in row.free])
