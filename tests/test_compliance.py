@@ -22,9 +22,11 @@ from axojax.cli.main import main
 from axojax.inverse.mechanisms import (
     BASES,
     COMPLIANCE,
+    ELASTIC,
     build_model,
     check_names,
     compliance_starts,
+    hopf_starts,
     row,
     with_compliance,
 )
@@ -92,6 +94,43 @@ def test_a_compliant_row_keeps_six_free_values():
                 assert 0 < lo < float(getattr(r.params, name)) < hi
     with pytest.raises(ValueError, match="^base: the model's base is not 'head'"):
         row("curvature", "head", build_model("two", 4, "head+compliance", UNITS), UNITS, FREQ)
+
+
+def test_an_elastic_row_keeps_three_values_and_a_negligible_friction():
+    """'+elastic': kb free, xib fixed at the low end of its range (chi_b_bar'' =
+    1e-3 (1 + Sp^1/2), as low as chi_b_bar' can go); a row keeps three values of its own
+    (6 with the amplitude; sliding 5)."""
+    own = {
+        "steady": {"p", "kl", "gamma"},
+        "sliding": {"chi_re", "chi_im"},
+        "curvature": {"chi_re", "beta_re", "beta_im"},
+        "sliding+curvature": {"chi_re", "chi_im", "beta_re"},
+    }
+    model = build_model("two", 4, "clamped" + ELASTIC, UNITS)
+    assert model.base.compliance
+    for mech, names in own.items():
+        r = row(mech, "clamped" + ELASTIC, model, UNITS, FREQ)
+        assert set(r.free) == names | {"kb"} and len(r.free) + 2 <= 6
+        assert "xib" not in r.bounds
+        chi_b_im = A0**2 * SP * float(r.params.xib) / 2  # Sartori's chi_b_bar''
+        assert chi_b_im == pytest.approx(1e-3 * (1 + math.sqrt(SP)))
+        lo, hi = r.bounds["kb"]
+        assert 0 < lo < float(r.params.kb) < hi
+
+
+def test_elastic_hopf_starts_are_hopf_points():
+    """The Hopf points of an elastic row (the mechanism's, along a ladder of kb) put an
+    eigenvalue at i omega with xib fixed, beta'' = 0 where it is not free."""
+    model = build_model("two", 6, "clamped" + ELASTIC, UNITS)
+    r = row("sliding+curvature", "clamped" + ELASTIC, model, UNITS, FREQ)
+    starts = hopf_starts(r)
+    assert len(starts) >= 10
+    for values in starts[:: max(1, len(starts) // 8)]:
+        prm = r.params.replace(**dict(zip(r.free, values)))
+        assert float(prm.beta_im) == 0.0
+        system = ax.assemble(model, prm)
+        w = sl.eigvals(-np.asarray(system.A), np.asarray(system.C))
+        assert np.min(np.abs(w - 1j * SP)) < 1e-7 * SP
 
 
 def test_pencil_is_linear_in_the_complex_chi_b():
@@ -182,7 +221,13 @@ def test_with_compliance_names_every_kind():
     assert with_compliance(("clamped",), "both") == ("clamped", "clamped+compliance")
     for kind in BASES:  # every kind, with and without, is a valid base name
         assert check_names(None, (kind, kind + COMPLIANCE))[1] == (kind, kind + COMPLIANCE)
-    with pytest.raises(ValueError, match="^compliance: expected True, False or 'both'"):
+    assert with_compliance(("clamped", "head+compliance"), "elastic") == (
+        "clamped+elastic",
+        "head+elastic",
+    )
+    for kind in BASES:
+        assert check_names(None, (kind + ELASTIC,))[1] == (kind + ELASTIC,)
+    with pytest.raises(ValueError, match="^compliance: expected True, False, 'elastic' or 'both'"):
         ax.compare("human_sperm", compliance="yes")
 
 
@@ -194,6 +239,8 @@ def test_with_compliance_names_every_kind():
         (["--compliance", "on"], [b + COMPLIANCE for b in ("clamped", "free", "head")]),
         (["--compliance", "on", "--bases", "pivot,free"], ["pivot+compliance", "free+compliance"]),
         (["--compliance", "both", "--bases", "head"], ["head", "head+compliance"]),
+        (["--compliance", "elastic", "--bases", "clamped"], ["clamped+elastic"]),
+        (["--bases", "free+elastic,head"], ["free+elastic", "head"]),
         (["--bases", "clamped+compliance", "--head-um", "2,1"], "refused"),
         (["--bases", "head+compliance", "--head-um", "2,1"], ["head+compliance"]),
     ],

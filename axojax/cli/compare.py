@@ -21,6 +21,7 @@ from ..inverse.mechanisms import (
     DEFAULT_HEAD_UM,
     DEFAULT_PRESET,
     DEFAULT_VISCOSITY_PA_S,
+    ELASTIC,
     MECHANISMS,
     PIN_TOLERANCE,
     check_names,
@@ -33,7 +34,7 @@ from ..units import Units
 from . import _values, common
 
 MAX_STARTS = 100
-COMPLIANCE_MODES = {"off": False, "on": True, "both": "both"}
+COMPLIANCE_MODES = {"off": False, "on": True, "elastic": "elastic", "both": "both"}
 """``--compliance``'s values and :func:`axojax.compare`'s ``compliance`` for each."""
 COEFFICIENTS = {
     "chi": "sliding",
@@ -62,15 +63,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=None,
         metavar="LIST",
         help=f"comma-separated base conditions of {','.join(BASES)}, each optionally with "
-        f"{COMPLIANCE} (e.g. head{COMPLIANCE}; default {','.join(DEFAULT_BASES)})",
+        f"{COMPLIANCE} or {ELASTIC} (e.g. head{COMPLIANCE}; default {','.join(DEFAULT_BASES)})",
     )
     parser.add_argument(
         "--compliance",
         default="off",
         metavar="MODE",
-        help="basal compliance chi_b = k_b + i omega xi_b on every base (kb and xib fitted; "
-        "a row keeps two values of its own): off (default: as --bases names them), on, or "
-        "both (every base without and with it)",
+        help="basal compliance chi_b = k_b + i omega xi_b on every base: off (default: as "
+        "--bases names them), on (kb and xib fitted; a row keeps two values of its own), "
+        "elastic (kb fitted, xi_b negligible; a row keeps three), or both (every base "
+        "without and with 'on')",
     )
     parser.add_argument(
         "--model",

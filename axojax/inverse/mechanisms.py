@@ -77,8 +77,11 @@ BASES = ("clamped", "pivot", "free", "head")
 AVAILABLE_BASES = BASES
 """The bases this version builds (every one of :data:`BASES`)."""
 COMPLIANCE = "+compliance"
-"""Suffix of a base name with basal compliance (``"head+compliance"``; the name
-:class:`~axojax.inverse.FitResult` reports for such a model)."""
+"""Suffix of a base name with basal compliance, kb and xib fitted (``"head+compliance"``)."""
+ELASTIC = "+elastic"
+"""Suffix of a base name with an elastic basal compliance: kb fitted, xib fixed at
+:data:`CHI_B_RANGE`'s negligible low end (``"clamped+elastic"``)."""
+SUFFIXES = {"": "", COMPLIANCE: "compliance", ELASTIC: "elastic"}
 DEFAULT_BASES = ("clamped", "free", "head")
 """The bases of a comparison by default: held, isolated, and carrying a head."""
 DEFAULT_HEAD_UM = (2.5, 1.5)
@@ -109,6 +112,17 @@ FREE_WITH_COMPLIANCE = {
 }
 """A regulated row's free values with basal compliance (module docstring); the steady
 row's are :func:`steady_free`'s first two and kb, xib."""
+FREE_ELASTIC = {
+    "sliding": ("chi_re", "chi_im", "kb"),
+    "curvature": ("chi_re", "beta_re", "beta_im", "kb"),
+    "sliding+curvature": ("chi_re", "chi_im", "beta_re", "kb"),
+}
+"""A regulated row's free values with an elastic basal compliance (module docstring); the
+steady row's are p, kl (or ks), gamma and kb."""
+ELASTIC_LADDER = 9
+"""Values of kb along which an elastic row's Hopf points are found."""
+MAX_HOPF_STARTS = 1024
+"""At most about this many Hopf points of an elastic row are screened (evenly taken)."""
 COMPLIANCE_GRID = 33 * 33
 """Points of the grid of a compliant row's own free values in :func:`compliance_starts`
 (33 values each for two)."""
@@ -148,30 +162,37 @@ class Row:
 
     @property
     def compliance(self) -> bool:
-        """Whether the row's base has basal compliance (kb, xib free)."""
+        """Whether the row's base has basal compliance (kb free; xib too unless elastic)."""
         return bool(self.model.base.compliance)
 
 
-def parse_base(name: str) -> tuple[str, bool]:
-    """A base name -> (kind, compliance): ``"head+compliance"`` -> ``("head", True)``."""
-    if isinstance(name, str) and name.endswith(COMPLIANCE):
-        return name[: -len(COMPLIANCE)], True
-    return name, False
+def parse_base(name: str) -> tuple[str, str]:
+    """A base name -> (kind, compliance): ``"head+compliance"`` -> ``("head",
+    "compliance")``, ``"clamped+elastic"`` -> ``("clamped", "elastic")``, ``"free"`` ->
+    ``("free", "")``."""
+    for suffix, mode in SUFFIXES.items():
+        if suffix and isinstance(name, str) and name.endswith(suffix):
+            return name[: -len(suffix)], mode
+    return name, ""
 
 
 def with_compliance(bases, compliance) -> tuple[str, ...] | None:
     """``bases`` (None: :data:`DEFAULT_BASES`) with basal compliance: ``False`` leaves them
-    as named (None stays None), ``True`` adds :data:`COMPLIANCE` to each, ``"both"``
-    lists each without and with it. One-line ``ValueError`` for another value."""
+    as named (None stays None), ``True`` gives each :data:`COMPLIANCE`, ``"elastic"``
+    :data:`ELASTIC`, ``"both"`` lists each without and with :data:`COMPLIANCE`. One-line
+    ``ValueError`` for another value."""
     if compliance is False or compliance is np.False_:
         return None if bases is None else tuple(bases)
-    if not (compliance is True or compliance is np.True_ or compliance == "both"):
-        raise ValueError(f"compliance: expected True, False or 'both', got {compliance!r}")
+    if not (compliance is True or compliance is np.True_ or compliance in ("both", "elastic")):
+        raise ValueError(
+            f"compliance: expected True, False, 'elastic' or 'both', got {compliance!r}"
+        )
     names = DEFAULT_BASES if bases is None else tuple(bases)
-    kinds = [parse_base(n)[0] if isinstance(n, str) else n for n in names]
+    kinds = [parse_base(n)[0] for n in names]
     if compliance == "both":
         return tuple(x for k in kinds for x in (k, k + COMPLIANCE))
-    return tuple(k + COMPLIANCE if isinstance(k, str) else k for k in kinds)
+    suffix = ELASTIC if compliance == "elastic" else COMPLIANCE
+    return tuple(k + suffix if isinstance(k, str) else k for k in kinds)
 
 
 def check_names(
@@ -179,13 +200,13 @@ def check_names(
 ) -> tuple[tuple[str, ...], tuple[str, ...]]:
     """The mechanisms and bases as tuples, each known and available, no repeats
     (one-line ``ValueError`` starting with the flag's name otherwise). A base is a kind of
-    :data:`BASES`, with :data:`COMPLIANCE` appended for basal compliance."""
+    :data:`BASES`, with :data:`COMPLIANCE` or :data:`ELASTIC` appended for basal compliance."""
     mechanisms = tuple(MECHANISMS if mechanisms is None else mechanisms)
     bases = tuple(DEFAULT_BASES if bases is None else bases)
-    known_bases = (*BASES, *(b + COMPLIANCE for b in BASES))
+    known_bases = tuple(b + suffix for suffix in SUFFIXES for b in BASES)
     for flag, names, known, shown in (
         (mechanism_flag, mechanisms, MECHANISMS, MECHANISMS),
-        (base_flag, bases, known_bases, (*BASES, f"each with {COMPLIANCE}")),
+        (base_flag, bases, known_bases, (*BASES, f"each with {COMPLIANCE} or {ELASTIC}")),
     ):
         if not names:
             raise ValueError(f"{flag}: give at least one name ({', '.join(shown)})")
@@ -271,7 +292,8 @@ def build_model(
     if not (isinstance(n_elements, (int, np.integer)) and 2 <= n_elements <= 200):
         raise ValueError(f"n_elements: expected an integer in 2..200, got {n_elements!r}")
     check_names(("steady",), (base,), base_flag="base")
-    base, compliance = parse_base(base)
+    base, mode = parse_base(base)
+    compliance = bool(mode)
     if base == "head":
         if head is None:
             head = Base.head_from_ellipsoid(
@@ -301,16 +323,18 @@ def row(
     (:func:`build_model`; a model whose base has compliance fits kb and xib too);
     ``params`` are the fixed values of the rest."""
     check_names((mechanism,), (base,), mechanism_flag="mechanism", base_flag="base")
-    kind, compliance = parse_base(base)
-    if compliance != bool(model.base.compliance) or kind != model.base.kind:
+    kind, mode = parse_base(base)
+    if bool(mode) != bool(model.base.compliance) or kind != model.base.kind:
         raise ValueError(f"base: the model's base is not {base!r} (build it with build_model)")
     omega0 = float(units.omega0_from_hz(frequency_hz))
     targets = pins(frequency_hz, pin_tolerance)
     zero = {"chi_re": 0.0, "chi_im": 0.0, "beta_re": 0.0, "beta_im": 0.0, "omega0": 0.0}
     if mechanism == "steady":
         free = steady_free(model)
-        if compliance:
+        if mode == "compliance":
             free = (*free[:2], "kb", "xib")
+        elif mode == "elastic":
+            free = (*free[:2], "gamma", "kb")
         ratio = STEADY_KL_RATIO if "ks" in free else None
         prm = params.replace(**zero)
         bounds = {k: DEFAULT_BOUNDS[k] for k in free if k in DEFAULT_BOUNDS}
@@ -319,13 +343,19 @@ def row(
         shift = None if kind == "clamped" else 1j * omega0
     else:
         prm = params.replace(**zero).replace(p=0.0, omega0=omega0)
-        free = (FREE_WITH_COMPLIANCE if compliance else FREE)[mechanism]
+        free = {"": FREE, "compliance": FREE_WITH_COMPLIANCE, "elastic": FREE_ELASTIC}[mode][
+            mechanism
+        ]
         bounds = {k: v for k, v in coefficient_bounds(model, prm).items() if k in free}
         ratio, shift = None, 1j * omega0
-    if compliance:
-        bounds.update(compliance_bounds(model, prm, omega0))
-        # start at the geometric middle of the box (both > 0: xib keeps C regular)
-        prm = prm.replace(**{k: math.sqrt(bounds[k][0] * bounds[k][1]) for k in ("kb", "xib")})
+    if mode:
+        basal = compliance_bounds(model, prm, omega0)
+        # start at the geometric middle of the box (both > 0: xib keeps C regular); an
+        # elastic compliance's xib stays at its negligible low end
+        prm = prm.replace(**{k: math.sqrt(basal[k][0] * basal[k][1]) for k in ("kb", "xib")})
+        if mode == "elastic":
+            prm = prm.replace(xib=basal["xib"][0])
+        bounds.update({k: v for k, v in basal.items() if k in free})
     return Row(mechanism, base, model, prm, free, bounds, ratio, shift, targets, omega0)
 
 
@@ -437,8 +467,24 @@ def hopf_starts(row: Row) -> np.ndarray:
     ``sliding+curvature`` along a ladder of complex beta (one in chi) and with either
     coefficient 0. With basal compliance, any mechanism: :func:`compliance_starts`.
     Empty for ``steady`` without it (its beat is the dominant mode)."""
-    if row.compliance:
+    if row.compliance and "xib" in row.free:
         return compliance_starts(row)
+    if row.compliance:  # elastic: the Hopf points of the mechanism along a ladder of kb
+        lo, hi = row.bounds["kb"]
+        rest = dataclasses.replace(row, free=tuple(f for f in row.free if f != "kb"))
+        out = [
+            np.hstack([p, np.full((len(p), 1), kb)])
+            for kb in np.geomspace(lo, hi, ELASTIC_LADDER + 2)[1:-1]
+            for p in [_mechanism_hopf(dataclasses.replace(rest, params=row.params.replace(kb=kb)))]
+        ]
+        order = [*rest.free, "kb"]
+        out = np.vstack(out)[:, [order.index(f) for f in row.free]]
+        return out[:: max(1, len(out) // MAX_HOPF_STARTS)]
+    return _mechanism_hopf(row)
+
+
+def _mechanism_hopf(row: Row) -> np.ndarray:
+    """:func:`hopf_starts` of a row whose compliance, if any, is fixed in its params."""
     if row.shift is None or row.mechanism == "steady":
         return np.zeros((0, len(row.free)))
     k0, u_chi, u_beta = _unit_terms(row)
@@ -446,8 +492,10 @@ def hopf_starts(row: Row) -> np.ndarray:
     points: list[dict[str, float]] = []
     if "chi_im" in row.free:  # sliding, or sliding + curvature: solve for chi
         betas = [0.0]
-        if "beta_re" in row.free:
-            re, im = _grid(b["beta_re"][1], 3), _grid(b["beta_im"][1], 3)
+        if "beta_re" in row.free:  # beta' and (if free) beta'' on a grid
+            dynamic = "beta_im" in row.free
+            re = _grid(b["beta_re"][1], 3 if dynamic else 8)
+            im = _grid(b["beta_re"][1], 3) if dynamic else [0.0]
             betas += [complex(x, y) for x in re for y in im]
         for beta in betas:
             for chi in _solve(k0 + beta * u_beta, u_chi):
