@@ -97,16 +97,24 @@ class CompareRow:
         fitted coordinate u (log for positive values, linear for chi and beta) with
         covariance (J^T J)^-1, J the Jacobian of the normalised residuals (shape points
         and pins) in u, uniform prior (:class:`axojax.inverse._laplace.Laplace`: its
-        ``quantiles``, ``sd`` and ``to_json`` with the correlations). k model
+        ``quantiles``, ``sd`` and ``to_json`` with the correlations). J^T J is inverted
+        after scaling its diagonal to 1 (a linear chi of 1e5 and a log kb differ by
+        1e10 in scale, which alone would pass for an unconstrained direction). k model
         derivatives: seconds, where sampling (:func:`axojax.posterior`) takes minutes."""
-        from ._laplace import laplace_of
+        from ._laplace import Laplace, laplace_of
 
         if self.problem is None:
             raise ValueError("laplace: this row has no problem (rows read from JSON do not)")
         p = self.problem
         u = _to_u(p, np.array([[self.fit.params[n] for n in p.names]]))[0]
         jac = np.asarray(p.jacobian(u), dtype=float)
-        return laplace_of(p, p.names, u, jac.T @ jac)
+        precision = jac.T @ jac
+        diag = np.diag(precision)
+        scale = np.where(diag > 0, 1.0 / np.sqrt(np.where(diag > 0, diag, 1.0)), np.inf)
+        finite = np.where(np.isfinite(scale), scale, 1.0)
+        lap = laplace_of(p, p.names, u, precision * np.outer(finite, finite))
+        cov = lap.cov_u * np.outer(scale, scale)
+        return Laplace(lap.names, lap.centre_u, cov, lap.log_coordinate)
 
     def to_json(self) -> dict[str, Any]:
         return {
