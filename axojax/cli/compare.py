@@ -1,8 +1,12 @@
 """``axojax compare``: every mechanism x base fitted to one observed beat, ranked by BIC
 (:func:`axojax.compare`; docs/mechanisms.md).
 
+Basal compliance: bases named ``KIND+compliance`` / ``KIND+elastic``, or ``--compliance
+on|elastic|both`` for every base (docs/mechanisms.md, basal compliance).
+
 Exit status 0; bad input (an unknown or unavailable mechanism or base, a coefficient
-named as a mechanism, a bad setting) is one line naming the flag, exit 2.
+named as a mechanism, a bad --compliance, a bad setting) is one line naming the flag,
+exit 2.
 """
 
 from __future__ import annotations

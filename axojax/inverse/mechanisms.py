@@ -52,6 +52,13 @@ both; chi' = beta' = 0). At lambda = i omega0 the pencil is linear in the comple
 chi_b, so for any values of the others the chi_b that puts an eigenvalue exactly at the
 observed beat is a small generalised eigenvalue problem (Sartori et al. determine chi_b
 so): :func:`hopf_starts` solves it on a grid of the row's own values.
+
+An *elastic* basal compliance (``compliance="elastic"``, bases ``"<kind>+elastic"``) fits
+kb only, xib fixed at the negligible low end of its range (a basal spring), so a row keeps
+three values of its own (:data:`FREE_ELASTIC`): ``steady`` p, kl, gamma; ``sliding``
+chi', chi''; ``curvature`` chi', beta', beta''; ``sliding+curvature`` chi', chi'', beta'
+(beta'' = 0: on the human sperm it fits better than beta' = 0, docs/mechanisms.md). Its
+starts are the mechanism's Hopf points along a ladder of kb.
 """
 
 from __future__ import annotations
@@ -282,7 +289,8 @@ def build_model(
     """The model of a row: ``preset`` at ``n_elements`` with ``base``; a ``head`` base is
     ``head`` (a :class:`~axojax.models.Base` of kind head), by default the ellipsoid of
     :data:`DEFAULT_HEAD_UM` in water made dimensionless with ``units``; a base named
-    ``"<kind>+compliance"`` carries basal compliance (:func:`parse_base`). ``profiles``:
+    ``"<kind>+compliance"`` or ``"<kind>+elastic"`` carries basal compliance
+    (:func:`parse_base`). ``profiles``:
     static relative x-profiles of EI, p and the links (:class:`axojax.fem.Profiles`, e.g.
     a stiffer base), uniform by default."""
     if preset not in COMPARE_PRESETS:
