@@ -1,8 +1,12 @@
 """``axojax compare``: every mechanism x base fitted to one observed beat, ranked by BIC
 (:func:`axojax.compare`; docs/mechanisms.md).
 
+Basal compliance: bases named ``KIND+compliance`` / ``KIND+elastic``, or ``--compliance
+on|elastic|both`` for every base (docs/mechanisms.md, basal compliance).
+
 Exit status 0; bad input (an unknown or unavailable mechanism or base, a coefficient
-named as a mechanism, a bad setting) is one line naming the flag, exit 2.
+named as a mechanism, a bad --compliance, a bad setting) is one line naming the flag,
+exit 2.
 """
 
 from __future__ import annotations
@@ -15,14 +19,17 @@ from ..inverse.compare import compare, render_table
 from ..inverse.mechanisms import (
     BASES,
     COMPARE_PRESETS,
+    COMPLIANCE,
     DEFAULT_BASES,
     DEFAULT_ELEMENTS,
     DEFAULT_HEAD_UM,
     DEFAULT_PRESET,
     DEFAULT_VISCOSITY_PA_S,
+    ELASTIC,
     MECHANISMS,
     PIN_TOLERANCE,
     check_names,
+    with_compliance,
 )
 from ..inverse.problem import SHAPE_FLOOR
 from ..models import Base
@@ -31,6 +38,8 @@ from ..units import Units
 from . import _values, common
 
 MAX_STARTS = 100
+COMPLIANCE_MODES = {"off": False, "on": True, "elastic": "elastic", "both": "both"}
+"""``--compliance``'s values and :func:`axojax.compare`'s ``compliance`` for each."""
 COEFFICIENTS = {
     "chi": "sliding",
     "beta": "curvature",
@@ -57,7 +66,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--bases",
         default=None,
         metavar="LIST",
-        help=f"comma-separated base conditions of {','.join(BASES)} (default {','.join(DEFAULT_BASES)})",
+        help=f"comma-separated base conditions of {','.join(BASES)}, each optionally with "
+        f"{COMPLIANCE} or {ELASTIC} (e.g. head{COMPLIANCE}; default {','.join(DEFAULT_BASES)})",
+    )
+    parser.add_argument(
+        "--compliance",
+        default="off",
+        metavar="MODE",
+        help="basal compliance chi_b = k_b + i omega xi_b on every base: off (default: as "
+        "--bases names them), on (kb and xib fitted; a row keeps two values of its own), "
+        "elastic (kb fitted, xi_b negligible; a row keeps three), or both (every base "
+        "without and with 'on')",
     )
     parser.add_argument(
         "--model",
@@ -165,6 +184,15 @@ def run(args: argparse.Namespace) -> dict:
         check_names(mechanisms, bases, mechanism_flag="--mechanisms", base_flag="--bases")
     except ValueError as err:
         raise common.CLIError(str(err)) from None
+    if args.compliance not in COMPLIANCE_MODES:
+        raise common.CLIError(
+            f"--compliance: expected one of {', '.join(COMPLIANCE_MODES)}, got {args.compliance!r}"
+        )
+    try:
+        bases = with_compliance(bases, COMPLIANCE_MODES[args.compliance])
+        check_names(mechanisms, bases, mechanism_flag="--mechanisms", base_flag="--compliance")
+    except ValueError as err:
+        raise common.CLIError(str(err)) from None
     if not 2 <= args.elements <= 200:
         raise common.CLIError(f"--elements: expected an integer in 2..200, got {args.elements}")
     if not 1 <= args.starts <= MAX_STARTS:
@@ -188,7 +216,7 @@ def run(args: argparse.Namespace) -> dict:
         raise common.CLIError(f"{flag}: {err}") from None
     head = None
     if args.head_um is not None or args.viscosity_pa_s is not None:
-        if bases is not None and "head" not in bases:
+        if bases is not None and not any(b.startswith("head") for b in bases):
             flag = "--head-um" if args.head_um is not None else "--viscosity-pa-s"
             raise common.CLIError(f"{flag}: needs the head base in --bases")
         a, b = DEFAULT_HEAD_UM if args.head_um is None else _values._pair(args.head_um, "--head-um")

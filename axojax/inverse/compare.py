@@ -43,6 +43,7 @@ from .mechanisms import (
     check_names,
     hopf_starts,
     row,
+    with_compliance,
 )
 from .problem import SHAPE_FLOOR, Problem
 from .report import FitResult
@@ -68,6 +69,8 @@ class CompareRow:
         at_bound: fitted values at a bound.
         psi1_model: (S,) complex: the fitted psi_1 (rad) at the data's s.
         fit: the row's full :class:`~axojax.inverse.FitResult`.
+        problem: the row's :class:`~axojax.inverse.Problem` (not in the JSON), e.g. for
+            its posterior: ``ax.posterior(row.problem, init=row.fit, ...)``.
     """
 
     mechanism: str
@@ -87,6 +90,31 @@ class CompareRow:
     fit: FitResult
     wall_s: float
     delta_bic: float | None = None
+    problem: Problem | None = dataclasses.field(default=None, repr=False)
+
+    def laplace(self):
+        """The Laplace approximation of the row's posterior at its optimum: normal in the
+        fitted coordinate u (log for positive values, linear for chi and beta) with
+        covariance (J^T J)^-1, J the Jacobian of the normalised residuals (shape points
+        and pins) in u, uniform prior (:class:`axojax.inverse._laplace.Laplace`: its
+        ``quantiles``, ``sd`` and ``to_json`` with the correlations). J^T J is inverted
+        after scaling its diagonal to 1 (a linear chi of 1e5 and a log kb differ by
+        1e10 in scale, which alone would pass for an unconstrained direction). k model
+        derivatives: seconds, where sampling (:func:`axojax.posterior`) takes minutes."""
+        from ._laplace import Laplace, laplace_of
+
+        if self.problem is None:
+            raise ValueError("laplace: this row has no problem (rows read from JSON do not)")
+        p = self.problem
+        u = _to_u(p, np.array([[self.fit.params[n] for n in p.names]]))[0]
+        jac = np.asarray(p.jacobian(u), dtype=float)
+        precision = jac.T @ jac
+        diag = np.diag(precision)
+        scale = np.where(diag > 0, 1.0 / np.sqrt(np.where(diag > 0, diag, 1.0)), np.inf)
+        finite = np.where(np.isfinite(scale), scale, 1.0)
+        lap = laplace_of(p, p.names, u, precision * np.outer(finite, finite))
+        cov = lap.cov_u * np.outer(scale, scale)
+        return Laplace(lap.names, lap.centre_u, cov, lap.log_coordinate)
 
     def to_json(self) -> dict[str, Any]:
         return {
@@ -184,8 +212,9 @@ def render_table(doc: dict[str, Any]) -> str:
         return "-" if x is None else format(x, fmt)
 
     f_obs = doc["data"].get("frequency_hz")
+    wb = max([8] + [len(r["base"]) for r in doc["rows"]])  # "clamped+compliance": 18
     head = (
-        f"{'rank':>4}  {'mechanism':<18} {'base':<8} {'R^2':>7} {'f (Hz)':>8} {'df %':>7} "
+        f"{'rank':>4}  {'mechanism':<18} {'base':<{wb}} {'R^2':>7} {'f (Hz)':>8} {'df %':>7} "
         f"{'chi2/dof':>9} {'BIC':>10} {'dBIC':>9} {'n':>2}  at bound"
     )
     lines = [head]
@@ -196,7 +225,7 @@ def render_table(doc: dict[str, Any]) -> str:
             else 100 * (r["frequency_hz"] - f_obs) / f_obs
         )
         lines.append(
-            f"{i:>4}  {r['mechanism']:<18} {r['base']:<8} {num(r['r2'], '7.3f')} "
+            f"{i:>4}  {r['mechanism']:<18} {r['base']:<{wb}} {num(r['r2'], '7.3f')} "
             f"{num(r['frequency_hz'], '8.3f')} {num(df, '+7.2f')} {num(r['chi2_per_dof'], '9.3g')} "
             f"{num(r['bic'], '10.1f')} {num(r['delta_bic'], '9.1f')} {r['n_free']:>2}  "
             + (", ".join(r["at_bound"]) or "-")
@@ -246,6 +275,10 @@ def _physical(values: dict[str, float], units: Units) -> dict[str, float]:
             out[f"beta_{re_im}_pn"] = float(units.beta_to_pn(values[f"beta_{re_im}"]))
     if "p" in values:
         out["p_pn_per_um"] = float(units.p_to_pn_per_um(values["p"]))
+    if "kb" in values:
+        out["kb_pn_per_um"] = float(units.kb_to_pn_per_um(values["kb"]))
+    if "xib" in values:
+        out["xib_pn_s_per_um"] = float(units.xib_to_pn_s_per_um(values["xib"]))
     return out
 
 
@@ -274,6 +307,7 @@ def compare(
     progress: bool = False,
     head=None,
     profiles=None,
+    compliance: bool | str = False,
 ) -> Comparison:
     """Fit every mechanism x base to one beat and rank them by BIC.
 
@@ -283,7 +317,9 @@ def compare(
         mechanisms: names of :data:`~axojax.inverse.mechanisms.MECHANISMS` (default all:
             steady, sliding, curvature, sliding+curvature).
         bases: names of :data:`~axojax.inverse.mechanisms.BASES` (default
-            :data:`~axojax.inverse.mechanisms.DEFAULT_BASES`: clamped, free, head).
+            :data:`~axojax.inverse.mechanisms.DEFAULT_BASES`: clamped, free, head), each
+            optionally with ``+compliance`` (``"head+compliance"``: a basal compliance,
+            kb and xib fitted too; :mod:`axojax.inverse.mechanisms`).
         model: the preset every row uses (default ``two``: the continuum limit of the
             anchors, and the fastest; docs/mechanisms.md).
         n_elements: elements per filament.
@@ -303,6 +339,11 @@ def compare(
         profiles: static relative x-profiles of EI, p and the links for every row's model
             (:class:`axojax.fem.Profiles`; e.g. ``Profiles(ei=lambda x: 3 - 2 * x)``, a base
             three times stiffer than the tip); uniform by default.
+        compliance: True: every base with a basal compliance chi_b = k_b + i omega xi_b
+            (two more free values, kb and xib; a row keeps two of its own, so that it
+            stays within 6 with the amplitude: docs/mechanisms.md); ``"both"``: every
+            base without and with it (twice the rows). Default False (the names in
+            ``bases`` decide).
         progress: a bar over rows on stderr (``axojax compare`` shows it on a terminal,
             never with ``--json`` on a pipe: :mod:`axojax._progress`'s rule).
 
@@ -310,7 +351,7 @@ def compare(
         ValueError: an unknown or unavailable mechanism or base, a bad setting (one
             line naming it).
     """
-    mechanisms, bases = check_names(mechanisms, bases)
+    mechanisms, bases = check_names(mechanisms, with_compliance(bases, compliance))
     if not (isinstance(starts, (int, np.integer)) and 1 <= starts <= 1000):
         raise ValueError(f"starts: expected an integer in 1..1000, got {starts!r}")
     optimiser = solver_from_name(method)
@@ -394,4 +435,5 @@ def _fit_row(spec, shape, units, optimiser, starts, seed, shape_floor) -> Compar
         psi1_model=psi1,
         fit=fit,
         wall_s=time.perf_counter() - t0,
+        problem=problem,
     )
