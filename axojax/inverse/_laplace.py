@@ -265,15 +265,20 @@ class Laplace:
 
 def laplace_of(problem, names, u_c: np.ndarray, precision_u: np.ndarray) -> Laplace:
     """:class:`Laplace` from a centre (k,) and precision (k, k) in u: the covariance by
-    eigen-decomposition, directions of precision <= 1e-12 x its largest (or not finite)
-    giving their parameters an infinite variance; log coordinates where the problem's
-    value at the centre is exp(u)."""
+    eigen-decomposition of the precision scaled to a unit diagonal (so that coordinates of
+    very different scales, e.g. a coefficient of 1e5 in a linear coordinate beside a log
+    one, are judged alike), directions of scaled precision <= 1e-12 x its largest (or not
+    finite) giving their parameters an infinite variance; log coordinates where the
+    problem's value at the centre is exp(u)."""
     k = len(names)
     if np.all(np.isfinite(precision_u)):
-        lam, vec = np.linalg.eigh(0.5 * (precision_u + precision_u.T))
+        sym = 0.5 * (precision_u + precision_u.T)
+        diag = np.diag(sym)
+        d = np.where(diag > 0, 1.0 / np.sqrt(np.where(diag > 0, diag, 1.0)), 1.0)
+        lam, vec = np.linalg.eigh(d[:, None] * sym * d[None, :])
         good = lam > 1e-12 * max(float(np.max(np.abs(lam))), 1e-300)
-        cov = (vec[:, good] / lam[good]) @ vec[:, good].T
-        loose = np.any(np.abs(vec[:, ~good]) > 1e-8, axis=1)
+        cov = d[:, None] * ((vec[:, good] / lam[good]) @ vec[:, good].T) * d[None, :]
+        loose = np.any(np.abs(vec[:, ~good]) > 1e-8, axis=1) | (diag <= 0)
         cov[loose, :] = np.inf
         cov[:, loose] = np.inf
     else:
