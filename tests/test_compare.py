@@ -56,16 +56,22 @@ def synthetic(tmp_path_factory) -> str:
     psi1 = _shape(CHI_BAR, beta_bar, SP, s)
     psi1 = 0.5 * psi1 / psi1[-1]
     path = tmp_path_factory.mktemp("beat") / "curvature.npz"
+    return fourier_file(path, s, psi1, LENGTH, FREQ)
+
+
+def fourier_file(path, s, psi1, length_um: float, frequency_hz: float) -> str:
+    """A Fourier-mode beat file at ``path``: psi_1 on s in [0, 1] (sigma 0.01 rad), psi_0
+    zero, the frequency with a 1 % sigma."""
     np.savez(
         path,
-        s_um=s * LENGTH,
+        s_um=s * length_um,
         psi0_rad=np.zeros_like(s),
         psi1_re_rad=psi1.real,
         psi1_im_rad=psi1.imag,
         psi1_sigma_rad=np.full_like(s, 0.01),
-        length_um=LENGTH,
-        frequency_hz=FREQ,
-        frequency_sigma_hz=0.01 * FREQ,
+        length_um=length_um,
+        frequency_hz=frequency_hz,
+        frequency_sigma_hz=0.01 * frequency_hz,
     )
     return str(path)
 

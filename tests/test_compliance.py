@@ -15,6 +15,7 @@ import pytest
 import scipy.linalg as sl
 from scipy.optimize import fsolve
 from test_bases import _det, _shape
+from test_compare import fourier_file
 
 import axojax as ax
 from axojax.cli import compare as cli_compare
@@ -60,18 +61,7 @@ def beat(tmp_path_factory) -> tuple[str, complex]:
     psi1, _ = _shape(CHI_BAR, BETA_BAR, SP, ("free", 0, 0), chib, s)
     psi1 = 0.5 * psi1 / psi1[-1]
     path = tmp_path_factory.mktemp("beat") / "sartori.npz"
-    np.savez(
-        path,
-        s_um=s * LENGTH,
-        psi0_rad=np.zeros_like(s),
-        psi1_re_rad=psi1.real,
-        psi1_im_rad=psi1.imag,
-        psi1_sigma_rad=np.full_like(s, 0.01),
-        length_um=LENGTH,
-        frequency_hz=FREQ,
-        frequency_sigma_hz=0.01 * FREQ,
-    )
-    return str(path), chib
+    return fourier_file(path, s, psi1, LENGTH, FREQ), chib
 
 
 def test_a_compliant_row_keeps_six_free_values():
@@ -232,20 +222,9 @@ def test_an_elastic_clamped_beat_is_recovered(tmp_path):
     s = np.linspace(0, 1, 25)
     psi1, _ = _shape(chi, beta, sp, ("clamped", 0, 0), chib, s)
     psi1 = 0.5 * psi1 / psi1[-1]
-    path = tmp_path / "elastic.npz"
-    np.savez(
-        path,
-        s_um=s * LENGTH,
-        psi0_rad=0 * s,
-        psi1_re_rad=psi1.real,
-        psi1_im_rad=psi1.imag,
-        psi1_sigma_rad=np.full_like(s, 0.01),
-        length_um=LENGTH,
-        frequency_hz=freq,
-        frequency_sigma_hz=0.01 * freq,
-    )
+    path = fourier_file(tmp_path / "elastic.npz", s, psi1, LENGTH, freq)
     result = ax.compare(
-        str(path),
+        path,
         mechanisms=("curvature",),
         bases=("clamped+elastic",),
         n_elements=8,
