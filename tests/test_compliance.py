@@ -204,6 +204,7 @@ def test_sartoris_free_base_beat_is_recovered_with_compliance(beat):
     assert lap.names == problem.names and all(lap.log_coordinate[n] for n in ("kb", "xib"))
 
 
+@pytest.mark.slow  # a comparison fit: ~12 s
 def test_an_elastic_clamped_beat_is_recovered(tmp_path):
     """Curvature control on a clamped base with an elastic basal compliance (Riedel-Kruse
     et al.'s clamped sperm, a spring at the base): the continuum beat at Sp 200 with

@@ -265,6 +265,7 @@ def test_cli_tip_load_refuses_a_force_profile(capsys):
 # ---- knot values as fitted parameters
 
 
+@pytest.mark.slow  # a multi-start fit: ~10 s each
 def test_a_knot_value_is_fitted_like_a_field():
     """A basal stiffening ei_knots[0] and p recovered from the frequency and wavelength
     they produce (two filaments, 6 elements); the names, start and bounds of a knot value
@@ -301,6 +302,7 @@ def test_knot_value_names_are_checked():
         prm.replace(**{"ei_knot[0]": 1.0})
 
 
+@pytest.mark.slow  # a multi-start fit: ~10 s each
 def test_cli_fits_a_knot_value(capsys):
     argv = ["fit", "--model", "two", "--elements", "6", "--p", "160", "--ei-knots", "1.5,1,1"]
     argv += ["--free", "p,ei-knots[0]", "--target-frequency", "20", "--target-wavelength", "30"]
