@@ -123,6 +123,7 @@ def test_laplace_covariance_is_scale_invariant():
     """A coordinate of scale 1e7 beside one of scale 1 (a linear chi beside a log kb):
     the covariance is the precision's inverse, not infinite (the cutoff reads the
     precision scaled to a unit diagonal)."""
+
     class _Values:
         def values(self, u):
             return {"a": float(u[0]), "b": float(u[1])}
