@@ -60,6 +60,9 @@ KNOT_NAMES = ("ei_knots", "drag_knots", "p_knots")
 """The non-uniform profiles (docs/model.md section 8): relative values at knots along x,
 arrays whose last axis holds the K knots; None (default) is uniform."""
 DYNAMIC_NAMES = ("chi_im", "beta_im")
+"""The coefficients that act through d/dt (chi''/omega0, beta''/omega0): non-zero only with
+omega0 > 0."""
+
 _KNOT_ELEMENT = re.compile(r"^(ei_knots|drag_knots|p_knots)\[(\d+)\]$")
 
 
@@ -75,9 +78,6 @@ def is_parameter_name(name: str) -> bool:
     value (``"ei_knots[2]"``)."""
     return name in PARAM_NAMES or name in KNOT_NAMES or knot_element(name) is not None
 
-
-"""The coefficients that act through d/dt (chi''/omega0, beta''/omega0): non-zero only with
-omega0 > 0."""
 
 # (lower bound, inclusive?) of each field; gamma is unbounded below.
 _BOUNDS = {

@@ -34,10 +34,10 @@ from ..models import (
     load_section,
 )
 from ..models.presets import preset_section
-from ..params import PARAM_NAMES, Params, knot_element
+from ..params import KNOT_NAMES, PARAM_NAMES, Params, knot_element
 from ..units import Units
 from ._values import CLIError, _complex_pair, finite_float, units_from_args  # noqa: F401
-from .profiles import add_profile_flags, knots_from_args, profile_values
+from .profiles import PROFILE_FLAGS, add_profile_flags, knots_from_args, profile_values
 from .regulation import (  # noqa: F401
     BASE_FLAGS,
     DEFAULT_VISCOSITY_PA_S,
@@ -63,6 +63,7 @@ PARAM_FLAGS = {
     "a0": "a0",
 }
 FIELD_FLAGS = {v: k for k, v in PARAM_FLAGS.items()}
+PROFILE_FIELD_FLAGS = {v: k for k, v in PROFILE_FLAGS.items()}
 MAX_ROTATION_DEG = 360.0
 """``--rotation-deg`` beyond one turn is refused (a huge angle is all rounding error)."""
 MAX_ELEMENTS = hermite.MAX_ELEMENTS
@@ -398,10 +399,16 @@ def check_params(params: Params, tied: str | None = None) -> None:
         named = str(err).split()[1] if str(err).startswith("parameter ") else None
         bad = (
             named
-            if named in PARAM_NAMES
+            if named in PARAM_NAMES + KNOT_NAMES
             else next((f for f in PARAM_NAMES if f" {f} " in f" {err} "), None)
         )
-        name = FIELD_FLAGS.get(bad) or MECHANISM_FLAGS.get(bad) or BASE_FLAGS.get(bad) or bad
+        name = (
+            FIELD_FLAGS.get(bad)
+            or MECHANISM_FLAGS.get(bad)
+            or BASE_FLAGS.get(bad)
+            or PROFILE_FIELD_FLAGS.get(bad)
+            or bad
+        )
         flag = (tied if tied and bad == "kl" else f"--{name}") if bad else "parameters"
         raise CLIError(f"{flag}: {err}") from None
 

@@ -8,7 +8,6 @@ import argparse
 import numpy as np
 
 from ..fem.knots import check_knots
-from ..params import MAX_MAGNITUDE
 from ._values import CLIError, finite_float
 
 PROFILE_FLAGS = {"ei-knots": "ei_knots", "drag-knots": "drag_knots", "p-knots": "p_knots"}
@@ -58,8 +57,9 @@ def knots_from_args(args: argparse.Namespace) -> tuple[float, ...] | None:
 
 def profile_values(args: argparse.Namespace) -> dict[str, np.ndarray]:
     """The knot profiles given on the command line, by Params field; a one-line
-    :class:`CLIError` naming the flag for too few values, a count that differs from
-    ``--knots``, or a value that is negative or above 1e9."""
+    :class:`CLIError` naming the flag for a count that differs from ``--knots`` (the
+    values themselves are checked with the other parameters, by
+    :func:`axojax.cli.common.check_params`)."""
     knots = knots_from_args(args)
     out = {}
     for flag, field in PROFILE_FLAGS.items():
@@ -67,17 +67,9 @@ def profile_values(args: argparse.Namespace) -> dict[str, np.ndarray]:
         if text is None:
             continue
         values = _numbers(text, f"--{flag}")
-        if values.size < 2:
-            raise CLIError(
-                f"--{flag}: expected K >= 2 values V0,V1,... (one per knot), got {text!r}"
-            )
         if knots is not None and values.size != len(knots):
             raise CLIError(
                 f"--{flag}: {values.size} values, but --knots gives {len(knots)} positions"
-            )
-        if np.any(values < 0) or np.any(values > MAX_MAGNITUDE):
-            raise CLIError(
-                f"--{flag}: expected relative values in 0..{MAX_MAGNITUDE:g}, got {text!r}"
             )
         out[field] = values
     if knots is not None and not out:

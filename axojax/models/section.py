@@ -22,6 +22,7 @@ from numpy.typing import ArrayLike
 
 from ..fem import FilamentMatrices, Mesh, Profiles, filament_matrices, make_mesh
 from ..fem.hermite import interpolation_matrix
+from ..fem.knots import check_knots, equally_spaced
 from .base import Base, as_base
 
 LinkKind = Literal["spoke", "link"]
@@ -307,8 +308,6 @@ class Model:
         strictly increasing from 0 to 1; ``Params.ei_knots`` etc. must then have one value
         per knot); ``None``: K equally spaced knots for a profile of K values (the
         default). ``self`` when unchanged."""
-        from ..fem.knots import check_knots
-
         knots = None if knots is None else check_knots(knots)
         if knots == self.knots:
             return self
@@ -317,8 +316,6 @@ class Model:
     def knot_positions(self, name: str, n_values: int) -> tuple[float, ...]:
         """The knots of a profile of ``n_values`` values (``name`` is its parameter, for
         the one-line ``ValueError`` when the count does not match :attr:`knots`)."""
-        from ..fem.knots import equally_spaced
-
         if self.knots is None:
             return equally_spaced(n_values)
         if n_values != len(self.knots):
