@@ -57,6 +57,7 @@ _LAZY = {
     "SweepResult": (".sweeps", "SweepResult"),
     "sweep": (".sweeps", "sweep"),
     "Units": (".units", "Units"),
+    "Flagellum": (".units", "Flagellum"),
 }
 
 __all__ = sorted(_LAZY)  # noqa: PLE0605
@@ -87,7 +88,7 @@ if TYPE_CHECKING:  # the same names for static tools (type checkers, the API doc
     from .orbits import LimitCycle, limit_cycle
     from .params import PARAM_NAMES, Params
     from .sweeps import SweepResult, sweep
-    from .units import Units
+    from .units import Flagellum, Units
 
 
 def __getattr__(name: str):

@@ -149,3 +149,47 @@ class Units:
     def pivot_stiffness_from_pn_um(self, k_pn_um_per_rad: ArrayLike) -> ArrayLike:
         """A pivot's rotational spring k_r (pN um/rad) to k_r L / EI."""
         return k_pn_um_per_rad * self.length_um / self.ei_pn_um2
+
+
+@dataclasses.dataclass(frozen=True)
+class Flagellum:
+    """Typical physical properties of a kind of flagellum, from the literature: what a
+    measured beat's fit assumes when the user gives no units (a bundled data set carries
+    its organism's: :mod:`axojax.beats.bundled`).
+
+    Attributes:
+        bending_rigidity_pn_um2: kappa, the whole flagellum's flexural rigidity (pN um^2).
+        normal_drag_pn_s_um2: xi_n, its normal resistive-force coefficient per length
+            (pN s/um^2) in the medium of the observation.
+        source: where the two values come from (citations, in words).
+    """
+
+    bending_rigidity_pn_um2: float
+    normal_drag_pn_s_um2: float
+    source: str = ""
+
+    def __post_init__(self) -> None:
+        for name in ("bending_rigidity_pn_um2", "normal_drag_pn_s_um2"):
+            v = getattr(self, name)
+            if (
+                isinstance(v, bool)
+                or not isinstance(v, (int, float))
+                or not math.isfinite(v)
+                or v <= 0
+            ):
+                raise ValueError(f"flagellum {name} must be a finite positive number, got {v!r}")
+
+    def units(self, length_um: float, n_filaments: int) -> Units:
+        """The :class:`Units` of a model of ``n_filaments`` filaments of this flagellum,
+        ``length_um`` long: each filament carries 1/F of kappa and of xi_n (kappa = F EI,
+        xi_n = F c_n; for the two-filament preset Sartori et al.'s kappa = 2 EI)."""
+        if not (isinstance(n_filaments, int) and n_filaments >= 1):
+            raise ValueError(f"n_filaments: expected a positive integer, got {n_filaments!r}")
+        return Units(
+            float(length_um),
+            self.bending_rigidity_pn_um2 / n_filaments,
+            self.normal_drag_pn_s_um2 / n_filaments,
+        )
+
+    def to_json(self) -> dict:
+        return dataclasses.asdict(self)

@@ -253,14 +253,27 @@ def test_with_compliance_names_every_kind():
     )
     for kind in BASES:
         assert check_names(None, (kind + ELASTIC,))[1] == (kind + ELASTIC,)
-    with pytest.raises(ValueError, match="^compliance: expected True, False, 'elastic' or 'both'"):
+    assert with_compliance(("free",), "both-elastic") == ("free", "free+elastic")
+    assert with_compliance(("pivot",), "all") == ("pivot", "pivot+compliance", "pivot+elastic")
+    # the default: the default bases without and with a basal spring; named bases as named
+    assert with_compliance(None) == tuple(
+        k + f for k in ("clamped", "free", "head") for f in ("", ELASTIC)
+    )
+    assert with_compliance(("head",)) == ("head",)
+    assert with_compliance(None, False) is None
+    with pytest.raises(ValueError, match="^compliance: expected True, False, 'elastic', 'both'"):
         ax.compare("human_sperm", compliance="yes")
+    with pytest.raises(ValueError, match="^compliance: expected"):
+        with_compliance(None, 1)
 
 
 @pytest.mark.parametrize(
     "argv,bases",
     [
-        ([], None),
+        ([], [k + f for k in ("clamped", "free", "head") for f in ("", ELASTIC)]),
+        (["--compliance", "off"], None),
+        (["--bases", "head"], ["head"]),
+        (["--compliance", "all", "--bases", "free"], ["free", "free+compliance", "free+elastic"]),
         (["--compliance", "off", "--bases", "pivot,head+compliance"], ["pivot", "head+compliance"]),
         (["--compliance", "on"], [b + COMPLIANCE for b in ("clamped", "free", "head")]),
         (["--compliance", "on", "--bases", "pivot,free"], ["pivot+compliance", "free+compliance"]),

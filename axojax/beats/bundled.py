@@ -9,6 +9,8 @@ from __future__ import annotations
 import dataclasses
 import pathlib
 
+from ..units import Flagellum
+
 DATA = pathlib.Path(__file__).resolve().parent.parent / "data"
 
 
@@ -23,6 +25,9 @@ class Dataset:
         source: where the data were taken from (a repository or publication).
         licence: the data's licence, as its source states it.
         citation: the publication to cite.
+        flagellum: the organism's typical bending rigidity and drag from the literature
+            (:class:`~axojax.units.Flagellum`), which fits of this beat assume unless given
+            units (:func:`axojax.compare`); ``None`` when not known.
     """
 
     name: str
@@ -31,10 +36,29 @@ class Dataset:
     source: str
     licence: str
     citation: str
+    flagellum: Flagellum | None = None
 
     def to_json(self) -> dict:
         """The fields as a JSON object, with ``path`` (the file on this machine)."""
-        return {**dataclasses.asdict(self), "path": str(DATA / self.file)}
+        out = {**dataclasses.asdict(self), "path": str(DATA / self.file)}
+        out["flagellum"] = None if self.flagellum is None else self.flagellum.to_json()
+        return out
+
+
+HUMAN_SPERM = Flagellum(
+    bending_rigidity_pn_um2=1900.0,
+    normal_drag_pn_s_um2=3.2e-3,
+    source=(
+        "kappa 1.9e-21 N m^2: the uniform rigidity that reproduced human sperm beats in "
+        "Saggiorato et al., Nat. Commun. 8:1415 (2017), fig. 4 (human flagella are stiffer "
+        "near the head, roughly 7e-21 falling to 2e-21 N m^2: Gaffney et al., Annu. Rev. "
+        "Fluid Mech. 43:501, 2011); xi_n: Lighthill's (1976) resistive-force coefficient "
+        "4 pi mu / (ln(2q/a) + 1/2), q = 0.09 lambda, in water (mu 1 mPa s) with radius "
+        "a 0.25 um and lambda 45 um"
+    ),
+)
+"""A human sperm flagellum's typical kappa (pN um^2) and xi_n (pN s/um^2, water):
+1900 and 3.2e-3 (sources in ``source``; docs/mechanisms.md)."""
 
 
 DATASETS: dict[str, Dataset] = {
@@ -57,6 +81,7 @@ DATASETS: dict[str, Dataset] = {
                 "H. Bloomfield-Gadelha, Fluid flow reconstruction around a free-swimming "
                 "sperm in 3D, bioRxiv (2024), PMID 38853842"
             ),
+            flagellum=HUMAN_SPERM,
         ),
     )
 }
@@ -71,6 +96,19 @@ def path(name: str) -> pathlib.Path:
     if name not in FILES:
         raise ValueError(f"unknown data set {name!r}; bundled: {', '.join(FILES)}")
     return DATA / FILES[name]
+
+
+def flagellum_of(file) -> Flagellum | None:
+    """The :class:`~axojax.units.Flagellum` of the bundled data set whose file ``file``
+    is, else ``None`` (a user's file: its organism is not known)."""
+    try:
+        f = pathlib.Path(file).resolve()
+    except (OSError, RuntimeError):
+        return None
+    for d in DATASETS.values():
+        if f == (DATA / d.file).resolve():
+            return d.flagellum
+    return None
 
 
 def resolve(name_or_path) -> pathlib.Path:

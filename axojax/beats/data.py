@@ -22,10 +22,11 @@ import pathlib
 
 import numpy as np
 
+from ..units import Flagellum
 from ..waveform import FourierModes
 from ..waveform.measures import finite_or_none
 from . import reduction
-from .bundled import resolve
+from .bundled import flagellum_of, resolve
 from .readers import RawBeat, fail, read_file
 from .reduction import FREQUENCY_REL_FLOOR, PSI1_FLOOR_RAD, Planarity
 from .targets import ShapeTarget, Target, join_components
@@ -57,6 +58,8 @@ class BeatData:
         excluded_base_um: basal stretch left out (:meth:`exclude_base`).
         notes: what the reduction decided or assumed, in words.
         published_frequency_hz: a frequency stated by the data's authors, if the file has one.
+        flagellum: the organism's typical bending rigidity and drag
+            (:class:`~axojax.units.Flagellum`) for a bundled data set, else ``None``.
     """
 
     s_um: np.ndarray
@@ -76,6 +79,7 @@ class BeatData:
     excluded_base_um: float = 0.0
     notes: tuple = ()
     published_frequency_hz: float | None = None
+    flagellum: Flagellum | None = None
 
     def targets(self) -> tuple[list[Target], ShapeTarget]:
         """Frequency target (none when the frequency is unknown) and the psi_1 shape
@@ -210,6 +214,7 @@ class BeatData:
             "floors": {"frequency_relative": FREQUENCY_REL_FLOOR, "psi1_rad": PSI1_FLOOR_RAD},
             "excluded_base_um": self.excluded_base_um,
             "published_frequency_hz": self.published_frequency_hz,
+            "flagellum": None if self.flagellum is None else self.flagellum.to_json(),
             "notes": list(self.notes),
         }
 
@@ -258,7 +263,13 @@ def read_beat(
         variables, cell: for ``.npz``/``.mat``: renamed variables, which cell of a cell array.
         planarity_threshold: s3/s2 below which a 3D beat is planar.
     """
-    raw = read_file(resolve(path), variables=variables, cell=cell)
+    file = resolve(path)
+    beat = _read(file, length_um, frame_rate_hz, variables, cell, planarity_threshold)
+    return dataclasses.replace(beat, flagellum=flagellum_of(file))
+
+
+def _read(file, length_um, frame_rate_hz, variables, cell, planarity_threshold) -> BeatData:
+    raw = read_file(file, variables=variables, cell=cell)
     length = _physical(raw, "length_um", length_um, "--length-um")
     notes = []
     published = raw.scalars.get("published_frequency_hz")

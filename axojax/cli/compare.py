@@ -2,7 +2,12 @@
 (:func:`axojax.compare`; docs/mechanisms.md).
 
 Basal compliance: bases named ``KIND+compliance`` / ``KIND+elastic``, or ``--compliance
-on|elastic|both`` for every base (docs/mechanisms.md, basal compliance).
+off|on|elastic|both|both-elastic|all`` for every base (default: the default bases without
+and with a basal spring; named bases as named; docs/mechanisms.md, basal compliance).
+
+Units: ``--ei`` and ``--cn`` (per filament); what is not given comes from the data set's
+flagellum when it is a bundled one (the human sperm's kappa and xi_n), else from axojax's
+defaults (:func:`axojax.inverse.compare.default_units`); the table says which.
 
 Exit status 0; bad input (an unknown or unavailable mechanism or base, a coefficient
 named as a mechanism, a bad --compliance, a bad setting) is one line naming the flag,
@@ -15,7 +20,7 @@ import argparse
 import warnings
 
 from .._progress import enabled as progress_enabled
-from ..inverse.compare import compare, render_table
+from ..inverse.compare import compare, default_units, render_table
 from ..inverse.mechanisms import (
     BASES,
     COMPARE_PRESETS,
@@ -38,7 +43,14 @@ from ..units import Units
 from . import _values, common
 
 MAX_STARTS = 100
-COMPLIANCE_MODES = {"off": False, "on": True, "elastic": "elastic", "both": "both"}
+COMPLIANCE_MODES = {
+    "off": False,
+    "on": True,
+    "elastic": "elastic",
+    "both": "both",
+    "both-elastic": "both-elastic",
+    "all": "all",
+}
 """``--compliance``'s values and :func:`axojax.compare`'s ``compliance`` for each."""
 COEFFICIENTS = {
     "chi": "sliding",
@@ -71,12 +83,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--compliance",
-        default="off",
+        default=None,
         metavar="MODE",
-        help="basal compliance chi_b = k_b + i omega xi_b on every base: off (default: as "
-        "--bases names them), on (kb and xib fitted; a row keeps two values of its own), "
-        "elastic (kb fitted, xi_b negligible; a row keeps three), or both (every base "
-        "without and with 'on')",
+        help="basal compliance chi_b = k_b + i omega xi_b on every base: off (as --bases "
+        "names them), on (kb and xib fitted; a row keeps two values of its own), elastic "
+        "(kb fitted, xi_b negligible; a row keeps three), both / both-elastic (every base "
+        "without and with 'on' / 'elastic'), all (the three). Default: both-elastic for "
+        "the default bases, off when --bases is given",
     )
     parser.add_argument(
         "--model",
@@ -95,16 +108,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--ei",
         type=common.finite_float,
-        default=du.ei_pn_um2,
+        default=None,
         metavar="PN_UM2",
-        help="EI of one filament, pN um^2 (default 800/11); with --cn it sets the beat's sperm number",
+        help="EI of one filament, pN um^2 (default: the bundled data set's flagellum, kappa "
+        f"shared by the filaments; else {du.ei_pn_um2:.4g}); with --cn it sets the beat's sperm number",
     )
     parser.add_argument(
         "--cn",
         type=common.finite_float,
         default=None,
         metavar="PN_S_UM2",
-        help="resistive coefficient of one filament, pN s um^-2 (default 0.003)",
+        help="resistive coefficient of one filament, pN s um^-2 (default: the bundled data "
+        f"set's flagellum, xi_n shared by the filaments; else {du.cn_pn_s_um2:g})",
     )
     parser.add_argument(
         "--sperm-number",
@@ -184,12 +199,12 @@ def run(args: argparse.Namespace) -> dict:
         check_names(mechanisms, bases, mechanism_flag="--mechanisms", base_flag="--bases")
     except ValueError as err:
         raise common.CLIError(str(err)) from None
-    if args.compliance not in COMPLIANCE_MODES:
+    if args.compliance is not None and args.compliance not in COMPLIANCE_MODES:
         raise common.CLIError(
             f"--compliance: expected one of {', '.join(COMPLIANCE_MODES)}, got {args.compliance!r}"
         )
     try:
-        bases = with_compliance(bases, COMPLIANCE_MODES[args.compliance])
+        bases = with_compliance(bases, COMPLIANCE_MODES.get(args.compliance))
         check_names(mechanisms, bases, mechanism_flag="--mechanisms", base_flag="--compliance")
     except ValueError as err:
         raise common.CLIError(str(err)) from None
@@ -208,12 +223,24 @@ def run(args: argparse.Namespace) -> dict:
             raise common.CLIError("--sperm-number: sets c_n; give --sperm-number or --cn, not both")
         if not args.sperm_number > 0:
             raise common.CLIError(f"--sperm-number: must be > 0, got {args.sperm_number:g}")
-    cn = Units().cn_pn_s_um2 if args.cn is None else args.cn
+    from ..beats import read_beat
+
     try:
-        units = Units(12.0, args.ei, cn)  # the length is the data's
-    except ValueError as err:
-        flag = "--ei" if "ei_pn_um2" in str(err) else "--cn"
-        raise common.CLIError(f"{flag}: {err}") from None
+        beat = read_beat(args.data)
+    except (ValueError, OSError) as err:
+        raise common.CLIError(f"--data: {err}") from None
+    units = (
+        None  # the library's default (the data set's flagellum, or axojax's), named in the table
+    )
+    if args.ei is not None or args.cn is not None:
+        default, _ = default_units(beat, args.model)
+        ei = default.ei_pn_um2 if args.ei is None else args.ei
+        cn = default.cn_pn_s_um2 if args.cn is None else args.cn
+        try:
+            units = Units(beat.length_um, ei, cn)
+        except ValueError as err:
+            flag = "--ei" if "ei_pn_um2" in str(err) else "--cn"
+            raise common.CLIError(f"{flag}: {err}") from None
     head = None
     if args.head_um is not None or args.viscosity_pa_s is not None:
         if bases is not None and not any(b.startswith("head") for b in bases):
@@ -222,16 +249,10 @@ def run(args: argparse.Namespace) -> dict:
         a, b = DEFAULT_HEAD_UM if args.head_um is None else _values._pair(args.head_um, "--head-um")
         mu = DEFAULT_VISCOSITY_PA_S if args.viscosity_pa_s is None else args.viscosity_pa_s
         try:
-            head = Base.head_from_ellipsoid(a, b, mu, units)
+            head = Base.head_from_ellipsoid(a, b, mu, units or default_units(beat, args.model)[0])
         except ValueError as err:
             flag = "--viscosity-pa-s" if "viscosity" in str(err) else "--head-um"
             raise common.CLIError(f"{flag}: {err}") from None
-    from ..beats import read_beat
-
-    try:
-        beat = read_beat(args.data)
-    except (ValueError, OSError) as err:
-        raise common.CLIError(f"--data: {err}") from None
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")

@@ -2,7 +2,7 @@
 frequency and its sigma, wavelength, static curvature, dynamic amplitude, planarity),
 optionally with a figure. ``axojax data --list``: the bundled data sets, each with its
 source and licence (JSON: ``{"datasets": [{"name", "file", "description", "source",
-"licence", "citation", "path"}, ...]}``).
+"licence", "citation", "flagellum", "path"}, ...]}``).
 
 Physical inputs the file may lack: ``--length-um`` and ``--frame-rate-hz``. A value in the
 file and a different one on the command line is an error (one line naming both); a
@@ -177,6 +177,12 @@ def _render_list(doc: dict) -> str:
             f"  licence   {d['licence']}",
             f"  citation  {d['citation']}",
         ]
+        f = d.get("flagellum")
+        if f:
+            lines.append(
+                f"  flagellum kappa {f['bending_rigidity_pn_um2']:g} pN um^2, xi_n "
+                f"{f['normal_drag_pn_s_um2']:g} pN s/um^2 (fits' default units; {f['source']})"
+            )
     lines.append("(source, units and extraction in full: axojax/data/README.md)")
     return "\n".join(lines)
 

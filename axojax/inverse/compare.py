@@ -31,6 +31,7 @@ from tqdm.auto import tqdm
 
 from .. import _io
 from ..beats.data import BeatData, read_beat
+from ..models.presets import preset_section
 from ..results import jsonable
 from ..units import Units
 from .fit import build_problem
@@ -148,6 +149,8 @@ class Comparison:
             psi0: (S,) observed psi_0 (rad) or None.
         frequency_hz: the observed frequency (every row's pin).
         model, n_elements, units: the model all rows share.
+        units_source: where ``units`` came from (given, the data set's flagellum, or
+            axojax's defaults), in words.
         rows: :class:`CompareRow` s ordered by BIC.
         wall_s: total time (s).
     """
@@ -164,6 +167,7 @@ class Comparison:
     wall_s: float
     pin_tolerance: float = PIN_TOLERANCE
     shape_floor: float = SHAPE_FLOOR
+    units_source: str = "given"
 
     @property
     def best(self) -> CompareRow:
@@ -188,6 +192,7 @@ class Comparison:
                     "ei_pn_um2": self.units.ei_pn_um2,
                     "cn_pn_s_um2": self.units.cn_pn_s_um2,
                     "sperm_number": float(self.units.omega0_from_hz(self.frequency_hz)),
+                    "units_source": self.units_source,
                 },
                 "pin_tolerance": self.pin_tolerance,
                 "shape_floor_rad": self.shape_floor,
@@ -236,6 +241,11 @@ def render_table(doc: dict[str, Any]) -> str:
         f"observed {num(f_obs, '.4g')} Hz; rows by BIC (lower is better); "
         f"R^2 is Sartori's of psi_1"
     )
+    if m.get("units_source"):
+        lines.append(
+            f"units: EI {m['ei_pn_um2']:.4g} pN um^2 and c_n {m['cn_pn_s_um2']:.3g} pN s/um^2 "
+            f"per filament, L {m['length_um']:.4g} um ({m['units_source']})"
+        )
     return "\n".join(lines)
 
 
@@ -282,6 +292,28 @@ def _physical(values: dict[str, float], units: Units) -> dict[str, float]:
     return out
 
 
+def default_units(beat: BeatData, model: str = DEFAULT_PRESET) -> tuple[Units, str]:
+    """The units a comparison of ``beat`` assumes when given none, and where they come
+    from in words: the data set's flagellum when it is known (a bundled beat:
+    :attr:`BeatData.flagellum`, kappa and xi_n shared by the preset's F filaments), else
+    axojax's :class:`~axojax.Units` (paper table 2: a 12 um cilium's EI and c_n per
+    filament), at the beat's length either way. The shape a model can reach depends on
+    the sperm number they give (docs/mechanisms.md), so a user's own beat should come with
+    its organism's units."""
+    n_filaments = preset_section(model).n_filaments
+    if beat.flagellum is not None:
+        f = beat.flagellum
+        return f.units(beat.length_um, n_filaments), (
+            f"the data set's flagellum: kappa {f.bending_rigidity_pn_um2:.4g} pN um^2, "
+            f"xi_n {f.normal_drag_pn_s_um2:.3g} pN s/um^2, shared by {n_filaments} filaments"
+        )
+    u = Units()
+    return Units(beat.length_um, u.ei_pn_um2, u.cn_pn_s_um2), (
+        "axojax's default units (paper table 2, a 12 um cilium's); give the organism's "
+        "(--ei, --cn) for a fit that means something"
+    )
+
+
 def _beat(data) -> BeatData:
     if isinstance(data, BeatData):
         return data
@@ -307,7 +339,7 @@ def compare(
     progress: bool = False,
     head=None,
     profiles=None,
-    compliance: bool | str = False,
+    compliance: bool | str | None = None,
 ) -> Comparison:
     """Fit every mechanism x base to one beat and rank them by BIC.
 
@@ -324,7 +356,8 @@ def compare(
             anchors, and the fastest; docs/mechanisms.md).
         n_elements: elements per filament.
         units: EI and c_n (per filament; the length is the data's). Default
-            :class:`~axojax.Units` at the data's length.
+            :func:`default_units`: the data set's flagellum when known (the bundled human
+            sperm: kappa 1900 pN um^2, xi_n 3.2e-3 pN s/um^2), else :class:`~axojax.Units`.
         sperm_number: Sp = omega xi_n L^4 / kappa of the beat (the dimensionless omega0
             of every regulated row): when given, c_n is set to give it (EI from
             ``units``). The shape a model can reach depends on it most
@@ -339,11 +372,14 @@ def compare(
         profiles: static relative x-profiles of EI, p and the links for every row's model
             (:class:`axojax.fem.Profiles`; e.g. ``Profiles(ei=lambda x: 3 - 2 * x)``, a base
             three times stiffer than the tip); uniform by default.
-        compliance: True: every base with a basal compliance chi_b = k_b + i omega xi_b
-            (two more free values, kb and xib; a row keeps two of its own, so that it
-            stays within 6 with the amplitude: docs/mechanisms.md); ``"both"``: every
-            base without and with it (twice the rows). Default False (the names in
-            ``bases`` decide).
+        compliance: basal compliance chi_b = k_b + i omega xi_b on the bases
+            (:data:`~axojax.inverse.mechanisms.COMPLIANCE_FORMS`): ``True`` every base with
+            it (kb and xib fitted; a row keeps two values of its own, so that it stays
+            within 6 with the amplitude: docs/mechanisms.md), ``"elastic"`` a basal spring
+            (kb fitted; three of its own), ``"both"`` / ``"both-elastic"`` every base
+            without and with the one or the other, ``"all"`` all three, ``False`` the bases
+            as named. Default ``None``: the default bases without and with a basal spring
+            (``"both-elastic"``: 24 rows), named bases as named.
         progress: a bar over rows on stderr (``axojax compare`` shows it on a terminal,
             never with ``--json`` on a pipe: :mod:`axojax._progress`'s rule).
 
@@ -360,13 +396,16 @@ def compare(
     if shape is None:
         raise ValueError("data: the beat has no psi_1 shape to compare mechanisms on")
     f_obs = float(beat.frequency_hz)
-    u0 = Units() if units is None else units
-    units = Units(beat.length_um, u0.ei_pn_um2, u0.cn_pn_s_um2)
+    if units is None:
+        units, units_source = default_units(beat, model)
+    else:
+        units, units_source = Units(beat.length_um, units.ei_pn_um2, units.cn_pn_s_um2), "given"
     if sperm_number is not None:
         if not (math.isfinite(sperm_number) and sperm_number > 0):
             raise ValueError(f"sperm_number: must be > 0, got {sperm_number!r}")
         cn = sperm_number / float(units.omega0_from_hz(f_obs)) * units.cn_pn_s_um2
-        units = Units(beat.length_um, u0.ei_pn_um2, cn)
+        units = Units(beat.length_um, units.ei_pn_um2, cn)
+        units_source += f"; c_n set by the sperm number {sperm_number:g}"
     t0 = time.perf_counter()
     rows: list[CompareRow] = []
     combos = [(m, b) for b in bases for m in mechanisms]
@@ -391,6 +430,7 @@ def compare(
         wall_s=time.perf_counter() - t0,
         pin_tolerance=pin_tolerance,
         shape_floor=shape_floor,
+        units_source=units_source,
     )
 
 

@@ -183,23 +183,46 @@ def parse_base(name: str) -> tuple[str, str]:
     return name, ""
 
 
-def with_compliance(bases, compliance) -> tuple[str, ...] | None:
-    """``bases`` (None: :data:`DEFAULT_BASES`) with basal compliance: ``False`` leaves them
-    as named (None stays None), ``True`` gives each :data:`COMPLIANCE`, ``"elastic"``
-    :data:`ELASTIC`, ``"both"`` lists each without and with :data:`COMPLIANCE`. One-line
-    ``ValueError`` for another value."""
-    if compliance is False or compliance is np.False_:
-        return None if bases is None else tuple(bases)
-    if not (compliance is True or compliance is np.True_ or compliance in ("both", "elastic")):
+COMPLIANCE_FORMS = {
+    False: ("",),
+    True: (COMPLIANCE,),
+    "elastic": (ELASTIC,),
+    "both": ("", COMPLIANCE),
+    "both-elastic": ("", ELASTIC),
+    "all": ("", COMPLIANCE, ELASTIC),
+}
+"""Each ``compliance`` value of :func:`with_compliance` and the base-name suffixes it
+gives every base ("": none; :data:`COMPLIANCE`: kb and xib; :data:`ELASTIC`: kb)."""
+DEFAULT_COMPLIANCE = "both-elastic"
+"""The default set's compliance: every default base without and with a basal spring
+(docs/mechanisms.md: why)."""
+
+
+def with_compliance(bases, compliance=None) -> tuple[str, ...] | None:
+    """``bases`` (None: :data:`DEFAULT_BASES`) with basal compliance, by
+    :data:`COMPLIANCE_FORMS`: ``False`` leaves them as named (None stays None), ``True``
+    gives each :data:`COMPLIANCE`, ``"elastic"`` :data:`ELASTIC`, ``"both"`` lists each
+    without and with :data:`COMPLIANCE`, ``"both-elastic"`` without and with
+    :data:`ELASTIC`, ``"all"`` all three. ``None`` (the default): the default bases with
+    :data:`DEFAULT_COMPLIANCE`, named bases as named. One-line ``ValueError`` for another
+    value."""
+    if compliance is None:
+        compliance = DEFAULT_COMPLIANCE if bases is None else False
+    if isinstance(compliance, np.bool_):
+        compliance = bool(compliance)
+    if not any(
+        compliance is k or (isinstance(k, str) and compliance == k) for k in COMPLIANCE_FORMS
+    ):
         raise ValueError(
-            f"compliance: expected True, False, 'elastic' or 'both', got {compliance!r}"
+            "compliance: expected True, False, 'elastic', 'both', 'both-elastic' or 'all', "
+            f"got {compliance!r}"
         )
+    if compliance is False:
+        return None if bases is None else tuple(bases)
     names = DEFAULT_BASES if bases is None else tuple(bases)
     kinds = [parse_base(n)[0] for n in names]
-    if compliance == "both":
-        return tuple(x for k in kinds for x in (k, k + COMPLIANCE))
-    suffix = ELASTIC if compliance == "elastic" else COMPLIANCE
-    return tuple(k + suffix if isinstance(k, str) else k for k in kinds)
+    forms = COMPLIANCE_FORMS[compliance]
+    return tuple(k + f if isinstance(k, str) else k for k in kinds for f in forms)
 
 
 def check_names(
