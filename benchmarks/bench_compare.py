@@ -1,12 +1,13 @@
 """Time of ``axojax compare``'s default set on one beat (issue 30: under 5 minutes on 2 cores).
 
-Runs :func:`axojax.compare` with its defaults (every mechanism on the available bases,
-the ``two`` preset, 16 elements, 3 starts per row) on the bundled human sperm beat, and
+Runs :func:`axojax.compare` with its defaults (every mechanism on the default bases, each
+without and with a basal spring: 24 rows; the ``two`` preset, 16 elements, 3 starts per
+row; the data set's flagellum's units) on the bundled human sperm beat, and
 prints the total wall time, each row's (compilation, screening of its starts and the
 least-squares fit), and the table. Timings are for one machine and one run, not
 assertions; the machine may be shared, so the CPU time of the process is printed too.
 
-    python benchmarks/bench_compare.py [--elements 16] [--starts 3] [--model two] [--ei 72.7 --cn 0.003]
+    python benchmarks/bench_compare.py [--elements 16] [--starts 3] [--model two] [--ei PN_UM2 --cn PN_S_UM2] [--compliance off]
 """
 
 import argparse
@@ -14,6 +15,7 @@ import time
 import warnings
 
 import axojax as ax
+from axojax.inverse.compare import default_units
 
 
 def main() -> None:
@@ -21,11 +23,20 @@ def main() -> None:
     parser.add_argument("--elements", type=int, default=16)
     parser.add_argument("--starts", type=int, default=3)
     parser.add_argument("--model", default="two")
-    parser.add_argument("--ei", type=float, default=ax.Units().ei_pn_um2)
-    parser.add_argument("--cn", type=float, default=ax.Units().cn_pn_s_um2)
+    parser.add_argument("--ei", type=float, default=None, help="default: the data set's")
+    parser.add_argument("--cn", type=float, default=None, help="default: the data set's")
+    parser.add_argument("--compliance", default=None, help="default: compare's (both-elastic)")
     args = parser.parse_args()
     beat = ax.datasets.human_sperm()
-    units = ax.Units(beat.length_um, args.ei, args.cn)
+    units = None
+    if args.ei is not None or args.cn is not None:
+        default, _ = default_units(beat, args.model)
+        units = ax.Units(
+            beat.length_um,
+            default.ei_pn_um2 if args.ei is None else args.ei,
+            default.cn_pn_s_um2 if args.cn is None else args.cn,
+        )
+    compliance = {"off": False, "on": True}.get(args.compliance, args.compliance)
     wall, cpu = time.perf_counter(), time.process_time()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -36,6 +47,7 @@ def main() -> None:
             units=units,
             starts=args.starts,
             progress=False,
+            compliance=compliance,
         )
     wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
     print(result.table())
@@ -44,7 +56,7 @@ def main() -> None:
         f"{args.starts} starts): {wall:.1f} s wall, {cpu:.1f} s CPU (all threads)"
     )
     for r in result.rows:
-        print(f"  {r.mechanism:<18} {r.base:<8} {r.wall_s:6.1f} s")
+        print(f"  {r.mechanism:<18} {r.base:<16} {r.wall_s:6.1f} s")
 
 
 if __name__ == "__main__":
