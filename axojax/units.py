@@ -17,6 +17,16 @@ UNIT_RANGE = (1e-9, 1e9)
 finite in float64)."""
 
 
+def _check_scale(what: str, name: str, v) -> None:
+    """One-line ``ValueError`` unless ``v`` is a finite positive number in :data:`UNIT_RANGE`."""
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
+        raise ValueError(f"{what} {name} must be a finite positive number, got {v!r}")
+    if not UNIT_RANGE[0] <= v <= UNIT_RANGE[1]:
+        raise ValueError(
+            f"{what} {name} must be in {UNIT_RANGE[0]:g}..{UNIT_RANGE[1]:g}, got {v!r}"
+        )
+
+
 @dataclasses.dataclass(frozen=True)
 class Units:
     """Physical scales of a model (defaults: paper table 2).
@@ -34,18 +44,7 @@ class Units:
 
     def __post_init__(self) -> None:
         for name in ("length_um", "ei_pn_um2", "cn_pn_s_um2"):
-            v = getattr(self, name)
-            if (
-                isinstance(v, bool)
-                or not isinstance(v, (int, float))
-                or not math.isfinite(v)
-                or v <= 0
-            ):
-                raise ValueError(f"unit {name} must be a finite positive number, got {v!r}")
-            if not UNIT_RANGE[0] <= v <= UNIT_RANGE[1]:
-                raise ValueError(
-                    f"unit {name} must be in {UNIT_RANGE[0]:g}..{UNIT_RANGE[1]:g}, got {v!r}"
-                )
+            _check_scale("unit", name, getattr(self, name))
 
     # -- scales ---------------------------------------------------------------------
     @property
@@ -170,14 +169,7 @@ class Flagellum:
 
     def __post_init__(self) -> None:
         for name in ("bending_rigidity_pn_um2", "normal_drag_pn_s_um2"):
-            v = getattr(self, name)
-            if (
-                isinstance(v, bool)
-                or not isinstance(v, (int, float))
-                or not math.isfinite(v)
-                or v <= 0
-            ):
-                raise ValueError(f"flagellum {name} must be a finite positive number, got {v!r}")
+            _check_scale("flagellum", name, getattr(self, name))
 
     def units(self, length_um: float, n_filaments: int) -> Units:
         """The :class:`Units` of a model of ``n_filaments`` filaments of this flagellum,
