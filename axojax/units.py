@@ -174,7 +174,10 @@ class Flagellum:
     def units(self, length_um: float, n_filaments: int) -> Units:
         """The :class:`Units` of a model of ``n_filaments`` filaments of this flagellum,
         ``length_um`` long: each filament carries 1/F of kappa and of xi_n (kappa = F EI,
-        xi_n = F c_n; for the two-filament preset Sartori et al.'s kappa = 2 EI)."""
+        xi_n = F c_n: for the two-filament preset Sartori et al.'s kappa = 2 EI). The
+        paper's own default for its seven-filament preset gives each filament 1/11 of the
+        axoneme's rigidity instead (one of its 11 microtubules: :class:`Units`); pass
+        explicit :class:`Units` to follow that convention."""
         if not (isinstance(n_filaments, int) and n_filaments >= 1):
             raise ValueError(f"n_filaments: expected a positive integer, got {n_filaments!r}")
         return Units(
