@@ -93,23 +93,27 @@ def main() -> None:
     print("axojax " + " ".join(argv))
     with tempfile.TemporaryDirectory() as tmp:
         cache = pathlib.Path(tmp) / "cache"
-        rows = []
+        rows, docs = [], []
         for label in ("first (empty cache)", "second (same command)"):
             wall, doc = run(argv, cache)
             post = doc["posterior"]
             start = wall - post["seconds_sampling"]
             rows.append((wall, post["seconds_compile"], start))
+            docs.append(doc)
             print(
-                f"{label:22s} wall {wall:7.1f} s; posterior compilation {post['seconds_compile']:6.1f} s; "
-                f"up to the first draw {start:6.1f} s (warm-up {post['seconds_warmup']:.1f} s); "
-                f"sampling {post['seconds_sampling']:.1f} s"
+                f"{label:22s} whole run {wall:7.1f} s; start (up to the first draw) {start:6.1f} s "
+                f"(posterior start-up {post['seconds_start']:.1f} s, warm-up {post['seconds_warmup']:.1f} s, "
+                f"warm-state cache {post.get('warm_cache')}); "
+                f"posterior compilation {post['seconds_compile']:6.1f} s; sampling {post['seconds_sampling']:.1f} s"
             )
         files = sum(1 for _ in cache.rglob("*") if _.is_file())
         size = sum(f.stat().st_size for f in cache.rglob("*") if f.is_file()) / 1e6
     (w1, c1, s1), (w2, c2, s2) = rows
-    print(f"cache: {files} files, {size:.1f} MB")
+    p1, p2 = docs[0]["posterior"], docs[1]["posterior"]
+    same = all(p1[key] == p2[key] for key in ("mean", "sd", "q05", "q95"))
+    print(f"cache: {files} files, {size:.1f} MB; the two runs' summaries identical: {same}")
     print(
-        f"first / second: wall {w1 / w2:.2f}x, up to the first draw {s1 / s2:.2f}x, "
+        f"first / second: start (up to the first draw) {s1 / s2:.2f}x, whole run {w1 / w2:.2f}x, "
         f"posterior compilation {c1 / max(c2, 1e-9):.1f}x (target: the second starts >= 3x faster)"
     )
     print(f"load average at end {os.getloadavg()}")
