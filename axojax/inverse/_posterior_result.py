@@ -70,6 +70,9 @@ class Posterior:
         warm_cache: the start-up's cache (``posterior(cache=...)``): "off" (none, or a
             problem that cannot be fingerprinted), "stored" (computed and kept) or
             "loaded" (an identical run's: no start-up computed, ``seconds_warmup`` 0).
+        seconds_compile_draws: the compilation of the draws' program, within
+            ``seconds_sampling`` (so the first draw came ``seconds - seconds_sampling +
+            seconds_compile_draws`` after the start, plus its own steps).
     """
 
     names: tuple[str, ...]
@@ -114,6 +117,7 @@ class Posterior:
     max_num_doublings: int = 0
     gradients_per_draw: float = math.nan
     warm_cache: str = "off"
+    seconds_compile_draws: float = 0.0
 
     @property
     def chains(self) -> int:
@@ -145,7 +149,8 @@ class Posterior:
         (the name of :attr:`result`), ``laplace`` (:meth:`Laplace.to_json`, or None),
         ``sd_ratio``, ``shift``, ``tree_depth``, ``tree_depth_saturated``,
         ``max_num_doublings``, ``gradients_per_draw``, ``warm_cache`` ("off", "stored"
-        or "loaded": :func:`~axojax.inverse.posterior`'s ``cache``)."""
+        or "loaded": :func:`~axojax.inverse.posterior`'s ``cache``),
+        ``seconds_compile_draws``."""
         return {
             "draws": self.draws,
             "chains": self.chains,
@@ -176,6 +181,7 @@ class Posterior:
             "max_num_doublings": self.max_num_doublings,
             "gradients_per_draw": self.gradients_per_draw,
             "warm_cache": self.warm_cache,
+            "seconds_compile_draws": self.seconds_compile_draws,
         }
 
     def save(self, path, *, truth: Mapping[str, float] | None = None) -> None:
@@ -268,6 +274,7 @@ _SCALAR_FIELDS = (
     "max_num_doublings",
     "gradients_per_draw",
     "warm_cache",
+    "seconds_compile_draws",
 )
 
 

@@ -174,12 +174,13 @@ def posterior(
                 warm_grads=np.asarray(warm_grads),
             )
             _warm_cache.save(file, run_key, warm)
-    t0 = time.perf_counter()
+    t0, compile_draws = time.perf_counter(), clock.seconds
     z, logd, divergent, n_steps, accept, depth = _draw(
         sampled, sampler, states, step_size, imm, draws, vectorize, key_sample, progress, clock
     )
     seconds_sampling = time.perf_counter() - t0
     compile_chains = clock.seconds - compile_start
+    compile_draws = clock.seconds - compile_draws
     if sampler.whiten:
         z = np.asarray(sampled.to_z(jnp.asarray(z)))
 
@@ -250,6 +251,7 @@ def posterior(
         max_num_doublings=int(sampler.max_num_doublings),
         gradients_per_draw=float(np.mean(n_steps)),
         warm_cache=warm_cache,
+        seconds_compile_draws=compile_draws,
     )
 
 
