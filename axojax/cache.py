@@ -15,6 +15,13 @@ console entry point, and ``python -m axojax.cli.main``) does this; ``main()`` ca
 Python, and Python code in general, caches nothing unless asked:
 ``ax.enable_compilation_cache()``. A cached program is the same program: results are
 identical with and without the cache.
+
+Posterior runs also keep their start-up there (:mod:`axojax.inverse._warm_cache`): the
+posterior mode, the Laplace approximation and the warm-up's adapted state, in
+``PATH/posterior/`` (:data:`WARM_SUBDIR`), so that an identical second run goes straight
+to its draws. ``axojax fit --posterior`` does so whenever the compilation cache is on;
+in Python, ``posterior(..., cache=True)`` (the same directory, ``off`` honoured) or
+``cache=PATH``.
 """
 
 from __future__ import annotations
@@ -23,6 +30,8 @@ import os
 import pathlib
 
 CACHE_ENV = "AXOJAX_CACHE_DIR"
+WARM_SUBDIR = "posterior"
+"""The posterior warm-state files' folder inside the cache directory."""
 MIN_COMPILE_SECONDS = 0.5
 """Programs that compile faster than this are not worth a file."""
 
@@ -51,7 +60,7 @@ def command_line_cache() -> pathlib.Path | None:
     import jax
 
     setting = os.environ.get(CACHE_ENV)
-    if setting is not None and setting.strip().lower() in ("", "off", "0", "none"):
+    if setting is not None and _off(setting):
         return None
     if not quiet_loader(jax.__version__):
         return None
@@ -64,3 +73,32 @@ def command_line_cache() -> pathlib.Path | None:
 def quiet_loader(jax_version: str) -> bool:
     """Whether this jax loads cached CPU programs without spurious errors (>= 0.10)."""
     return tuple(int(x) for x in jax_version.split(".")[:2]) >= (0, 10)
+
+
+def _off(setting: str) -> bool:
+    return setting.strip().lower() in ("", "off", "0", "none")
+
+
+def compilation_cache_dir() -> pathlib.Path | None:
+    """The persistent compilation cache's directory in this process, or None when off."""
+    import jax
+
+    directory = jax.config.jax_compilation_cache_dir
+    return pathlib.Path(directory) if directory else None
+
+
+def posterior_cache_dir(cache) -> pathlib.Path | None:
+    """Where :func:`axojax.inverse.posterior` keeps warm states for its ``cache=``
+    argument: None or False: nowhere; True: ``WARM_SUBDIR`` in the command line's cache
+    directory (``AXOJAX_CACHE_DIR``, else :func:`default_cache_dir`; None when that is
+    ``off``); a path: that directory."""
+    if cache is None or cache is False:
+        return None
+    if cache is True:
+        setting = os.environ.get(CACHE_ENV)
+        if setting is not None and _off(setting):
+            return None
+        return (pathlib.Path(setting) if setting else default_cache_dir()) / WARM_SUBDIR
+    if isinstance(cache, (str, os.PathLike)) and str(cache):
+        return pathlib.Path(cache)
+    raise TypeError(f"cache must be None, True, False or a directory path, got {cache!r}")

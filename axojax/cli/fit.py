@@ -16,6 +16,7 @@ import warnings
 
 from .. import _io, _progress
 from ..beats import OBSERVATIONS, Target, observation_targets, read_beat
+from ..cache import WARM_SUBDIR, compilation_cache_dir
 from ..eigen.solvers import AbstractEigenSolver, Auto
 from ..inverse import (
     SHAPE_FLOOR,
@@ -374,6 +375,7 @@ def _run_fit(args, problem, options: dict, flag: str):
                 warmup=max(args.posterior, 150),
                 init=result,
                 progress=options["progress"],
+                cache=_warm_cache_dir(),
                 on_laplace=None if args.json else _print_laplace,
             )
     except ValueError as err:
@@ -381,6 +383,14 @@ def _run_fit(args, problem, options: dict, flag: str):
     for w in caught:  # R-hat, ESS and divergence warnings: one line each on stderr
         print(f"axojax: fit: posterior: {w.message}", file=sys.stderr)
     return result, post
+
+
+def _warm_cache_dir():
+    """Where ``--posterior`` keeps its start-up (:mod:`axojax.inverse._warm_cache`):
+    ``posterior/`` in the compilation cache's directory when that cache is on (the
+    ``axojax`` command: :mod:`axojax.cache`), else nowhere."""
+    directory = compilation_cache_dir()
+    return None if directory is None else directory / WARM_SUBDIR
 
 
 def _print_laplace(laplace) -> None:

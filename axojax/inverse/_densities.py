@@ -119,6 +119,16 @@ class ScaledSigmas(eqx.Module):
     def u0(self) -> np.ndarray:
         return self.problem.u0
 
+    def fingerprint(self) -> str:
+        """The wrapped problem's fingerprint with the factor (``TypeError`` when the
+        problem has none: :mod:`axojax.inverse._warm_cache`)."""
+        from ._warm_cache import digest
+
+        inner = getattr(self.problem, "fingerprint", None)
+        if not callable(inner):
+            raise TypeError("the wrapped problem has no fingerprint")
+        return digest(("ScaledSigmas", inner(), self.factor))
+
     def residuals(self, u: Float[Array, " k"]) -> Float[Array, " m"]:
         return self.problem.residuals(u) / self.factor
 

@@ -67,6 +67,12 @@ class Posterior:
         tree_depth_saturated: share of the draws whose tree reached ``max_num_doublings``.
         max_num_doublings: the sampler's tree depth limit.
         gradients_per_draw: mean gradients (leapfrog steps) per draw after warm-up.
+        warm_cache: the start-up's cache (``posterior(cache=...)``): "off" (none, or a
+            problem that cannot be fingerprinted), "stored" (computed and kept) or
+            "loaded" (an identical run's: no start-up computed, ``seconds_warmup`` 0).
+        seconds_compile_draws: the compilation of the draws' program, within
+            ``seconds_sampling`` (so the first draw came ``seconds - seconds_sampling +
+            seconds_compile_draws`` after the start, plus its own steps).
     """
 
     names: tuple[str, ...]
@@ -110,6 +116,8 @@ class Posterior:
     tree_depth_saturated: float = math.nan
     max_num_doublings: int = 0
     gradients_per_draw: float = math.nan
+    warm_cache: str = "off"
+    seconds_compile_draws: float = 0.0
 
     @property
     def chains(self) -> int:
@@ -140,7 +148,9 @@ class Posterior:
         ``seconds_sampling``, ``seconds_per_gradient``, ``seconds_per_ess``, ``message``, ``result``
         (the name of :attr:`result`), ``laplace`` (:meth:`Laplace.to_json`, or None),
         ``sd_ratio``, ``shift``, ``tree_depth``, ``tree_depth_saturated``,
-        ``max_num_doublings``, ``gradients_per_draw``."""
+        ``max_num_doublings``, ``gradients_per_draw``, ``warm_cache`` ("off", "stored"
+        or "loaded": :func:`~axojax.inverse.posterior`'s ``cache``),
+        ``seconds_compile_draws``."""
         return {
             "draws": self.draws,
             "chains": self.chains,
@@ -170,6 +180,8 @@ class Posterior:
             "tree_depth_saturated": self.tree_depth_saturated,
             "max_num_doublings": self.max_num_doublings,
             "gradients_per_draw": self.gradients_per_draw,
+            "warm_cache": self.warm_cache,
+            "seconds_compile_draws": self.seconds_compile_draws,
         }
 
     def save(self, path, *, truth: Mapping[str, float] | None = None) -> None:
@@ -261,6 +273,8 @@ _SCALAR_FIELDS = (
     "tree_depth_saturated",
     "max_num_doublings",
     "gradients_per_draw",
+    "warm_cache",
+    "seconds_compile_draws",
 )
 
 

@@ -36,6 +36,7 @@ and ``save(path)`` (an ``.npz`` that :func:`axojax.plotting.corner.plot_corner` 
 from __future__ import annotations
 
 import math
+import os
 import time
 import warnings
 from collections.abc import Callable, Mapping
@@ -48,8 +49,9 @@ from jaxtyping import Array
 
 from .._progress import progress as progress_bar
 from .._progress import stage
+from ..cache import posterior_cache_dir
 from ..results import RESULTS, message
-from . import diagnostics
+from . import _warm_cache, diagnostics
 from ._densities import InverseProblem, _Target, _Whitened, normal_prior
 from ._laplace import Laplace, _starts, laplace_of
 from ._nuts import DEFAULT_NUTS, NUTS, _compiled, _init_states, _sample, _to_u, _values, _warmup
@@ -75,6 +77,7 @@ def posterior(
     vectorize: bool = True,
     progress: bool = False,
     on_laplace: Callable[[Laplace], None] | None = None,
+    cache: bool | str | os.PathLike | None = None,
 ) -> Posterior:
     """Sample the posterior of ``problem``'s free parameters with NUTS.
 
@@ -104,6 +107,16 @@ def posterior(
         on_laplace: called with the :class:`Laplace` approximation at the centre as soon
             as it exists, before the warm-up (e.g. to print the fast answer); the result
             keeps it too (``Posterior.laplace``) and says how far the draws moved from it.
+        cache: keep the run's start-up (the centre and Laplace approximation, the
+            chains' starts and the warm-up's adapted state) in a small file, and start
+            an identical run from it, straight at the draws (bitwise the same draws):
+            ``None``/``False``: no (default); ``True``: in ``posterior/`` of the command
+            line's cache directory (``AXOJAX_CACHE_DIR``, ``off`` honoured:
+            :func:`axojax.cache.posterior_cache_dir`); a path: that directory. Keyed by
+            a sha256 of the problem (its ``fingerprint()``), prior, sampler, warm-up,
+            chains, seed, init and library versions; a problem without a fingerprint,
+            or a callable prior, runs uncached (:mod:`._warm_cache`).
+            ``Posterior.warm_cache`` says what happened: "off", "stored", "loaded".
 
     Returns:
         :class:`Posterior`. Warns (one line each) when a parameter's R-hat exceeds
@@ -114,31 +127,60 @@ def posterior(
     """
     t_start = time.perf_counter()
     names, lower, upper, prior = _check(problem, draws, chains, warmup, sampler, prior)
+    directory = posterior_cache_dir(cache)
     target = _Target(problem, prior)
     clock = _Clock()
     key_init, key_warm, key_sample = jax.random.split(jax.random.PRNGKey(seed), 3)
     t0 = time.perf_counter()
-    z_start, z_c, cov, start_u, (u_c, precision_u) = _starts(
-        target, init, chains, key_init, clock.call
-    )
-    laplace = laplace_of(problem, names, u_c, precision_u)
-    seconds_start = time.perf_counter() - t0
-    if on_laplace is not None:
-        on_laplace(laplace)
-    compile_start = clock.seconds
-
-    t0 = time.perf_counter()
-    with stage(f"posterior warm-up ({chains} x {warmup} steps)", enable=progress):
-        sampled, states, step_size, imm, warm_grads = _adapt(
-            target, sampler, warmup, vectorize, key_warm, z_start, z_c, cov, clock.call
+    run_key = None
+    if directory is not None:
+        run_key = _warm_cache.run_key(
+            problem, prior, sampler, warmup, chains, seed, init, vectorize
         )
-    seconds_warmup = time.perf_counter() - t0
-    t0 = time.perf_counter()
+    file = None if run_key is None else _warm_cache.path_of(directory, run_key)
+    warm = None if file is None else _warm_cache.load(file, run_key, chains, len(names))
+    warm_cache = "off" if file is None else ("loaded" if warm is not None else "stored")
+    if warm is not None:  # an identical run's start-up: straight to the draws
+        laplace = laplace_of(problem, names, warm.u_c, warm.precision_u)
+        sampled, states, step_size, imm, warm_grads = _resume(target, sampler, warm)
+        start_u = warm.start_u
+        seconds_start = time.perf_counter() - t0
+        if on_laplace is not None:
+            on_laplace(laplace)
+        compile_start, seconds_warmup = clock.seconds, 0.0
+    else:
+        z_start, z_c, cov, start_u, (u_c, precision_u) = _starts(
+            target, init, chains, key_init, clock.call
+        )
+        laplace = laplace_of(problem, names, u_c, precision_u)
+        seconds_start = time.perf_counter() - t0
+        if on_laplace is not None:
+            on_laplace(laplace)
+        compile_start = clock.seconds
+
+        t0 = time.perf_counter()
+        with stage(f"posterior warm-up ({chains} x {warmup} steps)", enable=progress):
+            sampled, states, step_size, imm, warm_grads = _adapt(
+                target, sampler, warmup, vectorize, key_warm, z_start, z_c, cov, clock.call
+            )
+        seconds_warmup = time.perf_counter() - t0
+        if file is not None:
+            chol = sampled.chol if sampler.whiten else jnp.eye(len(names))
+            warm = _warm_cache.Warm(
+                *(np.asarray(x) for x in (z_c, cov, chol, u_c, precision_u, start_u)),
+                state=tuple(np.asarray(x) for x in states),
+                step_size=np.asarray(step_size),
+                imm=np.asarray(imm),
+                warm_grads=np.asarray(warm_grads),
+            )
+            _warm_cache.save(file, run_key, warm)
+    t0, compile_draws = time.perf_counter(), clock.seconds
     z, logd, divergent, n_steps, accept, depth = _draw(
         sampled, sampler, states, step_size, imm, draws, vectorize, key_sample, progress, clock
     )
     seconds_sampling = time.perf_counter() - t0
     compile_chains = clock.seconds - compile_start
+    compile_draws = clock.seconds - compile_draws
     if sampler.whiten:
         z = np.asarray(sampled.to_z(jnp.asarray(z)))
 
@@ -208,6 +250,8 @@ def posterior(
         tree_depth_saturated=saturated,
         max_num_doublings=int(sampler.max_num_doublings),
         gradients_per_draw=float(np.mean(n_steps)),
+        warm_cache=warm_cache,
+        seconds_compile_draws=compile_draws,
     )
 
 
@@ -291,6 +335,20 @@ def _adapt(target, sampler, warmup, vectorize, key, z_start, z_c, cov, call):
         warm_grads = jnp.zeros(chains, dtype=int)
     jax.block_until_ready(states)
     return sampled, states, step_size, imm, warm_grads
+
+
+def _resume(target, sampler, warm):
+    """The sampled density and the chains' state, step sizes, inverse mass matrices and
+    warm-up gradients kept by an identical run (:mod:`._warm_cache`), as :func:`_adapt`
+    returned them."""
+    from blackjax.mcmc.hmc import HMCState
+
+    if sampler.whiten:
+        sampled = _Whitened(target, jnp.asarray(warm.z_c), jnp.asarray(warm.chol))
+    else:
+        sampled = target
+    states = HMCState(*(jnp.asarray(x) for x in warm.state))
+    return sampled, states, jnp.asarray(warm.step_size), jnp.asarray(warm.imm), warm.warm_grads
 
 
 def _draw(sampled, sampler, states, step_size, imm, draws, vectorize, key, progress, clock):

@@ -284,6 +284,14 @@ class Problem:
             shape.component_at(mask),  # issue 33: each kept point's transverse component
         )
 
+    def fingerprint(self) -> str:
+        """sha256 (hex) of everything that determines the residuals, bounds, start and
+        prior: the key of a posterior's warm-state cache (``TypeError`` with a callable
+        prior: :func:`axojax.inverse._warm_cache.problem_fingerprint`)."""
+        from ._warm_cache import problem_fingerprint
+
+        return problem_fingerprint(self)
+
     @property
     def n_conditions(self) -> int:
         return len(self.conditions)
