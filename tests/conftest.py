@@ -1,5 +1,6 @@
 import os
 import pathlib
+import shutil
 import tempfile
 
 import numpy as np
@@ -7,7 +8,7 @@ import pytest
 import scipy.linalg
 
 import axojax as ax
-from axojax.cache import CACHE_ENV
+from axojax.cache import CACHE_ENV, WARM_SUBDIR
 
 # The suite compiles with XLA's CPU backend at optimisation level 0. XLA reads XLA_FLAGS
 # when its backend starts, at the first computation, which comes after this module is
@@ -69,6 +70,11 @@ def pytest_configure(config):
         if cache is not None
         else pathlib.Path(tempfile.mkdtemp(prefix="axojax-test-cache-"))
     )
+    if not hasattr(config, "workerinput"):  # the controller, before any worker starts:
+        # the posterior's warm states (axojax/inverse/_warm_cache.py) kept by the CLI's
+        # tests in this directory are dropped, so that each run executes their start-up
+        # code (tests/test_posterior_cache.py checks loading them within a run).
+        shutil.rmtree(path / WARM_SUBDIR, ignore_errors=True)
     config.stash[_OLD_CACHE_ENV] = os.environ.get(CACHE_ENV)
     os.environ[CACHE_ENV] = str(path)
     ax.enable_compilation_cache(path)

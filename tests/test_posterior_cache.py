@@ -193,3 +193,16 @@ def test_fit_posterior_uses_the_cache_when_the_compilation_cache_is_on(tmp_path,
     assert len(files(tmp_path / "posterior")) == 1
     for key in ("mean", "sd", "q05", "q50", "q95", "rhat", "ess", "divergences", "laplace"):
         assert first[key] == second[key], key
+
+
+def test_scaled_sigmas_of_a_model_problem_samples():
+    """ScaledSigmas over a real Problem (whose values are Python floats) passes the
+    run-time type checks of its Laplace start, and widens the width by its factor."""
+    prob = problem()
+    plain = sample(prob)
+    scaled = sample(ScaledSigmas(prob, 2.0))
+    assert scaled.laplace.names == ("p",)
+    assert np.sqrt(scaled.laplace.cov_u[0, 0]) == pytest.approx(
+        2.0 * np.sqrt(plain.laplace.cov_u[0, 0]),
+        rel=1e-3,  # each at its own mode search's end
+    )

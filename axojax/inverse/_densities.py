@@ -13,7 +13,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array, Float
+from jaxtyping import Array, ArrayLike, Float
 
 
 @runtime_checkable
@@ -147,7 +147,8 @@ class ScaledSigmas(eqx.Module):
         log_jac = jnp.linalg.slogdet(jax.jacfwd(self.problem.to_u)(z))[1]
         return -0.5 * jnp.sum(self.residuals(u) ** 2) + self.problem.log_prior(u) + log_jac
 
-    def values(self, u: Float[Array, " k"]) -> Mapping[str, Float[Array, ""]]:
+    def values(self, u: Float[ArrayLike, " k"]) -> Mapping[str, Any]:
+        """The wrapped problem's values (Python floats for :class:`Problem`)."""
         return self.problem.values(u)
 
 
