@@ -44,7 +44,7 @@ a complex block solve measured 3.7x a real one at 10 elements) and needs larger 
 spaces (24-48 vectors against 16-24). It is linear in N_e and certified for any C,
 where the dense ``nearest`` is O(N_e^3).
 
-    python benchmarks/bench_mechanisms.py [--points 32] [--points40 8]
+    python benchmarks/bench_mechanisms.py [--points 32] [--points40 8] [--quick]
 """
 
 import argparse
@@ -123,10 +123,14 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--points", type=int, default=32, help="points at 10 elements")
     parser.add_argument("--points40", type=int, default=8, help="points at 40 elements")
+    parser.add_argument(
+        "--quick", action="store_true", help="10 elements only (the 40-element model is skipped)"
+    )
     args = parser.parse_args()
     print(f"load average (1, 5, 15 min) at start: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
     print(f"backend: {jax.default_backend()}, {os.cpu_count()} cpus")
-    for n_elements, n_points in ((10, args.points), (40, args.points40)):
+    sizes = ((10, args.points),) if args.quick else ((10, args.points), (40, args.points40))
+    for n_elements, n_points in sizes:
         res = run(n_elements, n_points)
         ref = res["steady eigenpair"][0]
         print(f"\nseven, {n_elements} elements, {n_points} points (vmapped, per-point path):")
