@@ -20,31 +20,29 @@ regulated solve keeps >= 80 % of the steady-load speed), with the share of point
 certified (a point not certified pays for a dense solve). The machine's load
 average is printed before and after.
 
-Measured (2026-12-03, 2 CPU cores shared with 3-4 other helpers' test runs, load
-average 9-13 during the run; seven filaments, 32 points at 10 and 8 at 40 elements), ms
-per point, and in brackets the speed relative to the steady-load eigenpair / to the
-steady load with the same method:
+Measured (2026-12-04, 2 CPU cores shared with other helpers' jobs, load average 5-7;
+seven filaments, 32 points at 10 and 8 at 40 elements), ms per point, and in brackets
+the speed relative to the steady-load eigenpair / to the steady load with the same
+method (docs/benchmarks.md has the run of the previous commit next to it):
 
     N_e  steady     regulated    steady     regulated          steady     regulated
          eigenpair  eigenpair    nearest    nearest            pinned     pinned
-    10   4.88       3.88 (1.26)  29.0       30.8 (0.16/0.94)   14.9       12.6 (0.39/1.18)
-    40   18.9       19.4 (0.97)  119        102  (0.18/1.16)   42.6       58.5 (0.32/0.73)
+    10   2.63       2.02 (1.30)  5.77       7.02 (0.38/0.82)   1.73       1.57 (1.67/1.10)
+    40   10.3       10.4 (0.99)  26.8       28.3 (0.36/0.95)   8.95       7.99 (1.29/1.12)
 
-Earlier runs (load 6-10) gave 1.18-1.41 for the regulated eigenpair at 10 elements and
-0.57-0.80 at 40: single numbers move by tens of per cent on this machine. Every
-regulated point certified (no dense fallback; one steady point at 10 elements falls
-back, which makes the steady eigenpair slower there). The same Krylov sizes certify
-with and without the mechanism (at 40 elements 3/8 and 2/8 points at 16 vectors, 8/8
-at 24). So the dominant eigenpair with a regulated mechanism (C symmetric positive
-definite) meets the 80 % target within this machine's noise. ``nearest`` keeps its own
-steady-load speed with a mechanism (within the noise) but is 2.5-3x slower than the
-dominant eigenpair with the shift near the beat (pinned) and 6x slower with the shift
-far from any eigenvalue: it runs in complex arithmetic (its pole is the complex shift;
-a complex block solve measured 3.7x a real one at 10 elements) and needs larger Krylov
-spaces (24-48 vectors against 16-24). It is linear in N_e and certified for any C,
+Single numbers move by tens of per cent between runs on this machine. Every regulated
+point certified (no dense fallback; one steady point at 10 elements falls back, which
+makes the steady eigenpair slower there). The dominant eigenpair with a regulated
+mechanism (C symmetric positive definite) meets the 80 % target, and so does
+``nearest`` with the shift near the beat (pinned, as in a fit): first Krylov stages of
+6 and 8 vectors, a packed complex factorisation, real matrices on complex vectors as
+two real products. With the shift far from any eigenvalue ``nearest`` keeps its own
+steady-load speed but is ~2.6x slower than the dominant eigenpair: its certificate
+needs 8-48 Krylov vectors (mean 30 at 10 elements, against 20) and a complex
+shift-invert step costs 3.8x a real one. It is linear in N_e and certified for any C,
 where the dense ``nearest`` is O(N_e^3).
 
-    python benchmarks/bench_mechanisms.py [--points 32] [--points40 8]
+    python benchmarks/bench_mechanisms.py [--points 32] [--points40 8] [--quick]
 """
 
 import argparse
@@ -123,10 +121,14 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--points", type=int, default=32, help="points at 10 elements")
     parser.add_argument("--points40", type=int, default=8, help="points at 40 elements")
+    parser.add_argument(
+        "--quick", action="store_true", help="10 elements only (the 40-element model is skipped)"
+    )
     args = parser.parse_args()
     print(f"load average (1, 5, 15 min) at start: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
     print(f"backend: {jax.default_backend()}, {os.cpu_count()} cpus")
-    for n_elements, n_points in ((10, args.points), (40, args.points40)):
+    sizes = ((10, args.points),) if args.quick else ((10, args.points), (40, args.points40))
+    for n_elements, n_points in sizes:
         res = run(n_elements, n_points)
         ref = res["steady eigenpair"][0]
         print(f"\nseven, {n_elements} elements, {n_points} points (vmapped, per-point path):")

@@ -68,6 +68,29 @@ def test_nearest_matches_dense_and_scipy_for_indefinite_and_nonsymmetric_c(arnol
             assert abs(lam - ref) <= 1e-8 * abs(ref), (lam, ref)
 
 
+def test_nearest_certifies_exactly_with_the_shift_near_or_between_eigenvalues():
+    """The per-point path's small first stages (FIRST_DIMS): a shift 0.1 % and 1 % of
+    |lambda| from the eigenvalue (a fit that pins the beat) certifies and is exact; so
+    is one almost midway between the two eigenvalues nearest i omega0, where the
+    certificate needs both resolved (no fallback: certified by Arnoldi itself)."""
+    model = ax.models.seven(n_elements=6)
+    A, C = pencil_of(assemble_blocks(model, CURVATURE))
+    system = ax.assemble(model, CURVATURE)
+    lam = sl.eig(-np.asarray(system.A), np.asarray(system.C), right=False)
+    order = np.argsort(np.abs(lam - 300j))
+    l1, l2 = lam[order[0]], lam[order[1]]
+    shifts = [l1 * (1 + 0.001j), l1 * (1 + 0.01j), l1 + 0.48 * (l2 - l1)]
+    opts = Arnoldi(fallback=False).options
+    batch = jax.tree.map(lambda x: jnp.stack([x] * len(shifts)), (A, C))
+    near, _, cert = jax.jit(jax.vmap(lambda a, c, s: structured_nearest(a, c, s, opts)))(
+        *batch, jnp.asarray(shifts, complex)
+    )
+    assert np.all(np.asarray(cert) == 1.0), np.asarray(cert)
+    for got, shift in zip(np.asarray(near), shifts):
+        ref = lam[np.argmin(np.abs(lam - shift))]
+        assert abs(got - ref) <= 1e-8 * abs(ref), (got, ref, shift)
+
+
 @pytest.mark.slow  # 20-40 s of compilation; the dense rule is tests/test_nearest.py's
 def test_nearest_derivatives_match_the_dense_rule_and_finite_differences():
     model = ax.models.seven(n_elements=5)
@@ -152,6 +175,11 @@ def test_bordered_lu_and_cholesky_against_numpy(m, complex_, kernels):
         atol=1e-9,
     )
     np.testing.assert_allclose(np.asarray(M.matvec(jnp.asarray(r))), D @ r, rtol=1e-12, atol=1e-12)
+    if not complex_:  # a real matrix on a complex vector (two real products)
+        rc = r + 1j * rng.normal(size=20 + m)
+        np.testing.assert_allclose(
+            np.asarray(M.matvec(jnp.asarray(rc))), D @ rc, rtol=1e-12, atol=1e-12
+        )
     S = _random_bordered(rng, 5, 4, m, symmetric=True)
     Ds = np.asarray(S.to_dense())
     assert np.linalg.eigvalsh(Ds).min() > 0

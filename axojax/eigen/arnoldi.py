@@ -334,11 +334,16 @@ def staged_arnoldi(
     def shift_invert(v):
         """(A + sigma C)^{-1} C v: the solve, then one step of iterative refinement, as
         two passes through one compiled solve (from w = 0 the first is the plain solve;
-        its product with zero costs less than a second copy of the solve to compile)."""
+        one loop costs less to compile than a second copy of the solve)."""
         b = C.matvec(v)
-        return jax.lax.fori_loop(
-            0, 2, lambda _, w: w + lu.solve(b - M.matvec(w)), jnp.zeros_like(b)
-        )
+
+        def refine(i, w):
+            # The first pass skips the product M @ 0 (a cond on the loop index, which
+            # ``vmap`` leaves a cond).
+            r = jax.lax.cond(i > 0, lambda: b - M.matvec(w), lambda: b)
+            return w + lu.solve(r)
+
+        return jax.lax.fori_loop(0, 2, refine, jnp.zeros_like(b))
 
     starts = jnp.asarray((0,) + dims[:-1])
     ends = jnp.asarray(dims)

@@ -103,7 +103,9 @@ class Bordered(eqx.Module):
             return self.tri.matvec(x)
         n = self.n_nodes
         xn, xb = x[:n], x[n:]
-        return jnp.concatenate([self.tri.matvec(xn) + self.nb @ xb, self.bn @ xn + self.bb @ xb])
+        return jnp.concatenate(
+            [self.tri.matvec(xn) + _mv(self.nb, xb), _mv(self.bn, xn) + _mv(self.bb, xb)]
+        )
 
     def to_dense(self) -> Inexact[Array, "nm nm"]:
         """The full matrix (for tests and the dense fallback)."""
@@ -119,6 +121,15 @@ class Bordered(eqx.Module):
         """max |M_ij| (0 for an empty part)."""
         parts = (self.tri.lower, self.tri.diag, self.tri.upper, self.nb, self.bn, self.bb)
         return jnp.max(jnp.stack([jnp.max(jnp.abs(x), initial=0.0) for x in parts]))
+
+
+def _mv(B: Inexact[Array, "p q"], x: Inexact[Array, " q"]) -> Inexact[Array, " p"]:
+    """``B @ x``; a real B times a complex x as two real products (as
+    :meth:`BlockTridiagonal.matvec`)."""
+    if jnp.iscomplexobj(x) and not jnp.iscomplexobj(B):
+        y = B @ jnp.stack([x.real, x.imag], -1)
+        return jax.lax.complex(y[:, 0], y[:, 1])
+    return B @ x
 
 
 def bordered(
