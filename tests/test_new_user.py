@@ -62,7 +62,18 @@ def test_cli_data_list_text_and_json(capsys):
     doc = json.loads(capsys.readouterr().out)
     assert [d["name"] for d in doc["datasets"]] == list(ax.datasets.names())
     entry = doc["datasets"][0]
-    assert set(entry) == {"name", "file", "description", "source", "licence", "citation", "path"}
+    assert set(entry) == {
+        "name",
+        "file",
+        "description",
+        "source",
+        "licence",
+        "citation",
+        "flagellum",
+        "path",
+    }
+    assert entry["flagellum"]["bending_rigidity_pn_um2"] == 1900.0
+    assert "flagellum kappa 1900 pN um^2, xi_n 0.0032 pN s/um^2" in text
     assert pathlib.Path(entry["path"]).is_file()
     assert entry["licence"] == ax.datasets.info("human_sperm").licence
 
