@@ -31,6 +31,8 @@ def test_fit_posterior_report_file_and_corner_plot(tmp_path, capsys):
             "40",
             "--chains",
             "2",
+            "--warmup",
+            "160",
             "--out",
             str(out),
             "--json",
@@ -44,7 +46,7 @@ def test_fit_posterior_report_file_and_corner_plot(tmp_path, capsys):
         assert line.count("posterior:") <= 1 and line.count("axojax:") == 1, line
     post = doc["posterior"]
     assert {"draws", "chains", "mean", "sd", "q05", "q95", "rhat", "ess", "seconds"} <= set(post)
-    assert post["draws"] == 40 and post["chains"] == 2
+    assert post["draws"] == 40 and post["chains"] == 2 and post["warmup"] == 160
     p_fit, mean, sd = doc["params"]["p"], post["mean"]["p"], post["sd"]["p"]
     assert 0 < sd < 0.1 * p_fit
     assert abs(mean - p_fit) < 3 * sd
@@ -61,6 +63,8 @@ def test_fit_posterior_report_file_and_corner_plot(tmp_path, capsys):
         (["--posterior", "2"], "--posterior"),
         (["--posterior", "20", "--chains", "0"], "--chains"),
         (["--chains", "3"], "--chains"),
+        (["--warmup", "200"], "--warmup"),
+        (["--posterior", "20", "--warmup", "10"], "--warmup"),
     ],
 )
 def test_bad_posterior_flags_are_one_line(argv, flag, capsys):
@@ -102,3 +106,16 @@ def test_posterior_default_solver_is_the_structured_one_where_it_pays():
     assert chosen(200) == "Arnoldi"
     assert chosen(200, model=two) == "Dense"
     assert chosen(200, solver="dense") == "Dense"
+
+
+def test_default_warmup_is_the_draws_within_150_to_500():
+    from axojax.cli.fit import warmup_steps
+
+    assert [warmup_steps(d, None) for d in (4, 150, 300, 1000, 100_000)] == [
+        150,
+        150,
+        300,
+        500,
+        500,
+    ]
+    assert warmup_steps(1000, 2000) == 2000  # --warmup wins

@@ -178,7 +178,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         type=int,
         default=None,
         metavar="DRAWS",
-        help="then sample the posterior from the optimum with NUTS: DRAWS per chain after max(DRAWS, 150) warm-up steps "
+        help="then sample the posterior from the optimum with NUTS: DRAWS per chain after --warmup steps "
         "(adds \"posterior\" to the report; with --out FIT.json the draws go to FIT.posterior.npz, drawn by 'axojax plot')",
     )
     parser.add_argument(
@@ -187,6 +187,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=4,
         metavar="C",
         help="posterior chains (default 4; with --posterior)",
+    )
+    parser.add_argument(
+        "--warmup",
+        type=int,
+        default=None,
+        metavar="STEPS",
+        help="posterior warm-up (window adaptation) steps per chain (default: DRAWS, at least "
+        f"{MIN_WARMUP} and at most {MAX_DEFAULT_WARMUP}: the chains start whitened by the Laplace "
+        "approximation at the optimum; with --posterior)",
     )
     parser.add_argument(
         "--no-mesh-check",
@@ -267,11 +276,31 @@ def _read_data(path, flag: str):
     return beat, beat.summary()
 
 
+MIN_WARMUP = 150
+"""Fewest warm-up steps: Stan's schedule has its full set of adaptation windows from 150."""
+MAX_DEFAULT_WARMUP = 500
+"""The default warm-up never exceeds :func:`axojax.posterior`'s own default."""
+
+
+def warmup_steps(draws: int, warmup: int | None) -> int:
+    """``--warmup`` when given, else ``draws`` clipped to [:data:`MIN_WARMUP`,
+    :data:`MAX_DEFAULT_WARMUP`]."""
+    if warmup is not None:
+        return int(warmup)
+    return min(max(int(draws), MIN_WARMUP), MAX_DEFAULT_WARMUP)
+
+
 def _check_posterior(args: argparse.Namespace) -> None:
     if args.posterior is None:
         if args.chains != 4:
             raise common.CLIError("--chains: applies to the posterior; add --posterior DRAWS")
+        if args.warmup is not None:
+            raise common.CLIError("--warmup: applies to the posterior; add --posterior DRAWS")
         return
+    if args.warmup is not None and not MIN_WARMUP <= args.warmup <= MAX_DRAWS:
+        raise common.CLIError(
+            f"--warmup: steps per chain must be in {MIN_WARMUP}..{MAX_DRAWS}, got {args.warmup}"
+        )
     if not 4 <= args.posterior <= MAX_DRAWS:
         raise common.CLIError(
             f"--posterior: draws per chain must be in 4..{MAX_DRAWS}, got {args.posterior}"
@@ -372,7 +401,7 @@ def _run_fit(args, problem, options: dict, flag: str):
                 problem,
                 draws=args.posterior,
                 chains=args.chains,
-                warmup=max(args.posterior, 150),
+                warmup=warmup_steps(args.posterior, args.warmup),
                 init=result,
                 progress=options["progress"],
                 cache=_warm_cache_dir(),
