@@ -36,7 +36,8 @@ isolated axoneme) and ``head`` (a body with drag; by default a prolate ellipsoid
 semi-axes :data:`DEFAULT_HEAD_UM` in water, a human sperm head). On a base that is not
 clamped the rigid-body motions are neutral modes (eigenvalue 0), so every row there,
 the steady one too, follows the mode nearest i omega0 instead of the dominant one: the
-pins then ask that mode to be the beat. The default set is :data:`DEFAULT_BASES`.
+pins then ask that mode to be the beat. The default set is :data:`DEFAULT_BASES`, each
+without and with an elastic basal compliance (:data:`DEFAULT_COMPLIANCE`, below).
 
 Basal compliance (``compliance=True`` of :func:`axojax.compare`, or a base named
 ``"<kind>+compliance"``, e.g. ``"head+compliance"``): the basal sliding of each active pair
