@@ -204,10 +204,12 @@ def test_fit_help_names_its_default_solver_and_the_warm_up():
     assert cli_fit.METHODS[0] == "lm"
     text = _help("fit")
     assert "as many warm-up" not in text
-    assert "after max(DRAWS, 150) warm-up steps" in text
+    assert "after --warmup steps" in text
+    assert "(default: DRAWS, at least 150 and at most 500" in text
     # ... and that is what the code passes on
+    assert [cli_fit.warmup_steps(d, None) for d in (20, 300, 1000)] == [150, 300, 500]
     source = (ROOT / "axojax" / "cli" / "fit.py").read_text()
-    assert "warmup=max(args.posterior, 150)" in source
+    assert "warmup=warmup_steps(args.posterior, args.warmup)" in source
 
 
 def test_scalar_fit_report_gives_each_unit_its_own_axis():
