@@ -110,3 +110,18 @@ def test_table_names_the_units():
     last = render_table(doc).splitlines()[-1]
     assert last.startswith("units: EI 950 pN um^2 and c_n 0.0016 pN s/um^2 per filament")
     assert last.endswith("(the data set's flagellum: kappa 1900 pN um^2)")
+
+
+def test_cli_compare_runs_in_the_data_sets_units(capsys):
+    """End to end, one small row: the JSON says which units the rows were fitted in."""
+    import json
+
+    argv = ["compare", "--data", "human_sperm", "--mechanisms", "sliding", "--bases", "clamped"]
+    assert main([*argv, "--elements", "4", "--starts", "1", "--json"]) == 0
+    model = json.loads(capsys.readouterr().out)["model"]
+    assert model["ei_pn_um2"] == pytest.approx(950.0) and model["cn_pn_s_um2"] == pytest.approx(
+        1.6e-3
+    )
+    assert model["units_source"].startswith("the data set's flagellum: kappa 1900 pN um^2")
+    sp = 2 * math.pi * 10.257 * 3.2e-3 * model["length_um"] ** 4 / 1900.0
+    assert model["sperm_number"] == pytest.approx(sp, rel=0.01)  # observed f within 1 % of 10.257
