@@ -7,12 +7,14 @@ import io
 import json
 import os
 import pathlib
+import shutil
 import subprocess
 import sys
 
 import pytest
 
 from axojax import _progress
+from axojax.cache import WARM_SUBDIR
 from axojax.cli import fit
 from axojax.cli.main import build_parser, main
 
@@ -112,13 +114,16 @@ def test_json_on_a_pipe_has_no_bars_unless_forced(tmp_path):
     """``axojax fit --posterior --json`` into a pipe (a subprocess, the smallest problem):
     stdout is exactly one JSON document and stderr has no bar; forced on, the bars of the
     fit's starts and of the posterior's warm-up and draws appear on stderr and stdout is
-    still only the JSON document. (The two runs share a compilation cache.)"""
+    still only the JSON document. (The two runs share a compilation cache; the first run's
+    posterior warm state is dropped before the second, which would otherwise skip its
+    warm-up and so its bar: tests/test_posterior_cache.py.)"""
     env = {**os.environ, "AXOJAX_CACHE_DIR": str(tmp_path / "cache"), "PYTHONPATH": str(ROOT)}
     env.pop(_progress.PROGRESS_ENV, None)
     runs = {}
     for force in (None, "1"):
         if force is not None:
             env[_progress.PROGRESS_ENV] = force
+            shutil.rmtree(tmp_path / "cache" / WARM_SUBDIR)
         runs[force] = subprocess.run(
             [sys.executable, "-m", "axojax.cli.main", *FIT],
             env=env,
