@@ -229,9 +229,8 @@ def run(args: argparse.Namespace) -> dict:
         beat = read_beat(args.data)
     except (ValueError, OSError) as err:
         raise common.CLIError(f"--data: {err}") from None
-    units = (
-        None  # the library's default (the data set's flagellum, or axojax's), named in the table
-    )
+    # None: the library's default (the data set's flagellum, or axojax's), named in the table
+    units = None
     if args.ei is not None or args.cn is not None:
         default, _ = default_units(beat, args.model)
         ei = default.ei_pn_um2 if args.ei is None else args.ei
