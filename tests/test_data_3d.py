@@ -206,6 +206,8 @@ def test_bundled_sperm_wavelengths_against_an_independent_reduction(capsys):
     text = capsys.readouterr().out
     assert f"out-of-plane      wavelength {comps['out_of_plane']:.4g} um" in text
     assert "(in-plane component)" in text
+    assert "flagellum         kappa 1900 pN um^2, xi_n 0.0032 pN s/um^2" in text
+    assert doc["flagellum"]["normal_drag_pn_s_um2"] == 3.2e-3
     # The figure: a wavelength slope per component.
     fig = plot_beat_data(beat)
     labels = [t.get_text() for t in fig.axes[2].get_legend().get_texts()]

@@ -225,6 +225,12 @@ def render(doc: dict) -> str:
         )
     if doc.get("published_frequency_hz") is not None:
         lines.append(f"  published frequency {doc['published_frequency_hz']:.4g} Hz")
+    f = doc.get("flagellum")
+    if f:
+        lines.append(
+            f"  flagellum         kappa {f['bending_rigidity_pn_um2']:.4g} pN um^2, xi_n "
+            f"{f['normal_drag_pn_s_um2']:.3g} pN s/um^2 (literature; axojax compare's default units)"
+        )
     lines += [f"  note: {n}" for n in doc["notes"]]
     if "plot" in doc:
         lines.append(f"  figure: {doc['plot']}")
