@@ -141,29 +141,25 @@ def posterior(
     warm = None if file is None else _warm_cache.load(file, run_key, chains, len(names))
     warm_cache = "off" if file is None else ("loaded" if warm is not None else "stored")
     if warm is not None:  # an identical run's start-up: straight to the draws
-        laplace = laplace_of(problem, names, warm.u_c, warm.precision_u)
-        sampled, states, step_size, imm, warm_grads = _resume(target, sampler, warm)
-        start_u = warm.start_u
-        seconds_start = time.perf_counter() - t0
-        if on_laplace is not None:
-            on_laplace(laplace)
-        compile_start, seconds_warmup = clock.seconds, 0.0
+        u_c, precision_u, start_u = warm.u_c, warm.precision_u, warm.start_u
     else:
         z_start, z_c, cov, start_u, (u_c, precision_u) = _starts(
             target, init, chains, key_init, clock.call
         )
-        laplace = laplace_of(problem, names, u_c, precision_u)
-        seconds_start = time.perf_counter() - t0
-        if on_laplace is not None:
-            on_laplace(laplace)
-        compile_start = clock.seconds
+    laplace = laplace_of(problem, names, u_c, precision_u)
+    seconds_start = time.perf_counter() - t0
+    if on_laplace is not None:
+        on_laplace(laplace)
+    compile_start = clock.seconds
 
-        t0 = time.perf_counter()
+    t0 = time.perf_counter()
+    if warm is not None:
+        sampled, states, step_size, imm, warm_grads = _resume(target, sampler, warm)
+    else:
         with stage(f"posterior warm-up ({chains} x {warmup} steps)", enable=progress):
             sampled, states, step_size, imm, warm_grads = _adapt(
                 target, sampler, warmup, vectorize, key_warm, z_start, z_c, cov, clock.call
             )
-        seconds_warmup = time.perf_counter() - t0
         if file is not None:
             chol = sampled.chol if sampler.whiten else jnp.eye(len(names))
             warm = _warm_cache.Warm(
@@ -174,6 +170,7 @@ def posterior(
                 warm_grads=np.asarray(warm_grads),
             )
             _warm_cache.save(file, run_key, warm)
+    seconds_warmup = 0.0 if warm_cache == "loaded" else time.perf_counter() - t0
     t0, compile_draws = time.perf_counter(), clock.seconds
     z, logd, divergent, n_steps, accept, depth = _draw(
         sampled, sampler, states, step_size, imm, draws, vectorize, key_sample, progress, clock
