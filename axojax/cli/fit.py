@@ -20,6 +20,7 @@ from ..cache import WARM_SUBDIR, compilation_cache_dir
 from ..eigen.solvers import AbstractEigenSolver, Auto
 from ..inverse import (
     SHAPE_FLOOR,
+    ProfileTransport,
     build_problem,
     least_squares,
     posterior,
@@ -198,6 +199,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "approximation at the optimum; with --posterior)",
     )
     parser.add_argument(
+        "--along",
+        default=None,
+        metavar="NAME",
+        help="with --posterior: sample in coordinates straightened along the profile of the free "
+        "parameter NAME (a long curved ridge, e.g. ks when p and ks are fitted to a frequency and a "
+        "wavelength: the ridge is p as a function of ks); the posterior is the same, the trajectories "
+        "shorter (axojax.inverse.ProfileTransport)",
+    )
+    parser.add_argument(
         "--no-mesh-check",
         dest="mesh_check",
         action="store_false",
@@ -296,6 +306,8 @@ def _check_posterior(args: argparse.Namespace) -> None:
             raise common.CLIError("--chains: applies to the posterior; add --posterior DRAWS")
         if args.warmup is not None:
             raise common.CLIError("--warmup: applies to the posterior; add --posterior DRAWS")
+        if args.along is not None:
+            raise common.CLIError("--along: applies to the posterior; add --posterior DRAWS")
         return
     if args.warmup is not None and not MIN_WARMUP <= args.warmup <= MAX_DRAWS:
         raise common.CLIError(
@@ -394,6 +406,13 @@ def _run_fit(args, problem, options: dict, flag: str):
         raise common.CLIError(f"{flag}: {err}") from None
     if args.posterior is None:
         return result, None
+    transport = None
+    if args.along is not None:
+        try:
+            transport = ProfileTransport(args.along)
+            transport.index(problem.names)
+        except ValueError as err:
+            raise common.CLIError(f"--along: {str(err).split(': ', 1)[-1]}") from None
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
@@ -406,6 +425,7 @@ def _run_fit(args, problem, options: dict, flag: str):
                 progress=options["progress"],
                 cache=_warm_cache_dir(),
                 on_laplace=None if args.json else _print_laplace,
+                transport=transport,
             )
     except ValueError as err:
         raise common.CLIError(f"--posterior: {err}") from None

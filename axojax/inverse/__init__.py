@@ -8,7 +8,8 @@
 The same problem from a file: ``ax.inverse.load_spec("FIT.toml")`` (:mod:`.spec`).
 Private modules (re-exported here): ``_densities`` (what a sampler needs of a problem,
 priors), ``_laplace`` (where chains start), ``_nuts`` (the sampler's compiled programs),
-``_posterior_result`` (:class:`Posterior`).
+``_posterior_result`` (:class:`Posterior`); :mod:`.transport` straightens a curved
+ridge for the sampler (:class:`ProfileTransport`).
 """
 
 from . import checks, diagnostics
@@ -36,6 +37,7 @@ from .problem import SHAPE_FLOOR, Problem
 from .quality import information_criteria, r2
 from .report import FitResult, build_report
 from .spec import FitSpec, load_spec, read_spec
+from .transport import ProfileTransport
 
 __all__ = [
     "AVAILABLE_BASES",
@@ -51,6 +53,7 @@ __all__ = [
     "LINEAR",
     "METHODS",
     "NUTS",
+    "ProfileTransport",
     "SHAPE_FLOOR",
     "Adam",
     "Condition",

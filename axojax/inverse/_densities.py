@@ -172,17 +172,36 @@ class _Target(eqx.Module):
 
 class _Whitened(eqx.Module):
     """``target`` in whitened coordinates: ``w -> target(centre + chol @ w)`` (the
-    constant log-Jacobian left out: it changes no ratio of densities)."""
+    constant log-Jacobian left out: it changes no ratio of densities). With a
+    ``transport`` (a :class:`~axojax.inverse.transport.ProfileMap`), whitened after it:
+    ``w -> y = centre + chol @ w -> z = transport.to_z(y)``, the log density in ``y``
+    being ``target(z) + transport.log_det(y)`` (``centre`` and ``chol`` then in ``y``)."""
 
     target: _Target
     centre: Float[Array, " k"]
     chol: Float[Array, "k k"]
+    transport: Any = None
 
     def __call__(self, w: Float[Array, " k"]) -> Float[Array, ""]:
-        return self.target(self.to_z(w))
+        y = self.centre + self.chol @ w
+        if self.transport is None:
+            return self.target(y)
+        lp = self.target(self.transport.to_z(y)) + self.transport.log_det(y)
+        return jnp.where(jnp.isnan(lp), -jnp.inf, lp)
 
     def to_z(self, w: Float[Array, "*batch k"]) -> Float[Array, "*batch k"]:
-        return self.centre + w @ self.chol.T
+        y = self.centre + w @ self.chol.T
+        if self.transport is None:
+            return y
+        to_z = self.transport.to_z
+        for _ in range(y.ndim - 1):
+            to_z = jax.vmap(to_z)
+        return to_z(y)
 
     def to_w(self, z: Float[Array, "*batch k"]) -> Float[Array, "*batch k"]:
+        if self.transport is not None:
+            to_y = self.transport.to_y
+            for _ in range(z.ndim - 1):
+                to_y = jax.vmap(to_y)
+            z = to_y(z)
         return jax.scipy.linalg.solve_triangular(self.chol, (z - self.centre).T, lower=True).T

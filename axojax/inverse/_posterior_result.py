@@ -73,6 +73,8 @@ class Posterior:
         seconds_compile_draws: the compilation of the draws' program, within
             ``seconds_sampling`` (so the first draw came ``seconds - seconds_sampling +
             seconds_compile_draws`` after the start, plus its own steps).
+        transport: the parameter whose profile straightened the sampled coordinates
+            (``posterior(transport=ProfileTransport(...))``), or None.
     """
 
     names: tuple[str, ...]
@@ -118,6 +120,7 @@ class Posterior:
     gradients_per_draw: float = math.nan
     warm_cache: str = "off"
     seconds_compile_draws: float = 0.0
+    transport: str | None = None
 
     @property
     def chains(self) -> int:
@@ -150,7 +153,8 @@ class Posterior:
         ``sd_ratio``, ``shift``, ``tree_depth``, ``tree_depth_saturated``,
         ``max_num_doublings``, ``gradients_per_draw``, ``warm_cache`` ("off", "stored"
         or "loaded": :func:`~axojax.inverse.posterior`'s ``cache``),
-        ``seconds_compile_draws``."""
+        ``seconds_compile_draws``, ``transport`` (the parameter along whose profile the
+        sampled coordinates were straightened, or None)."""
         return {
             "draws": self.draws,
             "chains": self.chains,
@@ -182,6 +186,7 @@ class Posterior:
             "gradients_per_draw": self.gradients_per_draw,
             "warm_cache": self.warm_cache,
             "seconds_compile_draws": self.seconds_compile_draws,
+            "transport": self.transport,
         }
 
     def save(self, path, *, truth: Mapping[str, float] | None = None) -> None:
@@ -275,6 +280,7 @@ _SCALAR_FIELDS = (
     "gradients_per_draw",
     "warm_cache",
     "seconds_compile_draws",
+    "transport",
 )
 
 

@@ -42,7 +42,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-FORMAT = 1
+FORMAT = 2
 """Bumped whenever what a file holds, or what the key covers, changes."""
 SUFFIX = ".warm.npz"
 PROFILE_GRID = 257
@@ -202,7 +202,9 @@ def _version() -> str:
         return "unknown"
 
 
-def run_key(problem, prior, sampler, warmup, chains, seed, init, vectorize) -> str | None:
+def run_key(
+    problem, prior, sampler, warmup, chains, seed, init, vectorize, transport=None
+) -> str | None:
     """The key of a run's start-up (module docstring), or None when it cannot be cached."""
     import jax
 
@@ -234,6 +236,7 @@ def run_key(problem, prior, sampler, warmup, chains, seed, init, vectorize) -> s
                 int(seed),
                 start,
                 bool(vectorize),
+                transport,
                 environment(),
                 (jax.default_backend(), bool(jax.config.jax_enable_x64)),
             )
@@ -246,8 +249,10 @@ class Warm(NamedTuple):
     """A run's start-up: the centre ``z_c`` (k,) and Laplace covariance ``cov`` (k, k) in
     z, the whitening factor ``chol`` (k, k; the identity when not whitened), the centre
     ``u_c`` and precision ``precision_u`` in u (the Laplace approximation), the starts'
-    mean ``start_u``, and per chain the sampler's state after the warm-up (``state``:
-    blackjax's HMCState fields), step size, inverse mass matrix and gradients spent."""
+    mean ``start_u``, per chain the sampler's state after the warm-up (``state``:
+    blackjax's HMCState fields), step size, inverse mass matrix and gradients spent, and
+    with a transport its map's arrays (``profile``: :data:`PROFILE_FIELDS` of a
+    :class:`~axojax.inverse.transport.ProfileMap`; empty without one)."""
 
     z_c: np.ndarray
     cov: np.ndarray
@@ -259,8 +264,10 @@ class Warm(NamedTuple):
     step_size: np.ndarray
     imm: np.ndarray
     warm_grads: np.ndarray
+    profile: tuple = ()
 
 
+PROFILE_FIELDS = ("z_knots", "s_knots", "centre", "log_diag", "lower", "log_density")
 _ARRAYS = ("z_c", "cov", "chol", "u_c", "precision_u", "start_u", "step_size", "imm", "warm_grads")
 
 
@@ -279,7 +286,8 @@ def load(path: pathlib.Path, key: str, chains: int, k: int) -> Warm | None:
             meta = json.loads(str(f["meta"]))
             arrays = {name: np.asarray(f[name]) for name in _ARRAYS}
             state = tuple(np.asarray(f[f"state_{i}"]) for i in range(int(meta["n_state"])))
-        warm = Warm(state=state, **arrays)
+            profile = tuple(np.asarray(f[f"profile_{n}"]) for n in meta.get("profile", []))
+        warm = Warm(state=state, profile=profile, **arrays)
         _check(warm, meta, key, chains, k)
     except Exception as err:  # noqa: BLE001 - whatever is wrong with the file: run uncached
         warnings.warn(
@@ -334,6 +342,7 @@ def save(path: pathlib.Path, key: str, warm: Warm) -> None:
         "key": key,
         "n_state": len(warm.state),
         "state": list(HMCState._fields),
+        "profile": list(PROFILE_FIELDS) if warm.profile else [],
     }
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
@@ -343,6 +352,7 @@ def save(path: pathlib.Path, key: str, warm: Warm) -> None:
                 meta=json.dumps(meta),
                 **{name: np.asarray(getattr(warm, name)) for name in _ARRAYS},
                 **{f"state_{i}": np.asarray(x) for i, x in enumerate(warm.state)},
+                **{f"profile_{n}": np.asarray(x) for n, x in zip(PROFILE_FIELDS, warm.profile)},
             )
     except OSError:
         pass

@@ -56,6 +56,7 @@ from ._densities import InverseProblem, _Target, _Whitened, normal_prior
 from ._laplace import Laplace, _starts, laplace_of
 from ._nuts import DEFAULT_NUTS, NUTS, _compiled, _init_states, _sample, _to_u, _values, _warmup
 from ._posterior_result import Posterior
+from .transport import ProfileMap, ProfileTransport, build_map
 
 SAMPLE_CHUNK = 50
 """Draws per compiled sampling call: one program for any number of draws (the last
@@ -78,6 +79,7 @@ def posterior(
     progress: bool = False,
     on_laplace: Callable[[Laplace], None] | None = None,
     cache: bool | str | os.PathLike | None = None,
+    transport: ProfileTransport | None = None,
 ) -> Posterior:
     """Sample the posterior of ``problem``'s free parameters with NUTS.
 
@@ -117,6 +119,11 @@ def posterior(
             chains, seed, init and library versions; a problem without a fingerprint,
             or a callable prior, runs uncached (:mod:`._warm_cache`).
             ``Posterior.warm_cache`` says what happened: "off", "stored", "loaded".
+        transport: sample in coordinates that straighten a curved ridge
+            (:class:`~axojax.inverse.transport.ProfileTransport`, e.g.
+            ``ProfileTransport("ks")``: the profile along ks is tabulated from the centre
+            before the warm-up; the posterior is exactly the same, the trajectories
+            shorter). ``None``: the affine whitening alone.
 
     Returns:
         :class:`Posterior`. Warns (one line each) when a parameter's R-hat exceeds
@@ -127,6 +134,7 @@ def posterior(
     """
     t_start = time.perf_counter()
     names, lower, upper, prior = _check(problem, draws, chains, warmup, sampler, prior)
+    along = _check_transport(transport, names)
     directory = posterior_cache_dir(cache)
     target = _Target(problem, prior)
     clock = _Clock()
@@ -135,10 +143,12 @@ def posterior(
     run_key = None
     if directory is not None:
         run_key = _warm_cache.run_key(
-            problem, prior, sampler, warmup, chains, seed, init, vectorize
+            problem, prior, sampler, warmup, chains, seed, init, vectorize, transport
         )
     file = None if run_key is None else _warm_cache.path_of(directory, run_key)
     warm = None if file is None else _warm_cache.load(file, run_key, chains, len(names))
+    if warm is not None and (transport is not None) != bool(warm.profile):
+        warm = None  # cannot happen with an honest key; recompute rather than guess
     warm_cache = "off" if file is None else ("loaded" if warm is not None else "stored")
     if warm is not None:  # an identical run's start-up: straight to the draws
         u_c, precision_u, start_u = warm.u_c, warm.precision_u, warm.start_u
@@ -154,20 +164,31 @@ def posterior(
 
     t0 = time.perf_counter()
     if warm is not None:
-        sampled, states, step_size, imm, warm_grads = _resume(target, sampler, warm)
+        sampled, states, step_size, imm, warm_grads = _resume(target, sampler, warm, along)
     else:
         with stage(f"posterior warm-up ({chains} x {warmup} steps)", enable=progress):
             sampled, states, step_size, imm, warm_grads = _adapt(
-                target, sampler, warmup, vectorize, key_warm, z_start, z_c, cov, clock.call
+                target,
+                sampler,
+                warmup,
+                vectorize,
+                key_warm,
+                z_start,
+                z_c,
+                cov,
+                clock.call,
+                None if transport is None else (along, int(transport.knots), _spread(init)),
             )
         if file is not None:
             chol = sampled.chol if sampler.whiten else jnp.eye(len(names))
+            profile = () if transport is None else _profile_arrays(sampled.transport)
             warm = _warm_cache.Warm(
                 *(np.asarray(x) for x in (z_c, cov, chol, u_c, precision_u, start_u)),
                 state=tuple(np.asarray(x) for x in states),
                 step_size=np.asarray(step_size),
                 imm=np.asarray(imm),
                 warm_grads=np.asarray(warm_grads),
+                profile=profile,
             )
             _warm_cache.save(file, run_key, warm)
     seconds_warmup = 0.0 if warm_cache == "loaded" else time.perf_counter() - t0
@@ -178,7 +199,7 @@ def posterior(
     seconds_sampling = time.perf_counter() - t0
     compile_chains = clock.seconds - compile_start
     compile_draws = clock.seconds - compile_draws
-    if sampler.whiten:
+    if isinstance(sampled, _Whitened):
         z = np.asarray(sampled.to_z(jnp.asarray(z)))
 
     u = np.asarray(clock.call(_to_u, None, target, jnp.asarray(z)))
@@ -249,6 +270,7 @@ def posterior(
         gradients_per_draw=float(np.mean(n_steps)),
         warm_cache=warm_cache,
         seconds_compile_draws=compile_draws,
+        transport=None if transport is None else transport.along,
     )
 
 
@@ -304,12 +326,40 @@ def _check(problem, draws, chains, warmup, sampler, prior):
     return names, lower, upper, prior
 
 
-def _adapt(target, sampler, warmup, vectorize, key, z_start, z_c, cov, call):
-    """The sampled density (whitened unless ``NUTS(whiten=False)``) and, per chain, the
+def _check_transport(transport, names) -> int | None:
+    """Index of the transport's parameter (None without one); one-line errors."""
+    if transport is None:
+        return None
+    if not isinstance(transport, ProfileTransport):
+        raise TypeError(
+            f"transport must be an axojax.inverse.ProfileTransport or None, got {type(transport).__name__}"
+        )
+    return transport.index(names)
+
+
+def _spread(init) -> bool:
+    """Whether the starts are a spread the sampler may redraw (not given per chain)."""
+    return init is None or hasattr(init, "params") or np.ndim(init) != 2
+
+
+def _adapt(target, sampler, warmup, vectorize, key, z_start, z_c, cov, call, transport=None):
+    """The sampled density (whitened unless ``NUTS(whiten=False)``; straightened first by
+    the profile map of ``transport`` = (index, knots, respread) when given: the starts
+    then redrawn from the profile's marginal unless ``respread`` is False) and, per chain, the
     state after the warm-up, its step size, inverse mass matrix and gradients spent."""
     k = z_c.shape[0]
     chains = z_start.shape[0]
-    if sampler.whiten:  # sample w = L^-1 (z - z_c): the Laplace covariance becomes the identity
+    if transport is not None:  # y = the profile's coordinates: standard normal to its accuracy
+        along, knots, respread = transport
+        profile = call(build_map, (along, knots), target, z_c)
+        sampled = _Whitened(target, jnp.zeros(k), jnp.eye(k), profile)
+        if respread:  # the chains start spread along the whole ridge
+            key, key_starts = jax.random.split(key)
+            x_start = profile.draw_y(key_starts, chains)
+        else:
+            x_start = sampled.to_w(z_start)
+        x_c, cov_x = jnp.zeros(k), jnp.eye(k)
+    elif sampler.whiten:  # sample w = L^-1 (z - z_c): the Laplace covariance becomes the identity
         sampled = _Whitened(target, z_c, jnp.linalg.cholesky(cov))
         x_start, x_c, cov_x = sampled.to_w(z_start), jnp.zeros(k), jnp.eye(k)
     else:
@@ -334,13 +384,25 @@ def _adapt(target, sampler, warmup, vectorize, key, z_start, z_c, cov, call):
     return sampled, states, step_size, imm, warm_grads
 
 
-def _resume(target, sampler, warm):
+def _profile_arrays(profile: ProfileMap) -> tuple:
+    return tuple(np.asarray(getattr(profile, n)) for n in _warm_cache.PROFILE_FIELDS)
+
+
+def _resume(target, sampler, warm, along=None):
     """The sampled density and the chains' state, step sizes, inverse mass matrices and
     warm-up gradients kept by an identical run (:mod:`._warm_cache`), as :func:`_adapt`
-    returned them."""
+    returned them (with a transport along coordinate ``along``: its map too)."""
     from blackjax.mcmc.hmc import HMCState
 
-    if sampler.whiten:
+    if along is not None:
+        k = len(warm.z_c)
+        profile = ProfileMap(
+            along=along,
+            rest=tuple(i for i in range(k) if i != along),
+            **{n: jnp.asarray(x) for n, x in zip(_warm_cache.PROFILE_FIELDS, warm.profile)},
+        )
+        sampled = _Whitened(target, jnp.zeros(k), jnp.eye(k), profile)
+    elif sampler.whiten:
         sampled = _Whitened(target, jnp.asarray(warm.z_c), jnp.asarray(warm.chol))
     else:
         sampled = target
