@@ -70,6 +70,11 @@ def synthetic() -> list[str]:
     ]
 
 
+ALONG = {"synthetic": "ks", "sperm": None}
+"""The ``--along`` each problem's command uses (``--no-along``: none): the synthetic
+posterior is a ridge p(ks) bending over five decades of ks."""
+
+
 def run(name: str, argv: list[str], warmup: int | None, vectorize: bool | None = None) -> None:
     original = cli_fit.posterior
 
@@ -105,7 +110,8 @@ def run(name: str, argv: list[str], warmup: int | None, vectorize: bool | None =
         f"{post['gradients_per_draw']:.1f} gradients per draw, mean tree depth "
         f"{post['tree_depth']:.2f} (limit {post['max_num_doublings']}, reached in "
         f"{100 * post['tree_depth_saturated']:.1f} %), {post['divergences']} divergences, "
-        f"{1e3 * post['seconds_per_gradient']:.2f} ms per gradient"
+        f"{1e3 * post['seconds_per_gradient']:.2f} ms per gradient; transport along "
+        f"{post.get('transport')}"
     )
     print(
         f"{'name':>4} {'fit':>10} {'q05':>10} {'mean':>10} {'q95':>10} {'R-hat':>7} {'ESS':>6} {'tail':>6} {'sd/Lap':>7}"
@@ -131,6 +137,11 @@ def main() -> None:
     ap.add_argument("--chains", type=int, default=4)
     ap.add_argument("--warmup", type=int, default=None)
     ap.add_argument(
+        "--no-along",
+        action="store_true",
+        help="sample without --along (the affine whitening alone)",
+    )
+    ap.add_argument(
         "--chains-as",
         choices=("default", "vmapped", "sequential"),
         default="default",
@@ -143,6 +154,8 @@ def main() -> None:
         extra = {"sperm": SPERM, "synthetic": None}[name]
         argv = COMMON + (extra if extra is not None else synthetic())
         argv += ["--posterior", str(args.draws), "--chains", str(args.chains)]
+        if ALONG[name] and not args.no_along:
+            argv += ["--along", ALONG[name]]
         run(name, argv, args.warmup, vectorize)
     sys.stdout.flush()
 

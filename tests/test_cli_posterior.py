@@ -65,6 +65,8 @@ def test_fit_posterior_report_file_and_corner_plot(tmp_path, capsys):
         (["--chains", "3"], "--chains"),
         (["--warmup", "200"], "--warmup"),
         (["--posterior", "20", "--warmup", "10"], "--warmup"),
+        (["--along", "p"], "--along"),
+        (["--posterior", "20", "--along", "ks"], "--along"),
     ],
 )
 def test_bad_posterior_flags_are_one_line(argv, flag, capsys):
@@ -119,3 +121,6 @@ def test_default_warmup_is_the_draws_within_150_to_500():
         500,
     ]
     assert warmup_steps(1000, 2000) == 2000  # --warmup wins
+    # with --along: at most 200 (the chains start from the profile's approximation)
+    assert [warmup_steps(d, None, "ks") for d in (4, 180, 1000)] == [150, 180, 200]
+    assert warmup_steps(1000, 900, "ks") == 900

@@ -280,8 +280,9 @@ def _saturation_note(saturated: float, sampler: NUTS, n_steps: np.ndarray) -> st
         f"NUTS tree depth reached max_num_doublings={sampler.max_num_doublings} in "
         f"{100 * saturated:.0f} % of draws ({float(np.mean(n_steps)):.0f} gradients per draw): "
         "the trajectories were cut short, so the draws are more correlated than they need be; "
-        f"raise it (NUTS(max_num_doublings={sampler.max_num_doublings + 2})), or fix or "
-        "reparametrise the parameters along the posterior's longest ridge"
+        f"raise it (NUTS(max_num_doublings={sampler.max_num_doublings + 2})), or, for a long "
+        "curved ridge, sample along its profile (transport=ProfileTransport(NAME); "
+        "axojax fit --along NAME)"
     )
 
 
