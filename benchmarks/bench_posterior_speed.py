@@ -5,7 +5,8 @@
   (``axojax fit --model seven --free p,ks --kl-ratio 1000 --data human_sperm --ei 90.9
   --cn 0.000285 --shape-floor 0.2 --posterior 1000 --chains 4``);
 - ``synthetic``: a seven-filament frequency and wavelength (10 elements, the truth p 300,
-  ks 1e6, kl = ks / 1000; 5 % sigmas, no noise), the same command with
+  ks 1e6, kl = ks / 1000; the command's default sigmas, 5 % of the frequency and 10 % of
+  the wavelength; no noise), the same command with
   ``--target-frequency/--target-wavelength`` instead of ``--data``.
 
 Each runs in this process through ``axojax.cli.main.main`` (what a user runs, less the
@@ -17,13 +18,28 @@ Laplace sd ratio and (synthetic) whether the truth lies in the 90 % intervals.
     python benchmarks/bench_posterior_speed.py [sperm|synthetic ...] [--draws 1000]
         [--chains 4] [--warmup W]
 
+Result (2026-12-04 16:36-16:40 UTC, load 0.1-1.1): ``synthetic --draws 1000 --warmup 200
+--chains-as sequential`` (the command with ``--along ks``: what the CLI now does by default
+with it) **221.8 s** (target 300 s): fit 24.0 s, posterior start 5.8 s, warm-up 64.5 s
+(200 steps), draws 123.2 s, 49.8 s compilation in all; 5.6 gradients per draw, mean tree
+depth 2.55, no saturation, 5.22 ms per gradient; **R-hat 1.0004 (p) and 1.0007 (ks), bulk
+ESS 2394 and 2313**; 111 divergences (0.03 of the transitions: the density's cliff at
+the ridge's end, ks ~ 4e6, where another eigenmode becomes the dominant one). The same
+with 500 warm-up steps and vmapped chains (16:25-16:31): 361.8 s, R-hat 1.0003/1.0005,
+ESS 2736/2495, 8.83 ms per gradient (every vmapped step pays the longest of the four
+trees). The 90 % intervals, p 148-282 and ks 31-7.1e5, do not contain the truth (300,
+1e6): this posterior puts most of its mass down the ridge, towards small ks, where the
+frequency and wavelength fit as well (the quadrature of
+``scripts/check_synthetic_posterior.py`` gives the same quantiles); the acceptance's
+coverage check is the small noisy run of ``tests/test_posterior_laplace.py``.
+
 Result (2026-12-04 14:37-14:42 UTC, load 0.8-1.2): ``sperm --draws 1000`` **245.5 s**
 (target 300 s): fit 21.6 s, warm-up 104.7 s (500 steps), draws 113.0 s, 32.3 s
 compilation; 4.7 gradients per draw, 6.1 ms per gradient; R-hat 1.003 and 1.002, ESS 1305
 and 1073 (the command's exit status is 1: its fit misses the shape, not the posterior).
 With the previous default warm-up (1000 steps; load 2-3): 378.4 s.
 
-Earlier result (2026-12-03 17:41-18:12 UTC, jax 0.10.2, 2 cores shared with three to four other
+Earlier result, before ``--along`` (2026-12-03 17:41-18:12 UTC, jax 0.10.2, 2 cores shared with three to four other
 jobs: load average 7-10 throughout, about 6x the quiet machine's time per gradient):
 **the acceptance runs were not made**; the one run made, ``synthetic --draws 100
 --warmup 150 --chains-as sequential``, took 1841 s: the fit 165 s (the first start's
@@ -31,7 +47,7 @@ compilation 91 s), the posterior 1677 s = start 37 s + warm-up 1149 s + draws 47
 137.8 s of it compilation; 25.2 gradients per draw, mean tree depth 3.87 (limit 8,
 reached in 3.8 % of draws), 44.7 ms per gradient (7.6 ms on a quieter machine:
 bench_gradients.py). The posterior of p and ks from a frequency and a wavelength alone
-(5 % sigmas) is a long curved ridge: the draws went from the fit's optimum (the truth,
+(5 % and 10 % sigmas) is a long curved ridge: the draws went from the fit's optimum (the truth,
 300 and 1e6, recovered exactly) down the ridge to p ~ 190 and ks ~ 8e4 (ks's 90 %
 interval 30 to 4.4e5), the chains disagreed (R-hat 1.66 and 1.61, bulk ESS 7) and the
 posterior sd of ks was 3.2x its Laplace sd. So on this target the chains need far more
