@@ -124,3 +124,29 @@ def test_default_warmup_is_the_draws_within_150_to_500():
     # with --along: at most 200 (the chains start from the profile's approximation)
     assert [warmup_steps(d, None, "ks") for d in (4, 180, 1000)] == [150, 180, 200]
     assert warmup_steps(1000, 900, "ks") == 900
+
+
+def test_chains_run_sequentially_on_a_cpu(monkeypatch, capsys):
+    """The command runs its chains one after another on a CPU (measured faster there:
+    docs/benchmarks.md), vmapped on an accelerator; --along and its default warm-up reach
+    the sampler."""
+    import jax
+
+    from axojax.cli import fit as cli_fit
+
+    seen = {}
+
+    class Stop(Exception):
+        pass
+
+    def posterior(problem, **kw):
+        seen.update(kw)
+        raise Stop
+
+    monkeypatch.setattr(cli_fit, "posterior", posterior)
+    argv = ["fit", "--no-mesh-check", "--model", "two", "--elements", "4", "--free", "p,ks"]
+    argv += ["--target-frequency", "30", "--target-wavelength", "20", "--posterior", "1000"]
+    with pytest.raises(Stop):
+        main(argv + ["--along", "ks"])
+    assert seen["vectorize"] is (jax.default_backend() != "cpu")
+    assert seen["transport"].along == "ks" and seen["warmup"] == 200

@@ -8,13 +8,13 @@ line."""
 
 import warnings
 
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
 import scipy.optimize
 import scipy.stats
+from test_posterior import LinearGaussian
 
 from axojax.inverse import ProfileTransport, posterior
 from axojax.inverse._densities import _Target
@@ -25,37 +25,17 @@ M0, S0, S1 = 0.5, 1.0, 0.02
 LOWER, UPPER = np.array([-3.0, -3.0]), np.array([3.0, 12.0])
 
 
-class Banana(eqx.Module):
+class Banana(LinearGaussian):
     """Residuals ``((u0 - M0) / S0, (u1 - u0^2) / S1)``, a uniform prior in u within the
-    bounds: u0 is a normal truncated to [-3, 3], u1 | u0 ~ N(u0^2, S1) (its bounds are
-    more than 4 S1 from every u0^2 with u0 in [-3, 3] but the ends)."""
+    bounds (the logistic map and log density of ``test_posterior.LinearGaussian``): u0 is
+    a normal truncated to [-3, 3], u1 | u0 ~ N(u0^2, S1) (its bounds are more than 4 S1
+    from every u0^2 with u0 in [-3, 3] but the ends)."""
 
-    lower: np.ndarray = eqx.field(default_factory=lambda: LOWER)
-    upper: np.ndarray = eqx.field(default_factory=lambda: UPPER)
-    u0: np.ndarray = eqx.field(default_factory=lambda: np.array([0.4, 0.3]))
-    names: tuple = eqx.field(static=True, default=("u0", "u1"))
+    def __init__(self):
+        super().__init__(np.zeros((2, 2)), np.zeros(2), 1.0, LOWER, UPPER, ["u0", "u1"])
 
     def residuals(self, u):
         return jnp.stack([(u[0] - M0) / S0, (u[1] - u[0] ** 2) / S1])
-
-    def log_prior(self, u):
-        return jnp.zeros(())
-
-    def to_u(self, z):
-        return self.lower + (self.upper - self.lower) * jax.nn.sigmoid(z)
-
-    def to_z(self, u):
-        f = (u - self.lower) / (self.upper - self.lower)
-        return jnp.log(f) - jnp.log1p(-f)
-
-    def log_density(self, z):
-        logjac = jnp.sum(
-            jnp.log(self.upper - self.lower) + jax.nn.log_sigmoid(z) + jax.nn.log_sigmoid(-z)
-        )
-        return -0.5 * jnp.sum(self.residuals(self.to_u(z)) ** 2) + logjac
-
-    def values(self, u):
-        return {n: u[i] for i, n in enumerate(self.names)}
 
     def fingerprint(self):
         """What the warm-state cache keys on."""

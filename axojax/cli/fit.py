@@ -297,6 +297,18 @@ posterior, in coordinates where it is about a standard normal: a shorter warm-up
 200 steps 1.0004/1.0007, 2394/2313: docs/benchmarks.md)."""
 
 
+def vectorize_chains() -> bool:
+    """Whether ``--posterior`` runs its chains vmapped: not on a CPU, where the chains run
+    one after another (vmapped, every NUTS step costs the longest of the chains' trees,
+    and a batch of eigen-solves costs about as much as the same solves one by one).
+    Measured on 2 cores, 4 chains x 1000 draws (docs/benchmarks.md): the human sperm 245.5
+    s vmapped, 205.4 s sequential (6.1 and 4.3 ms per gradient); the synthetic target with
+    --along 8.8 and 5.2 ms per gradient. On an accelerator (not measured) vmapped."""
+    import jax
+
+    return jax.default_backend() != "cpu"
+
+
 def warmup_steps(draws: int, warmup: int | None, along: str | None = None) -> int:
     """``--warmup`` when given, else ``draws`` clipped to [:data:`MIN_WARMUP`,
     :data:`MAX_DEFAULT_WARMUP`] (:data:`MAX_ALONG_WARMUP` with ``--along``)."""
@@ -427,10 +439,7 @@ def _run_fit(args, problem, options: dict, flag: str):
                 draws=args.posterior,
                 chains=args.chains,
                 warmup=warmup_steps(args.posterior, args.warmup, args.along),
-                # with --along the chains run one after another: vmapped, each step costs the
-                # longest of their trees (synthetic benchmark, 2 cores: 8.8 ms per gradient
-                # vmapped, 5.2 ms sequential; docs/benchmarks.md)
-                vectorize=transport is None,
+                vectorize=vectorize_chains(),
                 init=result,
                 progress=options["progress"],
                 cache=_warm_cache_dir(),

@@ -169,6 +169,21 @@ class _Target(eqx.Module):
     def log_prior(self, u: Float[Array, " k"]) -> Float[Array, ""]:
         return self.problem.log_prior(u) if self.prior is None else self.prior(u)
 
+    def split(self):
+        """``(r, rest)``: the problem's residuals ``r(z)`` and the rest of the log density
+        (log prior and log-Jacobian of ``to_u``), ``self(z) = -|r(z)|^2 / 2 + rest(z)``:
+        what Gauss-Newton steps on it need."""
+        problem = self.problem
+
+        def r(z):
+            return problem.residuals(problem.to_u(z))
+
+        def rest(z):
+            u = problem.to_u(z)
+            return self.log_prior(u) + jnp.linalg.slogdet(jax.jacfwd(problem.to_u)(z))[1]
+
+        return r, rest
+
 
 class _Whitened(eqx.Module):
     """``target`` in whitened coordinates: ``w -> target(centre + chol @ w)`` (the

@@ -49,14 +49,7 @@ def _centre(settings, target, z0):
     ``J_u = J (du/dz)^-1``, the same Jacobian."""
     optimise, forward = settings
     problem = target.problem
-
-    def r(z):
-        return problem.residuals(problem.to_u(z))
-
-    def rest(z):
-        return (
-            target.log_prior(problem.to_u(z)) + jnp.linalg.slogdet(jax.jacfwd(problem.to_u)(z))[1]
-        )
+    r, rest = target.split()
 
     def precisions(z):
         J = (jax.jacfwd if forward else jax.jacrev)(r)(z)

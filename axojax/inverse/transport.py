@@ -227,22 +227,6 @@ def _hermite(x, v, slopes, t, clamp: bool):
     return inside + below * slopes[0] + above * slopes[-1]
 
 
-def _split(target):
-    """The residuals ``r(z)`` of ``target``'s problem and the rest of its log density
-    (log prior and log-Jacobian of ``to_u``): ``target(z) = -|r(z)|^2 / 2 + rest(z)``."""
-    problem = target.problem
-
-    def r(z):
-        return problem.residuals(problem.to_u(z))
-
-    def rest(z):
-        return (
-            target.log_prior(problem.to_u(z)) + jnp.linalg.slogdet(jax.jacfwd(problem.to_u)(z))[1]
-        )
-
-    return r, rest
-
-
 def build_map(settings: tuple[int, int], target, z_c: Float[Array, " k"]) -> ProfileMap:
     """Tabulate the profile of ``target`` (the log density in z) along coordinate
     ``settings[0]`` at ``settings[1]`` knots uniform in u between the bounds, by
@@ -256,7 +240,7 @@ def build_map(settings: tuple[int, int], target, z_c: Float[Array, " k"]) -> Pro
     rest_idx = np.array([i for i in range(k) if i != a])
     frac = (np.arange(n) + 0.5) / n  # uniform in u between the bounds: logistic in z
     z_knots = jnp.asarray(np.log(frac) - np.log1p(-frac), dtype=z_c.dtype)
-    r, rest = _split(target)
+    r, rest = target.split()
 
     def assemble(za, zr):
         return jnp.zeros(k, dtype=z_c.dtype).at[a].set(za).at[rest_idx].set(zr)
