@@ -33,7 +33,12 @@ frequency and wavelength fit as well (the quadrature of
 ``scripts/check_synthetic_posterior.py`` gives the same quantiles); the acceptance's
 coverage check is the small noisy run of ``tests/test_posterior_laplace.py``.
 
-Result (2026-12-04 14:37-14:42 UTC, load 0.8-1.2): ``sperm --draws 1000`` **245.5 s**
+Result (2026-12-04 16:50-16:54 UTC, load 2.2 -> 1.2): ``sperm --draws 1000 --chains-as
+sequential`` (as the CLI now runs the chains on a CPU) **205.4 s**: fit 33.0 s, warm-up
+77.2 s (500 steps), draws 84.9 s, 37.9 s compilation; 4.7 gradients per draw, 4.26 ms per
+gradient; R-hat 1.0026 and 1.0015, ESS 1246 and 1070.
+
+Result (2026-12-04 14:37-14:42 UTC, load 0.8-1.2): ``sperm --draws 1000`` (vmapped) **245.5 s**
 (target 300 s): fit 21.6 s, warm-up 104.7 s (500 steps), draws 113.0 s, 32.3 s
 compilation; 4.7 gradients per draw, 6.1 ms per gradient; R-hat 1.003 and 1.002, ESS 1305
 and 1073 (the command's exit status is 1: its fit misses the shape, not the posterior).
