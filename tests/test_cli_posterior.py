@@ -111,7 +111,7 @@ def test_posterior_default_solver_is_the_structured_one_where_it_pays():
 
 
 def test_default_warmup_is_the_draws_within_150_to_500():
-    from axojax.cli.fit import warmup_steps
+    from axojax.cli.fit_posterior import warmup_steps
 
     assert [warmup_steps(d, None) for d in (4, 150, 300, 1000, 100_000)] == [
         150,
@@ -132,7 +132,7 @@ def test_chains_run_sequentially_on_a_cpu(monkeypatch, capsys):
     the sampler."""
     import jax
 
-    from axojax.cli import fit as cli_fit
+    from axojax.cli import fit_posterior as cli_fit
 
     seen = {}
 

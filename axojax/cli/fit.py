@@ -16,29 +16,23 @@ import warnings
 
 from .. import _io, _progress
 from ..beats import OBSERVATIONS, Target, observation_targets, read_beat
-from ..cache import WARM_SUBDIR, compilation_cache_dir
 from ..eigen.solvers import AbstractEigenSolver, Auto
 from ..inverse import (
     SHAPE_FLOOR,
-    ProfileTransport,
     build_problem,
     least_squares,
-    posterior,
     read_spec,
     solver_from_name,
 )
 from ..inverse.checks import fit_checks
 from ..params import DEFAULT_CUBIC
 from ..units import Units
-from . import common
+from . import common, fit_posterior
 from .fit_text import (
     render,  # noqa: F401  (the command's text output: main calls fit.render)
-    render_laplace,
 )
 
 METHODS = ("lm", "lbfgs", "adam")
-MAX_DRAWS = 100_000  # draws per chain of --posterior (a 3-parameter posterior needs ~1000)
-MAX_CHAINS = 64
 MAX_STARTS = 10_000
 """Most starts of a multi-start fit (each is a full local fit; 1e11 asked for 745 GiB)."""
 
@@ -174,39 +168,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="FIT.json",
         help="save the fit report (read by 'axojax plot FIT.json')",
     )
-    parser.add_argument(
-        "--posterior",
-        type=int,
-        default=None,
-        metavar="DRAWS",
-        help="then sample the posterior from the optimum with NUTS: DRAWS per chain after --warmup steps "
-        "(adds \"posterior\" to the report; with --out FIT.json the draws go to FIT.posterior.npz, drawn by 'axojax plot')",
-    )
-    parser.add_argument(
-        "--chains",
-        type=int,
-        default=4,
-        metavar="C",
-        help="posterior chains (default 4; with --posterior)",
-    )
-    parser.add_argument(
-        "--warmup",
-        type=int,
-        default=None,
-        metavar="STEPS",
-        help="posterior warm-up (window adaptation) steps per chain (default: DRAWS, at least "
-        f"{MIN_WARMUP} and at most {MAX_DEFAULT_WARMUP}, {MAX_ALONG_WARMUP} with --along: the chains "
-        "start whitened by the Laplace approximation at the optimum; with --posterior)",
-    )
-    parser.add_argument(
-        "--along",
-        default=None,
-        metavar="NAME",
-        help="with --posterior: sample in coordinates straightened along the profile of the free "
-        "parameter NAME (a long curved ridge, e.g. ks when p and ks are fitted to a frequency and a "
-        "wavelength: the ridge is p as a function of ks); the posterior is the same, the trajectories "
-        "shorter (axojax.inverse.ProfileTransport)",
-    )
+    fit_posterior.add_arguments(parser)
     parser.add_argument(
         "--no-mesh-check",
         dest="mesh_check",
@@ -284,61 +246,6 @@ def _read_data(path, flag: str):
     except (ValueError, OSError) as err:
         raise common.CLIError(f"{flag}: {err}") from None
     return beat, beat.summary()
-
-
-MIN_WARMUP = 150
-"""Fewest warm-up steps: Stan's schedule has its full set of adaptation windows from 150."""
-MAX_DEFAULT_WARMUP = 500
-"""The default warm-up never exceeds :func:`axojax.posterior`'s own default."""
-MAX_ALONG_WARMUP = 200
-"""With ``--along`` the chains start from draws of the profile's approximation of the
-posterior, in coordinates where it is about a standard normal: a shorter warm-up does
-(synthetic benchmark, 4 x 1000 draws: 500 steps R-hat 1.0003/1.0005, ESS 2736/2495;
-200 steps 1.0004/1.0007, 2394/2313: docs/benchmarks.md)."""
-
-
-def vectorize_chains() -> bool:
-    """Whether ``--posterior`` runs its chains vmapped: not on a CPU, where the chains run
-    one after another (vmapped, every NUTS step costs the longest of the chains' trees,
-    and a batch of eigen-solves costs about as much as the same solves one by one).
-    Measured on 2 cores, 4 chains x 1000 draws (docs/benchmarks.md): the human sperm 245.5
-    s vmapped, 205.4 s sequential (6.1 and 4.3 ms per gradient); the synthetic target with
-    --along 8.8 and 5.2 ms per gradient. On an accelerator (not measured) vmapped."""
-    import jax
-
-    return jax.default_backend() != "cpu"
-
-
-def warmup_steps(draws: int, warmup: int | None, along: str | None = None) -> int:
-    """``--warmup`` when given, else ``draws`` clipped to [:data:`MIN_WARMUP`,
-    :data:`MAX_DEFAULT_WARMUP`] (:data:`MAX_ALONG_WARMUP` with ``--along``)."""
-    if warmup is not None:
-        return int(warmup)
-    top = MAX_DEFAULT_WARMUP if along is None else MAX_ALONG_WARMUP
-    return min(max(int(draws), MIN_WARMUP), top)
-
-
-def _check_posterior(args: argparse.Namespace) -> None:
-    if args.posterior is None:
-        if args.chains != 4:
-            raise common.CLIError("--chains: applies to the posterior; add --posterior DRAWS")
-        if args.warmup is not None:
-            raise common.CLIError("--warmup: applies to the posterior; add --posterior DRAWS")
-        if args.along is not None:
-            raise common.CLIError("--along: applies to the posterior; add --posterior DRAWS")
-        return
-    if args.warmup is not None and not MIN_WARMUP <= args.warmup <= MAX_DRAWS:
-        raise common.CLIError(
-            f"--warmup: steps per chain must be in {MIN_WARMUP}..{MAX_DRAWS}, got {args.warmup}"
-        )
-    if not 4 <= args.posterior <= MAX_DRAWS:
-        raise common.CLIError(
-            f"--posterior: draws per chain must be in 4..{MAX_DRAWS}, got {args.posterior}"
-        )
-    if not 1 <= args.chains <= MAX_CHAINS:
-        raise common.CLIError(
-            f"--chains: expected an integer in 1..{MAX_CHAINS}, got {args.chains}"
-        )
 
 
 def _eigen_solver(args: argparse.Namespace) -> AbstractEigenSolver:
@@ -424,51 +331,12 @@ def _run_fit(args, problem, options: dict, flag: str):
         raise common.CLIError(f"{flag}: {err}") from None
     if args.posterior is None:
         return result, None
-    transport = None
-    if args.along is not None:
-        try:
-            transport = ProfileTransport(args.along)
-            transport.index(problem.names)
-        except ValueError as err:
-            raise common.CLIError(f"--along: {str(err).split(': ', 1)[-1]}") from None
-    try:
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            post = posterior(
-                problem,
-                draws=args.posterior,
-                chains=args.chains,
-                warmup=warmup_steps(args.posterior, args.warmup, args.along),
-                vectorize=vectorize_chains(),
-                init=result,
-                progress=options["progress"],
-                cache=_warm_cache_dir(),
-                on_laplace=None if args.json else _print_laplace,
-                transport=transport,
-            )
-    except ValueError as err:
-        raise common.CLIError(f"--posterior: {err}") from None
-    for w in caught:  # R-hat, ESS and divergence warnings: one line each on stderr
-        print(f"axojax: fit: posterior: {w.message}", file=sys.stderr)
-    return result, post
-
-
-def _warm_cache_dir():
-    """Where ``--posterior`` keeps its start-up (:mod:`axojax.inverse._warm_cache`):
-    ``posterior/`` in the compilation cache's directory when that cache is on (the
-    ``axojax`` command: :mod:`axojax.cache`), else nowhere."""
-    directory = compilation_cache_dir()
-    return None if directory is None else directory / WARM_SUBDIR
-
-
-def _print_laplace(laplace) -> None:
-    """The fast answer, on stdout before the warm-up starts (text output only)."""
-    print("\n".join(render_laplace(laplace.to_json())), flush=True)
+    return result, fit_posterior.sample(args, problem, result, options["progress"])
 
 
 def run(args: argparse.Namespace) -> dict:
     common.check_output("--out", args.out, (".json",))  # before any work, as every command
-    _check_posterior(args)
+    fit_posterior.check_arguments(args)
     if args.spec is not None:
         return _run_spec(args)
     if args.free is None:
