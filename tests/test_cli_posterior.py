@@ -150,3 +150,18 @@ def test_chains_run_sequentially_on_a_cpu(monkeypatch, capsys):
         main(argv + ["--along", "ks"])
     assert seen["vectorize"] is (jax.default_backend() != "cpu")
     assert seen["transport"].along == "ks" and seen["warmup"] == 200
+
+
+def test_text_report_names_the_transport():
+    from axojax.cli.fit_text import _render_posterior
+
+    post = {
+        "chains": 4, "draws": 10, "seconds": 1.0, "mean": {"p": 1.0}, "sd": {"p": 0.1},
+        "q05": {"p": 0.9}, "q95": {"p": 1.1}, "rhat": {"p": 1.0}, "ess": {"p": 40.0},
+        "sd_ratio": {"p": 1.0}, "tree_depth": 2.0, "max_num_doublings": 8,
+        "tree_depth_saturated": 0.0, "gradients_per_draw": 4.5,
+    }  # fmt: skip
+    plain = "\n".join(_render_posterior(post))
+    along = "\n".join(_render_posterior({**post, "transport": "ks"}))
+    assert "straightened" not in plain
+    assert "4.5 gradients per draw, in coordinates straightened along the profile of ks" in along

@@ -85,6 +85,11 @@ def _render_posterior(post: dict | None) -> list[str]:
             f"NUTS: mean tree depth {post['tree_depth']:.2f} (limit {post['max_num_doublings']}, "
             f"reached in {100 * post['tree_depth_saturated']:.0f} % of draws), "
             f"{post['gradients_per_draw']:.1f} gradients per draw"
+            + (
+                f", in coordinates straightened along the profile of {post['transport']}"
+                if post.get("transport")
+                else ""
+            )
         )
     moved = [k for k, r in ratio.items() if r is not None and not 0.5 <= r <= 2.0]
     if moved:

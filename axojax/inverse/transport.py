@@ -151,9 +151,10 @@ class ProfileMap(eqx.Module):
         """The problem's ``z`` -> sampler coordinates ``y`` (inverse of :meth:`to_z`; ``s``
         by bisection on the monotone ``g``)."""
         za = z[self.along]
-        lo = jnp.minimum(self.s_knots[0], self.s_knots[0] - (self.z_knots[0] - za))
-        hi = jnp.maximum(self.s_knots[-1], self.s_knots[-1] + (za - self.z_knots[-1]))
-        lo, hi = lo - 1.0, hi + 1.0
+        x, y = self.s_knots, self.z_knots
+        slopes = _monotone_slopes(x, y)  # g is linear with these beyond the end knots
+        lo = jnp.minimum(x[0], x[0] + (za - y[0]) / slopes[0]) - 1.0
+        hi = jnp.maximum(x[-1], x[-1] + (za - y[-1]) / slopes[-1]) + 1.0
 
         def bisect(_, bounds):
             a, b = bounds
@@ -187,7 +188,9 @@ def _quantiles(z_knots, log_density, log_diag) -> Float[Array, " n"]:
     x = z_knots
     width = jnp.concatenate([x[1:2] - x[:1], 0.5 * (x[2:] - x[:-2]), x[-1:] - x[-2:-1]])
     w = log_density + jnp.sum(log_diag, axis=1) + jnp.log(width)
-    p = jax.nn.softmax(jnp.where(jnp.isfinite(w), w, -jnp.inf))
+    finite = jnp.isfinite(w)
+    p = jax.nn.softmax(jnp.where(finite, w, -jnp.inf))
+    p = jnp.where(jnp.any(finite), p, 1.0 / x.shape[0])  # no profile at all: uniform
     p = (1.0 - MIX) * p + MIX / x.shape[0]
     cdf = jnp.cumsum(p) - 0.5 * p
     return jax.scipy.special.ndtri(cdf)
