@@ -129,3 +129,29 @@ def test_bad_transport_is_one_line():
             ProfileTransport("u0", knots=bad)
     with pytest.raises(ValueError, match="along must be a parameter name"):
         ProfileTransport("")
+
+
+class CliffBanana(Banana):
+    """The banana with its density falling off a cliff at u0 = 1.5 (a residual of 1e3
+    beyond: as where another eigenmode becomes the dominant one)."""
+
+    def residuals(self, u):
+        return super().residuals(u) + jnp.where(u[0] > 1.5, 1e3, 0.0)
+
+
+def test_profile_ends_at_a_cliff():
+    from axojax.inverse.transport import profile_ends
+
+    problem = CliffBanana()
+    target = _Target(problem)
+    profile = _compiled(build_map, (0, 48), (target, problem.to_z(jnp.array([M0, M0**2]))))[0]
+    kept = np.isfinite(np.asarray(profile.log_density))
+    assert kept[:20].all() and not kept[-10:].any()  # knots 0.125 apart in u0 over [-3, 3]
+    (end,) = profile_ends(profile, problem.to_u, log_coordinate=False)
+    assert 1.5 - 0.125 <= end <= 1.5, end
+    # the map is constant past the cliff (the last kept knot's entry)
+    last = int(np.flatnonzero(kept)[-1])
+    assert np.allclose(profile.centre[last:], profile.centre[last])
+    # no cliff, no end
+    _, _, plain = _map()
+    assert profile_ends(plain, Banana().to_u, log_coordinate=False) == []

@@ -56,7 +56,7 @@ from ._densities import InverseProblem, _Target, _Whitened, normal_prior
 from ._laplace import Laplace, _starts, laplace_of
 from ._nuts import DEFAULT_NUTS, NUTS, _compiled, _init_states, _sample, _to_u, _values, _warmup
 from ._posterior_result import Posterior
-from .transport import ProfileMap, ProfileTransport, build_map
+from .transport import PROFILE_DROP, ProfileMap, ProfileTransport, build_map, profile_ends
 
 SAMPLE_CHUNK = 50
 """Draws per compiled sampling call: one program for any number of draws (the last
@@ -212,6 +212,8 @@ def posterior(
     ess_min = float(np.min(summ["ess_bulk"]))
     n_div = int(np.sum(divergent))
     notes = diagnostics.sampler_notes(names, summ, chains, chains * draws, n_div)
+    if n_div and transport is not None:
+        notes.append(_cliff_note(sampled.transport, problem, transport.along, laplace))
     for note in notes:
         warnings.warn(note, stacklevel=2)
     saturated = float(np.mean(depth >= sampler.max_num_doublings))
@@ -271,6 +273,20 @@ def posterior(
         warm_cache=warm_cache,
         seconds_compile_draws=compile_draws,
         transport=None if transport is None else transport.along,
+    )
+
+
+def _cliff_note(profile, problem, along: str, laplace: Laplace) -> str:
+    """Where the transport's profile ends (a cliff of the log density that trajectories
+    reaching it diverge at), for the divergence warning."""
+    ends = profile_ends(profile, problem.to_u, laplace.log_coordinate.get(along, False))
+    if not ends:
+        return f"the profile of {along} spans its bounds: the divergences are not at its ends"
+    where = " and ".join(f"{v:.4g}" for v in ends)
+    return (
+        f"the profile of {along} ends at {along} ~ {where} (the log density falls by over "
+        f"{PROFILE_DROP:g} there, e.g. where another eigenmode becomes the dominant one): "
+        "trajectories that reach such a cliff diverge"
     )
 
 

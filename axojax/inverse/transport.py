@@ -178,6 +178,25 @@ class ProfileMap(eqx.Module):
         return jax.random.normal(key, (count, len(self.rest) + 1))
 
 
+def profile_ends(profile: ProfileMap, to_u, log_coordinate: bool) -> list[float]:
+    """Where the profile was lost (its log density fell by more than
+    :data:`PROFILE_DROP` from its best: a cliff such as another eigenmode becoming the
+    dominant one), as values of the parameter along which it goes: the last knot kept on
+    each side that has lost knots beyond it (none, one or two values). ``to_u`` maps a
+    point in z to u (the problem's)."""
+    kept = np.isfinite(np.asarray(profile.log_density))
+    if not kept.any():
+        return []
+    idx = np.flatnonzero(kept)
+    ends = []
+    for j, lost in ((idx[0], idx[0] > 0), (idx[-1], idx[-1] < kept.size - 1)):
+        if lost:
+            z = jnp.zeros(len(profile.rest) + 1).at[profile.along].set(profile.z_knots[j])
+            u = float(to_u(z)[profile.along])
+            ends.append(float(np.exp(u)) if log_coordinate else u)
+    return ends
+
+
 MIX = 0.02
 """Share of the along coordinate's marginal spread uniformly over the knots."""
 
