@@ -12,7 +12,10 @@ Jacobian ``L(z_ks)``: any smooth coordinates give the same integral), on a grid 
 (a different eigenmode matching the targets; NUTS started on the ridge does not visit
 it) from a plain grid in (log p, log ks).
 
-    python scripts/check_synthetic_posterior.py [--along 400] [--across 49]
+    python scripts/check_synthetic_posterior.py [--along 400] [--across 49] [--plot OUT.png]
+
+``--plot``: the posterior on the plain grid in (log10 ks, p) with the profile's ridge
+(the knots' conditional maxima) and the truth (docs/images/synthetic_ridge.png).
 """
 
 import argparse
@@ -57,6 +60,7 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--along", type=int, default=400)
     ap.add_argument("--across", type=int, default=49)
+    ap.add_argument("--plot", default=None, help="save the figure here")
     args = ap.parse_args()
     prob = problem()
     target = _Target(prob)
