@@ -37,7 +37,10 @@ trees). The 90 % intervals, p 148-282 and ks 31-7.1e5, do not contain the truth 
 1e6): this posterior puts most of its mass down the ridge, towards small ks, where the
 frequency and wavelength fit as well (the quadrature of
 ``scripts/check_synthetic_posterior.py`` gives the same quantiles); the acceptance's
-coverage check is the small noisy run of ``tests/test_posterior_laplace.py``.
+coverage check is the small noisy run of ``tests/test_posterior_laplace.py``. A second,
+separate mode (p ~ 280, ks < 1e3: another eigenmode matching the targets; about 13 % of
+the mass on a plain grid) is not visited by chains started on the ridge: the quantiles
+are those of the ridge's mode.
 
 Result (2026-12-04 16:50-16:54 UTC, load 2.2 -> 1.2): ``sperm --draws 1000 --chains-as
 sequential`` (as the CLI now runs the chains on a CPU) **205.4 s**: fit 33.0 s, warm-up

@@ -104,6 +104,32 @@ def main() -> None:
     print(
         f"separate mode (p > 240, ks < 10^3.2) on a plain grid: {post[island].sum() / post.sum():.3f} of the mass"
     )
+    if args.plot:
+        plot(args.plot, P, K, L, profile, prob)
+
+
+def plot(path, P, K, L, profile, prob) -> None:
+    """The posterior's log density on the grid, the profile's ridge and the truth."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    good = np.isfinite(np.asarray(profile.log_density))
+    z = np.stack([np.asarray(profile.centre)[good, 0], np.asarray(profile.z_knots)[good]], 1)
+    u = np.asarray(jax.vmap(prob.to_u)(jnp.asarray(z)))
+    fig, ax = plt.subplots(figsize=(6.4, 4.2), constrained_layout=True)
+    shown = np.maximum(np.nan_to_num(L - np.nanmax(L), nan=-30.0), -12.0)
+    im = ax.contourf(K / np.log(10), np.exp(P), shown, levels=24, cmap="viridis")
+    fig.colorbar(im, ax=ax, label="log posterior density (max 0; floor -12)")
+    ax.plot(u[:, 1] / np.log(10), np.exp(u[:, 0]), "w--", lw=1.2, label="profile along ks")
+    ax.plot(np.log10(TRUTH["ks"]), TRUTH["p"], "r*", ms=12, label="truth (p 300, ks 1e6)")
+    ax.set_xlabel("log10 ks (dimensionless spoke stiffness)")
+    ax.set_ylabel("p (dimensionless dynein force)")
+    ax.set_title("p and ks from a frequency and a wavelength: a curved ridge", fontsize=10)
+    ax.legend(loc="upper left", fontsize=8)
+    fig.savefig(path, dpi=110)
+    print(f"wrote {path}")
 
 
 if __name__ == "__main__":
