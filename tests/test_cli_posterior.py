@@ -67,6 +67,7 @@ def test_fit_posterior_report_file_and_corner_plot(tmp_path, capsys):
         (["--posterior", "20", "--warmup", "10"], "--warmup"),
         (["--along", "p"], "--along"),
         (["--posterior", "20", "--along", "ks"], "--along"),
+        (["--posterior", "20", "--along", "p"], "--along"),
     ],
 )
 def test_bad_posterior_flags_are_one_line(argv, flag, capsys):

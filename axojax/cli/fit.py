@@ -349,6 +349,8 @@ def run(args: argparse.Namespace) -> dict:
         raise common.CLIError(
             f"--along: {args.along!r} is not a free parameter; choose from {', '.join(free)}"
         )
+    if args.along is not None and len(free) < 2:
+        raise common.CLIError("--along: needs at least two free parameters (--free)")
     options = _fit_options(args)
     targets = _targets(args)
     shape, extra = None, {}
