@@ -320,6 +320,7 @@ PROBLEM_OPTIONS = ("solver", "shape_floor", "exclude_base_um", "cubic")
 def _run_fit(args, problem, options: dict, flag: str):
     """The fit of ``problem``, then (``--posterior``) NUTS from its optimum on the same
     problem."""
+    transport = fit_posterior.transport_of(args, problem.names)  # refused before the fit
     try:
         method = solver_from_name(options["method"])
         with warnings.catch_warnings():  # the report says what the warnings would
@@ -331,7 +332,7 @@ def _run_fit(args, problem, options: dict, flag: str):
         raise common.CLIError(f"{flag}: {err}") from None
     if args.posterior is None:
         return result, None
-    return result, fit_posterior.sample(args, problem, result, options["progress"])
+    return result, fit_posterior.sample(args, problem, result, options["progress"], transport)
 
 
 def run(args: argparse.Namespace) -> dict:
@@ -345,12 +346,6 @@ def run(args: argparse.Namespace) -> dict:
     params = common.params_from_args(args)
     units = common.units_from_args(args)
     free = _free_names(args.free)
-    if args.along is not None and args.along not in free:  # before the fit, not after it
-        raise common.CLIError(
-            f"--along: {args.along!r} is not a free parameter; choose from {', '.join(free)}"
-        )
-    if args.along is not None and len(free) < 2:
-        raise common.CLIError("--along: needs at least two free parameters (--free)")
     options = _fit_options(args)
     targets = _targets(args)
     shape, extra = None, {}

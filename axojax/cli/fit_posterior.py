@@ -109,16 +109,25 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def sample(args: argparse.Namespace, problem, result, progress: bool):
-    """The posterior of ``problem`` from the fit ``result``'s optimum (``--posterior``);
-    its warnings (R-hat, ESS, divergences) one line each on stderr."""
-    transport = None
-    if args.along is not None:
-        try:
-            transport = ProfileTransport(args.along)
-            transport.index(problem.names)
-        except ValueError as err:
-            raise common.CLIError(f"--along: {str(err).split(': ', 1)[-1]}") from None
+def transport_of(args: argparse.Namespace, names) -> ProfileTransport | None:
+    """``--along`` as the transport over the free parameters ``names`` (None without it);
+    a one-line error when it names none of them or there are fewer than two."""
+    if args.along is None:
+        return None
+    try:
+        transport = ProfileTransport(args.along)
+        transport.index(names)
+    except ValueError as err:
+        raise common.CLIError(f"--along: {str(err).split(': ', 1)[-1]}") from None
+    return transport
+
+
+def sample(
+    args: argparse.Namespace, problem, result, progress: bool, transport: ProfileTransport | None
+):
+    """The posterior of ``problem`` from the fit ``result``'s optimum (``--posterior``),
+    along ``transport`` (:func:`transport_of`) when given; its warnings (R-hat, ESS,
+    divergences) one line each on stderr."""
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")

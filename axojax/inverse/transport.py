@@ -263,6 +263,7 @@ def build_map(settings: tuple[int, int], target, z_c: Float[Array, " k"]) -> Pro
     rest_idx = np.array([i for i in range(k) if i != a])
     frac = (np.arange(n) + 0.5) / n  # uniform in u between the bounds: logistic in z
     z_knots = jnp.asarray(np.log(frac) - np.log1p(-frac), dtype=z_c.dtype)
+    r_dim = k - 1
     r, rest = target.split()
 
     def assemble(za, zr):
@@ -304,17 +305,16 @@ def build_map(settings: tuple[int, int], target, z_c: Float[Array, " k"]) -> Pro
                 jnp.where(better, 1.0, 0.5 * t),
             )
 
-        r_dim = zr.shape[0]
         state = (zr, -jnp.inf, jnp.zeros(r_dim), jnp.eye(r_dim), 0.0)
         zr, f, _, cov, _ = jax.lax.fori_loop(0, GAUSS_NEWTON_STEPS + 1, one, state)
         return zr, jnp.linalg.cholesky(cov), f
 
     # one scan over the n knots: outwards from the knot j0 nearest the centre, first up
-    # (j0 .. n-1), then down (j0-1 .. 0, restarting from j0's entry); a knot whose maximum falls more than
-    # PROFILE_DROP below the best so far (past the ridge's end: another mode, a failed
-    # evaluation) copies its neighbour's entry, so the map is constant beyond the ridge.
+    # (j0 .. n-1), then down (j0-1 .. 0, restarting from j0's entry); a knot whose
+    # maximum falls more than PROFILE_DROP below the best so far (past the ridge's end:
+    # another mode, a failed evaluation) copies its neighbour's entry, so the map is
+    # constant beyond the ridge.
     j0 = jnp.clip(jnp.searchsorted(z_knots, z_c[a]), 0, n - 1)
-    r_dim = k - 1
     tables0 = (jnp.zeros((n, r_dim)), jnp.tile(jnp.eye(r_dim), (n, 1, 1)), jnp.full((n,), -jnp.inf))
     start = z_c[rest_idx]
 
@@ -336,14 +336,14 @@ def build_map(settings: tuple[int, int], target, z_c: Float[Array, " k"]) -> Pro
 
     carry0 = (start, jnp.eye(r_dim), -jnp.inf, jnp.array(False), tables0)
     (*_, (C, Ls, V)), _ = jax.lax.scan(body, carry0, jnp.arange(n))
-    diag = jnp.diagonal(Ls, axis1=1, axis2=2)
+    log_diag = jnp.log(jnp.diagonal(Ls, axis1=1, axis2=2))
     return ProfileMap(
         along=a,
         rest=tuple(int(i) for i in rest_idx),
         z_knots=z_knots,
-        s_knots=_quantiles(z_knots, V, jnp.log(diag)),
+        s_knots=_quantiles(z_knots, V, log_diag),
         centre=C,
-        log_diag=jnp.log(diag),
+        log_diag=log_diag,
         lower=jnp.tril(Ls, -1),
         log_density=V,
     )
