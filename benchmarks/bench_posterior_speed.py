@@ -100,11 +100,6 @@ def synthetic() -> list[str]:
     ]
 
 
-ALONG = {"synthetic": "ks", "sperm": None}
-"""The ``--along`` each problem's command uses (``--no-along``: none): the synthetic
-posterior is a ridge p(ks) bending over five decades of ks."""
-
-
 def run(name: str, argv: list[str], warmup: int | None, vectorize: bool | None = None) -> None:
     original = cli_fit.posterior
 
@@ -169,7 +164,8 @@ def main() -> None:
     ap.add_argument(
         "--no-along",
         action="store_true",
-        help="sample without --along (the affine whitening alone)",
+        help="sample with --along none (the affine whitening alone; by default the command "
+        "chooses the transport from the fit: along ks on both problems)",
     )
     ap.add_argument(
         "--chains-as",
@@ -184,8 +180,8 @@ def main() -> None:
         extra = {"sperm": SPERM, "synthetic": None}[name]
         argv = COMMON + (extra if extra is not None else synthetic())
         argv += ["--posterior", str(args.draws), "--chains", str(args.chains)]
-        if ALONG[name] and not args.no_along:
-            argv += ["--along", ALONG[name]]
+        if args.no_along:
+            argv += ["--along", "none"]
         run(name, argv, args.warmup, vectorize)
     sys.stdout.flush()
 

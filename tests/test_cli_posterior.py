@@ -166,3 +166,14 @@ def test_text_report_names_the_transport():
     along = "\n".join(_render_posterior({**post, "transport": "ks"}))
     assert "straightened" not in plain
     assert "4.5 gradients per draw, in coordinates straightened along the profile of ks" in along
+
+
+def test_along_default_is_chosen_from_the_fit_and_none_turns_it_off():
+    import argparse
+
+    from axojax.cli import fit_posterior
+
+    names = ("p", "ks")
+    assert fit_posterior.transport_of(argparse.Namespace(along=None), names) == fit_posterior.AUTO
+    assert fit_posterior.transport_of(argparse.Namespace(along="none"), names) is None
+    assert fit_posterior.transport_of(argparse.Namespace(along="ks"), names).along == "ks"

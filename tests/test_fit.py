@@ -339,3 +339,15 @@ def test_achieved_wavelength_of_a_standing_mode_is_none_as_in_modes(capsys):
     achieved = doc["conditions"][0]["achieved"]
     assert achieved["frequency_hz"] == 0  # still a standing mode where the fit ended
     assert achieved["wavelength_um"] is None and achieved["velocity_um_per_s"] is None
+
+
+def test_a_lone_best_start_is_noted():
+    from axojax.inverse.report import _start_notes
+
+    starts = [({"p": 1.0}, 225.0), ({"p": 2.0}, 181.8), ({"p": 3.0}, 260.9)]
+    (note,) = _start_notes(starts, 181.8)
+    assert "only 1 of 3 starts reached this loss" in note and "225, 260.9" in note
+    # two starts agreeing (within 1e-3 of the loss), one start, or none: no note
+    assert _start_notes(starts + [({"p": 4.0}, 181.85)], 181.8) == []
+    assert _start_notes(starts[1:2], 181.8) == []
+    assert _start_notes([], 181.8) == []

@@ -210,7 +210,7 @@ def test_fit_help_names_its_default_solver_and_the_warm_up():
     # ... and that is what the code passes on
     assert [fit_posterior.warmup_steps(d, None) for d in (20, 300, 1000)] == [150, 300, 500]
     source = (ROOT / "axojax" / "cli" / "fit_posterior.py").read_text()
-    assert "warmup=warmup_steps(args.posterior, args.warmup, args.along)" in source
+    assert "warmup=warmup_steps(args.posterior, args.warmup, along)" in source
 
 
 def test_scalar_fit_report_gives_each_unit_its_own_axis():

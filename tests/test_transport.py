@@ -155,3 +155,94 @@ def test_profile_ends_at_a_cliff():
     # no cliff, no end
     _, _, plain = _map()
     assert profile_ends(plain, Banana().to_u, log_coordinate=False) == []
+
+
+W = 0.002
+"""Width of :class:`NarrowCliffRidge`'s ridge across."""
+
+
+class NarrowCliffRidge(Banana):
+    """A ridge u1 = 3 u0 + 0.1 u0^2, W wide across, above a cliff 10 W below it, past
+    which the density is flat (a constant residual of 1e3: as where another eigenmode
+    becomes the dominant one, unrelated to this one's targets). Between two knots the
+    ridge moves about 200 of its widths: a knot's Gauss-Newton started from the
+    neighbour's maximum lands past the cliff, where nothing leads back (as on the human
+    sperm, whose mode runs beside such a cliff)."""
+
+    def __init__(self):
+        LinearGaussian.__init__(
+            self, np.zeros((2, 2)), np.zeros(2), 1.0, [-3.0, -10.0], [3.0, 12.0], ["u0", "u1"]
+        )
+
+    @staticmethod
+    def ridge(u0):
+        return 3.0 * u0 + 0.1 * u0**2
+
+    def residuals(self, u):
+        across = (u[1] - self.ridge(u[0])) / W
+        return jnp.stack([(u[0] - M0) / S0, jnp.where(across < -10, 1e3, across)])
+
+
+def test_profile_follows_a_narrow_ridge_beside_a_cliff():
+    problem = NarrowCliffRidge()
+    target = _Target(problem)
+    z_c = problem.to_z(jnp.array([M0, problem.ridge(M0)]))
+    profile = _compiled(build_map, (0, 48), (target, z_c))[0]
+    assert np.isfinite(np.asarray(profile.log_density)).all()  # no false cliff
+    z = jnp.stack([profile.z_knots, profile.centre[:, 0]], axis=1)
+    u = np.asarray(jax.vmap(problem.to_u)(z))
+    # the conditional maximum is on the ridge (to a small fraction of its width)
+    assert np.max(np.abs(u[:, 1] - problem.ridge(u[:, 0]))) < 0.01 * W
+
+
+class AtTheBound(Banana):
+    """The banana with u0's normal centred on its upper bound: half the mass lies within
+    one sd of the bound, beyond the last of the knots uniform in u."""
+
+    def residuals(self, u):
+        return jnp.stack([(u[0] - UPPER[0]) / S0, (u[1] - u[0] ** 2) / S1])
+
+
+def test_map_holds_up_to_a_bound():
+    problem = AtTheBound()
+    target = _Target(problem)
+    z_c = problem.to_z(jnp.array([2.5, 6.25]))
+    profile = _compiled(build_map, (0, 48), (target, z_c))[0]
+    # in the sampler's coordinates the density is about a standard normal, past the
+    # uniform knots too (s up to 2.5: z_a up to 7.4, within 2e-3 of the bound in u0)
+    s = np.linspace(-2.0, 2.5, 19)
+    b = np.linspace(-2.0, 2.0, 5)
+    y = jnp.asarray(np.stack(np.meshgrid(s, b, indexing="ij"), -1).reshape(-1, 2))
+    y = y[:, ::-1] if profile.along == 1 else y  # (u0 along, u1 across)
+    logp = jax.vmap(lambda y: target(profile.to_z(y)) + profile.log_det(y))(y)
+    dev = np.asarray(logp + 0.5 * jnp.sum(y**2, axis=1))
+    assert np.ptp(dev) < 1.0, np.ptp(dev)
+    assert float(profile.to_z(jnp.array([2.5, 0.0]))[0]) > float(profile.z_knots[-1 - 4])
+
+
+class _Fit:
+    """The parts of a FitResult that suggest_transport reads."""
+
+    def __init__(self, corr, se_u, values=(0.5, 0.25)):
+        self.names = ("u0", "u1")
+        self.correlation = np.array([[1.0, corr], [corr, 1.0]])
+        self.stderr_fitted = dict(zip(self.names, se_u))
+        self.params = dict(zip(self.names, values))
+        self.coordinate = {"u0": "linear", "u1": "linear"}
+
+
+def test_suggest_transport_goes_along_the_widest_in_z():
+    from axojax.inverse import suggest_transport
+
+    problem = Banana()  # u0 in [-3, 3], u1 in [-3, 12]: dz/du = 1 / (span t (1 - t))
+    # a ridge: along the parameter of the largest standard error in z, not in u
+    t0, t1 = (0.5 + 3) / 6, (0.25 + 3) / 15
+    sd_z = np.array([0.3 / (6 * t0 * (1 - t0)), 1.0 / (15 * t1 * (1 - t1))])
+    chosen = suggest_transport(problem, _Fit(0.995, (0.3, 1.0)))
+    assert chosen.along == ("u0", "u1")[int(np.argmax(sd_z))]
+    assert suggest_transport(problem, _Fit(-0.999, (1.0, 0.01))).along == "u0"
+    # no ridge, or a single parameter: none
+    assert suggest_transport(problem, _Fit(0.9, (0.3, 1.0))) is None
+    single = _Fit(0.999, (0.3, 1.0))
+    single.names, single.correlation = ("u0",), np.eye(1)
+    assert suggest_transport(problem, single) is None

@@ -10,7 +10,7 @@ import sys
 import warnings
 
 from ..cache import WARM_SUBDIR, compilation_cache_dir
-from ..inverse import ProfileTransport, posterior
+from ..inverse import ProfileTransport, posterior, suggest_transport
 from . import common
 from .fit_text import render_laplace
 
@@ -105,14 +105,23 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="with --posterior: sample in coordinates straightened along the profile of the free "
         "parameter NAME (a long curved ridge, e.g. ks when p and ks are fitted to a frequency and a "
         "wavelength: the ridge is p as a function of ks); the posterior is the same, the trajectories "
-        "shorter (axojax.inverse.ProfileTransport)",
+        "shorter (axojax.inverse.ProfileTransport). Default: chosen from the fit, along the "
+        "parameter of the widest standard error when two correlate by 0.99 or more, else none "
+        "(axojax.inverse.suggest_transport); 'none': plain NUTS in whitened coordinates",
     )
 
 
-def transport_of(args: argparse.Namespace, names) -> ProfileTransport | None:
-    """``--along`` as the transport over the free parameters ``names`` (None without it);
-    a one-line error when it names none of them or there are fewer than two."""
+AUTO = "auto"
+"""What :func:`transport_of` returns without ``--along``: :func:`sample` chooses from the fit."""
+
+
+def transport_of(args: argparse.Namespace, names) -> ProfileTransport | str | None:
+    """``--along`` as the transport over the free parameters ``names``: None with
+    ``--along none``, :data:`AUTO` without the flag; a one-line error when it names none
+    of them or there are fewer than two."""
     if args.along is None:
+        return AUTO
+    if args.along == "none":
         return None
     try:
         transport = ProfileTransport(args.along)
@@ -123,11 +132,18 @@ def transport_of(args: argparse.Namespace, names) -> ProfileTransport | None:
 
 
 def sample(
-    args: argparse.Namespace, problem, result, progress: bool, transport: ProfileTransport | None
+    args: argparse.Namespace,
+    problem,
+    result,
+    progress: bool,
+    transport: ProfileTransport | str | None,
 ):
     """The posterior of ``problem`` from the fit ``result``'s optimum (``--posterior``),
-    along ``transport`` (:func:`transport_of`) when given; its warnings (R-hat, ESS,
-    divergences) one line each on stderr."""
+    along ``transport`` (:func:`transport_of`; :data:`AUTO`: :func:`suggest_transport` of
+    the fit); its warnings (R-hat, ESS, divergences) one line each on stderr."""
+    if transport == AUTO:
+        transport = suggest_transport(problem, result)
+    along = None if transport is None else transport.along
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
@@ -135,7 +151,7 @@ def sample(
                 problem,
                 draws=args.posterior,
                 chains=args.chains,
-                warmup=warmup_steps(args.posterior, args.warmup, args.along),
+                warmup=warmup_steps(args.posterior, args.warmup, along),
                 vectorize=vectorize_chains(),
                 init=result,
                 progress=progress,

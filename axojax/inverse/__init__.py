@@ -37,7 +37,7 @@ from .problem import SHAPE_FLOOR, Problem
 from .quality import information_criteria, r2
 from .report import FitResult, build_report
 from .spec import FitSpec, load_spec, read_spec
-from .transport import ProfileTransport
+from .transport import ProfileTransport, suggest_transport
 
 __all__ = [
     "AVAILABLE_BASES",
@@ -54,6 +54,7 @@ __all__ = [
     "METHODS",
     "NUTS",
     "ProfileTransport",
+    "suggest_transport",
     "SHAPE_FLOOR",
     "Adam",
     "Condition",

@@ -42,7 +42,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-FORMAT = 2
+FORMAT = 3
 """Bumped whenever what a file holds, or what the key covers, changes."""
 SUFFIX = ".warm.npz"
 PROFILE_GRID = 257
