@@ -67,7 +67,12 @@ def test_profile_is_the_conditional_maximum():
 def test_map_is_a_bijection_with_its_log_jacobian():
     _, _, profile = _map()
     rng = np.random.default_rng(0)
-    for y in rng.normal(scale=[3.0, 2.0], size=(12, 2)).tolist() + [[-9.0, 0.5], [9.0, -1.0], [-40.0, 0.0], [40.0, 3.0]]:
+    for y in rng.normal(scale=[3.0, 2.0], size=(12, 2)).tolist() + [
+        [-9.0, 0.5],
+        [9.0, -1.0],
+        [-40.0, 0.0],
+        [40.0, 3.0],
+    ]:
         y = jnp.asarray(y)
         z = profile.to_z(y)
         assert np.allclose(profile.to_y(z), y, atol=1e-9), (y, profile.to_y(z))

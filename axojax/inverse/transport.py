@@ -204,10 +204,7 @@ def suggest_transport(problem, fit) -> ProfileTransport | None:
     if not np.any(np.nan_to_num(off) >= RIDGE_CORRELATION):
         return None
     u = jnp.asarray(
-        [
-            np.log(fit.params[n]) if fit.coordinate.get(n) == "log" else fit.params[n]
-            for n in names
-        ],
+        [np.log(fit.params[n]) if fit.coordinate.get(n) == "log" else fit.params[n] for n in names],
         dtype=float,
     )
     dz_du = np.abs(np.diagonal(np.asarray(jax.jacfwd(problem.to_z)(u))))
