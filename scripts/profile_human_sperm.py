@@ -1,12 +1,16 @@
 """The profile of the human sperm posterior along ks (issue 31's sperm command: seven
 filaments, 10 elements, p and ks free, kl = ks / 1000, EI 90.9 pN um^2 and c_n 0.000285
-pN s/um^2 per filament, shape floor 0.2 rad), as ``axojax fit --along ks`` tabulates it
-(:func:`axojax.inverse.transport.build_map`, from the fit's optimum p 405.3, ks 2.863e4).
+pN s/um^2 per filament, shape floor 0.2 rad), as ``axojax fit --posterior`` tabulates it
+(:func:`axojax.inverse.transport.build_map`) from the fit's optimum, p 1033.85, ks
+4.988e7 (the best of 16 starts; 4 starts stop at a local optimum, p 405, ks 2.9e4, whose
+log density is about -223).
 
-Prints, every third knot: log10 ks, p's conditional maximum, the conditional sd of z_p,
+Prints, every other knot: log10 ks, p's conditional maximum, the conditional sd of z_p,
 the log density there (-inf where the profile was lost) and the knot's normal quantile s.
-It shows that the fit's optimum is a local mode: the log density rises from about -223
-there to about -184 near ks 2.4e7, p 820, before a cliff near ks 4e7.
+It shows the ridge the posterior lies on: the log density rises to about -181.7 near ks
+4e7-5e7 (p 960-1070) and falls to about -185 at the bound ks 1e8 and -230 at ks 1.4e6;
+the conditional sd of z_p is about 0.0015 (0.2 % in p), beside a cliff about 3 % below
+the maximum in p (some 12 sd) where another eigenmode becomes the dominant one.
 
     python scripts/profile_human_sperm.py
 """
@@ -29,7 +33,7 @@ def main() -> None:
     targets, shape = beat.targets()
     problem = build_problem(
         ax.models.seven(n_elements=10),
-        ax.Params().with_values({"p": 405.0, "ks": 2.86e4}, 1000.0),
+        ax.Params().with_values({"p": 1033.85, "ks": 4.988e7}, 1000.0),
         targets,
         ["p", "ks"],
         shape=shape,
@@ -39,10 +43,10 @@ def main() -> None:
         shape_floor=0.2,
     )
     target = _Target(problem)
-    z_c = problem.to_z(jnp.log(jnp.array([405.3, 2.863e4])))
+    z_c = problem.to_z(jnp.log(jnp.array([1033.85, 4.988e7])))
     profile, _ = _compiled(build_map, (1, 96), (target, z_c))
     print(f"{'log10 ks':>9} {'p':>8} {'sd z_p':>8} {'log density':>12} {'s':>7}")
-    for j in range(0, 96, 3):
+    for j in range(0, profile.z_knots.shape[0], 2):
         z = jnp.array([profile.centre[j, 0], profile.z_knots[j]])
         p, ks = np.exp(np.asarray(problem.to_u(z)))
         print(
