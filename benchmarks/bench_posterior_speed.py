@@ -18,6 +18,15 @@ Laplace sd ratio and (synthetic) whether the truth lies in the 90 % intervals.
     python benchmarks/bench_posterior_speed.py [sperm|synthetic ...] [--draws 1000]
         [--chains 4] [--warmup W]
 
+Result (2026-12-04 20:23-20:29 UTC, load 1.0; both commands as the issue gives them, the
+command choosing ``--along ks`` from the fit and taking 16 starts): ``sperm`` **156.2 s**
+(fit 24.1 s, warm-up 46.4 s, draws 77.6 s, 40.4 s compilation; 5.7 gradients per draw,
+3.19 ms per gradient; R-hat 1.0014/1.0015, ESS 1848/1810, 7 divergences) at the global
+optimum p 1034, ks 4.99e7 (loss 181.8); ``synthetic`` **152.0 s** (4.7 gradients per
+draw, 4.04 ms per gradient; R-hat 1.0019/1.0029, ESS 2441/2209, 40 divergences). The
+sperm results below, before, sampled a local mode (loss 225.0 at p 405, ks 2.9e4: the fit's
+4 starts missed the best; docs/benchmarks.md).
+
 Result (2026-12-04 17:30-17:34 UTC, load 0.9-1.2): ``synthetic`` as the command runs by
 default now (``--along ks``: sequential chains on a CPU, 200 warm-up steps) **215.6 s**
 (target 300 s): fit 24.1 s, start 5.6 s, warm-up 57.4 s, draws 123.5 s, compilation 45.5
