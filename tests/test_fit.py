@@ -342,7 +342,7 @@ def test_achieved_wavelength_of_a_standing_mode_is_none_as_in_modes(capsys):
 
 
 def test_a_lone_best_start_is_noted():
-    from axojax.inverse.report import _start_notes
+    from axojax.inverse.verdicts import start_notes as _start_notes
 
     starts = [({"p": 1.0}, 225.0), ({"p": 2.0}, 181.8), ({"p": 3.0}, 260.9)]
     (note,) = _start_notes(starts, 181.8)
@@ -351,3 +351,8 @@ def test_a_lone_best_start_is_noted():
     assert _start_notes(starts + [({"p": 4.0}, 181.85)], 181.8) == []
     assert _start_notes(starts[1:2], 181.8) == []
     assert _start_notes([], 181.8) == []
+    # another start within NEAR_LOSS of the best: a possible second mode (the synthetic
+    # p-ks target: most starts reach ~0, one stops at 1.114)
+    finals = [1.5e-21, 1.114, 1.6e-20, 56.82, 2.8e14]
+    (note,) = _start_notes([({"p": 1.0}, f) for f in finals], 1.5e-21)
+    assert "a start stopped at loss 1.114, within 3 of this one's" in note

@@ -46,6 +46,7 @@ from .problem import CYCLE_FAILED, Problem
 from .quality import information_criteria
 from .quality import r2 as r2_of
 from .verdicts import (
+    start_notes,
     strong_pairs,
     uncertainty,
     verdicts,
@@ -255,7 +256,7 @@ def build_report(
     quality = _quality(problem, r, conditions)
     notes = _notes(problem, u, values, se_u, cov, verdict, combos)
     notes = _cycle_notes(problem, ev) + notes + _excluded_notes(conditions)
-    notes += _start_notes(starts, loss)
+    notes += start_notes(starts, loss)
     head = (
         f"targets reproduced (loss {loss:.3g}"
         + (f", chi2/dof {chi2:.3g}" if chi2 is not None else "")
@@ -453,30 +454,6 @@ def _cycle_notes(problem: Problem, ev) -> list[str]:
         f"no limit cycle found{where} at these parameters (Newton from the Hopf normal form "
         f"did not converge, or the straight state does not beat there): its targets count {CYCLE_FAILED:g} sigma and give no gradient, so the fit "
         "could not move; start nearer a beating state (p a little above the Hopf point of `axojax critical`), or follow the branch with `axojax orbit --p a:b:n`"
-    ]
-
-
-LOSS_TIE = 1e-3
-"""Starts whose final losses differ by less than this share of the best (or of 1) reached
-the same optimum (:func:`_start_notes`)."""
-
-
-def _start_notes(starts, loss: float) -> list[str]:
-    """A note when only one of several starts reached the best loss: the landscape has
-    other optima that the other starts stopped in, so a better one may exist beyond the
-    starts (e.g. the human sperm's p, ks: 4 of 32 starts reach the best loss)."""
-    finals = np.array([f for _, f in starts], dtype=float)
-    if finals.size < 2 or not math.isfinite(loss):
-        return []
-    tie = LOSS_TIE * max(abs(loss), 1.0)
-    if np.count_nonzero(finals <= loss + tie) > 1:
-        return []
-    others = np.unique(np.round(finals[np.isfinite(finals) & (finals > loss + tie)], 1))
-    return [
-        f"only 1 of {finals.size} starts reached this loss ({loss:.4g}; the others stopped at "
-        + ", ".join(f"{x:.4g}" for x in others[:4])
-        + (", ..." if others.size > 4 else "")
-        + "): other optima exist, and more starts (--starts) may find a better one"
     ]
 
 

@@ -122,3 +122,43 @@ def strong_pairs(
             if np.isfinite(c) and abs(c) >= STRONG_CORRELATION:
                 out.append((names[i], names[j], c))
     return out
+
+
+LOSS_TIE = 1e-3
+"""Starts whose final losses differ by less than this share of the best (or of 1) reached
+the same optimum (:func:`start_notes`)."""
+
+
+NEAR_LOSS = 3.0
+"""A start that stopped within this of the best loss (a posterior density within a factor
+e^3 of the best's at its peak) is noted (:func:`start_notes`)."""
+
+
+def start_notes(starts, loss: float) -> list[str]:
+    """Notes on the other starts' final losses: when only one of several reached the best
+    (the landscape has other optima, and a better one may lie beyond the starts: the
+    human sperm's p, ks, where 4 of 32 starts reach the best loss), and when one stopped
+    within :data:`NEAR_LOSS` of it (a second optimum, or a slow stretch of the same
+    ridge, holding posterior mass that chains started at the best may not visit: the
+    synthetic p-ks target's second mode)."""
+    finals = np.array([f for _, f in starts], dtype=float)
+    if finals.size < 2 or not math.isfinite(loss):
+        return []
+    tie = LOSS_TIE * max(abs(loss), 1.0)
+    others = np.unique(np.round(finals[np.isfinite(finals) & (finals > loss + tie)], 4))
+    notes = []
+    if np.count_nonzero(finals <= loss + tie) == 1 and others.size:
+        notes.append(
+            f"only 1 of {finals.size} starts reached this loss ({loss:.4g}; the others stopped at "
+            + ", ".join(f"{x:.4g}" for x in others[:4])
+            + (", ..." if others.size > 4 else "")
+            + "): other optima exist, and more starts (--starts) may find a better one"
+        )
+    near = others[others <= loss + NEAR_LOSS]
+    if near.size:
+        notes.append(
+            f"a start stopped at loss {near[0]:.4g}, within {NEAR_LOSS:g} of this one's "
+            f"({loss:.4g}): a second optimum or a slow stretch of the same ridge; a posterior "
+            "started here may not visit it"
+        )
+    return notes
