@@ -321,12 +321,12 @@ def knot_positions(n: int) -> np.ndarray:
 
 def build_map(settings: tuple[int, int], target, z_c: Float[Array, " k"]) -> ProfileMap:
     """Tabulate the profile of ``target`` (the log density in z) along coordinate
-    ``settings[0]`` at ``settings[1]`` knots uniform in u between the bounds (and
-    :data:`TAIL_KNOTS` more towards each bound, :func:`knot_positions`), by
+    ``settings[0]`` at the knots of :func:`knot_positions` (``settings[1]`` of them
+    between the bounds, :data:`TAIL_KNOTS` more towards each bound), by
     continuation outwards from the knot nearest ``z_c`` (the posterior's centre): at each
     knot, :data:`GAUSS_NEWTON_STEPS` Gauss-Newton steps on the other coordinates from a
-    prediction along the ridge (tangent, then secant: comments below) (a step that does
-    not raise the log density is halved instead);
+    prediction along the ridge (tangent, secant, then parabola: comments below) (a step
+    that does not raise the log density is halved instead);
     past the ridge's end (:data:`PROFILE_DROP`) the neighbour's entry is copied. Traceable
     (one compiled program, one model evaluation and its Jacobian per step)."""
     a, n = settings
