@@ -55,6 +55,8 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
+from ._laplace import _fitted_u
+
 DEFAULT_KNOTS = 96
 """Knots of the profile: uniform in the fitted coordinate u of the parameter along which
 it goes, between its bounds."""
@@ -210,10 +212,7 @@ def suggest_transport(problem, fit) -> ProfileTransport | None:
     off = np.abs(corr[~np.eye(len(names), dtype=bool)])
     if not np.any(np.nan_to_num(off) >= RIDGE_CORRELATION):
         return None
-    u = jnp.asarray(
-        [np.log(fit.params[n]) if fit.coordinate.get(n) == "log" else fit.params[n] for n in names],
-        dtype=float,
-    )
+    u = jnp.asarray(_fitted_u(fit, names, np.asarray(problem.lower), np.asarray(problem.upper)))
     dz_du = np.abs(np.diagonal(np.asarray(jax.jacfwd(problem.to_z)(u))))
     sd_z = np.array([fit.stderr_fitted[n] for n in names]) * dz_du
     if not np.any(np.isfinite(sd_z)):
