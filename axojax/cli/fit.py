@@ -146,7 +146,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         type=int,
         default=None,
         metavar="N",
-        help="multi-start count: the given point plus a Sobol design in the bounds (default 4; "
+        help=f"multi-start count: the given point plus a Sobol design in the bounds (default {DEFAULT_STARTS}; "
         f"{POSTERIOR_STARTS} with --posterior: a posterior around a local optimum is wrong)",
     )
     parser.add_argument(
@@ -269,18 +269,17 @@ def _eigen_solver(args: argparse.Namespace) -> AbstractEigenSolver:
 
 
 def _fit_options(args: argparse.Namespace) -> dict:
-    if args.starts is None:
-        args.starts = POSTERIOR_STARTS if args.posterior is not None else DEFAULT_STARTS
-    if not 1 <= args.starts <= MAX_STARTS:
-        raise common.CLIError(
-            f"--starts: expected an integer in 1..{MAX_STARTS}, got {args.starts}"
-        )
+    starts = args.starts
+    if starts is None:
+        starts = POSTERIOR_STARTS if args.posterior is not None else DEFAULT_STARTS
+    if not 1 <= starts <= MAX_STARTS:
+        raise common.CLIError(f"--starts: expected an integer in 1..{MAX_STARTS}, got {starts}")
     if args.shape_floor < 0:
         raise common.CLIError(f"--shape-floor: must be >= 0 rad, got {args.shape_floor:g}")
     if args.exclude_base_um < 0:
         raise common.CLIError(f"--exclude-base-um: must be >= 0 um, got {args.exclude_base_um:g}")
     return {
-        "starts": args.starts,
+        "starts": starts,
         "method": args.method,
         "progress": _progress.enabled(json_output=args.json),
         "solver": _eigen_solver(args),
