@@ -446,12 +446,6 @@ def test_spheroid_drags():
             ),
             "xib",
         ),
-        (
-            lambda: ax.dominant_mode(
-                ax.models.two(n_elements=4, base="free"), ax.Params(), Arnoldi()
-            ),
-            "Dense",
-        ),
     ],
 )
 def test_bad_bases_are_refused_in_one_line(make, word):
@@ -496,6 +490,7 @@ def test_clamped_only_paths_can_refuse_a_border(kind):
     ax.models.two(n_elements=4).require_clamped("simulate")  # the clamped base passes
 
 
+@pytest.mark.parametrize("solver", [Dense(), Arnoldi()], ids=["dense", "arnoldi"])
 @pytest.mark.parametrize(
     "preset,base,p",
     [
@@ -505,10 +500,13 @@ def test_clamped_only_paths_can_refuse_a_border(kind):
     ],
     ids=["seven-free", "two-head", "two-pivot"],
 )
-def test_dominant_mode_skips_rigid_body_motion(preset, base, p):
+def test_dominant_mode_skips_rigid_body_motion(preset, base, p, solver):
     """The dominant mode of a base that lets the axoneme move rigidly is its rightmost
-    *deforming* mode: the rightmost eigenvalue of the full pencil that is not one of its
-    rigid-body zeros, with an eigenvector of the full pencil; exact derivatives."""
+    *deforming* mode: the rightmost eigenvalue of the full pencil (every eigenvalue, by
+    the dense ``ax.spectrum``) that is not one of its rigid-body zeros, with an
+    eigenvector of the full pencil; exact derivatives. Both solvers: the dense one
+    deflates the rigid modes on the whole pencil, the structured one through a border
+    (certified, no dense fallback)."""
     import jax
     import jax.numpy as jnp
 
@@ -518,7 +516,8 @@ def test_dominant_mode_skips_rigid_body_motion(preset, base, p):
     lam = np.asarray(ax.spectrum(model, params))
     assert np.sum(np.abs(lam) < 1e-6) == n_rigid > 0
     deforming = lam[np.abs(lam) >= 1e-6]
-    mode = ax.dominant_mode(model, params)
+    mode = ax.dominant_mode(model, params, solver)
+    assert bool(mode.certified)
     expected = deforming[0] if deforming[0].imag >= 0 else np.conj(deforming[0])
     assert abs(complex(mode.eigenvalue) - expected) < 1e-8 * abs(expected)
     system = ax.assemble(model, params)
@@ -527,8 +526,40 @@ def test_dominant_mode_skips_rigid_body_motion(preset, base, p):
     assert np.linalg.norm(residual) < 1e-8 * np.abs(np.asarray(system.A)).max()
 
     def growth(x):
-        return jnp.real(ax.dominant_mode(model, params.replace(p=x)).eigenvalue)
+        return jnp.real(ax.dominant_mode(model, params.replace(p=x), solver).eigenvalue)
 
     h = 1e-4 * p
     fd = (float(growth(p + h)) - float(growth(p - h))) / (2 * h)
     np.testing.assert_allclose(float(jax.grad(growth)(p)), fd, rtol=1e-5)
+
+
+@pytest.mark.parametrize(
+    "solver",
+    [Arnoldi(batched=True), Arnoldi(krylov_dims=(2,))],
+    ids=["batched", "fallback"],
+)
+def test_structured_deflation_paths_agree_with_dense(solver):
+    """The structured solver's other paths on a head base (rigid modes deflated through a
+    border): the batched one (vmapped over points) and the dense fallback of an
+    uncertified point (a Krylov space too small to certify: it eliminates the deflation
+    unknowns, ``deflation.dense_eigenpair``) give the dense solver's eigenvalues, and the
+    fallback is flagged as uncertified."""
+    import jax
+    import jax.numpy as jnp
+
+    from axojax.eigen.mode import dominant_mode_impl
+
+    model = ax.models.seven(n_elements=4, base=Base("head", True, 1.0, 0.2))
+    ps = jnp.array([100.0, 300.0])
+
+    def eig(s):
+        return jax.vmap(
+            lambda p: dominant_mode_impl(model, ax.Params(p=p, chi_re=1e4, kb=1e3, xib=1.0), s)
+        )(ps)
+
+    dense, structured = eig(Dense()), eig(solver)
+    np.testing.assert_allclose(
+        np.asarray(structured.eigenvalue), np.asarray(dense.eigenvalue), rtol=1e-8
+    )
+    expect_certified = solver.krylov_dims != (2,)
+    assert np.all(np.asarray(structured.certified) == expect_certified)

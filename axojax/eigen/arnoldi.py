@@ -103,6 +103,7 @@ from ..linalg import (
     bordered_cholesky,
     bordered_lu,
 )
+from . import deflation
 from .dominant import CLUSTER_RTOL, dominant_eigenpair, normalise
 from .pencil import SYMMETRY_RTOL
 from .tangent import eigenpair_tangent
@@ -130,6 +131,10 @@ class ArnoldiOptions(NamedTuple):
     tol: float = 1e-10
     fallback: bool = True
     batched: bool = False
+    deflated: int = 0
+    """The pencil's last ``deflated`` border unknowns carry a rigid-body deflation
+    (:mod:`axojax.eigen.deflation`): the pole is found without them, and the dense
+    fallback eliminates them."""
 
 
 def _start_vector(n: int, dtype=float) -> Array:
@@ -312,8 +317,11 @@ def _ritz(
     return _Primal(lam_c, normalise(x), certified.astype(float))
 
 
-def _dense_primal(A: Bordered, C: Bordered) -> _Primal:
-    lam, v = dominant_eigenpair(A.to_dense(), C.to_dense())
+def _dense_primal(A: Bordered, C: Bordered, deflated: int = 0) -> _Primal:
+    if deflated:
+        lam, v = deflation.dense_eigenpair(A, C, deflated)
+    else:
+        lam, v = dominant_eigenpair(A.to_dense(), C.to_dense())
     return _Primal(lam, v, jnp.zeros(()))
 
 
@@ -385,7 +393,11 @@ def _arnoldi_point(
     n = A.shape[0]
     dims = tuple(sorted({min(m, n - 1) for m in opts.krylov_dims}))
     kernels = "jnp" if batched else "lapack"
-    sigma, verified = pole(A, C, opts.lanczos_dim, kernels)
+    # With a rigid-body deflation the pole is the original pencil's: every finite
+    # eigenvalue of the extended one is one of its eigenvalues, or a rigid mode moved left.
+    r = opts.deflated
+    A0, C0 = (deflation.truncate(A, r), deflation.truncate(C, r)) if r else (A, C)
+    sigma, verified = pole(A0, C0, opts.lanczos_dim, kernels)
     M = A + C.scale(sigma)
     lu = bordered_lu(M, kernels)
     result = staged_arnoldi(
@@ -395,7 +407,7 @@ def _arnoldi_point(
     if batched or not opts.fallback:
         return result
     return jax.lax.cond(
-        result.certified > 0.5, lambda _: result, lambda _: _dense_primal(A, C), None
+        result.certified > 0.5, lambda _: result, lambda _: _dense_primal(A, C, r), None
     )
 
 
@@ -411,7 +423,9 @@ def _batched_points(A: Bordered, C: Bordered, opts: ArnoldiOptions) -> _Primal:
 
     def fix(args):
         r, a, c = args
-        return jax.lax.cond(r.certified > 0.5, lambda: r, lambda: _dense_primal(a, c))
+        return jax.lax.cond(
+            r.certified > 0.5, lambda: r, lambda: _dense_primal(a, c, opts.deflated)
+        )
 
     return jax.lax.cond(
         jnp.all(out.certified > 0.5), lambda: out, lambda: jax.lax.map(fix, (out, A, C))

@@ -19,7 +19,7 @@ from ..waveform import measures
 from . import pencil
 from .dominant import dominant_eigenpair, normalise
 from .metrics import beat_plane, tangent_wavenumber
-from .solvers import AbstractEigenSolver, Arnoldi, Auto, Dense
+from .solvers import AbstractEigenSolver, Auto, Dense
 
 STABLE, FLUTTER, DIVERGENCE = 0, 1, 2
 CLASSES = ("stable", "flutter", "divergence")
@@ -172,22 +172,20 @@ def for_base(
     model: Model, solver: AbstractEigenSolver, strict: bool = False
 ) -> AbstractEigenSolver:
     """``solver``, except where the base leaves rigid-body motion free (free, head, a
-    pivot without a spring): their zero eigenvalues are no mode of deformation, and
-    :class:`RigidDeflated` (dense) moves them out of the way. There an explicit
-    :class:`~axojax.eigen.Arnoldi` is refused with a one-line ``ValueError`` when
-    ``strict`` (a user's own call); the sweep engine and fits, which resolve
-    :class:`~axojax.eigen.Auto` to Arnoldi themselves, get the deflated dense answer.
-    A border without rigid motion (basal compliance on a clamped base) is solved by
-    every solver as it is: both eliminate the border by a Schur complement."""
+    pivot without a spring): their zero eigenvalues are no mode of deformation. The
+    dense solver is replaced by :class:`RigidDeflated`, which moves them out of the way;
+    :class:`~axojax.eigen.Arnoldi` deflates them itself, through a border
+    (:mod:`axojax.eigen.deflation`); :class:`~axojax.eigen.Auto` resolves first. A border
+    without rigid motion (basal compliance on a clamped base) is solved by every solver
+    as it is: both eliminate the border by a Schur complement. (``strict`` is kept for
+    callers' signatures: every solver now has an answer for every base.)"""
+    del strict
     if not model.n_border or model.rigid_modes().shape[1] == 0:
         return solver
-    if isinstance(solver, (Auto, Dense)) or (isinstance(solver, Arnoldi) and not strict):
+    if isinstance(solver, Auto):
+        return for_base(model, solver.resolve(model))
+    if isinstance(solver, Dense):
         return RigidDeflated()
-    if isinstance(solver, Arnoldi):
-        raise ValueError(
-            f"the Arnoldi eigen-solver does not deflate the rigid-body modes of the "
-            f"{model.base.kind!r} base yet; use ax.eigen.Dense()"
-        )
     return solver
 
 

@@ -34,6 +34,7 @@ from jaxtyping import Array, Complex, Float, Inexact
 from ..assembly import assemble, assemble_blocks, node_major
 from ..models.section import Model
 from ..params import Params
+from . import deflation
 from .arnoldi import ArnoldiOptions, pencil_of, structured_dominant
 from .arnoldi_nearest import structured_nearest
 from .dominant import dominant_eigenpair
@@ -126,9 +127,18 @@ class Arnoldi(AbstractEigenSolver):
         )
 
     def eigenpair(self, model, params):
+        """The dominant eigenpair; on a base that lets the axoneme move rigidly, the
+        dominant *deforming* one: the rigid-body modes deflated through a border of
+        their own (:mod:`axojax.eigen.deflation`), structured as the rest."""
         A, C = pencil_of(assemble_blocks(model, params))
-        lam, x, certified = structured_dominant(A, C, self.options)
-        return lam, filament_major(model, x), certified
+        Z = jnp.asarray(rigid_modes_node_major(model))
+        if not Z.shape[1]:
+            lam, x, certified = structured_dominant(A, C, self.options)
+            return lam, filament_major(model, x), certified
+        A, C, s = deflation.deflate(A, C, Z)
+        opts = self.options._replace(deflated=Z.shape[1])
+        lam, x, certified = structured_dominant(A, C, opts)
+        return lam, filament_major(model, deflation.restore(x, lam, Z, s)), certified
 
     def nearest(self, model, params, shift):
         """The eigenpair nearest ``shift`` by structured shift-invert Arnoldi about the
@@ -149,6 +159,15 @@ def filament_major(model: Model, x: Inexact[Array, " n"]) -> Inexact[Array, " n"
     if n_nodes == x.shape[-1]:
         return x[inverse]
     return jnp.concatenate([x[:n_nodes][inverse], x[n_nodes:]])
+
+
+def rigid_modes_node_major(model: Model) -> np.ndarray:
+    """:meth:`Model.rigid_modes` (filament-major node unknowns, then the border) in the
+    structured pencil's order: node-major (:func:`axojax.assembly.node_major`), then the
+    border. (n_unknowns, r); r = 0 on a base that holds the axoneme."""
+    Z = model.rigid_modes()
+    perm = node_major(model)
+    return np.concatenate([Z[: perm.shape[0]][perm], Z[perm.shape[0] :]])
 
 
 class Auto(AbstractEigenSolver):
