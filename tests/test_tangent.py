@@ -12,7 +12,13 @@ import pytest
 import scipy.linalg as sl
 
 from axojax.eigen import tangent as _tangent
-from axojax.linalg import BlockTridiagonal, bordered, bordered_lu, lu_factor_packed
+from axojax.linalg import (
+    BlockTridiagonal,
+    bordered,
+    bordered_lu,
+    lu_factor_local,
+    lu_factor_packed,
+)
 
 # jitted: the rule's scans run compiled, as in use (eagerly they take ~10 s a test).
 eigenpair_tangent = jax.jit(_tangent.eigenpair_tangent, static_argnums=6)
@@ -28,14 +34,18 @@ def _blocks(rng, N, b, complex_=False):
     )
 
 
+@pytest.mark.parametrize("local", [False, True], ids=["band-pivoting", "local-pivoting"])
 @pytest.mark.parametrize("N, b", [(1, 3), (2, 2), (6, 4)])
 @pytest.mark.parametrize("complex_", [False, True])
-def test_packed_block_lu_solves_against_numpy(N, b, complex_):
+def test_packed_block_lu_solves_against_numpy(N, b, complex_, local):
+    """The packed block LUs (pivoting across block rows, and inside the diagonal blocks
+    only: the derivative rule's) solve M x = r and M^T x = r as numpy does, with and
+    without a border."""
     rng = np.random.default_rng(N + 10 * b)
     M = _blocks(rng, N, b, complex_)
     D = np.asarray(M.to_dense())
     r = rng.standard_normal(N * b) + (1j * rng.standard_normal(N * b) if complex_ else 0)
-    lu = lu_factor_packed(M)
+    lu = lu_factor_local(M) if local else lu_factor_packed(M)
     np.testing.assert_allclose(
         np.asarray(lu.solve(jnp.asarray(r))), np.linalg.solve(D, r), 1e-10, 1e-10
     )
@@ -47,7 +57,7 @@ def test_packed_block_lu_solves_against_numpy(N, b, complex_):
     B = bordered(M, rng.standard_normal((N * b, m)), rng.standard_normal((m, N * b)), np.eye(m))
     DB = np.asarray(B.to_dense())
     s = np.concatenate([r, rng.standard_normal(m)])
-    blu = bordered_lu(B, packed=True)
+    blu = bordered_lu(B, packed=True, local=local)
     np.testing.assert_allclose(
         np.asarray(blu.solve(jnp.asarray(s))), np.linalg.solve(DB, s), 1e-10, 1e-10
     )
@@ -60,6 +70,8 @@ def test_packed_factors_need_lapack_kernels():
     M = _blocks(np.random.default_rng(0), 2, 2)
     with pytest.raises(ValueError, match="packed factors need kernels='lapack', got 'jnp'"):
         bordered_lu(M, "jnp", packed=True)
+    with pytest.raises(ValueError, match="local pivoting needs packed=True"):
+        bordered_lu(M, local=True)
 
 
 def _pencil(m: int, seed: int = 3):

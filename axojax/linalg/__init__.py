@@ -6,9 +6,11 @@ from .blocktri import (
     BlockCholesky,
     BlockLU,
     BlockTridiagonal,
+    LocalBlockLU,
     PackedBlockLU,
     cholesky,
     lu_factor,
+    lu_factor_local,
     lu_factor_packed,
 )
 from .bordered import (
@@ -28,6 +30,7 @@ __all__ = [
     "Bordered",
     "BorderedCholesky",
     "BorderedLU",
+    "LocalBlockLU",
     "PackedBlockLU",
     "arnoldi_steps",
     "bordered",
@@ -35,5 +38,6 @@ __all__ = [
     "bordered_lu",
     "cholesky",
     "lu_factor",
+    "lu_factor_local",
     "lu_factor_packed",
 ]

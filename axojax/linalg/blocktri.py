@@ -14,6 +14,9 @@ elements, where a dense LU costs O((N b)^3).
   LAPACK's packed panel factors (no block inverses): about half the factorisation's cost,
   for matrices that are solved with only a few times (the derivative rule of
   :mod:`axojax.eigen.arnoldi`).
+- :func:`lu_factor_local` -> :class:`LocalBlockLU`: pivoting inside each diagonal block
+  only (block Thomas), about half the flops again, for a matrix whose solves are refined
+  with the exact residual (the derivative rule).
 - :func:`cholesky` -> :class:`BlockCholesky`: for symmetric positive definite matrices;
   its ``ok`` flag doubles as a positive-definiteness test.
 
@@ -355,6 +358,107 @@ def lu_factor_packed(M: BlockTridiagonal) -> PackedBlockLU:
 
     _, factors = jax.lax.scan(step, (P.diag[0], P.upper[0]), jnp.arange(N))
     return PackedBlockLU(*factors)
+
+
+class LocalBlockLU(eqx.Module):
+    """Factors of :func:`lu_factor_local`: block LU with partial pivoting inside each
+    diagonal block only, ``M = L U`` with L block lower bidiagonal (diagonal blocks
+    ``P_k^T L_k``, sub-diagonal ``l21[k]``) and U block upper bidiagonal (diagonal
+    ``U_k``, super-diagonal ``u12[k]``).
+
+    For block row k: ``lu[k]`` (b, b) the packed ``L_k``, ``U_k`` of the k-th Schur
+    complement, ``perm[k]`` (b,) its row permutation, ``u12[k]`` = ``L_k^{-1} P_k``
+    times block (k, k+1), ``l21[k]`` = block (k+1, k) times ``U_k^{-1}``.
+    """
+
+    lu: Inexact[Array, "N b b"]
+    perm: Array
+    u12: Inexact[Array, "N1 b b"]
+    l21: Inexact[Array, "N1 b b"]
+
+    def _shifted(self, blocks, first: bool):
+        """``blocks`` (N-1, b, b) padded with a zero block at the start (``first``: entry k
+        is block k-1) or at the end (entry k is block k)."""
+        zero = jnp.zeros((1,) + blocks.shape[1:], blocks.dtype)
+        return jnp.concatenate([zero, blocks] if first else [blocks, zero])
+
+    def solve(self, rhs: Inexact[Array, " n"]) -> Inexact[Array, " n"]:
+        """``M^{-1} rhs`` for a flat (N b,) vector: ``z_k = L_k^{-1} P_k (r_k - l21[k-1]
+        z_{k-1})``, then ``x_k = U_k^{-1} (z_k - u12[k] x_{k+1})``."""
+        N, b = self.lu.shape[-3], self.lu.shape[-1]
+        R = rhs.reshape(N, b).astype(self.lu.dtype)
+        l21, u12 = self._shifted(self.l21, True), self._shifted(self.u12, False)
+
+        def forward(z, k):
+            r = (R[k] - l21[k] @ z)[self.perm[k]]
+            z = solve_triangular(self.lu[k], r, lower=True, unit_diagonal=True)
+            return z, z
+
+        _, Z = jax.lax.scan(forward, jnp.zeros((b,), R.dtype), jnp.arange(N))
+
+        def backward(x, k):
+            x = solve_triangular(self.lu[k], Z[k] - u12[k] @ x, lower=False)
+            return x, x
+
+        _, X = jax.lax.scan(backward, jnp.zeros((b,), R.dtype), jnp.arange(N), reverse=True)
+        return X.reshape(-1)
+
+    def solve_transpose(self, rhs: Inexact[Array, " n"]) -> Inexact[Array, " n"]:
+        """``M^{-T} rhs`` (transpose, not conjugated): ``U^T w = r`` forward, then
+        ``L^T x = w`` backward."""
+        N, b = self.lu.shape[-3], self.lu.shape[-1]
+        R = rhs.reshape(N, b).astype(self.lu.dtype)
+        u12, l21 = self._shifted(self.u12, True), self._shifted(self.l21, False)
+        tr = lambda a: jnp.swapaxes(a, -1, -2)
+
+        def forward(w, k):
+            w = solve_triangular(self.lu[k], R[k] - tr(u12[k]) @ w, lower=False, trans=1)
+            return w, w
+
+        _, W = jax.lax.scan(forward, jnp.zeros((b,), R.dtype), jnp.arange(N))
+
+        def backward(x, k):
+            t = W[k] - tr(l21[k]) @ x
+            t = solve_triangular(self.lu[k], t, lower=True, unit_diagonal=True, trans=1)
+            x = jnp.zeros_like(t).at[self.perm[k]].set(t)
+            return x, x
+
+        _, X = jax.lax.scan(backward, jnp.zeros((b,), R.dtype), jnp.arange(N), reverse=True)
+        return X.reshape(-1)
+
+
+def lu_factor_local(M: BlockTridiagonal) -> LocalBlockLU:
+    """Block LU of a block-tridiagonal matrix with partial pivoting inside each diagonal
+    block only (block Thomas: factor the k-th Schur complement ``S_k = D_k - l21[k-1]
+    u12[k-1]``, eliminate the next block row through it), LAPACK's kernels, packed
+    (:class:`LocalBlockLU`). About half the flops of :func:`lu_factor_packed` (b x b
+    instead of 2b x b panels, no 2b-wide Schur update): 0.38 against 0.61 ms for a
+    complex matrix at seven filaments, 10 elements.
+
+    Not pivoting across block rows, it is as stable as the Schur complements of M's
+    leading block rows are well conditioned: for the finite-element pencils here (the
+    node blocks dominated by their stiff in-node couplings) the solves' backward error is
+    ~1e-17, as with band pivoting. Its one user, the derivative rule of
+    :mod:`axojax.eigen.tangent`, refines every solve with the exact residual, which would
+    correct a loss of accuracy; ``tests/test_tangent.py`` checks the rule against scipy,
+    finite differences and an extended-precision solve."""
+    N, b = M.n_blocks, M.block_size
+    dt = M.diag.dtype
+    lower = jnp.concatenate([M.lower, jnp.zeros((1, b, b), dt)])
+    upper = jnp.concatenate([M.upper, jnp.zeros((1, b, b), dt)])
+    nxt = jnp.concatenate([M.diag[1:], jnp.eye(b, dtype=dt)[None]])  # D_{k+1}, padded
+
+    def step(S, k):
+        lu, _, perm = jax.lax.linalg.lu(S)
+        u12 = solve_triangular(lu, upper[k][perm], lower=True, unit_diagonal=True)
+        # l21 U_k = lower_k  <=>  U_k^T l21^T = lower_k^T
+        l21 = jnp.swapaxes(
+            solve_triangular(lu, jnp.swapaxes(lower[k], -1, -2), lower=False, trans=1), -1, -2
+        )
+        return nxt[k] - l21 @ u12, (lu, perm, u12, l21)
+
+    _, (lu, perm, u12, l21) = jax.lax.scan(step, M.diag[0], jnp.arange(N))
+    return LocalBlockLU(lu, perm, u12[:-1], l21[:-1])
 
 
 class BlockCholesky(eqx.Module):

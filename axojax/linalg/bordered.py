@@ -33,10 +33,12 @@ from .blocktri import (
     BlockCholesky,
     BlockLU,
     BlockTridiagonal,
+    LocalBlockLU,
     PackedBlockLU,
     _check,
     cholesky,
     lu_factor,
+    lu_factor_local,
     lu_factor_packed,
 )
 
@@ -179,7 +181,7 @@ class BorderedLU(eqx.Module):
     :class:`PackedBlockLU` when packed), ``Z = T^{-1} B_nb`` and the inverse of the Schur
     complement (m x m)."""
 
-    tri: BlockLU | PackedBlockLU
+    tri: BlockLU | PackedBlockLU | LocalBlockLU
     z: Inexact[Array, "n m"]
     sinv: Inexact[Array, "m m"]
     bn: Inexact[Array, "m n"]
@@ -208,18 +210,29 @@ class BorderedLU(eqx.Module):
 
 
 def bordered_lu(
-    M: Bordered | BlockTridiagonal, kernels: str = "lapack", packed: bool = False
+    M: Bordered | BlockTridiagonal,
+    kernels: str = "lapack",
+    packed: bool = False,
+    local: bool = False,
 ) -> BorderedLU:
     """LU of a bordered matrix through T's pivoted block LU
     (:func:`~axojax.linalg.lu_factor`) and the Schur complement's (pivoted, dense).
     ``kernels``: see :data:`axojax.linalg.blocktri.KERNELS`. ``packed``: T's factors in
     LAPACK's packed form (:func:`~axojax.linalg.lu_factor_packed`; LAPACK kernels only),
-    about half the factorisation's cost, for a matrix solved only a few times."""
+    about half the factorisation's cost, for a matrix solved only a few times. ``local``
+    (with ``packed``): pivoting inside T's diagonal blocks only
+    (:func:`~axojax.linalg.lu_factor_local`), half that again, for solves that are
+    refined with the exact residual."""
     _check(kernels)
     if packed and kernels != "lapack":
         raise ValueError(f"packed factors need kernels='lapack', got {kernels!r}")
+    if local and not packed:
+        raise ValueError("local pivoting needs packed=True")
     M = bordered(M)
-    lu = lu_factor_packed(M.tri) if packed else lu_factor(M.tri, kernels)
+    if packed:
+        lu = lu_factor_local(M.tri) if local else lu_factor_packed(M.tri)
+    else:
+        lu = lu_factor(M.tri, kernels)
     if M.m == 0:
         return BorderedLU(lu, M.nb, M.bb, M.bn, M.nb)
     z = jax.vmap(lu.solve, in_axes=1, out_axes=1)(M.nb)
