@@ -33,6 +33,11 @@ alone 4.51 -> 5.92 ms, 1.31x. The previous rule (a fresh complex LU with block i
 two passes for the left eigenvector, two for the tangent), measured by the same command
 just before on a copy of commit 7800d3b: 4.90 -> 7.08 ms, 1.45x; four points 1.45x;
 the dominant mode 1.42x. See docs/benchmarks.md for where the rest goes.
+
+Part 3 again, 2026-12-05 15:55-15:59 UTC (load 1.0-2.1, five runs), the rule's LU
+pivoted inside the diagonal blocks only (``lu_factor_local``, 0.38 against 0.61 ms):
+one point 1.26x, 1.30x, 1.29x, 1.30x, 1.28x (value 3.25-3.62 ms); four vmapped
+1.25-1.28x. With band pivoting, runs just before: 1.33-1.37x.
 """
 
 import argparse
