@@ -125,3 +125,46 @@ def test_cli_compare_runs_in_the_data_sets_units(capsys):
     assert model["units_source"].startswith("the data set's flagellum: kappa 1900 pN um^2")
     sp = 2 * math.pi * 10.257 * 3.2e-3 * model["length_um"] ** 4 / 1900.0
     assert model["sperm_number"] == pytest.approx(sp, rel=0.01)  # observed f within 1 % of 10.257
+
+
+@pytest.mark.parametrize(
+    "flags, ei, cn, source",
+    [
+        ([], 1900.0 / 2, 3.2e-3 / 2, "the data set's flagellum"),
+        (["--ei", "300"], 300.0, 3.2e-3 / 2, "--ei given"),
+        (["--ei", "300", "--cn", "0.001"], 300.0, 1e-3, "given"),
+    ],
+    ids=["flagellum", "ei-given", "both-given"],
+)
+def test_cli_fit_data_uses_the_data_sets_flagellum_as_compare_does(flags, ei, cn, source, capsys):
+    """``axojax fit --data human_sperm`` takes the units that ``axojax compare`` takes:
+    EI and c_n not given come from the data set's flagellum (kappa and xi_n shared by the
+    model's filaments: 2 for ``two``), at the data's length; the report says where they
+    came from. (Before, fit kept axojax's 12 um cilium's units for a 46 um sperm: 0.12 Hz
+    against the measured 10.25.)"""
+    import json
+
+    argv = ["fit", "--model", "two", "--elements", "6", "--free", "p", "--data", "human_sperm"]
+    code = main(argv + ["--starts", "1", "--no-mesh-check", "--json", *flags])
+    assert code in (0, 1)  # 1: the steady load misses this beat's shape (a verdict, not an error)
+    units = json.loads(capsys.readouterr().out)["units"]
+    assert units["length_um"] == pytest.approx(ax.datasets.human_sperm().length_um)
+    assert units["ei_pn_um2"] == pytest.approx(ei) and units["cn_pn_s_um2"] == pytest.approx(cn)
+    assert source in units["source"]
+
+
+def test_cli_fit_user_file_keeps_axojax_units(tmp_path, capsys):
+    """A user's own beat file carries no flagellum: axojax's default EI and c_n, the
+    file's length, and the report says so."""
+    import json
+
+    s = np.linspace(0, 1, 12)
+    f = fourier_file(tmp_path / "b.npz", s, 0.3 * np.exp(-3j * s), 30.0, 20.0)
+    argv = ["fit", "--model", "two", "--elements", "6", "--free", "p", "--data", str(f)]
+    code = main(argv + ["--starts", "1", "--no-mesh-check", "--json"])
+    assert code in (0, 1)
+    units = json.loads(capsys.readouterr().out)["units"]
+    assert units["ei_pn_um2"] == pytest.approx(ax.Units().ei_pn_um2)
+    assert units["cn_pn_s_um2"] == pytest.approx(ax.Units().cn_pn_s_um2)
+    assert units["length_um"] == pytest.approx(ax.beats.read_beat(f).length_um)
+    assert "default" in units["source"]

@@ -25,6 +25,7 @@ from ..inverse import (
     solver_from_name,
 )
 from ..inverse.checks import fit_checks
+from ..inverse.compare import default_units
 from ..params import DEFAULT_CUBIC
 from ..units import Units
 from . import common, fit_posterior
@@ -288,10 +289,9 @@ def _fit_options(args: argparse.Namespace) -> dict:
     }
 
 
-def _length_given(args) -> bool:
-    return any(
-        a == "--length-um" or a.startswith("--length-um=") for a in getattr(args, "_argv", [])
-    )
+def _given(args, *flags: str) -> bool:
+    """Whether any of ``flags`` is on the command line (not just its default)."""
+    return any(a == f or a.startswith(f + "=") for a in getattr(args, "_argv", []) for f in flags)
 
 
 def _finish(args, result, extra: dict, post=None) -> dict:
@@ -358,8 +358,11 @@ def run(args: argparse.Namespace) -> dict:
     options = _fit_options(args)
     targets = _targets(args)
     shape, extra = None, {}
+    units_source = (
+        "given" if _given(args, "--ei", "--cn") else "axojax's default units (paper table 2)"
+    )
     if args.data is not None:
-        data_targets, shape, units, extra["data"] = _data(args, units)
+        data_targets, shape, units, extra["data"], units_source = _data(args, units, model)
         targets += [t for t in data_targets if t.name not in {u.name for u in targets}]
     elif args.exclude_base_um:
         raise common.CLIError("--exclude-base-um: applies to a shape; give --data")
@@ -385,20 +388,33 @@ def run(args: argparse.Namespace) -> dict:
         raise common.CLIError(f"{flag}: {err}") from None
     result, post = _run_fit(args, problem, options, flag)
     extra.update(fit_checks(problem, result, mesh=args.mesh_check))  # regime, mesh_check
+    extra["units"] = {**dataclasses.asdict(units), "source": units_source}
     return _finish(args, result, extra, post)
 
 
-def _data(args: argparse.Namespace, units: Units):
+def _data(args: argparse.Namespace, units: Units, model):
     """--data: its targets and shape (for --target limit-cycle, the whole waveform against
-    the nonlinear beat), the units at the data's length, and the data's summary."""
+    the nonlinear beat), the units at the data's length, the data's summary, and where
+    the units came from: EI and c_n not given (--ei, --cn) come from the data set's
+    flagellum when it has one (a bundled beat; as ``axojax compare`` does:
+    :func:`axojax.inverse.compare.default_units`, shared by the model's filaments), else
+    axojax's defaults."""
     beat, summary = _read_data(args.data, "--data")
     length = beat.length_um
-    if abs(length - units.length_um) > 1e-6 * length:
-        if _length_given(args):
-            raise common.CLIError(
-                f"--length-um: {units.length_um:g} um conflicts with the data's length {length:g} um ({args.data})"
-            )
-        units = Units(length, units.ei_pn_um2, units.cn_pn_s_um2)  # the data's length
+    if abs(length - units.length_um) > 1e-6 * length and _given(args, "--length-um"):
+        raise common.CLIError(
+            f"--length-um: {units.length_um:g} um conflicts with the data's length {length:g} um ({args.data})"
+        )
+    ei_given, cn_given = _given(args, "--ei"), _given(args, "--cn")
+    ei, cn = units.ei_pn_um2, units.cn_pn_s_um2
+    source = "given" if ei_given or cn_given else "axojax's default units (paper table 2)"
+    if beat.flagellum is not None and not (ei_given and cn_given):
+        own, source = default_units(beat, n_filaments=model.n_filaments)
+        ei = ei if ei_given else own.ei_pn_um2
+        cn = cn if cn_given else own.cn_pn_s_um2
+        if ei_given or cn_given:
+            source += f" ({'--ei' if ei_given else '--cn'} given)"
+    units = Units(length, ei, cn)  # the data's length
     targets, shape = beat.targets()
     if args.target == "limit-cycle":
         # psi_0 and psi_1 in absolute amplitude, and the data's frequency as the cycle's.
@@ -408,7 +424,7 @@ def _data(args: argparse.Namespace, units: Units):
             if t.name in ("frequency_hz", "wavelength_um")
         ]
         shape = None if shape is None else dataclasses.replace(shape, source="limit_cycle")
-    return targets, shape, units, summary
+    return targets, shape, units, summary, source
 
 
 def _cubic(args: argparse.Namespace, model) -> float:

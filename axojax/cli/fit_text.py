@@ -17,6 +17,12 @@ def render(doc: dict) -> str:
             else ("" if doc["identifiable"].get(k) else "not identifiable")
         )
         lines.append(f"{k:>12s}  {v:12.5g}  {se if se is not None else float('inf'):12.3g}  {note}")
+    u = doc.get("units")
+    if u:
+        lines.append(
+            f"units: L {u['length_um']:.4g} um; per filament EI {u['ei_pn_um2']:.4g} pN um^2, "
+            f"c_n {u['cn_pn_s_um2']:.3g} pN s/um^2 ({u['source']})"
+        )
     for c in doc["conditions"]:
         a = c["achieved"]
         head = f"[{c['label']}] " if len(doc["conditions"]) > 1 else ""

@@ -292,15 +292,18 @@ def _physical(values: dict[str, float], units: Units) -> dict[str, float]:
     return out
 
 
-def default_units(beat: BeatData, model: str = DEFAULT_PRESET) -> tuple[Units, str]:
-    """The units a comparison of ``beat`` assumes when given none, and where they come
-    from in words: the data set's flagellum when it is known (a bundled beat:
-    :attr:`BeatData.flagellum`, kappa and xi_n shared by the preset's F filaments), else
-    axojax's :class:`~axojax.Units` (paper table 2: a 12 um cilium's EI and c_n per
-    filament), at the beat's length either way. The shape a model can reach depends on
-    the sperm number they give (docs/mechanisms.md), so a user's own beat should come with
-    its organism's units."""
-    n_filaments = preset_section(model).n_filaments
+def default_units(
+    beat: BeatData, model: str = DEFAULT_PRESET, n_filaments: int | None = None
+) -> tuple[Units, str]:
+    """The units a comparison (or ``axojax fit --data``) of ``beat`` assumes when given
+    none, and where they come from in words: the data set's flagellum when it is known (a
+    bundled beat: :attr:`BeatData.flagellum`, kappa and xi_n shared by the preset's F
+    filaments, or by ``n_filaments``), else axojax's :class:`~axojax.Units` (paper table
+    2: a 12 um cilium's EI and c_n per filament), at the beat's length either way. The
+    shape a model can reach depends on the sperm number they give (docs/mechanisms.md),
+    so a user's own beat should come with its organism's units."""
+    if n_filaments is None:
+        n_filaments = preset_section(model).n_filaments
     if beat.flagellum is not None:
         f = beat.flagellum
         return f.units(beat.length_um, n_filaments), (
