@@ -362,7 +362,9 @@ def run(args: argparse.Namespace) -> dict:
         "given" if _given(args, "--ei", "--cn") else "axojax's default units (paper table 2)"
     )
     if args.data is not None:
-        data_targets, shape, units, extra["data"], units_source = _data(args, units, model)
+        data_targets, shape, units, extra["data"], units_source = _data(
+            args, units, units_source, model
+        )
         targets += [t for t in data_targets if t.name not in {u.name for u in targets}]
     elif args.exclude_base_um:
         raise common.CLIError("--exclude-base-um: applies to a shape; give --data")
@@ -392,7 +394,7 @@ def run(args: argparse.Namespace) -> dict:
     return _finish(args, result, extra, post)
 
 
-def _data(args: argparse.Namespace, units: Units, model):
+def _data(args: argparse.Namespace, units: Units, source: str, model):
     """--data: its targets and shape (for --target limit-cycle, the whole waveform against
     the nonlinear beat), the units at the data's length, the data's summary, and where
     the units came from: EI and c_n not given (--ei, --cn) come from the data set's
@@ -407,7 +409,6 @@ def _data(args: argparse.Namespace, units: Units, model):
         )
     ei_given, cn_given = _given(args, "--ei"), _given(args, "--cn")
     ei, cn = units.ei_pn_um2, units.cn_pn_s_um2
-    source = "given" if ei_given or cn_given else "axojax's default units (paper table 2)"
     if beat.flagellum is not None and not (ei_given and cn_given):
         own, source = default_units(beat, n_filaments=model.n_filaments)
         ei = ei if ei_given else own.ei_pn_um2

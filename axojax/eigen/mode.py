@@ -16,7 +16,7 @@ from ..params import Params, require_scalars, valid
 from ..results import RESULTS
 from ..units import Units
 from ..waveform import measures
-from . import pencil
+from . import deflation, pencil
 from .dominant import dominant_eigenpair, normalise
 from .metrics import beat_plane, tangent_wavenumber
 from .solvers import AbstractEigenSolver, Auto, Dense
@@ -153,7 +153,8 @@ class RigidDeflated(AbstractEigenSolver):
     (A + sigma C Z Y^T, C) has every eigenvalue of (A, C) except that the rigid ones move
     from 0 to -sigma (Brauer's theorem), and an eigenvector v' of it at lambda gives the
     original's, v = v' + (sigma / lambda) Z Y^T v' (exact; both differentiable). sigma =
-    10 max|A| / max|C| puts the rigid modes among the fastest-decaying ones.
+    10 max|A| / max|C| puts the rigid modes among the fastest-decaying ones. (The
+    structured solver does the same through a border: :mod:`axojax.eigen.deflation`.)
     """
 
     def eigenpair(self, model, params):
@@ -162,24 +163,20 @@ class RigidDeflated(AbstractEigenSolver):
         Z = jnp.asarray(model.rigid_modes())
         ZtC = Z.T @ C
         Yt = jnp.linalg.solve(ZtC @ Z, ZtC)
-        sigma = jax.lax.stop_gradient(10 * jnp.max(jnp.abs(A)) / jnp.max(jnp.abs(C)))
+        sigma = jax.lax.stop_gradient(deflation.SCALE * jnp.max(jnp.abs(A)) / jnp.max(jnp.abs(C)))
         lam, w = dominant_eigenpair(A + sigma * (C @ Z) @ Yt, C)
         v = normalise(w + (sigma / lam) * (Z @ (Yt @ w)))
         return lam, v, jnp.ones((), float)
 
 
-def for_base(
-    model: Model, solver: AbstractEigenSolver, strict: bool = False
-) -> AbstractEigenSolver:
+def for_base(model: Model, solver: AbstractEigenSolver) -> AbstractEigenSolver:
     """``solver``, except where the base leaves rigid-body motion free (free, head, a
     pivot without a spring): their zero eigenvalues are no mode of deformation. The
     dense solver is replaced by :class:`RigidDeflated`, which moves them out of the way;
     :class:`~axojax.eigen.Arnoldi` deflates them itself, through a border
     (:mod:`axojax.eigen.deflation`); :class:`~axojax.eigen.Auto` resolves first. A border
     without rigid motion (basal compliance on a clamped base) is solved by every solver
-    as it is: both eliminate the border by a Schur complement. (``strict`` is kept for
-    callers' signatures: every solver now has an answer for every base.)"""
-    del strict
+    as it is: both eliminate the border by a Schur complement."""
     if not model.n_border or model.rigid_modes().shape[1] == 0:
         return solver
     if isinstance(solver, Auto):
@@ -265,7 +262,6 @@ def dominant_mode(
     if not isinstance(params, Params):
         raise TypeError(f"params must be an ax.Params, got {params!r}")
     require_scalars(params, "dominant_mode")
-    for_base(model, solver, strict=True)
     mode = _dominant_mode_jit(model, check_base_params(model, params.validate()), solver)
     if throw:
         mode = mode.result.error_if(mode, mode.result != RESULTS.successful)
