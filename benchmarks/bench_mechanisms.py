@@ -63,9 +63,9 @@ import numpy as np
 
 import axojax as ax  # first: it sets the XLA flags before jax starts
 from axojax.eigen import Arnoldi
-from axojax.models import Base
 from axojax.eigen.mode import _dominant_mode_impl
 from axojax.eigen.nearest import nearest_mode_impl
+from axojax.models import Base
 
 SPD = dict(chi_re=2e4, chi_im=2e4, beta_re=100.0)
 """A regulated mechanism with C symmetric positive definite (omega0 set per point)."""
