@@ -112,7 +112,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--data",
         default=None,
         metavar="FILE",
-        help="beat data (kymograph, centreline or Fourier-mode file): frequency and mode shape",
+        help="beat data (kymograph, centreline or Fourier-mode file, or a bundled name such as "
+        "human_sperm): frequency and mode shape, at the data's length; EI and c_n not given "
+        "(--ei, --cn) come from a bundled data set's flagellum, as in axojax compare",
     )
     parser.add_argument(
         "--target",
