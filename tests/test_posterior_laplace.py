@@ -84,18 +84,27 @@ def test_tree_depth_is_reported_and_saturation_warns():
 
 
 @pytest.mark.slow  # 387 s at load 7-9 on the 2-core machine, nearly all compilation
-def test_synthetic_seven_filament_intervals_contain_the_truth():
+def test_synthetic_seven_filament_posterior_contains_the_truth():
     """Issue 31's synthetic check, small: p and ks of the seven-filament model (4
-    elements, kl = ks / 1000) from a noisy frequency and wavelength made at a known truth;
-    the 90 % intervals of a short run (2 chains x 100 draws) and of the Laplace
-    approximation at the least-squares optimum (what the CLI prints first) contain the
-    truth, and say something (p known to better than a factor 2). The posterior is a
-    ridge (p-ks correlation ~0.9997), so a run this short does not converge to R-hat
-    1.01 (1.10 measured at 150 draws): convergence is left to the benchmark
-    (benchmarks/bench_posterior_speed.py); the run costs mostly compilation."""
+    elements, kl = ks / 1000) from a noisy frequency and wavelength made at a known truth.
+    The posterior is a ridge (p-ks correlation ~0.9996) that the targets fit equally well
+    from ks ~ 1e3 to a cliff near 2.5e6 (another eigenmode dominant), and the prior is
+    uniform in log ks, so the posterior spreads along it: a converged run (4 x 1000 draws
+    along ks, R-hat 1.001, measured 2026-12-05) puts the 90 % intervals at p 160-281, ks
+    1.8e3-7.1e5, and the truth (300, 1e6), near the ridge's upper end, outside them, as it
+    should for this noise draw. (A short run from the optimum used to "contain" it only
+    because it had not yet left the optimum.) What holds for a correct sampler, and is
+    checked here: the truth lies inside the sampled 90 % highest-density region (in the
+    fitted coordinates, where the prior is uniform: the draws' log likelihoods' 10 %
+    quantile is below the truth's); the chains explore the ridge (their ks spans over a
+    decade); the Laplace approximation at the optimum (what the CLI prints first) gives
+    intervals that contain the truth and pin p to better than a factor 2."""
+    import jax
+    import jax.numpy as jnp
+
     import axojax as ax
     from axojax.beats import Target
-    from axojax.inverse import build_problem, least_squares
+    from axojax.inverse import build_problem, least_squares, suggest_transport
 
     truth = {"p": 300.0, "ks": 1e6}
     model = ax.models.seven(n_elements=4)
@@ -109,32 +118,20 @@ def test_synthetic_seven_filament_intervals_contain_the_truth():
     start = ax.Params().with_values({"p": 280.0, "ks": 8e5}, 1000.0)
     problem = build_problem(model, start, targets, ["p", "ks"], kl_ratio=1000.0)
     fit = least_squares(problem, starts=1)
+    transport = suggest_transport(problem, fit)  # what `axojax fit --posterior` picks
+    assert transport is not None and transport.along == "ks"
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # a short run: ESS warnings
-        post = posterior(problem, draws=100, chains=2, warmup=100, seed=0, init=fit)
+        post = posterior(
+            problem, draws=150, chains=2, warmup=100, seed=0, init=fit, transport=transport
+        )
+    u_truth = np.log([truth[n] for n in post.names])
+    loglik_truth = -float(problem.loss(jnp.asarray(u_truth)))
+    u = post.u.reshape(-1, len(post.names))
+    loglik = -np.asarray(jax.vmap(problem.loss)(jnp.asarray(u)))
+    assert np.quantile(loglik, 0.10) <= loglik_truth, (np.quantile(loglik, 0.10), loglik_truth)
+    assert post.q95["ks"] / post.q05["ks"] > 10  # along the ridge, not stuck at the optimum
     lap = post.laplace.to_json()
     for n, value in truth.items():
-        assert post.q05[n] <= value <= post.q95[n], (n, post.q05[n], post.q95[n])
         assert lap["q05"][n] <= value <= lap["q95"][n], (n, lap["q05"][n], lap["q95"][n])
-    assert post.q95["p"] / post.q05["p"] < 2 and lap["q95"]["p"] / lap["q05"]["p"] < 2
-
-
-def test_laplace_covariance_is_scale_invariant():
-    """A coordinate of scale 1e7 beside one of scale 1 (a linear chi beside a log kb):
-    the covariance is the precision's inverse, not infinite (the cutoff reads the
-    precision scaled to a unit diagonal)."""
-
-    class _Values:
-        def values(self, u):
-            return {"a": float(u[0]), "b": float(u[1])}
-
-    scales = np.array([1e7, 1.0])  # eigenvalues of the precision 1e-14 apart
-    corr = np.array([[1.0, 0.6], [0.6, 1.0]])
-    cov = scales[:, None] * corr * scales[None, :]
-    precision = np.linalg.inv(cov)
-    lap = laplace_of(_Values(), ("a", "b"), np.array([1.0, 2.0]), precision)
-    np.testing.assert_allclose(lap.cov_u, cov, rtol=1e-9)
-    # a direction the data do not constrain at all still gets an infinite variance
-    singular = np.array([[1.0, 0.0], [0.0, 0.0]])
-    lap = laplace_of(_Values(), ("a", "b"), np.array([1.0, 2.0]), singular)
-    assert np.isinf(lap.cov_u[1, 1]) and np.isfinite(lap.cov_u[0, 0])
+    assert lap["q95"]["p"] / lap["q05"]["p"] < 2
