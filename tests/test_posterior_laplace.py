@@ -135,3 +135,24 @@ def test_synthetic_seven_filament_posterior_contains_the_truth():
     for n, value in truth.items():
         assert lap["q05"][n] <= value <= lap["q95"][n], (n, lap["q05"][n], lap["q95"][n])
     assert lap["q95"]["p"] / lap["q05"]["p"] < 2
+
+
+def test_laplace_covariance_is_scale_invariant():
+    """A coordinate of scale 1e7 beside one of scale 1 (a linear chi beside a log kb):
+    the covariance is the precision's inverse, not infinite (the cutoff reads the
+    precision scaled to a unit diagonal)."""
+
+    class _Values:
+        def values(self, u):
+            return {"a": float(u[0]), "b": float(u[1])}
+
+    scales = np.array([1e7, 1.0])  # eigenvalues of the precision 1e-14 apart
+    corr = np.array([[1.0, 0.6], [0.6, 1.0]])
+    cov = scales[:, None] * corr * scales[None, :]
+    precision = np.linalg.inv(cov)
+    lap = laplace_of(_Values(), ("a", "b"), np.array([1.0, 2.0]), precision)
+    np.testing.assert_allclose(lap.cov_u, cov, rtol=1e-9)
+    # a direction the data do not constrain at all still gets an infinite variance
+    singular = np.array([[1.0, 0.0], [0.0, 0.0]])
+    lap = laplace_of(_Values(), ("a", "b"), np.array([1.0, 2.0]), singular)
+    assert np.isinf(lap.cov_u[1, 1]) and np.isfinite(lap.cov_u[0, 0])
