@@ -42,10 +42,11 @@ SCALE = 10.0
 RigidDeflated`'s)."""
 
 
-def scale_of(A, C) -> Float[Array, ""]:
-    """s = :data:`SCALE` max|A| / max|C| (no derivative: any s > 0 gives the same
-    deforming eigenpairs)."""
-    return jax.lax.stop_gradient(SCALE * A.max_abs() / C.max_abs())
+def scale_of(max_abs_a, max_abs_c) -> Float[Array, ""]:
+    """s = :data:`SCALE` max|A| / max|C| from the two maxima (no derivative: any s > 0
+    gives the same deforming eigenpairs). Shared by this module and the dense
+    :class:`~axojax.eigen.mode.RigidDeflated`."""
+    return jax.lax.stop_gradient(SCALE * max_abs_a / max_abs_c)
 
 
 def deflate(
@@ -60,9 +61,9 @@ def deflate(
     CZ = jax.vmap(C.matvec, in_axes=1, out_axes=1)(Z)  # (n + m, r)
     ZtC = jax.vmap(C.T.matvec, in_axes=1, out_axes=0)(Z)  # (r, n + m): Z^T C
     Yt = jnp.linalg.solve(ZtC @ Z, ZtC)
-    s = scale_of(A, C)
+    s = scale_of(A.max_abs(), C.max_abs())
     col = s * CZ
-    zeros_nr = jnp.zeros((n, r), A.nb.dtype)
+    zeros_nr = jnp.zeros((n, r), C.nb.dtype)
     zeros_mr = jnp.zeros((C.m, r), C.bb.dtype)
     A_ext = Bordered(
         A.tri,
@@ -72,8 +73,8 @@ def deflate(
     )
     C_ext = Bordered(
         C.tri,
-        jnp.concatenate([C.nb, zeros_nr.astype(C.nb.dtype)], axis=1),
-        jnp.concatenate([C.bn, zeros_nr.T.astype(C.bn.dtype)], axis=0),
+        jnp.concatenate([C.nb, zeros_nr], axis=1),
+        jnp.concatenate([C.bn, zeros_nr.T], axis=0),
         jnp.block([[C.bb, zeros_mr], [zeros_mr.T, jnp.zeros((r, r), C.bb.dtype)]]),
     )
     return A_ext, C_ext, s

@@ -163,7 +163,7 @@ class RigidDeflated(AbstractEigenSolver):
         Z = jnp.asarray(model.rigid_modes())
         ZtC = Z.T @ C
         Yt = jnp.linalg.solve(ZtC @ Z, ZtC)
-        sigma = jax.lax.stop_gradient(deflation.SCALE * jnp.max(jnp.abs(A)) / jnp.max(jnp.abs(C)))
+        sigma = deflation.scale_of(jnp.max(jnp.abs(A)), jnp.max(jnp.abs(C)))
         lam, w = dominant_eigenpair(A + sigma * (C @ Z) @ Yt, C)
         v = normalise(w + (sigma / lam) * (Z @ (Yt @ w)))
         return lam, v, jnp.ones((), float)
