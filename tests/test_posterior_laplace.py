@@ -90,7 +90,7 @@ def test_synthetic_seven_filament_posterior_contains_the_truth():
     The posterior is a ridge (p-ks correlation ~0.9996) that the targets fit equally well
     from ks ~ 1e3 to a cliff near 2.5e6 (another eigenmode dominant), and the prior is
     uniform in log ks, so the posterior spreads along it: a converged run (4 x 1000 draws
-    along ks, R-hat 1.001, measured 2026-12-05) puts the 90 % intervals at p 160-281, ks
+    along ks, R-hat 1.001: scripts/check_small_synthetic_posterior.py) puts the 90 % intervals at p 160-281, ks
     1.8e3-7.1e5, and the truth (300, 1e6), near the ridge's upper end, outside them, as it
     should for this noise draw. (A short run from the optimum used to "contain" it only
     because it had not yet left the optimum.) What holds for a correct sampler, and is

@@ -16,7 +16,8 @@ across block rows, :func:`axojax.linalg.lu_factor_packed`, 0.61 ms; with the blo
 inverses the primal keeps for its dozens of solves, 1.28 ms): the refinement step below
 uses B's exact residual, so the factors need only be good preconditioners, and the
 derivatives agree with band pivoting's to every printed digit (1e-15 to 6e-12 against
-an extended-precision dense solve, seven at p = 30-1000, 10 and 40 elements). The rule
+an extended-precision dense solve, seven at p = 30-1000, 10 and 40 elements:
+scripts/check_tangent_accuracy.py). The rule
 before this one (inverse iteration for the left eigenvector, then a projected, refined
 solve) made four passes.
 Accuracy against a dense bordered solve refined in extended precision (seven, p =
