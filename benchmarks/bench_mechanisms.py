@@ -9,7 +9,8 @@ the CPU default) for:
 - ``eigenpair`` with a regulated mechanism that keeps C symmetric positive definite
   (chi', chi'' >= 0, beta', beta'' = 0: the structured solver certifies there);
 - the same on a free base and on a head base (rigid-body modes deflated through a
-  border, :mod:`axojax.eigen.deflation`: structured, not dense);
+  border, :mod:`axojax.eigen.deflation`: structured, not dense), each beside the steady
+  load on the same base (the reference of its "same method" ratio);
 - ``nearest`` (eigenvalue nearest i omega0) with the steady load and with a regulated
   mechanism whose C is non-symmetric and indefinite (beta'' != 0, chi'' < 0), shifted
   at i omega0 with omega0 the point's steady-load beat (often far from any eigenvalue:
@@ -36,7 +37,8 @@ Free and head bases (2026-12-05, load ~1.7, same run as above's successor): the
 regulated eigenpair (C symmetric positive definite) with the rigid-body modes deflated
 through a border runs at 1.11x (free) and 0.96x (head) the clamped steady load's
 eigenpair at 10 elements, 0.94x and 0.79x at 40, every point certified (before: the
-dense solver, 10 ms at 10 elements, 300 ms at 40).
+dense solver, 10 ms at 10 elements, 300 ms at 40). Against the steady load on the same
+base (rows added 2026-12-05; `--quick --points 8`, load 8): free 0.98x, head 1.02x.
 
 Single numbers move by tens of per cent between runs on this machine. Every regulated
 point certified (no dense fallback; one steady point at 10 elements falls back, which
@@ -127,7 +129,9 @@ def run(n_elements: int, n_points: int) -> dict[str, tuple[float, float]]:
         {
             "steady eigenpair": (dominant, (base,)),
             "regulated eigenpair": (dominant, (spd,)),
+            "free base, steady eigenpair": (on_base["free"], (base,)),
             "free base, regulated eigenpair": (on_base["free"], (spd,)),
+            "head base, steady eigenpair": (on_base["head"], (base,)),
             "head base, regulated eigenpair": (on_base["head"], (spd,)),
             "steady nearest": (nearest, (base, shifts)),
             "regulated nearest": (nearest, (gen, shifts)),
@@ -155,10 +159,11 @@ def main() -> None:
         res = run(n_elements, n_points)
         ref = res["steady eigenpair"][0]
         print(f"\nseven, {n_elements} elements, {n_points} points (vmapped, per-point path):")
-        print("  (speed relative to the steady load's eigenpair, and to the steady load's")
-        print("   time with the same method)")
+        print("  (speed relative to the clamped steady load's eigenpair, and to the steady")
+        print("   load's time on the same base with the same method)")
         for name, (t, cert) in res.items():
-            same = res["steady " + name.split()[-1]][0]
+            # the steady load on the same base with the same method
+            same = res[name.replace("regulated", "steady")][0]
             print(
                 f"  {name:31s} {1e3 * t:8.2f} ms/point  certified {100 * cert:5.1f} %"
                 f"  vs steady eigenpair {ref / t:5.2f}  vs steady, same method {same / t:5.2f}"
