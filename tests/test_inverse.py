@@ -157,6 +157,10 @@ def test_parameter_at_a_bound_is_never_identifiable(model):
     assert "lower bound" in result.message and not result.targets_met
     doc = result.to_json()
     assert doc["at_bound"] == ["cl"] and doc["identifiable"]["cl"] is False
+    # where each start stopped: one entry per start, the best one the reported optimum
+    assert len(result.optima) == len(result.starts) == 2
+    best_values, best_loss = min(result.optima, key=lambda o: o[1])
+    assert best_loss == result.loss and best_values["cl"] == pytest.approx(result.params["cl"])
 
 
 def test_linear_parameter_judged_on_its_own_scale(problem_gamma):

@@ -326,6 +326,9 @@ def least_squares(
     best = min(range(len(runs)), key=lambda i: runs[i]["loss"])
     u_best = np.asarray(problem.to_u(jnp.asarray(runs[best]["z"])))
     start_log = [(problem.values(u), r["loss"]) for u, r in zip(initial, runs)]
+    ends = [
+        (problem.values(np.asarray(problem.to_u(jnp.asarray(r["z"])))), r["loss"]) for r in runs
+    ]
     return build_report(
         problem,
         u_best,
@@ -335,5 +338,6 @@ def least_squares(
         iterations=[r["steps"] for r in runs],
         wall_s=wall,
         starts=start_log,
+        optima=ends,
         result=runs[best]["result"],
     )

@@ -75,6 +75,10 @@ class FitResult:
         correlation: (k, k) correlation matrix in the fitted coordinates.
         identifiable: per fitted value (never True at a bound).
         starts: (initial values, final loss) of each start.
+        optima: (final values, final loss) of each start, in the order of ``starts``:
+            where the starts stopped (distinct points at equal loss are distinct optima,
+            e.g. several exact solutions of as many targets as parameters; a posterior
+            spans them: :func:`axojax.inverse.suggest_transport`).
         names: the fitted values' names, in the order of ``correlation``.
         shared: the shared fitted values.
         chi2_per_dof: sum r^2 / (m - k), None if m <= k.
@@ -110,6 +114,7 @@ class FitResult:
     identifiable: dict[str, bool]
     starts: list[tuple[dict[str, float], float]]
     names: tuple[str, ...] = ()
+    optima: list[tuple[dict[str, float], float]] = dataclasses.field(default_factory=list)
     shared: dict[str, float] = dataclasses.field(default_factory=dict)
     chi2_per_dof: float | None = None
     dof: int = 0
@@ -223,6 +228,7 @@ def build_report(
     iterations=(),
     wall_s: float = 0.0,
     starts=(),
+    optima=(),
     result: RESULTS | None = None,
 ) -> FitResult:
     """The :class:`FitResult` of ``problem`` at the fitted coordinates ``u`` (k,)."""
@@ -280,6 +286,7 @@ def build_report(
         correlation=corr,
         identifiable=ident,
         starts=list(starts),
+        optima=list(optima),
         names=tuple(names),
         shared=shared,
         chi2_per_dof=chi2,
