@@ -225,15 +225,45 @@ def test_map_holds_up_to_a_bound():
     assert float(profile.to_z(jnp.array([2.5, 0.0]))[0]) > float(profile.z_knots[-1 - 4])
 
 
+class ForkedValley(Banana):
+    """Two valleys that part at u0 = 0: A along u1 = 0 and B along u1 = u0^2 (the second
+    residual vanishes on both), with a third residual u1 - u0^2 that lowers A's density
+    by u0^4 / 2 and leaves B's: beyond |u0| ~ 1 B holds nearly all the mass. A profile
+    continued from a centre on A stays on A."""
+
+    def residuals(self, u):
+        return jnp.stack([(u[0] - M0) / S0, u[1] * (u[1] - u[0] ** 2) / S1, u[1] - u[0] ** 2])
+
+
+def test_profile_takes_the_branch_with_the_mass():
+    problem = ForkedValley()
+    target = _Target(problem)
+    z_c = problem.to_z(jnp.array([M0, 0.0]))  # on A
+    profile = _compiled(build_map, (0, 48), (target, z_c))[0]
+    z = jnp.stack([profile.z_knots, profile.centre[:, 0]], axis=1)
+    u = np.asarray(jax.vmap(problem.to_u)(z))
+    far = np.abs(u[:, 0]) >= 1.5
+    assert far.sum() >= 10
+    # on B (u1 = u0^2, to a small fraction of the valley's width S1 / u0^2), not on A
+    np.testing.assert_allclose(u[far, 1], u[far, 0] ** 2, atol=1e-3)
+    # and the conditional maximum there is the global one (a dense scan across u1)
+    for j in np.flatnonzero(far)[::4]:
+        grid = jnp.linspace(-2.9, 11.9, 20001)
+        f = jax.vmap(lambda x: target(problem.to_z(jnp.array([u[j, 0], x]))))(grid)
+        assert abs(float(grid[jnp.argmax(f)]) - u[j, 1]) < 2e-3, (j, u[j])
+
+
 class _Fit:
     """The parts of a FitResult that suggest_transport reads."""
 
-    def __init__(self, corr, se_u, values=(0.5, 0.25)):
+    def __init__(self, corr, se_u, values=(0.5, 0.25), optima=()):
         self.names = ("u0", "u1")
         self.correlation = np.array([[1.0, corr], [corr, 1.0]])
         self.stderr_fitted = dict(zip(self.names, se_u))
         self.params = dict(zip(self.names, values))
         self.coordinate = {"u0": "linear", "u1": "linear"}
+        self.loss = 0.0
+        self.optima = list(optima)
 
 
 def test_suggest_transport_goes_along_the_widest_in_z():
@@ -246,8 +276,70 @@ def test_suggest_transport_goes_along_the_widest_in_z():
     chosen = suggest_transport(problem, _Fit(0.995, (0.3, 1.0)))
     assert chosen.along == ("u0", "u1")[int(np.argmax(sd_z))]
     assert suggest_transport(problem, _Fit(-0.999, (1.0, 0.01))).along == "u0"
-    # no ridge, or a single parameter: none
-    assert suggest_transport(problem, _Fit(0.9, (0.3, 1.0))) is None
+    # a single parameter: none
     single = _Fit(0.999, (0.3, 1.0))
     single.names, single.correlation = ("u0",), np.eye(1)
     assert suggest_transport(problem, single) is None
+
+
+def test_suggest_transport_sees_what_the_optimum_does_not():
+    """Uncorrelated at the optimum (the banana's tip is round: the curvature there is
+    all its Laplace approximation sees), yet a banana: importance sampling through each
+    map finds it. The Laplace whitening misses mass, the profile along u0 (the banana is
+    a graph over u0) makes it nearly standard normal, the one along u1 (two arms,
+    u0 = +-sqrt(u1)) does worse. A normal posterior keeps the Laplace whitening."""
+    from axojax.inverse import suggest_transport
+    from axojax.inverse.transport_choice import importance_scores
+
+    problem = Banana()
+    u = jnp.array([M0, M0**2])
+    scores = importance_scores(problem, u)
+    (m_laplace, e_laplace, _), (m0, e0, d0), (_, e1, _) = scores[None], scores[0], scores[1]
+    # the banana's exact mass in z: the truncated normal of u0 times the u1 | u0 normal's
+    # normaliser, times the uniform prior's Jacobian, integrated: by quadrature in u
+    assert abs(m0 - _banana_log_mass(problem)) < 0.05, (m0, _banana_log_mass(problem))
+    assert e0 > 0.8 and e0 > 2 * e_laplace and e0 > e1 and d0 < 0.5
+    assert m_laplace < m0 - 0.1  # the Laplace draws miss the banana's arms
+    assert suggest_transport(problem, _Fit(0.0, (1.0, 0.3))).along == "u0"
+    normal = LinearGaussian(
+        np.array([[1.0, 0.3], [0.0, 1.0]]), np.array([0.4, -0.2]), 0.1, LOWER, UPPER, ["u0", "u1"]
+    )
+    fit = _Fit(0.3, (0.1, 0.1), values=(0.46, -0.2))
+    assert suggest_transport(normal, fit) is None
+
+
+def _banana_log_mass(problem) -> float:
+    """log of the integral over z of exp(log density in z) = the integral over u of
+    exp(-|r(u)|^2 / 2) (the uniform prior's log-Jacobian turns dz into du)."""
+    import scipy.integrate
+
+    def inner(u0):
+        return scipy.integrate.quad(
+            lambda u1: np.exp(-0.5 * float(jnp.sum(problem.residuals(jnp.array([u0, u1])) ** 2))),
+            max(LOWER[1], u0**2 - 12 * S1),
+            min(UPPER[1], u0**2 + 12 * S1),
+            points=[u0**2],
+        )[0]
+
+    return float(np.log(scipy.integrate.quad(inner, LOWER[0], UPPER[0], limit=200)[0]))
+
+
+def test_suggest_transport_beyond_the_profiles_reads_the_optima():
+    """Beyond MAX_PROFILES parameters no profile is tried: another start that stopped as
+    low, many standard errors away (fit.optima), makes the transport; one far above the
+    best loss, or none, does not."""
+    from axojax.inverse import suggest_transport
+
+    names = ["u0", "u1", "u2", "u3"]
+    problem = LinearGaussian(np.eye(4), np.zeros(4), 0.1, -3 * np.ones(4), 3 * np.ones(4), names)
+    fit = _Fit(0.0, (0.1, 0.1), values=(0.0, 0.0))
+    fit.names = tuple(names)
+    fit.correlation = np.eye(4)
+    fit.stderr_fitted = {"u0": 0.1, "u1": 0.1, "u2": 0.1, "u3": 0.4}
+    fit.params = dict.fromkeys(names, 0.0)
+    fit.coordinate = dict.fromkeys(names, "linear")
+    assert suggest_transport(problem, fit) is None
+    fit.optima = [({"u0": 2.0, "u1": 0.0, "u2": 0.0, "u3": 0.0}, 50.0)]
+    assert suggest_transport(problem, fit) is None
+    fit.optima = [({"u0": 2.0, "u1": 0.0, "u2": 0.0, "u3": 0.0}, 0.5)]
+    assert suggest_transport(problem, fit).along == "u3"  # the widest in z

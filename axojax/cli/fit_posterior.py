@@ -9,6 +9,7 @@ import argparse
 import sys
 import warnings
 
+from .._progress import stage
 from ..cache import WARM_SUBDIR, compilation_cache_dir
 from ..inverse import ProfileTransport, posterior, suggest_transport
 from . import common
@@ -106,8 +107,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "parameter NAME (a long curved ridge, e.g. ks when p and ks are fitted to a frequency and a "
         "wavelength: the ridge is p as a function of ks); the posterior is the same, the trajectories "
         "shorter (axojax.inverse.ProfileTransport). Default: chosen from the fit, along the "
-        "parameter of the widest standard error when two correlate by 0.99 or more, else none "
-        "(axojax.inverse.suggest_transport); 'none': plain NUTS in whitened coordinates",
+        "parameter of the widest standard error when two correlate by 0.99 or more, else (up to "
+        "three free parameters) the profile that importance sampling prefers to the Laplace "
+        "whitening, if any (axojax.inverse.suggest_transport); 'none': plain NUTS in whitened "
+        "coordinates",
     )
 
 
@@ -142,7 +145,8 @@ def sample(
     along ``transport`` (:func:`transport_of`; :data:`AUTO`: :func:`suggest_transport` of
     the fit); its warnings (R-hat, ESS, divergences) one line each on stderr."""
     if transport == AUTO:
-        transport = suggest_transport(problem, result)
+        with stage("posterior coordinates (profiles)", enable=progress):
+            transport = suggest_transport(problem, result)
     along = None if transport is None else transport.along
     try:
         with warnings.catch_warnings(record=True) as caught:

@@ -37,7 +37,8 @@ from .problem import SHAPE_FLOOR, Problem
 from .quality import information_criteria, r2
 from .report import FitResult, build_report
 from .spec import FitSpec, load_spec, read_spec
-from .transport import ProfileTransport, suggest_transport
+from .transport import ProfileTransport
+from .transport_choice import suggest_transport
 
 __all__ = [
     "AVAILABLE_BASES",

@@ -41,10 +41,15 @@ that choice from a fit.
 
 The parameter to go along is the one the ridge is a graph over: every value of it has
 one conditional maximum of the others nearby (on the synthetic target: ks, not p, for
-p stays at 150 for every ks below 1e3). Continuation follows one branch: a second,
-separated mode is not sampled, as with any gradient sampler started in one mode (on the
-synthetic target one at p ~ 280, ks < 1e3, another eigenmode matching the targets,
-holds about 13 % of the mass: ``scripts/check_synthetic_posterior.py``).
+p stays at 150 for every ks below 1e3). Where the valley forks (two conditional maxima
+at one value), each knot keeps the branch of larger conditional mass, found by
+continuation or by a search across the other coordinates' ranges
+(:data:`SEARCH_POINTS`): on a frequency and wavelength made at p 279, ks 6.4e3 the
+continued branch (p ~ 225) holds a fifth of the mass of the one through the truth. The
+mass of the other branch at the same value is sampled only as far as NUTS crosses to
+it from the map's: a separated mode, as with any gradient sampler started in one mode
+(on the synthetic target one at p ~ 280, ks < 1e3, another eigenmode matching the
+targets, holds about 13 % of the mass: ``scripts/check_synthetic_posterior.py``).
 """
 
 from __future__ import annotations
@@ -54,8 +59,6 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
-
-from ._laplace import _fitted_u
 
 DEFAULT_KNOTS = 96
 """Knots of the profile: uniform in the fitted coordinate u of the parameter along which
@@ -69,6 +72,14 @@ PROFILE_DROP = 50.0
 past the ridge's end: the map stays constant from its neighbour on."""
 MIN_PRECISION = 1e-2
 """Floor of the conditional precision's eigenvalues in z (an sd of at most 10)."""
+SEARCH_POINTS = 128
+"""Points of a knot's search across the other coordinates' ranges (per coordinate,
+uniform in its fitted coordinate between the bounds): the best is a second start of the
+knot's Gauss-Newton (:func:`build_map`)."""
+SEARCH_EVERY = 4
+"""Every this many knots (in the scan's order, outwards from the centre) are searched;
+the others are continued from their neighbours (a quarter of the search's cost: ~13000
+evaluations per profile at every knot)."""
 
 
 class ProfileTransport(eqx.Module):
@@ -192,34 +203,6 @@ class ProfileMap(eqx.Module):
         return jax.random.normal(key, (count, len(self.rest) + 1))
 
 
-RIDGE_CORRELATION = 0.99
-"""A posterior whose Laplace approximation correlates two parameters at least this
-strongly is a thin ridge: :func:`suggest_transport` straightens it."""
-
-
-def suggest_transport(problem, fit) -> ProfileTransport | None:
-    """The transport for sampling ``problem``'s posterior from the least-squares ``fit``
-    (a :class:`~axojax.inverse.FitResult` at its optimum), or None: when its Gauss-Newton
-    correlations reach :data:`RIDGE_CORRELATION`, the profile along the free parameter of
-    the largest standard error in the sampler's coordinate z (the ridge's long axis,
-    which the ridge is a graph over: ks on both the synthetic and the human sperm targets
-    of issue 31). Whitened NUTS on the human sperm's ridge: R-hat 1.05 and ESS 67 in 4 x
-    300 draws; along ks R-hat 1.003 and ESS 636."""
-    names = tuple(fit.names)
-    corr = np.asarray(fit.correlation, dtype=float)
-    if len(names) < 2 or corr.shape != (len(names), len(names)):
-        return None
-    off = np.abs(corr[~np.eye(len(names), dtype=bool)])
-    if not np.any(np.nan_to_num(off) >= RIDGE_CORRELATION):
-        return None
-    u = jnp.asarray(_fitted_u(fit, names, np.asarray(problem.lower), np.asarray(problem.upper)))
-    dz_du = np.abs(np.diagonal(np.asarray(jax.jacfwd(problem.to_z)(u))))
-    sd_z = np.array([fit.stderr_fitted[n] for n in names]) * dz_du
-    if not np.any(np.isfinite(sd_z)):
-        return None
-    return ProfileTransport(names[int(np.nanargmax(np.where(np.isfinite(sd_z), sd_z, np.nan)))])
-
-
 def profile_ends(profile: ProfileMap, to_u, log_coordinate: bool) -> list[float]:
     """Where the profile was lost (its log density fell by more than
     :data:`PROFILE_DROP` from its best: a cliff such as another eigenmode becoming the
@@ -325,7 +308,10 @@ def build_map(settings: tuple[int, int], target, z_c: Float[Array, " k"]) -> Pro
     continuation outwards from the knot nearest ``z_c`` (the posterior's centre): at each
     knot, :data:`GAUSS_NEWTON_STEPS` Gauss-Newton steps on the other coordinates from a
     prediction along the ridge (tangent, secant, then parabola: comments below) (a step
-    that does not raise the log density is halved instead);
+    that does not raise the log density is halved instead), and, every
+    :data:`SEARCH_EVERY` knots, as many from the best of a search across each other
+    coordinate's range (:data:`SEARCH_POINTS` points), the maximum of larger conditional
+    Laplace mass kept;
     past the ridge's end (:data:`PROFILE_DROP`) the neighbour's entry is copied. Traceable
     (one compiled program, one model evaluation and its Jacobian per step)."""
     a, n = settings
@@ -379,6 +365,41 @@ def build_map(settings: tuple[int, int], target, z_c: Float[Array, " k"]) -> Pro
         zr, f, _, cov, _ = jax.lax.fori_loop(0, GAUSS_NEWTON_STEPS + 1, one, state)
         return zr, jnp.linalg.cholesky(cov), f
 
+    # The search's points: each other coordinate in turn across its whole range (uniform
+    # in u between the bounds), the rest at the prediction.
+    t_grid = (jnp.arange(SEARCH_POINTS, dtype=z_c.dtype) + 0.5) / SEARCH_POINTS
+    z_grid = jnp.log(t_grid) - jnp.log1p(-t_grid)
+    one_hot = jnp.eye(r_dim, dtype=bool)[:, None, :]
+
+    def search(za, zr):
+        """The best of the search's points by log density (zr if none is finite)."""
+        points = jnp.where(one_hot, z_grid[None, :, None], zr[None, None, :]).reshape(-1, r_dim)
+        f = jax.vmap(lambda x: target(assemble(za, x)))(points)
+        f = jnp.where(jnp.isfinite(f), f, -jnp.inf)
+        i = jnp.argmax(f)
+        return jnp.where(jnp.isfinite(f[i]), points[i], zr)
+
+    def mass(m):
+        """The conditional Laplace mass (log): ``f + log det L``."""
+        logdet = jnp.sum(jnp.log(jnp.diagonal(m[1])))
+        return jnp.where(jnp.isfinite(m[2]) & jnp.isfinite(logdet), m[2] + logdet, -jnp.inf)
+
+    def conditional(za, zr, searched):
+        """The knot's conditional maximum: Gauss-Newton from the prediction ``zr`` and,
+        when ``searched``, from the search's best point, the one of larger conditional
+        Laplace mass: where two branches of a valley part, the profile follows the one
+        holding more of the posterior, not the one it was continued along."""
+        from_prediction = maximise(za, zr)
+
+        def with_search(_):
+            found = maximise(za, search(za, zr))
+            better = mass(found) > mass(from_prediction)
+            return jax.tree_util.tree_map(
+                lambda x, y: jnp.where(better, y, x), from_prediction, found
+            )
+
+        return jax.lax.cond(searched, with_search, lambda _: from_prediction, None)
+
     # one scan over the n knots: outwards from the knot j0 nearest the centre, first up
     # (j0 .. n-1), then down (j0-1 .. 0, restarting from j0's entry); a knot whose
     # maximum falls more than PROFILE_DROP below the best so far (past the ridge's end:
@@ -426,7 +447,8 @@ def build_map(settings: tuple[int, int], target, z_c: Float[Array, " k"]) -> Pro
         L = jnp.where(restart, Ls[j0], L)
         gone = gone & ~restart
         j = jnp.where(i < n - j0, j0 + i, n - 1 - i)
-        zr_new, L_new, f = maximise(z_knots[j], predict(pa, pr, count, z_knots[j]))
+        searched = (i % SEARCH_EVERY == 0) | (i == n - j0)  # and the restart at the centre
+        zr_new, L_new, f = conditional(z_knots[j], predict(pa, pr, count, z_knots[j]), searched)
         gone = gone | ((i > 0) & ~(f > best - PROFILE_DROP)) | ~jnp.all(jnp.isfinite(L_new))
         zr_new = jnp.where(gone, pr[0], zr_new)
         L_new = jnp.where(gone, L, L_new)
