@@ -36,8 +36,8 @@ On the bundled human sperm (p, ks; issue 31's command) the posterior lies on a r
 0.2 % wide in p that climbs towards the ks bound, beside a cliff (another eigenmode
 dominant) about 12 of its widths away: affinely whitened NUTS gave R-hat 1.05 and ESS 67 in
 4 x 300 draws; along ks (with the tables below: knots reaching the bound, continuation
-that predicts along the ridge) R-hat 1.003 and ESS 636. :func:`suggest_transport` makes
-that choice from a fit.
+that predicts along the ridge) R-hat 1.003 and ESS 636.
+:func:`~axojax.inverse.suggest_transport` makes that choice from a fit.
 
 The parameter to go along is the one the ridge is a graph over: every value of it has
 one conditional maximum of the others nearby (on the synthetic target: ks, not p, for
