@@ -343,3 +343,23 @@ def test_suggest_transport_beyond_the_profiles_reads_the_optima():
     assert suggest_transport(problem, fit) is None
     fit.optima = [({"u0": 2.0, "u1": 0.0, "u2": 0.0, "u3": 0.0}, 0.5)]
     assert suggest_transport(problem, fit).along == "u3"  # the widest in z
+
+
+def test_the_choice_of_map():
+    """suggest_transport's rule on importance-sampling scores (log mass, efficiency,
+    barrier): the mass first, then no barrier, then efficiency; the Laplace whitening
+    (None) unless a profile is GAIN times as efficient; None when no map reached the
+    posterior."""
+    import math
+
+    from axojax.inverse.transport_choice import GAIN, _best
+
+    inf = math.inf
+    assert _best({None: (-inf, 0.0, 0.0), 0: (-inf, 0.0, 0.0)}) is None
+    assert _best({None: (-2.0, 0.1, 0.0), 0: (-1.9, 0.9, 0.0)}) == 0
+    assert _best({None: (-2.0, 0.8, 0.0), 0: (-1.9, 0.8 * GAIN * 0.99, 0.0)}) is None
+    # the Laplace draws miss mass: a profile even when it is less efficient
+    assert _best({None: (-3.0, 0.9, 0.0), 1: (-2.0, 0.5, 0.0)}) == 1
+    # a barrier loses to a smooth profile of enough mass, not to one that misses mass
+    assert _best({None: (-9.0, 0.9, 0.0), 0: (-2.0, 0.9, 40.0), 1: (-2.1, 0.5, 0.0)}) == 1
+    assert _best({None: (-9.0, 0.9, 0.0), 0: (-2.0, 0.9, 40.0), 1: (-3.0, 0.5, 0.0)}) == 0

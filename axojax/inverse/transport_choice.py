@@ -170,6 +170,8 @@ def _score(log_w) -> tuple[float, float]:
 def _best(scores: dict):
     """The candidate chosen from :func:`importance_scores` (module docstring)."""
     most = max(m for m, _, _ in scores.values())
+    if not math.isfinite(most):  # no map reached the posterior (failed evaluations)
+        return None
     eligible = {c: (e, d) for c, (m, e, d) in scores.items() if m >= most - MASS_TOLERANCE}
     smooth = {c: e for c, (e, d) in eligible.items() if c is not None and d <= BARRIER}
     profiles = smooth or {c: e for c, (e, _) in eligible.items() if c is not None}
