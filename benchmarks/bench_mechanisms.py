@@ -38,7 +38,9 @@ regulated eigenpair (C symmetric positive definite) with the rigid-body modes de
 through a border runs at 1.11x (free) and 0.96x (head) the clamped steady load's
 eigenpair at 10 elements, 0.94x and 0.79x at 40, every point certified (before: the
 dense solver, 10 ms at 10 elements, 300 ms at 40). Against the steady load on the same
-base (rows added 2026-12-05; `--quick --points 8`, load 8): free 0.98x, head 1.02x.
+base (rows added 2026-12-05; `--points 16 --points40 8`, load 0.5-1.2): free 1.02x and
+0.94x, head 0.92x and 0.93x at 10 and 40 elements, every point certified; in that run
+every regulated row kept 0.92-1.12x of the steady load's speed with the same method.
 
 Single numbers move by tens of per cent between runs on this machine. Every regulated
 point certified (no dense fallback; one steady point at 10 elements falls back, which
