@@ -13,6 +13,8 @@ therefore checks that the truth lies in the sampled 90 % highest-density region.
 """
 
 import argparse
+import pathlib
+import sys
 import time
 import warnings
 
@@ -20,11 +22,12 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-import axojax as ax
-from axojax.beats import Target
-from axojax.inverse import build_problem, least_squares, posterior, suggest_transport
+from axojax.inverse import posterior, suggest_transport
 
-TRUTH = {"p": 300.0, "ks": 1e6}
+# the problem is the test's own, defined once there
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1] / "tests"))
+from test_posterior_laplace import SMALL_SYNTHETIC_TRUTH as TRUTH  # noqa: E402
+from test_posterior_laplace import small_synthetic_problem  # noqa: E402
 
 
 def main() -> None:
@@ -32,17 +35,7 @@ def main() -> None:
     ap.add_argument("--draws", type=int, default=1000)
     ap.add_argument("--chains", type=int, default=4)
     args = ap.parse_args()
-    model = ax.models.seven(n_elements=4)
-    mode = ax.dominant_mode(model, ax.Params().with_values(TRUTH, 1000.0))
-    f, lam = float(mode.frequency_hz()), float(mode.wavelength_um())
-    rng = np.random.default_rng(1)
-    targets = [
-        Target("frequency_hz", f * (1 + 0.02 * rng.normal()), 0.02 * f),
-        Target("wavelength_um", lam * (1 + 0.05 * rng.normal()), 0.05 * lam),
-    ]
-    start = ax.Params().with_values({"p": 280.0, "ks": 8e5}, 1000.0)
-    problem = build_problem(model, start, targets, ["p", "ks"], kl_ratio=1000.0)
-    fit = least_squares(problem, starts=1)
+    problem, fit = small_synthetic_problem()
     t0 = time.perf_counter()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

@@ -83,6 +83,31 @@ def test_tree_depth_is_reported_and_saturation_warns():
     assert 1 <= ok.tree_depth < 8
 
 
+SMALL_SYNTHETIC_TRUTH = {"p": 300.0, "ks": 1e6}
+
+
+def small_synthetic_problem():
+    """The slow synthetic test's problem and its one-start fit: p and ks of seven at 4
+    elements (kl = ks / 1000) from a frequency and a wavelength made at
+    :data:`SMALL_SYNTHETIC_TRUTH` with 2 % and 5 % noise (rng seed 1). Also what
+    scripts/check_small_synthetic_posterior.py samples to convergence."""
+    import axojax as ax
+    from axojax.beats import Target
+    from axojax.inverse import build_problem, least_squares
+
+    model = ax.models.seven(n_elements=4)
+    mode = ax.dominant_mode(model, ax.Params().with_values(SMALL_SYNTHETIC_TRUTH, 1000.0))
+    f, lam = float(mode.frequency_hz()), float(mode.wavelength_um())
+    rng = np.random.default_rng(1)
+    targets = [
+        Target("frequency_hz", f * (1 + 0.02 * rng.normal()), 0.02 * f),
+        Target("wavelength_um", lam * (1 + 0.05 * rng.normal()), 0.05 * lam),
+    ]
+    start = ax.Params().with_values({"p": 280.0, "ks": 8e5}, 1000.0)
+    problem = build_problem(model, start, targets, ["p", "ks"], kl_ratio=1000.0)
+    return problem, least_squares(problem, starts=1)
+
+
 @pytest.mark.slow  # 387 s at load 7-9 on the 2-core machine, nearly all compilation
 def test_synthetic_seven_filament_posterior_contains_the_truth():
     """Issue 31's synthetic check, small: p and ks of the seven-filament model (4
@@ -102,22 +127,10 @@ def test_synthetic_seven_filament_posterior_contains_the_truth():
     import jax
     import jax.numpy as jnp
 
-    import axojax as ax
-    from axojax.beats import Target
-    from axojax.inverse import build_problem, least_squares, suggest_transport
+    from axojax.inverse import suggest_transport
 
-    truth = {"p": 300.0, "ks": 1e6}
-    model = ax.models.seven(n_elements=4)
-    mode = ax.dominant_mode(model, ax.Params().with_values(truth, 1000.0))
-    f, lam = float(mode.frequency_hz()), float(mode.wavelength_um())
-    rng = np.random.default_rng(1)
-    targets = [
-        Target("frequency_hz", f * (1 + 0.02 * rng.normal()), 0.02 * f),
-        Target("wavelength_um", lam * (1 + 0.05 * rng.normal()), 0.05 * lam),
-    ]
-    start = ax.Params().with_values({"p": 280.0, "ks": 8e5}, 1000.0)
-    problem = build_problem(model, start, targets, ["p", "ks"], kl_ratio=1000.0)
-    fit = least_squares(problem, starts=1)
+    truth = SMALL_SYNTHETIC_TRUTH
+    problem, fit = small_synthetic_problem()
     transport = suggest_transport(problem, fit)  # what `axojax fit --posterior` picks
     assert transport is not None and transport.along == "ks"
     with warnings.catch_warnings():
