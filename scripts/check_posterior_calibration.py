@@ -99,11 +99,18 @@ def quadrature(problem, truth: dict) -> None:
         print(f"{name}: 5/50/95 % {q05:.4g} / {q50:.4g} / {q95:.4g} (truth {truth[name]:.4g})")
 
 
-def one(model, truth: dict, f: float, lam: float, rng, args) -> dict:
+def trial(model, rng) -> tuple[dict, float, float, object, int, int]:
+    """Everything random about one truth, drawn from ``rng`` in the run's order: the
+    truth (with its frequency and wavelength), its noisy problem, the fit's seed and the
+    posterior's seed (so that ``--quadrature I`` meets the I-th truth's exact data)."""
+    truth, f, lam = draw_truth(model, rng)
     problem = synthetic_problem(model, f, lam, rng)
-    fit = least_squares(problem, starts=args.starts, seed=int(rng.integers(1 << 30)))
+    return truth, f, lam, problem, int(rng.integers(1 << 30)), int(rng.integers(1 << 30))
+
+
+def one(truth: dict, problem, fit_seed: int, seed: int, args) -> dict:
+    fit = least_squares(problem, starts=args.starts, seed=fit_seed)
     transport = suggest_transport(problem, fit)
-    seed = int(rng.integers(1 << 30))
     sampling = {"draws": args.draws, "chains": args.chains, "warmup": args.warmup, "seed": seed}
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # short runs: R-hat and ESS warnings
@@ -147,18 +154,15 @@ def main() -> None:
     model = ax.models.seven(n_elements=4)
     rng = np.random.default_rng(args.seed)
     if args.quadrature:
-        for _ in range(args.quadrature - 1):  # the same draws as the run of every truth
-            draw_truth(model, rng)
-            rng.normal(size=2)
-            rng.integers(1 << 30, size=2)
-        truth, f, lam = draw_truth(model, rng)
-        quadrature(synthetic_problem(model, f, lam, rng), truth)
+        for _ in range(args.quadrature):
+            truth, _, _, problem, _, _ = trial(model, rng)
+        quadrature(problem, truth)
         return
     records = []
     t0 = time.perf_counter()
     for i in range(args.truths):
-        truth, f, lam = draw_truth(model, rng)
-        rec = one(model, truth, f, lam, rng, args)
+        truth, f, lam, problem, fit_seed, seed = trial(model, rng)
+        rec = one(truth, problem, fit_seed, seed, args)
         records.append(rec)
         print(
             f"[{i + 1}/{args.truths}, {time.perf_counter() - t0:.0f} s] truth p {truth['p']:.1f}"
