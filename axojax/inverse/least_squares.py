@@ -324,14 +324,12 @@ def least_squares(
         )
     wall = time.perf_counter() - t0
     best = min(range(len(runs)), key=lambda i: runs[i]["loss"])
-    u_best = np.asarray(problem.to_u(jnp.asarray(runs[best]["z"])))
+    u_end = [np.asarray(problem.to_u(jnp.asarray(r["z"]))) for r in runs]
     start_log = [(problem.values(u), r["loss"]) for u, r in zip(initial, runs)]
-    ends = [
-        (problem.values(np.asarray(problem.to_u(jnp.asarray(r["z"])))), r["loss"]) for r in runs
-    ]
+    ends = [(problem.values(u), r["loss"]) for u, r in zip(u_end, runs)]
     return build_report(
         problem,
-        u_best,
+        u_end[best],
         method=solver.name,
         loss=runs[best]["loss"],
         gnorm=runs[best]["gnorm"],

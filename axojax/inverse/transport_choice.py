@@ -144,9 +144,8 @@ def _profile_log_weights(_, target, profile, y, s):
 def _dip(log_w) -> float:
     """The deepest dip of ``log_w`` (along an axis) below the lower of the highest
     values on its two sides: a barrier between two parts of the mass (0: none)."""
-    x = np.where(
-        np.isfinite(np.asarray(log_w, dtype=float)), np.asarray(log_w, dtype=float), -1e300
-    )
+    x = np.asarray(log_w, dtype=float)
+    x = np.where(np.isfinite(x), x, -1e300)
     walls = np.minimum(np.maximum.accumulate(x), np.maximum.accumulate(x[::-1])[::-1])
     return float(np.max(walls - x))
 
