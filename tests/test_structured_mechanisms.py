@@ -134,6 +134,64 @@ def test_dominant_is_structured_and_certified_when_c_stays_positive_definite():
     assert not bool(skew.certified)
 
 
+# Strong dynamic sliding control (chi' = 5e3 pN/um^2, chi'' = 3 chi', omega0 at 30 Hz in
+# dimensionless units): C stays symmetric positive definite, but chi'' crowds overdamped
+# modes on the real axis left of the dominant one.
+STRONG_SLIDING = dict(chi_re=1.4256e6, chi_im=4.2768e6, omega0=161.23)
+
+
+def _strong_sliding_grid():
+    P, K = np.meshgrid([300.0, 500.0, 700.0, 1000.0], [1e4, 1e6])
+    p, ks = jnp.asarray(P.ravel()), jnp.asarray(K.ravel())
+    return ax.Params(p=p, ks=ks, kl=ks / 1e3, **STRONG_SLIDING).broadcast((P.size,))
+
+
+def test_strong_dynamic_sliding_control_certifies_with_the_right_disc(monkeypatch):
+    """Overdamped modes crowding the real axis left of the dominant eigenvalue kept the
+    pole's disc from certifying (their Ritz values converge slowly), and those points went
+    dense. The right disc (which covers the pole disc's part right of Re lambda_r)
+    certifies them: every point structured, each equal to scipy's rightmost eigenvalue to
+    1e-8; without the right disc some point of this grid is not certified."""
+    model = ax.models.seven(n_elements=10)
+    params = _strong_sliding_grid()
+
+    def certified(solver):
+        run = jax.vmap(lambda q: ax.eigen.mode._dominant_mode_impl(model, q, solver))
+        modes = jax.jit(run)(params)
+        return np.asarray(modes.certified), np.asarray(modes.eigenvalue)
+
+    ok, lam = certified(Arnoldi(fallback=False))
+    assert ok.all()
+    for i in range(lam.shape[0]):
+        A, C = pencil_of(assemble_blocks(model, jax.tree.map(lambda x: x[i], params)))
+        ref = sl.eigvals(-np.asarray(A.to_dense()), np.asarray(C.to_dense()))
+        ref = ref[np.isfinite(ref)]
+        rightmost = ref[np.argmax(ref.real)]
+        rightmost = complex(rightmost.real, abs(rightmost.imag))
+        assert abs(lam[i] - rightmost) <= 1e-8 * abs(rightmost), i
+    monkeypatch.setattr(ax.eigen.arnoldi, "RIGHT_DISC_MARGINS", ())
+    # another certify_factor (by 1e-12) so that the pole's disc alone is traced afresh
+    ablated, _ = certified(Arnoldi(fallback=False, certify_factor=2.0 + 1e-12))
+    assert not ablated.all()
+
+
+@pytest.mark.parametrize("margin", ax.eigen.arnoldi.RIGHT_DISC_MARGINS)
+@pytest.mark.parametrize("lam_r", [-40.0 + 176.0j, 264.0 + 221.0j, -100.0 + 0.0j, 530.0 + 300.0j])
+def test_the_right_disc_holds_the_pole_discs_right_part(margin, lam_r):
+    """The claim the right disc's certificate rests on, checked by sampling: every point of
+    the pole's disc (centre sigma, radius 2 |sigma - lambda_r|) with Re >= Re lambda_r lies
+    in the right disc, whose leftmost point is left of Re lambda_r."""
+    sigma, factor = 538.0, 2.0
+    centre, rho = (float(x) for x in ax.eigen.arnoldi._right_disc(sigma, lam_r, factor, margin))
+    r0 = factor * abs(sigma - lam_r)
+    rng = np.random.default_rng(0)
+    z = sigma + r0 * np.sqrt(rng.uniform(size=20000)) * np.exp(2j * np.pi * rng.uniform(size=20000))
+    z = np.concatenate([z, sigma + r0 * np.exp(2j * np.pi * np.linspace(0, 1, 4001))])
+    right = z[z.real >= lam_r.real]
+    assert np.all(np.abs(right - centre) <= rho * (1 + 1e-12))
+    assert centre - rho < lam_r.real and centre >= sigma
+
+
 # -- bordered block algebra -------------------------------------------------------------
 def _random_bordered(rng, N, b, m, complex_=False, symmetric=False):
     def mk(*shape):
