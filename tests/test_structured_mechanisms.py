@@ -146,7 +146,8 @@ def _strong_sliding_grid():
     return ax.Params(p=p, ks=ks, kl=ks / 1e3, **STRONG_SLIDING).broadcast((P.size,))
 
 
-def test_strong_dynamic_sliding_control_certifies_with_the_right_disc(monkeypatch):
+@pytest.mark.parametrize("batched", [False, pytest.param(True, marks=SLOW)], ids=PATH_IDS)
+def test_strong_dynamic_sliding_control_certifies_with_the_right_disc(monkeypatch, batched):
     """Overdamped modes crowding the real axis left of the dominant eigenvalue kept the
     pole's disc from certifying (their Ritz values converge slowly), and those points went
     dense. The right disc (which covers the pole disc's part right of Re lambda_r)
@@ -160,7 +161,7 @@ def test_strong_dynamic_sliding_control_certifies_with_the_right_disc(monkeypatc
         modes = jax.jit(run)(params)
         return np.asarray(modes.certified), np.asarray(modes.eigenvalue)
 
-    ok, lam = certified(Arnoldi(fallback=False))
+    ok, lam = certified(Arnoldi(fallback=False, batched=batched))
     assert ok.all()
     for i in range(lam.shape[0]):
         A, C = pencil_of(assemble_blocks(model, jax.tree.map(lambda x: x[i], params)))
@@ -171,7 +172,7 @@ def test_strong_dynamic_sliding_control_certifies_with_the_right_disc(monkeypatc
         assert abs(lam[i] - rightmost) <= 1e-8 * abs(rightmost), i
     monkeypatch.setattr(ax.eigen.arnoldi, "RIGHT_DISC_MARGINS", ())
     # another certify_factor (by 1e-12) so that the pole's disc alone is traced afresh
-    ablated, _ = certified(Arnoldi(fallback=False, certify_factor=2.0 + 1e-12))
+    ablated, _ = certified(Arnoldi(fallback=False, certify_factor=2.0 + 1e-12, batched=batched))
     assert not ablated.all()
 
 
