@@ -308,6 +308,35 @@ def test_suggest_transport_sees_what_the_optimum_does_not():
     assert suggest_transport(normal, fit) is None
 
 
+def test_the_suggested_map_is_sampled_as_built(monkeypatch):
+    """suggest_transport hands over the map it built: the posterior samples with it
+    (tabulating nothing again: build_map is switched off), and the draws have the
+    banana's moments. With another prior it tabulates its own (the call is refused here)."""
+    import sys
+
+    from axojax.inverse import suggest_transport
+
+    posterior_module = sys.modules["axojax.inverse.posterior"]
+    transport = suggest_transport(Banana(), _Fit(0.0, (1.0, 0.3)))
+    assert transport.along == "u0" and transport.profile is not None
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("the profile was tabulated again")
+
+    monkeypatch.setattr(posterior_module, "build_map", refuse)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        post = posterior(Banana(), draws=300, chains=4, warmup=150, seed=2, transport=transport)
+    for n, (mean, sd) in _reference_moments().items():
+        err = 4.0 * post.sd_u[n] / np.sqrt(post.ess[n])
+        assert abs(post.mean_u[n] - mean) < err, (n, post.mean_u[n], mean, err)
+        assert abs(post.sd_u[n] / sd - 1) < 0.15, (n, post.sd_u[n], sd)
+    with pytest.raises(AssertionError, match="tabulated again"):
+        posterior(
+            Banana(), draws=4, chains=1, warmup=0, transport=transport, prior={"u0": (0.0, 2.0)}
+        )
+
+
 def _banana_log_mass(problem) -> float:
     """log of the integral over z of exp(log density in z) = the integral over u of
     exp(-|r(u)|^2 / 2) (the uniform prior's log-Jacobian turns dz into du)."""

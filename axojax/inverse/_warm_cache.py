@@ -236,7 +236,9 @@ def run_key(
                 int(seed),
                 start,
                 bool(vectorize),
-                transport,
+                # the transport's kind, not a map it carries: a resumed run takes the
+                # stored map with the stored states
+                None if transport is None else (transport.along, int(transport.knots)),
                 environment(),
                 (jax.default_backend(), bool(jax.config.jax_enable_x64)),
             )

@@ -133,6 +133,7 @@ def posterior(
         ``sampler.max_num_doublings`` (what to do: in the warning).
     """
     t_start = time.perf_counter()
+    own_prior = prior is None
     names, lower, upper, prior = _check(problem, draws, chains, warmup, sampler, prior)
     along = _check_transport(transport, names)
     directory = posterior_cache_dir(cache)
@@ -177,7 +178,14 @@ def posterior(
                 z_c,
                 cov,
                 clock.call,
-                None if transport is None else (along, int(transport.knots), _spread(init)),
+                None
+                if transport is None
+                else (
+                    along,
+                    int(transport.knots),
+                    _spread(init),
+                    _built(transport, along, own_prior),
+                ),
             )
         if file is not None:
             chol = sampled.chol if sampler.whiten else jnp.eye(len(names))
@@ -359,16 +367,26 @@ def _spread(init) -> bool:
     return init is None or hasattr(init, "params") or np.ndim(init) != 2
 
 
+def _built(transport, along: int, own_prior: bool):
+    """``transport``'s map already tabulated, where it can serve (along the same
+    coordinate, for the problem's own prior), else None."""
+    profile = transport.profile
+    if profile is None or not own_prior or profile.along != along:
+        return None
+    return profile
+
+
 def _adapt(target, sampler, warmup, vectorize, key, z_start, z_c, cov, call, transport=None):
     """The sampled density (whitened unless ``NUTS(whiten=False)``; straightened first by
-    the profile map of ``transport`` = (index, knots, respread) when given: the starts
-    then redrawn from the profile's marginal unless ``respread`` is False) and, per chain, the
-    state after the warm-up, its step size, inverse mass matrix and gradients spent."""
+    the profile map of ``transport`` = (index, knots, respread, built) when given: the map
+    ``built`` if not None, else tabulated from ``z_c``; the starts then redrawn from the
+    profile's marginal unless ``respread`` is False) and, per chain, the state after the
+    warm-up, its step size, inverse mass matrix and gradients spent."""
     k = z_c.shape[0]
     chains = z_start.shape[0]
     if transport is not None:  # y = the profile's coordinates: standard normal to its accuracy
-        along, knots, respread = transport
-        profile = call(build_map, (along, knots), target, z_c)
+        along, knots, respread, built = transport
+        profile = built if built is not None else call(build_map, (along, knots), target, z_c)
         sampled = _Whitened(target, jnp.zeros(k), jnp.eye(k), profile)
         if respread:  # the chains start spread along the whole ridge
             key, key_starts = jax.random.split(key)

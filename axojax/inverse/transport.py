@@ -90,12 +90,22 @@ class ProfileTransport(eqx.Module):
         knots: profile points between the parameter's bounds (at least 8; half as if
             uniform in its fitted coordinate, half uniform in the sampler's, and
             :data:`TAIL_KNOTS` more towards each bound: :func:`knot_positions`).
+        profile: the map already tabulated for this problem (``along``'s index, ``knots``
+            knots), e.g. by :func:`~axojax.inverse.suggest_transport`, which builds every
+            candidate's: the posterior then samples with it instead of tabulating the
+            profile again from its own centre (used only with the problem's own prior).
+            Either way the posterior is the same: the map only changes coordinates.
     """
 
     along: str
     knots: int = DEFAULT_KNOTS
+    profile: ProfileMap | None = eqx.field(default=None, repr=False)
 
     def __check_init__(self):
+        if self.profile is not None and not isinstance(self.profile, ProfileMap):
+            raise ValueError(
+                f"ProfileTransport: profile must be a ProfileMap or None, got {type(self.profile).__name__}"
+            )
         if not isinstance(self.along, str) or not self.along:
             raise ValueError(
                 f"ProfileTransport: along must be a parameter name, got {self.along!r}"

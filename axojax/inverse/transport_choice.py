@@ -92,9 +92,11 @@ def suggest_transport(problem, fit) -> ProfileTransport | None:
         return ProfileTransport(widest)
     if len(names) > MAX_PROFILES:
         return ProfileTransport(widest) if _distant_optimum(problem, fit, names, u, sd_z) else None
-    scores = importance_scores(problem, u)
+    scores, maps = _importance(problem, u)
     choice = _best(scores)
-    return None if choice is None else ProfileTransport(names[choice])
+    if choice is None:
+        return None
+    return ProfileTransport(names[choice], DEFAULT_KNOTS, maps[choice])
 
 
 def importance_scores(problem, u, draws: int = IMPORTANCE_DRAWS, seed: int = 0) -> dict:
@@ -105,6 +107,11 @@ def importance_scores(problem, u, draws: int = IMPORTANCE_DRAWS, seed: int = 0) 
     mean weight's log, the efficiency ``(sum w)^2 / (draws sum w^2)`` (in (0, 1]), the
     barrier the deepest dip of the log weight along the profile's axis (its other
     coordinates 0; 0 for the Laplace whitening) between higher values on both sides."""
+    return _importance(problem, u, draws, seed)[0]
+
+
+def _importance(problem, u, draws: int = IMPORTANCE_DRAWS, seed: int = 0) -> tuple[dict, dict]:
+    """:func:`importance_scores` and the profile maps it built, ``{index: ProfileMap}``."""
     target = _Target(problem)
     z0 = jnp.asarray(problem.to_z(u), dtype=float)
     try:
@@ -117,11 +124,12 @@ def importance_scores(problem, u, draws: int = IMPORTANCE_DRAWS, seed: int = 0) 
     scores = {
         None: (*_score(_compiled(_laplace_log_weights, None, (target, z_c, chol, y))[0]), 0.0)
     }
+    maps = {}
     for a in range(z0.shape[0]):
-        profile = _compiled(build_map, (a, DEFAULT_KNOTS), (target, z_c))[0]
-        log_w, along = _compiled(_profile_log_weights, None, (target, profile, y, s))[0]
+        maps[a] = _compiled(build_map, (a, DEFAULT_KNOTS), (target, z_c))[0]
+        log_w, along = _compiled(_profile_log_weights, None, (target, maps[a], y, s))[0]
         scores[a] = (*_score(log_w), _dip(along))
-    return scores
+    return scores, maps
 
 
 def _laplace_log_weights(_, target, z_c, chol, y):
