@@ -129,6 +129,13 @@ def test_bad_transport_is_one_line():
         posterior(Banana(), draws=4, chains=1, warmup=0, transport=ProfileTransport("nope"))
     with pytest.raises(TypeError, match="transport"):
         posterior(Banana(), draws=4, chains=1, warmup=0, transport="u0")
+    with pytest.raises(ValueError, match="profile must be a ProfileMap or None, got str"):
+        ProfileTransport("u0", profile="map")
+    _, _, along_u0 = _map(knots=16)
+    with pytest.raises(ValueError, match="its profile map goes along coordinate 0 of 2"):
+        posterior(
+            Banana(), draws=4, chains=1, warmup=0, transport=ProfileTransport("u1", 16, along_u0)
+        )
     for bad in (0, 7, 5000):
         with pytest.raises(ValueError, match="knots must be an integer in 8..4096"):
             ProfileTransport("u0", knots=bad)

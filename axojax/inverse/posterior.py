@@ -184,7 +184,7 @@ def posterior(
                     along,
                     int(transport.knots),
                     _spread(init),
-                    _built(transport, along, own_prior),
+                    _built(transport, own_prior),
                 ),
             )
         if file is not None:
@@ -359,7 +359,15 @@ def _check_transport(transport, names) -> int | None:
         raise TypeError(
             f"transport must be an axojax.inverse.ProfileTransport or None, got {type(transport).__name__}"
         )
-    return transport.index(names)
+    along = transport.index(names)
+    profile = transport.profile
+    if profile is not None and (profile.along != along or len(profile.rest) != len(names) - 1):
+        raise ValueError(
+            f"ProfileTransport: its profile map goes along coordinate {profile.along} of "
+            f"{len(profile.rest) + 1}; this problem's {transport.along!r} is coordinate {along} "
+            f"of {len(names)} (build the map for this problem, or leave profile=None)"
+        )
+    return along
 
 
 def _spread(init) -> bool:
@@ -367,13 +375,10 @@ def _spread(init) -> bool:
     return init is None or hasattr(init, "params") or np.ndim(init) != 2
 
 
-def _built(transport, along: int, own_prior: bool):
-    """``transport``'s map already tabulated, where it can serve (along the same
-    coordinate, for the problem's own prior), else None."""
-    profile = transport.profile
-    if profile is None or not own_prior or profile.along != along:
-        return None
-    return profile
+def _built(transport, own_prior: bool):
+    """``transport``'s map already tabulated (checked to go along coordinate ``along``),
+    where it can serve: for the problem's own prior; else None."""
+    return transport.profile if own_prior else None
 
 
 def _adapt(target, sampler, warmup, vectorize, key, z_start, z_c, cov, call, transport=None):
