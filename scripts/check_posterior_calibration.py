@@ -31,8 +31,10 @@ p 255-300 rising from ks 8e3, another at p 320-350 from ks 3e4 to 1e6, the two j
 near ks 2.5e5 within 3 of the smallest loss and apart below it by a ridge 10-30 high
 (at ks 2.2e4: 1.8 at p 256, 26 at p 292, 1.0 at p 323); 35 % of its mass lies at ks <
 1e5. A profile map gives one value of the other coordinate per knot, so it cannot follow
-both arms, and chains from each optimum weighted by their modes' masses would count the
-joint twice: what this case needs is a sampler that crosses the ridge (tempering). Before the transport was chosen by
+both arms. Chains started two at each optimum (4 x 200, the suggested transport along
+ks) stay in their arms (p 251-289 and 291-379; R-hat 1.78): for NUTS the arms are two
+modes, whose masses (35 / 65 %) would have to be estimated, each along its own curved
+arm, to weight them; or a sampler that crosses the ridge (tempering). Before the transport was chosen by
 importance sampling (axojax/inverse/transport_choice.py), the first truth (p 279, ks
 6.4e3) was missed too: p 215-235, ks 2.3e3-5.0e3.
 
