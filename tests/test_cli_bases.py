@@ -97,21 +97,32 @@ def test_unknown_base_is_refused_by_the_parser(capsys):
     assert code == 2 and out == "" and err.count("\n") == 1 and "--base" in err
 
 
-@pytest.mark.parametrize("command", ["simulate", "orbit"])
-def test_time_domain_refuses_an_unclamped_base(command, capsys, tmp_path):
-    extra = ["--t-end", "0.01", "--out", str(tmp_path / "x.npz")] if command == "simulate" else []
-    argv = [command, "--model", "two", "--elements", "4", "--base", "free", *extra, "--json"]
+def test_orbit_refuses_an_unclamped_base(capsys):
+    argv = ["orbit", "--model", "two", "--elements", "4", "--base", "free", "--json"]
     code, out, err = _run(argv, capsys)
     assert code == 2 and out == "" and err.count("\n") == 1
-    assert err.startswith(
-        f"axojax: error: --base: {'simulate' if command == 'simulate' else 'orbit'}"
+    assert err.startswith("axojax: error: --base: orbit")
+
+
+@pytest.mark.parametrize(
+    "flags", [["--base", "free"], ["--base", "pivot"], ["--basal-compliance", "500,5"]]
+)
+def test_simulate_runs_on_a_base_that_moves(flags, capsys, tmp_path):
+    """simulate integrates every base (tests/test_simulate_bases.py checks the numbers)."""
+    argv = ["simulate", "--model", "two", "--elements", "4", "--t-end", "0.01", *flags]
+    code, out, err = _run([*argv, "--out", str(tmp_path / "x.npz"), "--json"], capsys)
+    assert code == 0, err
+    assert json.loads(out)["state"] in (
+        "decaying",
+        "limit_cycle",
+        "growing",
+        "settling",
+        "divergent",
     )
 
 
-def test_library_time_domain_refuses_an_unclamped_base():
+def test_library_limit_cycle_refuses_an_unclamped_base():
     model = ax.models.two(n_elements=4, base="free")
-    with pytest.raises(ValueError, match="^simulate supports the clamped base only"):
-        ax.simulate(model, ax.Params(), 0.01)
     with pytest.raises(ValueError, match="^limit_cycle supports the clamped base only"):
         ax.limit_cycle(model, ax.Params())
 

@@ -27,14 +27,15 @@ DEFAULT_VISCOSITY_PA_S = 1e-3
 """``--viscosity-pa-s`` default (water): the fluid of a head given by ``--head-um``."""
 
 
-def require_passive_friction(model: Model, params: Params, what: str) -> None:
-    """The time domain's conditions as CLI errors: a clamped base (``--base``) and no
-    active friction (:func:`axojax.well_posed.require_passive_friction`, naming ``--beta``
-    or ``--chi``)."""
+def require_passive_friction(model: Model, params: Params, what: str, clamped: bool = True) -> None:
+    """The time domain's conditions as CLI errors: a clamped base (``--base``; where
+    ``clamped``: limit cycles) and no active friction
+    (:func:`axojax.well_posed.require_passive_friction`, naming ``--beta`` or ``--chi``)."""
     from ..well_posed import require_passive_friction as check
 
     try:
-        model.require_clamped(what)
+        if clamped:
+            model.require_clamped(what)
     except ValueError as err:
         raise CLIError(f"--base: {err}") from None
     try:

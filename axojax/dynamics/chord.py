@@ -51,7 +51,15 @@ import jax.numpy as jnp
 import optimistix as optx
 from jaxtyping import Array, Float, Int, PyTree, Scalar
 
-from ..linalg import BlockLU, BlockTridiagonal, lu_factor
+from ..linalg import (
+    BlockLU,
+    BlockTridiagonal,
+    Bordered,
+    BorderedLU,
+    bordered,
+    bordered_lu,
+    lu_factor,
+)
 from .nonlinear import CubicLinks
 
 
@@ -65,8 +73,10 @@ class MassSystem(eqx.Module):
         b: (n,) static load.
         C_inv: (n, n) ``C^{-1}``; ``C_inv_A``, ``C_inv_b``: ``C^{-1} A``, ``C^{-1} b``
             (the vector field costs three matrix-vector products).
-        perm: (n,) node-major order (:func:`axojax.assembly.node_major`).
-        C_blocks, A_blocks: C and A as node blocks (:func:`axojax.assembly.assemble_blocks`).
+        perm: (n,) node-major order (:func:`axojax.assembly.node_major`, then the border).
+        C_blocks, A_blocks: C and A as node blocks (:func:`axojax.assembly.assemble_blocks`),
+            :class:`~axojax.linalg.Bordered` where the model has a border (a base that is
+            not clamped: its unknowns after the nodes').
         C_lu: block LU of ``C`` in node-major order (the ``a_ii = 0`` Jacobian).
         links: the cubic link force ``f_nl`` and its tangent ``d f_nl / dq``.
     """
@@ -78,14 +88,24 @@ class MassSystem(eqx.Module):
     C_inv_A: Float[Array, "n n"]
     C_inv_b: Float[Array, " n"]
     perm: Int[Array, " n"]
-    C_blocks: BlockTridiagonal
-    A_blocks: BlockTridiagonal
-    C_lu: BlockLU
+    C_blocks: BlockTridiagonal | Bordered
+    A_blocks: BlockTridiagonal | Bordered
+    C_lu: BlockLU | BorderedLU
     links: CubicLinks
 
-    def solve(self, lu: BlockLU, rhs: Float[Array, " n"]) -> Float[Array, " n"]:
+    def solve(self, lu: BlockLU | BorderedLU, rhs: Float[Array, " n"]) -> Float[Array, " n"]:
         """``M^{-1} rhs`` for filament-major vectors, ``lu`` a node-major factor of M."""
         return jnp.zeros_like(rhs).at[self.perm].set(lu.solve(rhs[self.perm]))
+
+    def stage_factor(self, c: Scalar, q: Float[Array, " n"]) -> BlockLU | BorderedLU:
+        """The block LU of ``C + c K(q)``, ``K = A + d f_nl / dq`` (node-major)."""
+        K = self.links.tangent_blocks(q)
+        if isinstance(self.C_blocks, Bordered):
+            m = self.C_blocks.m
+            zero = jnp.zeros((K.shape[0], m), K.diag.dtype)
+            K = bordered(K, zero, zero.T, jnp.zeros((m, m), K.diag.dtype))
+            return bordered_lu(self.C_blocks + (self.A_blocks + K).scale(c))
+        return lu_factor(self.C_blocks + (self.A_blocks + K).scale(c))
 
 
 def mass_vector_field(t, q, system: MassSystem):
@@ -94,7 +114,7 @@ def mass_vector_field(t, q, system: MassSystem):
 
 
 class _State(eqx.Module):
-    lu: BlockLU
+    lu: BlockLU | BorderedLU
     diffsize: Scalar
     diffsize_prev: Scalar
     result: optx.RESULTS
@@ -122,13 +142,7 @@ class MassChord(optx.AbstractRootFinder):
         if "init_state" in options:
             return options["init_state"]
         c, q_lin, system = _stage(y, args)
-
-        def factor():
-            return lu_factor(
-                system.C_blocks + (system.A_blocks + system.links.tangent_blocks(q_lin)).scale(c)
-            )
-
-        lu = lax.cond(c == 0, lambda: system.C_lu, factor)
+        lu = lax.cond(c == 0, lambda: system.C_lu, lambda: system.stage_factor(c, q_lin))
         return _State(
             lu=lax.stop_gradient(lu),
             diffsize=jnp.array(jnp.inf, dtype=y.dtype),

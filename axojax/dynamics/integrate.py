@@ -30,12 +30,14 @@ import diffrax
 import equinox as eqx
 import jax.numpy as jnp
 import jax.scipy.linalg as jsl
+import numpy as np
 import optimistix as optx
 from jaxtyping import Array, ArrayLike, Float, Real
 
 from ..assembly import assemble, assemble_blocks, node_major
+from ..eigen.arnoldi import pencil_of
 from ..eigen.pencil import symmetric_positive_definite
-from ..linalg import lu_factor
+from ..linalg import bordered_lu, lu_factor
 from ..models.section import Model
 from ..params import Params
 from ..results import RESULTS, message
@@ -96,6 +98,13 @@ def mass_system(model: Model, params: Params, kappa: Real[ArrayLike, ""]) -> Mas
         jsl.cho_solve((jnp.where(spd, factor[0], eye), True), eye),
         jnp.linalg.solve(jnp.where(spd, eye, s.C), eye),
     )
+    perm = node_major(model)
+    if model.n_border:  # a base that is not clamped: its unknowns border the node blocks
+        A_blocks, C_blocks = pencil_of(blocks)
+        perm = np.concatenate([perm, model.n_dof + np.arange(model.n_border)])
+        C_lu = bordered_lu(C_blocks)
+    else:
+        A_blocks, C_blocks, C_lu = blocks.A, blocks.C, lu_factor(blocks.C)
     return MassSystem(
         C=s.C,
         A=s.A,
@@ -103,10 +112,10 @@ def mass_system(model: Model, params: Params, kappa: Real[ArrayLike, ""]) -> Mas
         C_inv=C_inv,
         C_inv_A=C_inv @ s.A,
         C_inv_b=C_inv @ s.b,
-        perm=jnp.asarray(node_major(model)),
-        C_blocks=blocks.C,
-        A_blocks=blocks.A,
-        C_lu=lu_factor(blocks.C),
+        perm=jnp.asarray(perm),
+        C_blocks=C_blocks,
+        A_blocks=A_blocks,
+        C_lu=C_lu,
         links=cubic_links(model, params, kappa),
     )
 

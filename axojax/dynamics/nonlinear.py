@@ -48,21 +48,30 @@ class CubicLinks(eqx.Module):
         phi: (Q, 2 N_e) shape functions at the quadrature points.
         weight: (E, Q) ``kappa k_e w_q k(x_q)``.
         n_fd: number of (filament, direction) pairs.
+        n_border: unknowns after the node unknowns (a base that is not clamped, basal
+            sliding; :attr:`axojax.models.Model.n_border`). The links do not act on them:
+            node 0's are shared by every filament (a rigid basal body), so they stretch
+            no link, and basal sliding is no spacing. Their force rows are zero.
     """
 
     B: Float[Array, "E fd"]
     phi: Float[Array, "Q m"]
     weight: Float[Array, "E Q"]
     n_fd: int = eqx.field(static=True)
+    n_border: int = eqx.field(static=True, default=0)
+
+    def _nodes(self, q: Inexact[Array, " n"]) -> Inexact[Array, " n_nodes"]:
+        return q[: q.shape[0] - self.n_border]
 
     def _stretch(self, q: Inexact[Array, " n"]) -> Inexact[Array, "E Q"]:
         return self.B @ (
-            jnp.reshape(q, (self.n_fd, self.phi.shape[1])) @ self.phi.T
+            jnp.reshape(self._nodes(q), (self.n_fd, self.phi.shape[1])) @ self.phi.T
         )  # delta_a_e(x_q)
 
     def force(self, q: Inexact[Array, " n"]) -> Inexact[Array, " n"]:
         """f_nl(q), shape (n,)."""
-        return jnp.ravel(self.B.T @ (self.weight * self._stretch(q) ** 3) @ self.phi)
+        f = jnp.ravel(self.B.T @ (self.weight * self._stretch(q) ** 3) @ self.phi)
+        return jnp.concatenate([f, jnp.zeros(self.n_border, f.dtype)]) if self.n_border else f
 
     def tangent(self, q: Inexact[Array, " n"]) -> Inexact[Array, "n n"]:
         """d f_nl / dq at ``q``, shape (n, n): the exact tangent stiffness::
@@ -73,17 +82,19 @@ class CubicLinks(eqx.Module):
         matrix per link, ``M_e = Phi^T diag(3 weight_e delta_a_e^2) Phi``, Kronecker-
         multiplied by ``B_e B_e^T``: O(E Q m^2 + E n^2) with m = 2 N_e, no
         Jacobian-vector products."""
-        n = q.shape[0]
+        n = q.shape[0] - self.n_border
         Me = jnp.einsum(
             "qr,eq,qs->ers", self.phi, 3.0 * self.weight * self._stretch(q) ** 2, self.phi
         )
-        return jnp.einsum("ei,ej,ers->irjs", self.B, self.B, Me).reshape(n, n)
+        K = jnp.einsum("ei,ej,ers->irjs", self.B, self.B, Me).reshape(n, n)
+        return jnp.pad(K, ((0, self.n_border), (0, self.n_border))) if self.n_border else K
 
     def tangent_blocks(self, q: Inexact[Array, " n"]) -> BlockTridiagonal:
         """:meth:`tangent` as node blocks (node-major, the layout of
         :func:`axojax.assembly.assemble_blocks`): each link's filament-level matrix
         ``M_e`` is cut into its 2 x 2 node blocks and Kronecker-multiplied by
-        ``B_e B_e^T`` block by block, never forming the n x n matrix."""
+        ``B_e B_e^T`` block by block, never forming the n x n matrix. The node blocks
+        only: the border's rows and columns are zero."""
         Me = jnp.einsum(
             "qr,eq,qs->ers", self.phi, 3.0 * self.weight * self._stretch(q) ** 2, self.phi
         )
@@ -111,6 +122,7 @@ def cubic_links(model: Model, params: Params, kappa: Real[ArrayLike, ""]) -> Cub
             phi=phi,
             weight=jnp.zeros((1, wk.shape[0])),
             n_fd=model.n_fd,
+            n_border=model.n_border,
         )
     k = jnp.asarray(kappa, dtype=float) * link_stiffness(model, params)
     return CubicLinks(
@@ -118,6 +130,7 @@ def cubic_links(model: Model, params: Params, kappa: Real[ArrayLike, ""]) -> Cub
         phi=phi,
         weight=k[:, None] * wk[None, :],
         n_fd=model.n_fd,
+        n_border=model.n_border,
     )
 
 

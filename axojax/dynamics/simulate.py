@@ -51,9 +51,14 @@ class Simulation:
     Attributes:
         t_s: (T,) times (s).
         x_um: (S,) arc length along the axoneme (um).
-        centreline_um: (T, d, S) centreline displacement (mean over filaments) in y (, z).
-        psi_rad: (T, S) tangent angle of the centreline in the beat plane (small slopes).
-        tip_um: (T, d) tip displacement.
+        centreline_um: (T, d, S) centreline displacement (mean over filaments) in y (, z),
+            in the lab frame (with the base's motion where the base is not clamped).
+        psi_rad: (T, S) tangent angle of the centreline in the beat plane (small slopes),
+            relative to the base's (the body frame: on a base that moves, free, head or
+            pivot, its rigid motion is taken out; on the clamped base it is the lab
+            frame's).
+        tip_um: (T, d) tip displacement in the body frame (from the base's tangent line:
+            ``u(L) - u(0) - L u'(0)``; the lab frame's on the clamped base).
         beat_angle_rad: beat direction, radians from y towards z.
         state: ``decaying``, ``limit_cycle``, ``growing``, ``settling``, ``divergent`` or
             ``solver_failed`` (rules in :mod:`axojax.dynamics.analysis`). After a solver
@@ -314,7 +319,8 @@ def simulate(
     :func:`tip_deflection`), then analyse the beat.
 
     Args:
-        model: e.g. ``ax.models.seven()``.
+        model: e.g. ``ax.models.seven()``, on any base (a base that moves: psi and the
+            tip in the body frame, see :class:`Simulation`).
         params: dimensionless parameters; ``imbalance != 1`` gives a static moment b
             that bends the axoneme (asymmetric beat).
         t_end_s: simulated time (s).
@@ -339,7 +345,6 @@ def simulate(
         :class:`Simulation`.
     """
     params = params.validate()
-    model.require_clamped("simulate")
     require_passive_friction(model, params, "simulate")
     t_end_s, cubic, perturbation_um, rtol = check_inputs(
         model, t_end_s, cubic, perturbation_um, rtol
@@ -369,7 +374,9 @@ def simulate(
         periods = t_end_s * max(linear["frequency_hz"], 20.0)
         max_steps = 10_000 * math.ceil((MIN_STEPS + STEPS_PER_PERIOD * periods) / 10_000)
     x = np.linspace(0.0, 1.0, n_points)
-    q0 = (perturbation_um / units.length_um) * tip_deflection(model)
+    q0 = (perturbation_um / units.length_um) * np.concatenate(
+        [tip_deflection(model), np.zeros(model.n_border)]
+    )
 
     traj = _integrate_jit(
         model,
@@ -390,20 +397,24 @@ def simulate(
         keep = (t <= t_reached) & np.all(np.isfinite(q), axis=1)
         keep[0] = True
         t, q = t[keep], q[keep]
-    u = centreline(model, q, x)  # (T, d, S), L
+    u = centreline(model, q, x)  # (T, d, S), L, lab frame
     du = centreline(model, q, x, derivative=1)
-    tip_t = u[:, :, -1]
+    u_body, du_body = body_frame(model, q, x, u, du)
+    tip_t = u_body[:, :, -1]
     angle = _beat_angle(tip_t)
 
     s = assemble(model, params)
-    q_eq = (
-        np.linalg.solve(np.asarray(s.A), np.asarray(s.b))
-        if np.any(np.asarray(s.b))
-        else np.zeros(model.n_dof)
-    )
-    y_eq = float(along(centreline(model, q_eq, np.array([1.0]))[:, 0], angle, axis=-1))
+    q_eq = np.zeros(model.n_unknowns)
+    if np.any(np.asarray(s.b)):
+        # on a base that moves, A is singular (rigid motions): the least-norm equilibrium,
+        # the same shape in the body frame
+        A_, b_ = np.asarray(s.A), np.asarray(s.b)
+        q_eq = np.linalg.lstsq(A_, b_, rcond=None)[0] if model.n_border else np.linalg.solve(A_, b_)
+    one = np.array([1.0])
+    tip_eq = body_frame(model, q_eq, one, centreline(model, q_eq, one), None)[0][:, 0]
+    y_eq = float(along(tip_eq, angle, axis=-1))
     y = along(tip_t, angle, axis=-1)
-    psi = along(du, angle)  # (T, S)
+    psi = along(du_body, angle)  # (T, S)
     state, cycles = classify_trajectory(
         t, y, y_eq, ok, equilibrium_stable=linear["growth_rate_per_s"] < 0
     )
@@ -424,9 +435,9 @@ def simulate(
         }
     at_rest = None
     if state == "decaying" and linear["growth_rate_per_s"] > 0:
-        tips = (
-            q[-1].reshape(model.n_filaments, model.n_dirs, -1)[:, :, -2] * units.length_um
-        )  # u at the tip node
+        # u at each filament's tip node, from the base's tangent line (body frame)
+        base = body_frame(model, q[-1], np.ones(1), np.zeros((model.n_dirs, 1)), None)[0]
+        tips = (model.filament_dofs(q[-1])[:, :, -2] + base[None, :, 0]) * units.length_um
         at_rest = {
             "max_filament_tip_um": float(np.abs(tips).max()),
             "centreline_tip_um": float(np.abs(tip_t[-1]).max() * units.length_um),
@@ -489,6 +500,20 @@ def tip_deflection(model: Model) -> np.ndarray:
     q = np.zeros((model.n_filaments, model.n_dirs, model.mesh.n_dof))
     q[:, 0, :] = shape
     return q.ravel()
+
+
+def body_frame(model: Model, q: np.ndarray, x: np.ndarray, u: np.ndarray, du: np.ndarray | None):
+    """The centreline ``u`` (..., d, S) and its slope ``du`` (or None) at ``x`` from the
+    base's tangent line: ``u - u(0) - x u'(0)`` and ``u' - u'(0)`` (small slopes), the
+    rigid motion of a base that moves taken out. On the clamped base u(0) = u'(0) = 0:
+    returned as they are."""
+    if not model.n_border:
+        return u, du
+    zero = np.zeros(1)
+    u0 = centreline(model, q, zero)  # (..., d, 1)
+    slope0 = centreline(model, q, zero, derivative=1)
+    u_body = u - u0 - np.asarray(x) * slope0
+    return u_body, None if du is None else du - slope0
 
 
 def _beat_angle(tip: np.ndarray) -> float:
