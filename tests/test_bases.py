@@ -478,16 +478,23 @@ def test_gradients_through_the_border_match_finite_differences():
         np.testing.assert_allclose(g, fd, rtol=1e-5, atol=1e-9)
 
 
-@pytest.mark.parametrize(
-    "kind", ["free", Base("clamped", compliance=True)], ids=["free", "compliant"]
-)
-def test_clamped_only_paths_can_refuse_a_border(kind):
+@pytest.mark.parametrize("kind", ["free", Base("head", False, 1.0, 0.2), "pivot"])
+def test_held_only_paths_refuse_a_base_that_moves_rigidly(kind):
     model = ax.models.two(n_elements=4, base=kind)
     with pytest.raises(ValueError) as info:
-        model.require_clamped("simulate")
+        model.require_held("limit_cycle")
     message = str(info.value)
-    assert "simulate" in message and "clamped" in message and "\n" not in message
-    ax.models.two(n_elements=4).require_clamped("simulate")  # the clamped base passes
+    assert message.startswith("limit_cycle needs a base that holds the axoneme")
+    assert "\n" not in message
+
+
+@pytest.mark.parametrize(
+    "kind",
+    ["clamped", Base("clamped", compliance=True), Base("pivot", rotational_stiffness=2.0)],
+    ids=["clamped", "compliant", "pivot-spring"],
+)
+def test_bases_that_hold_the_axoneme_pass(kind):
+    ax.models.two(n_elements=4, base=kind).require_held("limit_cycle")
 
 
 @pytest.mark.parametrize("solver", [Dense(), Arnoldi()], ids=["dense", "arnoldi"])

@@ -121,9 +121,9 @@ def test_simulate_runs_on_a_base_that_moves(flags, capsys, tmp_path):
     )
 
 
-def test_library_limit_cycle_refuses_an_unclamped_base():
+def test_library_limit_cycle_refuses_a_free_base():
     model = ax.models.two(n_elements=4, base="free")
-    with pytest.raises(ValueError, match="^limit_cycle supports the clamped base only"):
+    with pytest.raises(ValueError, match="^limit_cycle needs a base that holds the axoneme"):
         ax.limit_cycle(model, ax.Params())
 
 

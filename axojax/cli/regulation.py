@@ -27,15 +27,15 @@ DEFAULT_VISCOSITY_PA_S = 1e-3
 """``--viscosity-pa-s`` default (water): the fluid of a head given by ``--head-um``."""
 
 
-def require_passive_friction(model: Model, params: Params, what: str, clamped: bool = True) -> None:
-    """The time domain's conditions as CLI errors: a clamped base (``--base``; where
-    ``clamped``: limit cycles) and no active friction
+def require_passive_friction(model: Model, params: Params, what: str, held: bool = True) -> None:
+    """The time domain's conditions as CLI errors: a base that holds the axoneme
+    (``--base``; where ``held``: limit cycles) and no active friction
     (:func:`axojax.well_posed.require_passive_friction`, naming ``--beta`` or ``--chi``)."""
     from ..well_posed import require_passive_friction as check
 
     try:
-        if clamped:
-            model.require_clamped(what)
+        if held:
+            model.require_held(what)
     except ValueError as err:
         raise CLIError(f"--base: {err}") from None
     try:

@@ -79,7 +79,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> dict:
     model = common.model_from_args(args)
     params = common.params_from_args(args)
-    common.require_passive_friction(model, params, "simulate", clamped=False)
+    common.require_passive_friction(model, params, "simulate", held=False)
     units = common.units_from_args(args)
     cubic = DEFAULT_CUBIC if args.cubic is None else args.cubic
     if model.link_B.shape[0] == 0 and args.cubic is None:

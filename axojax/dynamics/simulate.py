@@ -398,9 +398,8 @@ def simulate(
         keep[0] = True
         t, q = t[keep], q[keep]
     u = centreline(model, q, x)  # (T, d, S), L, lab frame
-    du = centreline(model, q, x, derivative=1)
-    u_body, du_body = body_frame(model, q, x, u, du)
-    tip_t = u_body[:, :, -1]
+    du_body = centreline(model, q, x, derivative=1, body=True)
+    tip_t = centreline(model, q, np.ones(1), body=True)[:, :, 0]
     angle = _beat_angle(tip_t)
 
     s = assemble(model, params)
@@ -410,8 +409,7 @@ def simulate(
         # the same shape in the body frame
         A_, b_ = np.asarray(s.A), np.asarray(s.b)
         q_eq = np.linalg.lstsq(A_, b_, rcond=None)[0] if model.n_border else np.linalg.solve(A_, b_)
-    one = np.array([1.0])
-    tip_eq = body_frame(model, q_eq, one, centreline(model, q_eq, one), None)[0][:, 0]
+    tip_eq = centreline(model, q_eq, np.ones(1), body=True)[:, 0]
     y_eq = float(along(tip_eq, angle, axis=-1))
     y = along(tip_t, angle, axis=-1)
     psi = along(du_body, angle)  # (T, S)
@@ -436,8 +434,10 @@ def simulate(
     at_rest = None
     if state == "decaying" and linear["growth_rate_per_s"] > 0:
         # u at each filament's tip node, from the base's tangent line (body frame)
-        base = body_frame(model, q[-1], np.ones(1), np.zeros((model.n_dirs, 1)), None)[0]
-        tips = (model.filament_dofs(q[-1])[:, :, -2] + base[None, :, 0]) * units.length_um
+        rigid = centreline(model, q[-1], np.ones(1)) - centreline(
+            model, q[-1], np.ones(1), body=True
+        )
+        tips = (model.filament_dofs(q[-1])[:, :, -2] - rigid[None, :, 0]) * units.length_um
         at_rest = {
             "max_filament_tip_um": float(np.abs(tips).max()),
             "centreline_tip_um": float(np.abs(tip_t[-1]).max() * units.length_um),
@@ -500,20 +500,6 @@ def tip_deflection(model: Model) -> np.ndarray:
     q = np.zeros((model.n_filaments, model.n_dirs, model.mesh.n_dof))
     q[:, 0, :] = shape
     return q.ravel()
-
-
-def body_frame(model: Model, q: np.ndarray, x: np.ndarray, u: np.ndarray, du: np.ndarray | None):
-    """The centreline ``u`` (..., d, S) and its slope ``du`` (or None) at ``x`` from the
-    base's tangent line: ``u - u(0) - x u'(0)`` and ``u' - u'(0)`` (small slopes), the
-    rigid motion of a base that moves taken out. On the clamped base u(0) = u'(0) = 0:
-    returned as they are."""
-    if not model.n_border:
-        return u, du
-    zero = np.zeros(1)
-    u0 = centreline(model, q, zero)  # (..., d, 1)
-    slope0 = centreline(model, q, zero, derivative=1)
-    u_body = u - u0 - np.asarray(x) * slope0
-    return u_body, None if du is None else du - slope0
 
 
 def _beat_angle(tip: np.ndarray) -> float:

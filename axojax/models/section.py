@@ -350,15 +350,16 @@ class Model:
                 )
         return np.array(cols).T.reshape(self.n_unknowns, len(cols))
 
-    def require_clamped(self, what: str) -> None:
-        """Raise a one-line ``ValueError`` when the model has a border (a base that is not
-        clamped, or basal compliance): for code paths that assume the clamped base's
-        unknowns (``what`` names them, e.g. "simulate")."""
-        if self.n_border:
+    def require_held(self, what: str) -> None:
+        """Raise a one-line ``ValueError`` when the base lets the axoneme move rigidly
+        (:meth:`rigid_modes`: free, head, a pivot without a spring): for code paths whose
+        equations leave a rigid motion undetermined (``what`` names them, e.g.
+        "limit_cycle")."""
+        if self.rigid_modes().shape[1]:
             raise ValueError(
-                f"{what} supports the clamped base only; this model's base is "
-                f"{self.base.kind!r}{' with basal compliance' if self.base.compliance else ''} "
-                "(use ax.dominant_mode or ax.spectrum with it)"
+                f"{what} needs a base that holds the axoneme (clamped, with or without basal "
+                f"compliance, or a pivot with a rotational spring); this model's "
+                f"{self.base.kind!r} base lets it move rigidly"
             )
 
     @property

@@ -120,7 +120,7 @@ class LimitCycle(eqx.Module):
     ) -> tuple[np.ndarray, np.ndarray]:
         """(t (T,) tau, centreline (or slope) along the beat direction (T, S), L or rad)."""
         t, q = self.states(n_frames)
-        u = centreline(self.model, q, np.asarray(x, dtype=float), derivative)  # (T, d, S)
+        u = centreline(self.model, q, np.asarray(x, dtype=float), derivative, body=True)
         return t, wm.along(u, float(self.beat_angle))
 
     def tangent_modes(
@@ -131,7 +131,9 @@ class LimitCycle(eqx.Module):
         psi = psi_0 + Re(psi_1 e^{i theta}) + higher harmonics, theta = omega t (the
         orbit's phase: theta = 0 where its phase condition holds). Differentiable."""
         X, H = self.coefficients, self.harmonics
-        slope = centreline(self.model, jnp.stack([X[0], X[1], X[H + 1]]), np.asarray(x), 1)
+        slope = centreline(
+            self.model, jnp.stack([X[0], X[1], X[H + 1]]), np.asarray(x), 1, body=True
+        )
         psi = wm.along(slope, self.beat_angle)  # (3, S)
         return psi[0], psi[1] - 1j * psi[2]
 
@@ -183,7 +185,7 @@ def measures(model: Model, X: Float[Array, "m n"]) -> tuple[Array, Array, Array]
     """(tip amplitude (L), beat angle, wavenumber of psi_1 (rad/L)) of the orbit X;
     differentiable."""
     H = (X.shape[0] - 1) // 2
-    tip = centreline(model, X, np.array([1.0]))[..., 0]  # (2H+1, d)
+    tip = centreline(model, X, np.array([1.0]), body=True)[..., 0]  # (2H+1, d)
     if model.n_dirs == 1:
         angle = jnp.zeros(())
         y = tip[:, 0]

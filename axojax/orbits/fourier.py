@@ -23,7 +23,9 @@ Structure: ordered node-major (:func:`axojax.assembly.node_major`) with the harm
 inside each node, the Jacobian is block-tridiagonal (A, C and the cubic force's
 Jacobian couple neighbouring nodes only) with N_e blocks of size (2H+1) 2 F d, and is
 factored by :func:`axojax.linalg.lu_factor` in O(N_e ((2H+1) 2 F d)^3) instead of
-O((N_e (2H+1) 2 F d)^3) (:mod:`axojax.orbits.linear`).
+O((N_e (2H+1) 2 F d)^3) (:mod:`axojax.orbits.linear`). A model with a border (basal
+compliance, a base that moves) is laid out as one dense block instead: its border
+couples every node to the base's unknowns (exact, O((N_e (2H+1) 2 F d)^3)).
 """
 
 from __future__ import annotations
@@ -88,10 +90,15 @@ class Problem:
         self.H, self.N = harmonics, samples
         E, P, D = basis(harmonics, samples)
         self.E, self.P, self.D = jnp.asarray(E), jnp.asarray(P), jnp.asarray(D)
-        self.n = model.n_dof
+        self.n = model.n_unknowns
         self.m = 2 * harmonics + 1
-        self.n_blocks, self.block = model.n_elements, 2 * model.n_fd
-        self.perm = node_major(model)
+        self.bordered = bool(model.n_border)
+        if self.bordered:  # one dense block, harmonic-major (module docstring)
+            self.n_blocks, self.block = 1, self.n
+            self.perm = np.arange(self.n)
+        else:
+            self.n_blocks, self.block = model.n_elements, 2 * model.n_fd
+            self.perm = node_major(model)
         self.inverse_perm = np.argsort(self.perm)
 
     def f_nl(self, q):
@@ -160,8 +167,11 @@ class Problem:
         return B[..., k[1:], :, k[:-1], :], B[..., k, :, k, :], B[..., k[:-1], :, k[1:], :]
 
     def jacobian_blocks(self, X, omega) -> BlockTridiagonal:
-        """d R / d X in the node layout: block-tridiagonal, blocks (m b, m b)."""
+        """d R / d X in the node layout: block-tridiagonal, blocks (m b, m b) (one dense
+        block with a border)."""
         m, b = self.m, self.block
+        if self.bordered:
+            return _one_block(self.harmonic_jacobian(X, omega))
         sb = assemble_blocks(self.model, self.params)
         Df = jax.vmap(self.f_nl_tangent)(self.E @ X)  # (N_t, n, n)
         W = jnp.einsum("mj,jl->jml", self.P, self.E)  # (N_t, m, m)
@@ -186,8 +196,16 @@ class Problem:
     def mass_blocks(self) -> BlockTridiagonal:
         """I_m (x) C in the node layout."""
         m, b = self.m, self.block
+        if self.bordered:
+            return _one_block(jnp.kron(jnp.eye(m), self.s.C))
         C = assemble_blocks(self.model, self.params).C
         widen = lambda c: jnp.reshape(
             jnp.einsum("ml,kab->kmalb", jnp.eye(m), c), (-1, m * b, m * b)
         )
         return BlockTridiagonal(widen(C.lower), widen(C.diag), widen(C.upper))
+
+
+def _one_block(M: Float[Array, "k k"]) -> BlockTridiagonal:
+    """A dense matrix as a block-tridiagonal one of a single block."""
+    empty = jnp.zeros((0,) + M.shape, M.dtype)
+    return BlockTridiagonal(empty, M[None], empty)

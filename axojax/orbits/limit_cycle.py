@@ -47,7 +47,7 @@ def limit_cycle(
         jit-able ``solver.solve`` inside your own transformations).
     """
     params = params.validate()
-    model.require_clamped("limit_cycle")
+    model.require_held("limit_cycle")
     require_passive_friction(model, params, "limit_cycle")
     kappa = float(kappa)
     if not math.isfinite(kappa) or kappa <= 0:

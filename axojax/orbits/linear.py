@@ -43,8 +43,9 @@ class DenseLU:
 
 
 def factor(M: BlockTridiagonal):
-    """Blocked LU (:func:`axojax.linalg.lu_factor`) of M, or a dense one for small M."""
-    return DenseLU(M) if M.shape[0] <= DENSE_MAX else lu_factor(M)
+    """Blocked LU (:func:`axojax.linalg.lu_factor`) of M, or a dense one for small M (or
+    a single block)."""
+    return DenseLU(M) if M.shape[0] <= DENSE_MAX or M.diag.shape[0] == 1 else lu_factor(M)
 
 
 class BorderedSolver:

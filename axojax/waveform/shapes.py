@@ -15,6 +15,7 @@ def centreline(
     q: Inexact[Array | np.ndarray, "*batch n"],
     x: Float[ArrayLike, " S"],
     derivative: int = 0,
+    body: bool = False,
 ) -> Inexact[Array | np.ndarray, "*batch d S"]:
     """Centreline (mean over filaments) displacement, or its x-derivative, at points x.
 
@@ -22,15 +23,30 @@ def centreline(
         q: (..., n) states (real or complex), n = ``model.n_unknowns``: a numpy array, or a
             jax array (then the result is one too, traceable and differentiable).
         x: (S,) points in [0, 1].
+        body: in the body frame: from the base's tangent line, ``u - u(0) - x u'(0)``
+            and ``u' - u'(0)`` (small slopes; the rigid motion of a base that moves taken
+            out). On a base that holds node 0 (clamped, with or without basal
+            compliance) u(0) = u'(0) = 0 and the frames agree.
 
     Returns:
         (..., d, S) in units of L (``derivative=0``) or rad (``derivative=1``).
     """
     xp = jnp if isinstance(q, jax.Array) else np
     q = xp.asarray(q)
-    phi = xp.asarray(model.interpolation(np.asarray(x, dtype=float), derivative))
+    x = np.asarray(x, dtype=float)
+    phi = xp.asarray(model.interpolation(x, derivative))
     per = model.filament_dofs(q).mean(axis=-3)
-    return xp.einsum("sr,...dr->...ds", phi, per)
+    u = xp.einsum("sr,...dr->...ds", phi, per)
+    if body and model.base.dofs and derivative <= 1:
+
+        def at0(k):  # (..., d, 1): u or u' at x = 0
+            return xp.einsum(
+                "sr,...dr->...ds", xp.asarray(model.interpolation(np.zeros(1), k)), per
+            )
+
+        slope0 = at0(1)
+        u = u - slope0 if derivative == 1 else u - at0(0) - xp.asarray(x) * slope0
+    return u
 
 
 def mode_frames(
