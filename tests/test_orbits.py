@@ -47,7 +47,7 @@ def p_hopf(two4):
     ids=["clamped", "compliant", "pivot-spring"],
 )
 def test_orbit_equals_long_simulation(base, tol):
-    """Frequency (to 1e-4), tip amplitude, period and Fourier measures (to ``tol``) of the
+    """Frequency (to 1e-4), tip amplitude, period, Fourier measures and wavelength (to ``tol``) of the
     orbit equal those of a long ax.simulate run at 1.04 p_c (transients decay by 0.2 a
     period on the clamped base). Bases with unknowns of their own that still hold the
     axoneme (basal sliding; a pivot's slope on a spring): the orbit is one dense block,
@@ -73,6 +73,13 @@ def test_orbit_equals_long_simulation(base, tol):
     rep = cycle.to_json()
     assert abs(rep["static_curvature_rad_per_um"] / fm.static_curvature - 1) < tol
     assert abs(rep["dynamic_amplitude_rad"] / fm.dynamic_amplitude - 1) < tol
+    # One wavelength: the orbit's (from its psi_1) is the simulation's (from its psi, both
+    # in the lab frame; on the pivot the body frame's psi gave 427 against 56 um). The
+    # simulation's psi_1 is sampled at 41 points, which moves it by 6e-4 on the clamped base.
+    assert abs(rep["wavelength_um"] / lc["wavelength_um"] - 1) < 2e-3, (
+        rep["wavelength_um"],
+        lc["wavelength_um"],
+    )
 
 
 def test_orbit_refuses_a_base_that_moves_rigidly():

@@ -54,11 +54,12 @@ class Simulation:
         centreline_um: (T, d, S) centreline displacement (mean over filaments) in y (, z),
             in the lab frame (with the base's motion where the base is not clamped).
         psi_rad: (T, S) tangent angle of the centreline in the beat plane (small slopes),
-            relative to the base's (the body frame: on a base that moves, free, head or
-            pivot, its rigid motion is taken out; on the clamped base it is the lab
-            frame's).
+            in the lab frame: the psi of modes, orbits and data (docs/model.md, "One
+            wavelength everywhere").
         tip_um: (T, d) tip displacement in the body frame (from the base's tangent line:
-            ``u(L) - u(0) - L u'(0)``; the lab frame's on the clamped base).
+            ``u(L) - u(0) - L u'(0)``, the rigid motion of a base that moves taken out:
+            what the state, the beat direction and the amplitude are read from; the lab
+            frame's on a base that holds node 0).
         beat_angle_rad: beat direction, radians from y towards z.
         state: ``decaying``, ``limit_cycle``, ``growing``, ``settling``, ``divergent`` or
             ``solver_failed`` (rules in :mod:`axojax.dynamics.analysis`). After a solver
@@ -319,8 +320,8 @@ def simulate(
     :func:`tip_deflection`), then analyse the beat.
 
     Args:
-        model: e.g. ``ax.models.seven()``, on any base (a base that moves: psi and the
-            tip in the body frame, see :class:`Simulation`).
+        model: e.g. ``ax.models.seven()``, on any base (a base that moves: the tip in
+            the body frame, see :class:`Simulation`).
         params: dimensionless parameters; ``imbalance != 1`` gives a static moment b
             that bends the axoneme (asymmetric beat).
         t_end_s: simulated time (s).
@@ -398,7 +399,7 @@ def simulate(
         keep[0] = True
         t, q = t[keep], q[keep]
     u = centreline(model, q, x)  # (T, d, S), L, lab frame
-    du_body = centreline(model, q, x, derivative=1, body=True)
+    du = centreline(model, q, x, derivative=1)
     tip_t = centreline(model, q, np.ones(1), body=True)[:, :, 0]
     angle = _beat_angle(tip_t)
 
@@ -412,7 +413,7 @@ def simulate(
     tip_eq = centreline(model, q_eq, np.ones(1), body=True)[:, 0]
     y_eq = float(along(tip_eq, angle, axis=-1))
     y = along(tip_t, angle, axis=-1)
-    psi = along(du_body, angle)  # (T, S)
+    psi = along(du, angle)  # (T, S)
     state, cycles = classify_trajectory(
         t, y, y_eq, ok, equilibrium_stable=linear["growth_rate_per_s"] < 0
     )

@@ -118,7 +118,9 @@ class LimitCycle(eqx.Module):
     def centreline_beat(
         self, x: np.ndarray, n_frames: int = 64, derivative: int = 0
     ) -> tuple[np.ndarray, np.ndarray]:
-        """(t (T,) tau, centreline (or slope) along the beat direction (T, S), L or rad)."""
+        """(t (T,) tau, centreline (or slope) along the beat direction (T, S), L or rad):
+        the displacement in the body frame, the slope in the lab frame (as
+        :func:`axojax.waveform.shapes.centreline` with ``body=True``)."""
         t, q = self.states(n_frames)
         u = centreline(self.model, q, np.asarray(x, dtype=float), derivative, body=True)
         return t, wm.along(u, float(self.beat_angle))
@@ -131,9 +133,7 @@ class LimitCycle(eqx.Module):
         psi = psi_0 + Re(psi_1 e^{i theta}) + higher harmonics, theta = omega t (the
         orbit's phase: theta = 0 where its phase condition holds). Differentiable."""
         X, H = self.coefficients, self.harmonics
-        slope = centreline(
-            self.model, jnp.stack([X[0], X[1], X[H + 1]]), np.asarray(x), 1, body=True
-        )
+        slope = centreline(self.model, jnp.stack([X[0], X[1], X[H + 1]]), np.asarray(x), 1)
         psi = wm.along(slope, self.beat_angle)  # (3, S)
         return psi[0], psi[1] - 1j * psi[2]
 

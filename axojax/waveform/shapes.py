@@ -23,10 +23,12 @@ def centreline(
         q: (..., n) states (real or complex), n = ``model.n_unknowns``: a numpy array, or a
             jax array (then the result is one too, traceable and differentiable).
         x: (S,) points in [0, 1].
-        body: in the body frame: from the base's tangent line, ``u - u(0) - x u'(0)``
-            and ``u' - u'(0)`` (small slopes; the rigid motion of a base that moves taken
-            out). On a base that holds node 0 (clamped, with or without basal
-            compliance) u(0) = u'(0) = 0 and the frames agree.
+        body: the displacement in the body frame, from the base's tangent line:
+            ``u - u(0) - x u'(0)`` (small slopes; the rigid motion of a base that moves
+            taken out). Slopes (``derivative >= 1``) stay the lab frame's: the tangent
+            angle psi of modes, orbits, simulations and data is one (docs/model.md,
+            "One wavelength everywhere"). On a base that holds node 0 (clamped, with or
+            without basal compliance) u(0) = u'(0) = 0 and the frames agree.
 
     Returns:
         (..., d, S) in units of L (``derivative=0``) or rad (``derivative=1``).
@@ -37,15 +39,14 @@ def centreline(
     phi = xp.asarray(model.interpolation(x, derivative))
     per = model.filament_dofs(q).mean(axis=-3)
     u = xp.einsum("sr,...dr->...ds", phi, per)
-    if body and model.base.dofs and derivative <= 1:
+    if body and model.base.dofs and derivative == 0:
 
         def at0(k):  # (..., d, 1): u or u' at x = 0
             return xp.einsum(
                 "sr,...dr->...ds", xp.asarray(model.interpolation(np.zeros(1), k)), per
             )
 
-        slope0 = at0(1)
-        u = u - slope0 if derivative == 1 else u - at0(0) - xp.asarray(x) * slope0
+        u = u - at0(0) - xp.asarray(x) * at0(1)
     return u
 
 
