@@ -12,13 +12,19 @@ measured arc lengths. A Fourier-mode file without a frequency keeps ``frequency_
 (the fit then needs ``--target-frequency``; :attr:`BeatData.notes` says so).
 
 Every problem (missing field or column, NaN, fewer frames than 1.5 beat periods) is a
-one-line ``ValueError`` naming the file and the problem.
+one-line ``ValueError`` naming the file and the problem. Values no flagellum has are
+problems too, named with the likely unit mistake (:func:`check_units`): a length or an
+arc-length range outside :data:`FLAGELLUM_LENGTH_UM` (1 to 500 um: mm, nm or pixels?),
+tangent angles that swing more than 2 pi within a beat period or a dynamic amplitude
+above pi (degrees?). What a file holds that axojax does not read (an unknown CSV header
+key) is a :class:`BeatDataWarning`, one line, also kept in :attr:`BeatData.warnings`.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import pathlib
+import warnings
 
 import numpy as np
 
@@ -32,6 +38,14 @@ from .reduction import FREQUENCY_REL_FLOOR, PSI1_FLOOR_RAD, Planarity
 from .targets import ShapeTarget, Target, join_components
 
 N_POINTS = reduction.N_POINTS
+FLAGELLUM_LENGTH_UM = (1.0, 500.0)
+"""Lengths (um) a flagellum or cilium has, with a wide margin (the shortest motile cilia
+are a few um, the longest sperm flagella a few hundred): a length or an arc-length range
+outside is a unit mistake (mm, nm, pixels), an error."""
+
+
+class BeatDataWarning(UserWarning):
+    """Something in a beat file that axojax does not read (one line naming the file)."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -60,6 +74,10 @@ class BeatData:
         published_frequency_hz: a frequency stated by the data's authors, if the file has one.
         flagellum: the organism's typical bending rigidity and drag
             (:class:`~axojax.units.Flagellum`) for a bundled data set, else ``None``.
+        cycle_bounds_s: (cycles + 1,) times bounding the whole cycles used (the beat
+            phase's crossings of multiples of 2 pi), ``None`` for Fourier modes.
+        warnings: one line each, what the file holds that axojax did not read
+            (:class:`BeatDataWarning`).
     """
 
     s_um: np.ndarray
@@ -80,6 +98,8 @@ class BeatData:
     notes: tuple = ()
     published_frequency_hz: float | None = None
     flagellum: Flagellum | None = None
+    cycle_bounds_s: np.ndarray | None = None
+    warnings: tuple = ()
 
     def targets(self) -> tuple[list[Target], ShapeTarget]:
         """Frequency target (none when the frequency is unknown) and the psi_1 shape
@@ -171,13 +191,29 @@ class BeatData:
         return self.modes.static_curvature
 
     @property
+    def static_curvature_noise_rad_per_um(self) -> float:
+        """The static curvature's noise (rad/um): the standard error of a least-squares
+        slope through points each known to the median psi_1 sigma (the data's angle
+        precision, at least ``PSI1_FLOOR_RAD``). A static curvature below it is zero to
+        the data's precision (``axojax data`` prints and draws it so)."""
+        spread = float(np.sqrt(np.sum((self.s_um - self.s_um.mean()) ** 2)))
+        return float(np.median(self.psi1_sigma)) / spread if spread > 0 else float("inf")
+
+    @property
+    def direction(self) -> str | None:
+        """``"anterograde"`` (the wave runs base to tip), ``"retrograde"`` (tip to base) or
+        ``None`` (a standing wave): the sign of :attr:`wavenumber_rad_per_um` for a beat
+        written ``psi_1 exp(+i omega t)``, omega > 0."""
+        return {1: "anterograde", -1: "retrograde"}.get(int(self.modes.direction))
+
+    @property
     def dynamic_amplitude_rad(self) -> float:
         """Arc-length (trapezoidal) mean of |psi_1(s)| (rad)."""
         return self.modes.dynamic_amplitude
 
     @property
     def wavenumber_rad_per_um(self) -> float:
-        """|psi_1|^2-weighted mean phase gradient of psi_1(s) (rad/um; negative: the wave
+        """Least-squares slope of psi_1(s)'s unwrapped phase (rad/um; negative: the wave
         runs base to tip), the same function as a model's (:mod:`axojax.waveform.measures`)."""
         return self.modes.wavenumber
 
@@ -200,7 +236,9 @@ class BeatData:
             "frequency_sigma_hz": self.frequency_sigma_hz,
             "wavelength_um": self.wavelength_um,
             "static_curvature_rad_per_um": self.static_curvature_rad_per_um,
+            "static_curvature_noise_rad_per_um": self.static_curvature_noise_rad_per_um,
             "dynamic_amplitude_rad": self.dynamic_amplitude_rad,
+            "direction": self.direction,
             "components": self.components,
             "planarity": None if self.planarity is None else self.planarity.as_dict(),
             "n_points": int(self.s_um.size),
@@ -216,6 +254,7 @@ class BeatData:
             "published_frequency_hz": self.published_frequency_hz,
             "flagellum": None if self.flagellum is None else self.flagellum.to_json(),
             "notes": list(self.notes),
+            "warnings": list(self.warnings),
         }
 
 
@@ -268,15 +307,75 @@ def read_beat(
     return dataclasses.replace(beat, flagellum=flagellum_of(file))
 
 
+def _warn(raw: RawBeat) -> None:
+    for line in raw.warnings:
+        warnings.warn(BeatDataWarning(f"{raw.path}: {line}"), stacklevel=4)
+
+
+def _unit_guess(value_um: float) -> str:
+    """What a length of ``value_um`` outside :data:`FLAGELLUM_LENGTH_UM` more likely is."""
+    return "mm" if value_um < FLAGELLUM_LENGTH_UM[0] else "pixels or nm"
+
+
+def check_length(source, what: str, value_um: float, names: str) -> None:
+    """Refuse a length ``value_um`` (``what``: how it was found) outside
+    :data:`FLAGELLUM_LENGTH_UM`, naming the likely unit (``names``: the quantity)."""
+    lo, hi = FLAGELLUM_LENGTH_UM
+    if not lo <= value_um <= hi:
+        fail(
+            source,
+            f"{what} {value_um:.3g} um: {names} like {_unit_guess(value_um)}? axojax expects"
+            f" um (a flagellum is {lo:g} to {hi:g} um long)",
+        )
+
+
+DEGREES = "psi looks like degrees? axojax expects radians (multiply by pi/180)"
+
+
+def check_degrees(source, modes: FourierModes, psi=None, t=None, bounds=None) -> None:
+    """Refuse tangent angles that are more likely degrees than radians: a dynamic amplitude
+    (mean |psi_1|) above pi, |psi_1| above pi anywhere (a swing of more than 2 pi over a
+    period), or frames ``psi`` (T, S) at times ``t`` whose range at some point within a
+    beat period (median over the cycles ``bounds``) exceeds 2 pi."""
+    amplitude = float(modes.dynamic_amplitude)
+    if amplitude > np.pi:
+        fail(source, f"dynamic amplitude {amplitude:.3g} rad (above pi): {DEGREES}")
+    peak = float(np.max(np.abs(modes.psi1)))
+    if peak > np.pi:
+        fail(
+            source,
+            f"|psi_1| reaches {peak:.3g} rad (a swing of {2 * peak:.3g} rad over a period,"
+            f" above 2 pi): {DEGREES}",
+        )
+    if psi is None or bounds is None or len(bounds) < 2:
+        return
+    swings = []
+    for a, b in zip(bounds[:-1], bounds[1:]):
+        w = (t >= a) & (t <= b)
+        if w.sum() >= 2:
+            swings.append(float(np.max(psi[w].max(axis=0) - psi[w].min(axis=0))))
+    swing = float(np.median(swings)) if swings else 0.0
+    if swing > 2 * np.pi:
+        fail(source, f"psi swings {swing:.3g} rad within a beat period (above 2 pi): {DEGREES}")
+
+
 def _read(file, length_um, frame_rate_hz, variables, cell, planarity_threshold) -> BeatData:
     raw = read_file(file, variables=variables, cell=cell)
+    _warn(raw)
     length = _physical(raw, "length_um", length_um, "--length-um")
+    if length is not None:
+        check_length(
+            raw.path,
+            "--length-um" if length_um is not None else "length_um =",
+            length,
+            "looks",
+        )
     notes = []
     published = raw.scalars.get("published_frequency_hz")
     if raw.kind == "fourier":
         if frame_rate_hz is not None:
             notes.append("frame rate ignored: a Fourier-mode file has no frames")
-        return _from_modes(raw, length, notes)
+        return dataclasses.replace(_from_modes(raw, length, notes), warnings=raw.warnings)
     rate = _physical(raw, "frame_rate_hz", frame_rate_hz, "--frame-rate-hz")
     if rate is None:
         fail(raw.path, "missing frame_rate_hz (give it in the file or with --frame-rate-hz)")
@@ -296,6 +395,12 @@ def _read(file, length_um, frame_rate_hz, variables, cell, planarity_threshold) 
                 raw.path,
                 f"s_um must have one value per column of psi ({psi.shape[1]}), got shape {s.shape}",
             )
+        if s.size >= MIN_POINTS:
+            if np.any(np.diff(s) <= 0) or s[0] < 0:
+                fail(raw.path, "s_um must be >= 0 (from the base) and increasing along each frame")
+            check_length(raw.path, "s_um spans", float(s[-1] - s[0]), "s looks")
+            if "length_um" not in raw.scalars and length_um is None:
+                check_length(raw.path, "length (the last s_um)", length, "s looks")
         comps = [psi]
     else:
         names = ("x_um", "y_um", "z_um") if raw.kind == "centreline-3d" else ("x_um", "y_um")
@@ -310,6 +415,12 @@ def _read(file, length_um, frame_rate_hz, variables, cell, planarity_threshold) 
             fail(raw.path, f"centreline needs at least 4 points per frame, got {pts.shape[1]}")
         if length is None:
             length = float(np.median(reduction.arc_lengths(pts)))
+            check_length(
+                raw.path,
+                "the centreline's median arc length is",
+                length,
+                f"{', '.join(names)} look",
+            )
             notes.append(f"length {length:.4g} um: median measured arc length of the frames")
         if raw.kind == "centreline-3d":
             planar = reduction.planarity(pts, planarity_threshold)
@@ -318,8 +429,19 @@ def _read(file, length_um, frame_rate_hz, variables, cell, planarity_threshold) 
         else:
             axes = np.eye(2)
         s, comps = reduction.tangent_angles(pts, axes, length, raw.path)
-    t = np.arange(comps[0].shape[0]) / rate
+    if raw.frames is None:
+        t = np.arange(comps[0].shape[0]) / rate
+    else:
+        t = raw.frames / rate
+        missing = int(raw.frames[-1] - raw.frames[0] + 1 - raw.frames.size)
+        if missing:
+            notes.append(
+                f"{missing} frame numbers missing between {raw.frames[0]} and"
+                f" {raw.frames[-1]}: times from the frame numbers"
+            )
     beat = beat_from_kymograph(t, s, comps[0], source=raw.path, extra=comps[1:])
+    if raw.kind == "kymograph":
+        check_degrees(raw.path, beat.modes, comps[0], t, beat.cycle_bounds_s)
     return dataclasses.replace(
         beat,
         length_um=float(length),
@@ -327,6 +449,7 @@ def _read(file, length_um, frame_rate_hz, variables, cell, planarity_threshold) 
         planarity=planar,
         notes=beat.notes + tuple(notes),
         published_frequency_hz=published,
+        warnings=raw.warnings,
     )
 
 
@@ -341,6 +464,8 @@ def _from_modes(raw: RawBeat, length: float | None, notes: list) -> BeatData:
         fail(raw.path, "s_um must be >= 0 and increasing, with at least 2 points")
     if length is None:
         fail(raw.path, "missing length_um (a '# length_um = L' header line, or --length-um)")
+    if n >= MIN_POINTS:
+        check_length(raw.path, "s_um spans", float(s[-1] - s[0]), "s looks")
     if s[-1] > length * (1 + 1e-9):
         fail(raw.path, f"s_um reaches {s[-1]:g} um, beyond length_um = {length:g}")
     if n < MIN_POINTS:
@@ -351,6 +476,7 @@ def _from_modes(raw: RawBeat, length: float | None, notes: list) -> BeatData:
     for k in ("psi0_rad", "psi1_re_rad", "psi1_im_rad"):
         check_angles(raw.path, k, a[k])
     psi1 = a["psi1_re_rad"] + 1j * a["psi1_im_rad"]
+    check_degrees(raw.path, FourierModes(s=s, psi0=a["psi0_rad"], psi1=psi1, omega=1.0))
     if "psi1_sigma_rad" in a:
         if np.any(a["psi1_sigma_rad"] <= 0):
             fail(raw.path, "psi1_sigma_rad must be > 0")
@@ -437,6 +563,7 @@ def beat_from_kymograph(
         psi_rad=psi,
         cycles=red.cycles,
         periods_s=red.periods_s,
+        cycle_bounds_s=red.crossings_s,
         out_of_plane=(red.modes[1], red.psi1_sigma[1]) if extra else None,
         notes=(
             f"frequency from {red.cycles} cycles: scatter {red.frequency_scatter_hz:.3g} Hz, sigma {red.frequency_sigma_hz:.3g} Hz (floor {FREQUENCY_REL_FLOOR:.0%})",

@@ -16,7 +16,11 @@ come from the caller: :func:`axojax.beats.read_beat`).
 ``.csv``: header comment lines ``# name = value`` for the scalars, then a header row and
 rows of ``frame,s_um,psi_rad`` (kymograph), ``frame,x_um,y_um[,z_um]`` (centreline points,
 base to tip, in order) or ``s_um,psi0_rad,psi1_re_rad,psi1_im_rad[,psi1_sigma_rad]``
-(Fourier modes, one row per point).
+(Fourier modes, one row per point). ``frame`` is an integer frame number: a frame's time
+is ``frame / frame_rate_hz``, so frames may start anywhere and missing frames (rows
+deleted) keep the others' timing. A header key that is not one of :data:`SCALARS` is
+reported in :attr:`RawBeat.warnings` (a misspelt or mis-unitted key such as
+``length_mm`` would otherwise be ignored); a comment line without ``=`` is free text.
 
 ``.npz``: the array names above. ``.mat`` (``scipy.io.loadmat``, MATLAB v5-v7.2 files):
 the same names, or ``X``, ``Y``[, ``Z``] stored MATLAB-style as (points, frames), one
@@ -62,6 +66,15 @@ VECTORS = (
 MATLAB_XYZ = {"X": "x_um", "Y": "y_um", "Z": "z_um"}  # (points, frames) in the file
 
 
+COLUMNS = (
+    "frame,s_um,psi_rad (kymograph), frame,x_um,y_um[,z_um] (centreline) or"
+    " s_um,psi0_rad,psi1_re_rad,psi1_im_rad[,psi1_sigma_rad] (Fourier modes)"
+)
+"""The CSV header rows a beat file may have, in words (for messages)."""
+SHOWN = 5
+"""How many frames (or rows) a message about bad rows lists before '...'."""
+
+
 class BeatFileError(ValueError):
     """A beat file that cannot be read: the message is one line naming the file."""
 
@@ -79,12 +92,18 @@ class RawBeat:
         arrays: name -> array (names of the module docstring; frames first).
         scalars: name -> float, those present in the file.
         path: the file.
+        frames: (T,) the frame numbers of a CSV file's frames (times ``frames /
+            frame_rate_hz``), else ``None`` (frames ``0, 1, ...``).
+        warnings: one line each, about what the file holds that axojax does not read
+            (unknown header keys).
     """
 
     kind: str
     arrays: dict
     scalars: dict
     path: str
+    frames: np.ndarray | None = None
+    warnings: tuple = ()
 
 
 def _kind(arrays: dict, path) -> str:
@@ -114,7 +133,35 @@ def _scalar(path, name: str, value) -> float:
     return v
 
 
-def _finish(path, arrays: dict, scalars: dict) -> RawBeat:
+def listed(values, shown: int = SHOWN) -> str:
+    """``values`` as "a, b, c, ..." (the first ``shown``)."""
+    values = [str(v) for v in values]
+    return ", ".join(values[:shown]) + (", ..." if len(values) > shown else "")
+
+
+def _not_finite(path, name: str, a: np.ndarray, frames: bool):
+    """One line for ``a`` with NaN or infinite values: which frames (rows of a frames-first
+    array) or points, and how to be rid of them."""
+    if frames and a.ndim == 2:
+        bad = np.flatnonzero(~np.all(np.isfinite(a), axis=1))
+        fail(
+            path,
+            f"{name} has NaN or infinite values in {bad.size} of {a.shape[0]} frames (0-based:"
+            f" {listed(bad)}): keep a stretch of frames without them, or fill them (e.g."
+            " interpolate in time); a CSV file may instead drop those frames' rows",
+        )
+    bad = np.flatnonzero(~np.isfinite(np.ravel(a)))
+    fail(
+        path,
+        f"{name} has NaN or infinite values at {bad.size} of {a.size} entries (0-based:"
+        f" {listed(bad)}): remove or fill them",
+    )
+
+
+FRAMES_FIRST = ("psi", "x_um", "y_um", "z_um")
+
+
+def _finish(path, arrays: dict, scalars: dict, frames=None, warnings=()) -> RawBeat:
     kind = _kind(arrays, path)
     out = {}
     for k, a in arrays.items():
@@ -127,13 +174,57 @@ def _finish(path, arrays: dict, scalars: dict) -> RawBeat:
         if a.size == 0:
             fail(path, f"{k} is empty (shape {a.shape})")
         if not np.all(np.isfinite(a)):
-            fail(path, f"{k} contains NaN or infinite values")
+            _not_finite(path, k, a, k in FRAMES_FIRST)
         out[k] = a
     return RawBeat(
         kind=kind,
         arrays=out,
         scalars={k: _scalar(path, k, v) for k, v in scalars.items()},
         path=str(path),
+        frames=frames,
+        warnings=tuple(warnings),
+    )
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def _unknown_keys(meta: dict) -> list[str]:
+    """One warning line per header key axojax does not read (free-text comments, with no
+    identifier before their ``=``, are not keys)."""
+    unknown = [k for k in meta if k not in SCALARS and k.isidentifier()]
+    if not unknown:
+        return []
+    return [
+        f"unknown header key(s) {', '.join(unknown)} ignored (known: {', '.join(SCALARS)});"
+        " lengths are in um, angles in rad (e.g. '# length_um = 30')"
+    ]
+
+
+def _bad_rows(path, cols: list[str], table: np.ndarray):
+    """One line for CSV rows with NaN or infinite values: which frames (or rows), and how
+    to drop them."""
+    bad = np.flatnonzero(~np.all(np.isfinite(table), axis=1))
+    names = ", ".join(c for c in cols if not np.all(np.isfinite(table[:, cols.index(c)])))
+    if "frame" in cols:
+        frame = table[bad, cols.index("frame")]
+        if np.all(np.isfinite(frame)):
+            which = sorted({int(f) if f == int(f) else float(f) for f in frame})
+            fail(
+                path,
+                f"NaN or infinite {names} in {bad.size} rows of {len(which)} frames"
+                f" ({listed(which)}): delete those frames' rows (each frame's time is frame /"
+                " frame_rate_hz, so the others keep theirs) or fill the values",
+            )
+    fail(
+        path,
+        f"NaN or infinite {names} in {bad.size} data rows ({listed(bad + 1)}, counting"
+        " from the first row after the header): delete or fill those rows",
     )
 
 
@@ -147,10 +238,17 @@ def read_csv(path: pathlib.Path) -> RawBeat:
         if line.startswith("#") and "=" in line:
             k, v = line[1:].split("=", 1)
             meta[k.strip()] = v.strip()
+    warnings = _unknown_keys(meta)
     body = [ln for ln in lines if ln.strip() and not ln.startswith("#")]
     if not body:
         fail(path, "no data rows")
     cols = [c.strip() for c in body[0].split(",")]
+    if all(_is_number(c) for c in cols):
+        fail(
+            path,
+            f"no header row: the first row after the '# key = value' lines must name the"
+            f" columns, {COLUMNS}; found {','.join(cols)}",
+        )
     repeated = sorted({c for c in cols if cols.count(c) > 1})
     if repeated:
         fail(path, f"column(s) {', '.join(repeated)} appear more than once in the header")
@@ -160,19 +258,27 @@ def read_csv(path: pathlib.Path) -> RawBeat:
         fail(path, "non-numeric value in the data rows")
     if table.ndim != 2 or table.shape[0] == 0 or table.shape[1] != len(cols):
         fail(path, f"rows do not match the header {cols}")
+    if not np.all(np.isfinite(table)):
+        _bad_rows(path, cols, table)
     scalars = {k: meta[k] for k in SCALARS if k in meta}
     col = dict(zip(cols, table.T))
     if all(n in col for n in FOURIER):
         return _finish(
-            path, {k: col[k] for k in FOURIER + ("psi1_sigma_rad",) if k in col}, scalars
+            path,
+            {k: col[k] for k in FOURIER + ("psi1_sigma_rad",) if k in col},
+            scalars,
+            warnings=warnings,
         )
     if "frame" not in col:
         fail(
             path,
             f"missing column 'frame' (header: {','.join(cols)}); a Fourier-mode file needs {','.join(FOURIER)}",
         )
+    if np.any(col["frame"] != np.round(col["frame"])):
+        fail(path, "frame must be whole frame numbers (a frame's time is frame / frame_rate_hz)")
     frames = col["frame"].astype(int)
-    nf = len(np.unique(frames))
+    numbers = np.unique(frames)
+    nf = numbers.size
     for names in (("s_um", "psi_rad"), ("x_um", "y_um", "z_um"), ("x_um", "y_um")):
         if all(n in col for n in names):
             shape = (nf, len(frames) // max(nf, 1))
@@ -181,8 +287,8 @@ def read_csv(path: pathlib.Path) -> RawBeat:
             order = np.argsort(frames, kind="stable")
             a = {n: col[n][order].reshape(shape) for n in names}
             if "psi_rad" in a:
-                return _finish(path, {"psi": a["psi_rad"], "s_um": a["s_um"][0]}, scalars)
-            return _finish(path, a, scalars)
+                a = {"psi": a["psi_rad"], "s_um": a["s_um"][0]}
+            return _finish(path, a, scalars, frames=numbers, warnings=warnings)
     fail(
         path,
         f"missing columns: need frame,s_um,psi_rad or frame,x_um,y_um[,z_um] or {','.join(FOURIER)} (header: {','.join(cols)})",

@@ -260,6 +260,8 @@ class Reduction:
         modes: one :class:`FourierModes` per component (psi_0, psi_1 = means over cycles).
         psi1_sigma: one (S,) array per component (rad; each of Re and Im).
         psi1_scatter: the same before the floor.
+        crossings_s: (cycles + 1,) the times the beat phase crosses a multiple of 2 pi:
+            the used cycles' bounds.
     """
 
     frequency_hz: float
@@ -270,6 +272,28 @@ class Reduction:
     modes: list
     psi1_sigma: list
     psi1_scatter: list
+    crossings_s: np.ndarray | None = None
+
+
+MIN_PERIODS = 1.5
+"""Shortest record (beat periods; T frames at interval dt span T dt) a frequency is
+measured from: one whole cycle between two crossings of the beat phase fits in it
+whatever the phase it starts at."""
+
+
+def _too_few(source, t: np.ndarray, f: float, whole: int):
+    """One line: the record's length in beat periods (``f``: the best estimate so far),
+    the whole cycles found, and the frames needed."""
+    dt = float(np.mean(np.diff(t)))
+    spans = (t[-1] - t[0] + dt) * f  # T frames cover T frame intervals
+    need = int(np.ceil(MIN_PERIODS / (f * dt) - 1e-6))
+    fail(
+        source,
+        f"too few frames: {t.size} frames span {spans:.3g} beat periods (at {f:.3g} Hz) and"
+        f" hold {whole} whole cycle{'s' if whole != 1 else ''} between crossings of the beat"
+        f" phase; need at least {MIN_PERIODS:g} periods and 1 whole cycle: record at least"
+        f" {need} frames at this frame rate",
+    )
 
 
 def _spectral_peak(t: np.ndarray, x: np.ndarray) -> float:
@@ -326,7 +350,10 @@ def reduce_frames(
     sampled at times ``t_s`` (T,) (module docstring)."""
     t = np.asarray(t_s, dtype=float)
     comps = [np.asarray(c, dtype=float) for c in components]
-    too_few = f"too few frames for one beat period ({t.size} frames; need at least 1.5 periods)"
+    too_few = (
+        f"too few frames for one beat period ({t.size} frames; need at least {MIN_PERIODS:g}"
+        " periods)"
+    )
     if t.size < 6:
         fail(source, too_few)
     dt = np.diff(t)
@@ -344,13 +371,13 @@ def reduce_frames(
         if theta[-1] < theta[0]:
             theta = -theta
         tc = _crossings(t, theta)
-        if tc.size < 2:
-            fail(source, f"{too_few[:-1]}; {max(tc.size - 1, 0)} full cycles found)")
+        if tc.size < 2:  # the phase's mean rate: better than a short record's spectrum
+            _too_few(source, t, float(np.polyfit(t, theta, 1)[0]) / (2 * np.pi), 0)
         n = tc.size - 1
         period = float(np.polyfit(np.arange(tc.size), tc, 1)[0]) if n > 1 else float(tc[1] - tc[0])
         f = 1.0 / period
-    if t[-1] - t[0] < 1.5 * period:
-        fail(source, f"{too_few[:-1]}; the record is {(t[-1] - t[0]) / period:.2g} periods)")
+    if t[-1] - t[0] + float(np.mean(dt)) < MIN_PERIODS * period * (1 - 1e-9):
+        _too_few(source, t, f, n)
     periods = np.diff(tc)
     scatter = f**2 * float(periods.std(ddof=1)) / np.sqrt(n) if n > 1 else 0.0
     resolution = f**2 * float(np.mean(dt)) / np.sqrt(6.0) / n
@@ -395,4 +422,5 @@ def reduce_frames(
         modes=modes,
         psi1_sigma=sigmas,
         psi1_scatter=scatters,
+        crossings_s=tc,
     )

@@ -12,7 +12,11 @@ JSON: the keys of docs/interface.md (``file``, ``kind``, ``length_um``, ``freque
 ``frequency_sigma_hz``, ``wavelength_um``, ``static_curvature_rad_per_um``,
 ``dynamic_amplitude_rad``, ``planarity``) plus ``n_points``, ``frames``, ``cycles``,
 ``psi1_sigma_rad`` (min/median/max), ``floors``, ``excluded_base_um``,
-``published_frequency_hz`` and ``notes`` (what the reduction decided, in words).
+``published_frequency_hz``, ``notes`` (what the reduction decided, in words),
+``direction`` (``anterograde``: base to tip, ``retrograde`` or null: standing),
+``static_curvature_noise_rad_per_um`` (below it the text and the figure show the static
+curvature as 0) and ``warnings`` (what the file holds that axojax did not read: each also
+one line ``axojax: data: warning: ...`` on stderr).
 ``planarity`` is null except for 3D centrelines: ``{"singular_values_um": [s1, s2, s3],
 "ratios": {"s2_over_s1", "s3_over_s1", "s3_over_s2"}, "threshold", "planar", "treatment",
 "frame", "frame_ratio"}`` (``frame``: the beat frame's axes ``{"e1", "e2", "e3"}`` of a
@@ -28,9 +32,11 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
+import warnings
 
 from .. import _io
-from ..beats.data import read_beat
+from ..beats.data import BeatDataWarning, read_beat
 from ..beats.reduction import PLANARITY_THRESHOLD
 from ..waveform.measures import wavelength_text
 from . import common
@@ -134,13 +140,22 @@ def run(args: argparse.Namespace) -> dict:
     if args.cell is not None and args.cell < 0:
         raise common.CLIError(f"--cell: must be >= 0, got {args.cell}")
     try:
-        beat = read_beat(
-            args.file,
-            length_um=args.length_um,
-            frame_rate_hz=args.frame_rate_hz,
-            cell=args.cell,
-            planarity_threshold=args.planarity_threshold,
-        )
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", BeatDataWarning)
+            try:
+                beat = read_beat(
+                    args.file,
+                    length_um=args.length_um,
+                    frame_rate_hz=args.frame_rate_hz,
+                    cell=args.cell,
+                    planarity_threshold=args.planarity_threshold,
+                )
+            finally:  # before any error: a warning may name its cause (length_mm = ...)
+                for w in caught:
+                    if issubclass(w.category, BeatDataWarning):
+                        print(f"axojax: data: warning: {w.message}", file=sys.stderr)
+                    else:
+                        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
         if args.exclude_base_um is not None:
             beat = beat.exclude_base(args.exclude_base_um)
     except ValueError as err:
@@ -198,6 +213,21 @@ def _component_lines(components: list[dict]) -> list[str]:
     ]
 
 
+def _static_curvature(doc: dict) -> str:
+    """The static curvature, or 0 where it is below its noise (the data's precision)."""
+    value, noise = doc["static_curvature_rad_per_um"], doc.get("static_curvature_noise_rad_per_um")
+    if noise is not None and value is not None and abs(value) < noise:
+        return f"0 rad/um (within its noise, {noise:.2g} rad/um)"
+    return _num(value, ".4g", "rad/um")
+
+
+DIRECTIONS = {
+    "anterograde": "anterograde (the wave runs base to tip)",
+    "retrograde": "retrograde (the wave runs tip to base)",
+    None: "none (a standing wave)",
+}
+
+
 def render(doc: dict) -> str:
     if "datasets" in doc:
         return _render_list(doc)
@@ -208,12 +238,18 @@ def render(doc: dict) -> str:
     )
     lines = [
         f"{doc['file']}: {doc['kind']}, {doc['n_points']} points"
-        + (f", {doc['frames']} frames, {doc['cycles']} cycles" if doc["frames"] else ""),
+        + (
+            f", {doc['frames']} frames, {doc['cycles']} whole"
+            f" cycle{'s' if doc['cycles'] != 1 else ''} used"
+            if doc["frames"]
+            else ""
+        ),
         f"  length            {_num(doc['length_um'], '.4g', 'um')}",
         f"  frequency         {freq}",
         f"  wavelength        {wavelength_text(doc['wavelength_um'])}"
         + (" (in-plane component)" if len(doc.get("components", [])) > 1 else ""),
-        f"  static curvature  {_num(doc['static_curvature_rad_per_um'], '.4g', 'rad/um')}",
+        f"  direction         {DIRECTIONS.get(doc.get('direction'), doc.get('direction'))}",
+        f"  static curvature  {_static_curvature(doc)}",
         f"  dynamic amplitude {_num(doc['dynamic_amplitude_rad'], '.4g', 'rad')}",
         *_component_lines(doc.get("components", [])),
         f"  psi_1 sigma       {doc['psi1_sigma_rad']['min']:.2g} .. {doc['psi1_sigma_rad']['max']:.2g} rad (floor {doc['floors']['psi1_rad']:g})",
