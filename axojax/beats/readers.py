@@ -287,6 +287,8 @@ def read_csv(path: pathlib.Path) -> RawBeat:
             order = np.argsort(frames, kind="stable")
             a = {n: col[n][order].reshape(shape) for n in names}
             if "psi_rad" in a:
+                if np.any(np.abs(a["s_um"] - a["s_um"][:1]) > 1e-9 * np.abs(a["s_um"]).max()):
+                    fail(path, "every frame must have the same s_um values, in the same order")
                 a = {"psi": a["psi_rad"], "s_um": a["s_um"][0]}
             return _finish(path, a, scalars, frames=numbers, warnings=warnings)
     fail(
