@@ -3,6 +3,7 @@ import pathlib
 import shutil
 import tempfile
 
+import jax
 import numpy as np
 import pytest
 import scipy.linalg
@@ -29,6 +30,25 @@ if not os.environ.get(
     os.environ["XLA_FLAGS"] = (os.environ.get("XLA_FLAGS", "") + " " + SUITE_XLA_FLAGS).strip()
 
 _OLD_CACHE_ENV = pytest.StashKey["str | None"]()
+
+# pytest.approx of a jax array depends on how each pytest release inspects it (9.2.0 reads
+# `.flat`, which jax arrays refuse): tests hand it plain floats or numpy arrays only. This
+# guard makes a jax array fail the same way under every pytest release, with the fix named.
+_pytest_approx = pytest.approx
+
+
+def _approx_of_plain_numbers(expected, *args, **kwargs):
+    if isinstance(expected, jax.Array) or (
+        isinstance(expected, (list, tuple)) and any(isinstance(e, jax.Array) for e in expected)
+    ):
+        raise TypeError(
+            "pytest.approx of a jax array: pass float(x) or np.asarray(x) (its handling "
+            "changes between pytest releases)"
+        )
+    return _pytest_approx(expected, *args, **kwargs)
+
+
+pytest.approx = _approx_of_plain_numbers
 
 
 def scipy_dominant(model, params):
