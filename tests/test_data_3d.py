@@ -135,12 +135,12 @@ def test_planar_beats_reduce_as_before(tmp_path):
 
 def independent_sperm_reduction() -> dict:
     """The bundled sperm re-reduced in plain numpy, from the definitions (module docstring
-    of axojax.beats.reduction: the beat frame; docs/model.md: the |psi_1|^2-weighted mean
-    phase gradient), with different estimators: the beat frequency from a 16x zero-padded
+    of axojax.beats.reduction: the beat frame; docs/model.md: the least-squares slope of
+    psi_1's unwrapped phase), with different estimators: the beat frequency from a 16x zero-padded
     FFT peak, psi_1 = the Fourier coefficient at that frequency over a whole number of
     cycles (not a per-cycle fit on the beat phase), angles interpolated at each frame's
-    arc-length fraction (held, not extrapolated, at the ends), the phase gradient by
-    np.gradient of the unwrapped phase and the trapezoidal rule."""
+    arc-length fraction (held, not extrapolated, at the ends), the phase slope by numpy's
+    unwrap and an unweighted polyfit."""
     raw = np.load(ax.datasets.path("human_sperm"))
     pts = np.stack([raw["x_um"], raw["y_um"], raw["z_um"]], -1).astype(float)
     fps = float(raw["frame_rate_hz"])
@@ -173,8 +173,7 @@ def independent_sperm_reduction() -> dict:
     out = {"frequency_hz": f}
     for name, a in angles.items():
         c = 2 * np.mean(a[:n] * np.exp(-2j * np.pi * f * t)[:, None], axis=0)
-        w = np.abs(c) ** 2
-        k = np.trapezoid(w * np.gradient(np.unwrap(np.angle(c)), s), s) / np.trapezoid(w, s)
+        k = np.polyfit(s, np.unwrap(np.angle(c)), 1)[0]
         out[name] = 2 * np.pi / abs(k)
     return out
 

@@ -170,29 +170,26 @@ def test_inferred_json(capsys):
 
 
 def test_inferred_fig12_gives_the_papers_beat():
-    """The limit cycle at the inferred parameters has fig. 12b's frequency, dynamic
-    amplitude and static curvature (paper, section 3.7.1: 17 Hz, 0.71 rad, -0.044 rad/um)
-    within 5 %, is stable and planar. Its wavelength was fitted to 17 um with the measure
-    axojax used before 2026-12 (2 pi over the least-squares slope of psi_1's unwrapped
-    phase), still 17 um within 5 % here (numpy); axojax's one wavelength (the
-    |psi_1|^2-weighted mean phase gradient) is longer for this beat, equal to numpy's on a
-    fine sampling of psi_1, and its row says why it differs."""
+    """The limit cycle at the inferred parameters has fig. 12b's wavelength, frequency,
+    dynamic amplitude and static curvature (paper, section 3.7.1: 17 um, 17 Hz, 0.71 rad,
+    -0.044 rad/um) within 5 %, is stable and planar. The wavelength is the least-squares
+    slope of psi_1's unwrapped phase (Geyer et al.'s approach, the paper's): equal to numpy's
+    unwrap and polyfit on a fine sampling of the orbit's psi_1."""
     m, cyc = paper.inferred.fig12_measures()
     claims = [c for c in paper.CLAIMS if c.kind == "inferred" and c.group == "fig. 12"]
     rows = {r.claim.quantity: r for r in paper.inferred_rows(claims, measured=(m, cyc))}
     assert len(rows) == 4
-    for q in ("frequency_hz", "dynamic_amplitude_rad", "static_curvature_rad_per_um"):
+    for q in (
+        "wavelength_um",
+        "frequency_hz",
+        "dynamic_amplitude_rad",
+        "static_curvature_rad_per_um",
+    ):
         assert abs(rows[q].difference) < 0.05, (q, rows[q].value)
+        assert not rows[q].differs, q
     assert bool(cyc.stable) and float(m.out_of_plane) < 0.05
     assert float(m.static_curvature_rad_per_um) == pytest.approx(-0.044, rel=0.05)
-    s, psi1 = np.asarray(m.s_um)[1:], np.asarray(m.psi1)[1:]
-    slope = np.polyfit(s, np.unwrap(np.angle(psi1)), 1)[0]
-    assert 2 * np.pi / abs(slope) == pytest.approx(17.0, rel=0.05)
-    fine = np.linspace(0.0, 12.0, 2001)
+    fine = np.linspace(0.0, 12.0, 4001)
     p1 = np.asarray(ax.orbits.cycle_measures(cyc, fine).psi1)
-    k = np.trapezoid(np.imag(np.conj(p1) * np.gradient(p1, fine)), fine) / np.trapezoid(
-        np.abs(p1) ** 2, fine
-    )
-    wl = rows["wavelength_um"]
-    assert wl.value == pytest.approx(2 * np.pi / abs(k), rel=1e-4)
-    assert wl.differs and paper.inferred.WAVELENGTH_NOTE in wl.note
+    slope = np.polyfit(fine[1:], np.unwrap(np.angle(p1[1:])), 1)[0]  # psi_1(0) = 0: clamped
+    assert rows["wavelength_um"].value == pytest.approx(2 * np.pi / abs(slope), rel=1e-3)

@@ -73,6 +73,8 @@ def test_mode(two):
         "velocity_um_per_s",
         "direction",
         "out_of_plane_ratio",
+        "amplitude_dip",
+        "wavelength_sensitive",
     }
     tau = ax.Units().tau_s
     assert doc["frequency_hz"] == pytest.approx(

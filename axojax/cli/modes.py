@@ -9,7 +9,7 @@ import numpy as np
 
 from ..eigen.mode import DEFAULT_SOLVER, dominant_mode, spectrum
 from ..units import Units
-from ..waveform.measures import wavelength_text
+from ..waveform.measures import sensitive_note, wavelength_text
 from . import common
 
 METRICS = ("growth_rate_per_s", "frequency_hz", "wavelength_um")
@@ -104,7 +104,8 @@ def render(doc: dict) -> str:
         f"  eigenvalue      {d['eigenvalue'][0]:.6f} {d['eigenvalue'][1]:+.6f}i",
         f"  growth rate     {fmt(d['growth_rate_per_s'], '1/s')}",
         f"  frequency       {fmt(d['frequency_hz'], 'Hz')}",
-        f"  wavelength      {wavelength_text(d['wavelength_um'])}",
+        f"  wavelength      {wavelength_text(d['wavelength_um'])}"
+        + sensitive_note(d.get("amplitude_dip") if d["wavelength_um"] is not None else None),
         f"  velocity        {fmt(d['velocity_um_per_s'], 'um/s')}",
         f"  direction       {d['direction'] or '-'}",
         f"  out-of-plane    {fmt(d['out_of_plane_ratio'], '', '.3g')}",
@@ -117,7 +118,8 @@ def render(doc: dict) -> str:
             f"  eigenvalue      {b['eigenvalue'][0]:.6f} {b['eigenvalue'][1]:+.6f}i",
             f"  growth rate     {fmt(b['growth_rate_per_s'], '1/s')}",
             f"  frequency       {fmt(b['frequency_hz'], 'Hz')}",
-            f"  wavelength      {wavelength_text(b['wavelength_um'])}",
+            f"  wavelength      {wavelength_text(b['wavelength_um'])}"
+            + sensitive_note(b.get("amplitude_dip") if b["wavelength_um"] is not None else None),
             f"  direction       {b['direction'] or '-'}",
         ]
         if b["active_friction"]:

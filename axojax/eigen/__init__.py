@@ -6,8 +6,10 @@ from .metrics import (
     beat_plane,
     displacement_wavenumber,
     mode_shapes,
+    tangent_dip,
     tangent_wavenumber,
     wavenumber,
+    weighted_wavenumber,
 )
 from .mode import (
     CLASSES,
@@ -60,6 +62,8 @@ __all__ = [
     "nearest_mode",
     "solver_from_name",
     "spectrum",
+    "tangent_dip",
     "tangent_wavenumber",
     "wavenumber",
+    "weighted_wavenumber",
 ]

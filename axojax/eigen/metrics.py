@@ -7,18 +7,24 @@ clamped, the basal sliding left out) and interpolated with the Hermite shape fun
 the beat direction is the principal axis of ``R = Re int u u^H dx`` (2 x 2) and the
 out-of-plane ratio is ``sqrt(smaller / larger eigenvalue of R)``. The mode's tangent
 angle along the beat direction is psi_1 = u'(x), and its wavenumber is the one of every
-beat (:mod:`axojax.waveform.measures`)::
+beat (:mod:`axojax.waveform.measures`), the least-squares slope of psi_1's unwrapped
+phase over the length, in its smooth form::
 
-    k = int Im(conj(psi_1) psi_1') dx / int |psi_1|^2 dx,   psi_1 = u', psi_1' = u''
+    k = int x (1 - x) phi'(x) dx / int x (1 - x) dx,   phi' = Im(conj(psi_1) psi_1') / |psi_1|^2
+
+with psi_1 = u', psi_1' = u''.
 
 wavelength ``2 pi / |k|`` (units of L); propagation is anterograde (base to tip) when
 ``k * sign(Im lambda) < 0``. Integrals use Gauss-Legendre points on the mesh (at least
-200 points along x, exact for these piecewise polynomials: u' is quadratic and u''
-linear on each element, with at least four points per element). Every metric is
+200 points along x, with at least four points per element: exact for the polynomial
+integrands, and for phi', a rational function smooth wherever psi_1 != 0, accurate to
+1e-4 relative at 10 elements, tests/test_waveform_measures.py). Every metric is
 invariant to the complex scale of v, so its derivative through
 :func:`axojax.eigen.dominant.dominant_eigenpair` is exact. The same formula applied to
 the displacement u instead of its slope (:func:`displacement_wavenumber`) was axojax's
-wavenumber until 2026-12; it is kept under that name only.
+wavenumber until 2026-12, and the |psi_1|^2-weighted mean phase gradient
+(:func:`weighted_wavenumber`) from 2026-12-03 to 2026-12-06; both are kept under those
+names only, never as a wavelength.
 """
 
 from __future__ import annotations
@@ -32,7 +38,7 @@ from jaxtyping import Array, Complex, Float
 
 from ..fem import make_mesh
 from ..models.section import Model
-from ..waveform.measures import along, phase_gradient
+from ..waveform.measures import along, amplitude_dip, phase_slope, weighted_phase_gradient
 
 MIN_POINTS = 200
 
@@ -109,31 +115,53 @@ def beat_plane(
     return along(u, angle), along(du, angle), angle, ratio
 
 
-def tangent_wavenumber(
-    model: Model, v: Complex[Array, " n"], angle: Float[Array, ""]
-) -> Float[Array, ""]:
-    """Mean phase gradient k (rad per L) of psi_1 = u', the slope of the centreline of the
-    complex state ``v`` (an eigenvector, or an orbit's first harmonic) along the beat
-    direction ``angle``: :func:`axojax.waveform.measures.phase_gradient` with the exact
-    psi_1 and psi_1' = u'' at the Gauss points."""
-    _, w, _, dphi, ddphi = _quadrature(model)
+def _tangent(model: Model, v: Complex[Array, " n"], angle: Float[Array, ""]):
+    """(x, w, psi_1, psi_1') of the state ``v`` along ``angle`` at the Gauss points."""
+    x, w, _, dphi, ddphi = _quadrature(model)
     q = _centreline(model, v)
     psi = along(q @ jnp.asarray(dphi).T, angle)
     dpsi = along(q @ jnp.asarray(ddphi).T, angle)
-    return phase_gradient(psi, dpsi, jnp.asarray(w))
+    return jnp.asarray(x), jnp.asarray(w), psi, dpsi
+
+
+def tangent_wavenumber(
+    model: Model, v: Complex[Array, " n"], angle: Float[Array, ""]
+) -> Float[Array, ""]:
+    """Phase slope k (rad per L) of psi_1 = u', the slope of the centreline of the complex
+    state ``v`` (an eigenvector, or an orbit's first harmonic) along the beat direction
+    ``angle``: :func:`axojax.waveform.measures.phase_slope` with the exact psi_1 and
+    psi_1' = u'' at the Gauss points."""
+    x, w, psi, dpsi = _tangent(model, v, angle)
+    return phase_slope(x, psi, dpsi, w)
+
+
+def tangent_dip(model: Model, v: Complex[Array, " n"], angle: Float[Array, ""]) -> Float[Array, ""]:
+    """:func:`axojax.waveform.measures.amplitude_dip` of psi_1 = u' at the Gauss points:
+    below :data:`axojax.waveform.measures.SENSITIVE_DIP` the wavelength is sensitive."""
+    x, _, psi, _ = _tangent(model, v, angle)
+    return amplitude_dip(x, psi)
 
 
 def wavenumber(model: Model, v: Complex[Array, " n"]) -> Float[Array, ""]:
-    """Mean phase gradient k (rad per L) of the mode's tangent angle psi_1 = u' along its
-    beat direction (module docstring): what every axojax wavelength is made of."""
+    """Phase slope k (rad per L) of the mode's tangent angle psi_1 = u' along its beat
+    direction (module docstring): what every axojax wavelength is made of."""
     _, _, angle, _ = beat_plane(model, v)
     return tangent_wavenumber(model, v, angle)
 
 
+def weighted_wavenumber(model: Model, v: Complex[Array, " n"]) -> Float[Array, ""]:
+    """Retired: the |psi_1|^2-weighted mean phase gradient of psi_1 = u' (rad per L), the
+    wavenumber from 2026-12-03 to 2026-12-06. Kept for comparison only; never a
+    wavelength (:func:`wavenumber` is)."""
+    _, _, angle, _ = beat_plane(model, v)
+    _, w, psi, dpsi = _tangent(model, v, angle)
+    return weighted_phase_gradient(psi, dpsi, w)
+
+
 def displacement_wavenumber(model: Model, v: Complex[Array, " n"]) -> Float[Array, ""]:
-    """The same mean phase gradient taken of the displacement u instead of its slope
-    (rad per L): axojax's wavenumber until 2026-12, kept for comparison only. Never a
-    wavelength: axojax's wavelengths are the tangent angle's (:func:`wavenumber`)."""
+    """Retired: the weighted mean phase gradient taken of the displacement u instead of
+    its slope (rad per L), axojax's wavenumber until 2026-12. Kept for comparison only;
+    never a wavelength (:func:`wavenumber` is)."""
     _, w, _, _, _ = _quadrature(model)
     u, du, _, _ = beat_plane(model, v)
-    return phase_gradient(u, du, jnp.asarray(w))
+    return weighted_phase_gradient(u, du, jnp.asarray(w))

@@ -18,7 +18,7 @@ from ..units import Units
 from ..waveform import measures
 from . import deflation, pencil
 from .dominant import dominant_eigenpair, normalise
-from .metrics import beat_plane, tangent_wavenumber
+from .metrics import beat_plane, tangent_dip, tangent_wavenumber
 from .solvers import AbstractEigenSolver, Auto, Dense
 
 STABLE, FLUTTER, DIVERGENCE = 0, 1, 2
@@ -41,12 +41,16 @@ class Mode(eqx.Module):
         eigenvector: (n,) unit eigenvector (see :mod:`axojax.eigen.dominant` for gauge).
         growth_rate: Re lambda (1/tau).
         angular_frequency: |Im lambda| (rad/tau).
-        wavenumber: mean phase gradient k of the tangent angle psi_1 = u' along the beat
-            direction (rad/L; :mod:`axojax.waveform.measures`).
+        wavenumber: phase slope k of the tangent angle psi_1 = u' along the beat
+            direction: the least-squares slope of its unwrapped phase over the length
+            (rad/L; :mod:`axojax.waveform.measures`).
         wavelength: 2 pi / |k| (L); inf for a standing wave.
         velocity: wavelength * |Im lambda| / (2 pi) (L/tau).
         direction: +1 anterograde (base to tip), -1 retrograde, 0 not oscillating.
         out_of_plane_ratio: sqrt(minor/major) of the centreline motion (0 in 2D).
+        amplitude_dip: min |psi_1| / max |psi_1| over the middle of the length; below
+            :data:`axojax.waveform.measures.SENSITIVE_DIP` psi_1 nearly vanishes inside
+            the flagellum and the wavelength is sensitive there.
         beat_angle: beat direction, radians from y towards z.
         classification: 0 stable, 1 flutter, 2 divergence.
         certified: True when the solver certified the eigenvalue as the rightmost
@@ -66,6 +70,7 @@ class Mode(eqx.Module):
     velocity: Float[Array, ""]
     direction: Int[Array, ""]
     out_of_plane_ratio: Float[Array, ""]
+    amplitude_dip: Float[Array, ""]
     beat_angle: Float[Array, ""]
     classification: Int[Array, ""]
     certified: Array = True
@@ -109,6 +114,8 @@ class Mode(eqx.Module):
                 "velocity_um_per_s": num(self.velocity_um_per_s(units)) if oscillating else None,
                 "direction": {1: "anterograde", -1: "retrograde"}.get(int(self.direction)),
                 "out_of_plane_ratio": num(self.out_of_plane_ratio),
+                "amplitude_dip": num(self.amplitude_dip),
+                "wavelength_sensitive": oscillating and measures.is_sensitive(self.amplitude_dip),
             }
         )
 
@@ -134,6 +141,7 @@ def mode_from_eigenpair(
         velocity=wavelength * omega / (2 * jnp.pi),
         direction=direction,
         out_of_plane_ratio=ratio,
+        amplitude_dip=tangent_dip(model, v, angle),
         beat_angle=angle,
         classification=cls,
         certified=jnp.asarray(certified) > 0.5,

@@ -34,7 +34,8 @@ class LimitCycle(eqx.Module):
         omega: angular frequency (rad per tau).
         amplitude: half peak-to-peak tip displacement along the beat direction (L).
         beat_angle: beat direction (radians from y towards z; 0 in planar models).
-        wavenumber: mean phase gradient of psi_1, the first harmonic of the tangent angle
+        wavenumber: phase slope of psi_1 (least-squares, over the length), the first
+            harmonic of the tangent angle
             along the beat direction (rad per L; negative: anterograde; docs/model.md,
             :mod:`axojax.waveform.measures`).
         floquet: (k,) multipliers of largest modulus, largest first (NaN-padded); one is

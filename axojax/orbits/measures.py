@@ -7,7 +7,7 @@ simulate``; Geyer et al.'s measures, which the paper uses in section 3.7.1):
 
 - static curvature: least-squares slope of psi_0(s) (rad/um);
 - dynamic amplitude: arc-length mean of |psi_1(s)| (rad);
-- wavelength: 2 pi / |k|, k the |psi_1|^2-weighted mean phase gradient of psi_1(s) (um);
+- wavelength: 2 pi / |k|, k the least-squares slope of psi_1(s)'s unwrapped phase (um);
 
 and here also the tip amplitude (half peak-to-peak along the beat direction, um), the
 frequency (Hz) and the out-of-plane measure (minor / major axis of the tip trace).

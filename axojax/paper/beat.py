@@ -9,8 +9,8 @@ table's setting and :data:`FAST` a coarse, short one for trying things out.
 
 The beat's wavelength is axojax's one wavelength (docs/model.md, "Mode metrics";
 :mod:`axojax.waveform.measures`): psi_1(s) the first Fourier mode of the simulated
-tangent angle along the beat direction, k = int Im(conj(psi_1) psi_1') ds / int |psi_1|^2 ds
-(midpoint rule on the saved points), wavelength 2 pi / |k|.
+tangent angle along the beat direction, k the least-squares slope of its unwrapped phase
+over the saved points (trapezoidal weights), wavelength 2 pi / |k|.
 """
 
 from __future__ import annotations

@@ -18,13 +18,12 @@ of the curvature: group 0 (the stronger, R : 1) sits on the +y side in the seven
 and bends the axoneme to negative tangent angles in the y frame, the paper's sign; the
 mirror image (``rotation_deg=180``) has +0.044.
 
-The set was fitted (2026-12) when axojax measured a beat's wavelength as 2 pi over the
-least-squares slope of psi_1's unwrapped phase: 17.06 um at this set. axojax's one
-wavelength since then, 2 pi / |k| with k the |psi_1|^2-weighted mean phase gradient
-(docs/model.md, "Mode metrics"), gives about 50 um for the same orbit: its phase turns
-3.4 rad in the middle of the cilium, where |psi_1| is smallest, and hardly at all over
-the distal half, where |psi_1| is largest. The other three numbers are unchanged (within
-0.3 %). The set is not refitted to the new measure (:data:`WAVELENGTH_NOTE`).
+The set was fitted (2026-12-03) with the wavelength as the least-squares slope of
+psi_1's unwrapped phase, Geyer et al.'s approach, which the paper names and which is
+axojax's one wavelength (docs/model.md, "Mode metrics", since 2026-12-06): 16.91 um at
+this set (its exact form at the mesh's Gauss points), with the other three numbers within
+0.3 % of the paper's. (From 2026-12-03 to 2026-12-06 axojax printed the |psi_1|^2-weighted mean phase
+gradient instead, about 50 um for this orbit; that measure is retired.)
 """
 
 from __future__ import annotations
@@ -105,14 +104,6 @@ FIG12_TARGETS = {
 }
 """Figure 12b's beat (paper, section 3.7.1)."""
 
-WAVELENGTH_NOTE = (
-    "the set was fitted to 17 um with the wavelength axojax used before 2026-12 (2 pi over the least-squares slope "
-    "of psi_1's unwrapped phase: 17.06 um here); the one wavelength of axojax modes, orbit, simulate, data and fits, "
-    "2 pi / |k| with k the |psi_1|^2-weighted mean phase gradient, is longer for this beat: its phase turns in the "
-    "middle, where |psi_1| is small, and hardly at all over the distal half, where |psi_1| is large; not refitted"
-)
-"""Why the inferred fig. 12 wavelength row differs from the paper (module docstring)."""
-
 INFERRED: dict[str, Inferred] = {
     "fig7": Inferred(
         model=INFERRED_FIG7["model"],
@@ -136,8 +127,11 @@ INFERRED: dict[str, Inferred] = {
         imbalance_kind="moment",
         cubic=0.6555247787179226,
         harmonics=6,
-        how="limit cycle fitted to fig. 12b's wavelength, frequency, dynamic amplitude and static curvature "
-        "(Levenberg-Marquardt on relative errors over log p, a0, cubic, cl, kl; ks fixed at 1e6)",
+        how="limit cycle (6 harmonics) fitted to fig. 12b's wavelength (17 um: the least-squares slope of psi_1's "
+        "unwrapped phase, Geyer et al.'s approach and axojax's one wavelength), frequency (17 Hz), dynamic "
+        "amplitude (0.71 rad) and static curvature (-0.044 rad/um): Levenberg-Marquardt (optimistix) on the four "
+        "relative errors over log p, a0, cubic, cl, kl (ks fixed at 1e6), each orbit warm-started from the last "
+        "(notebooks/gallery_fig12_asymmetric_beat.ipynb, 2026-12-03)",
     ),
 }
 """The inferred sets, keyed by figure (``"fig7"``: :mod:`.inferred_fig7`; ``"fig12"``; another figure adds its own key)."""
@@ -203,8 +197,6 @@ def inferred_rows(claims: Sequence[Claim], units: Units = Units(), measured=None
         value = float(getattr(m, c.quantity))
         digits = DIGITS[c.quantity]
         note = context
-        if c.quantity == "wavelength_um":
-            note += "; " + WAVELENGTH_NOTE
         rows.append(
             Row(
                 c,

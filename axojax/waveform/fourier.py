@@ -98,8 +98,9 @@ class FourierModes:
 
     @property
     def wavenumber(self) -> float:
-        """|psi_1|^2-weighted mean phase gradient of psi_1(s) (rad per unit of s; midpoint
-        rule on the samples; negative: travelling towards larger s)."""
+        """Least-squares slope of psi_1(s)'s unwrapped phase (rad per unit of s; the
+        samples weighted by the trapezoidal rule; negative: travelling towards larger s;
+        :func:`axojax.waveform.measures.sampled_wavenumber`)."""
         return float(measures.sampled_wavenumber(self.s, self.psi1))
 
     @property

@@ -8,12 +8,22 @@ A beat's tangent angle along the beat direction is decomposed over whole periods
 (for a linear mode ``v exp(lambda t)``: psi_1 = u'(x), the slope of the mean centreline
 in the beat plane, with omega = |Im lambda|). Its measures:
 
-- wavenumber ``k = int Im(conj(psi_1) psi_1') ds / int |psi_1|^2 ds``: the
-  |psi_1|^2-weighted mean phase gradient (rad per unit of s; smooth, no unwrapping,
-  differentiable). :func:`phase_gradient` is the one formula; :func:`sampled_wavenumber`
-  feeds it sampled psi_1 (data, a simulation, an orbit at chosen points) by the midpoint
-  rule, and a model feeds it psi_1 and psi_1' at its quadrature points
-  (:func:`axojax.eigen.metrics.tangent_wavenumber`);
+- wavenumber ``k``: the **least-squares slope over the arc length of the unwrapped phase
+  phi(s) of psi_1** (uniform weight on [0, L]; Geyer et al. 2016, the paper's fig. 12;
+  docs/model.md section 5), rad per unit of s. Two discretisations of the one definition:
+  :func:`phase_slope` takes psi_1 and psi_1' at quadrature points (the smooth form
+  ``k = int s (L - s) phi'(s) ds / int s (L - s) ds``, ``phi' = Im(conj(psi_1) psi_1') /
+  |psi_1|^2``, by parts: no unwrapping, differentiable wherever psi_1 != 0; a model's
+  mode and orbit, :func:`axojax.eigen.metrics.tangent_wavenumber`), and
+  :func:`sampled_wavenumber` takes psi_1 sampled at arc lengths (data, a simulation:
+  unwrap by summing ``arg(conj(psi_j) psi_{j+1})``, then the least-squares line with the
+  trapezoidal rule's weights, so that any spacing approximates the same integral).
+  psi_1 at an end is taken by continuity (a clamped base has psi_1(0) = 0). Where psi_1
+  (nearly) vanishes inside the flagellum its phase turns fast there and the measure
+  counts that turn: the wavelength is then sensitive to small changes of the beat;
+  :func:`amplitude_dip` (min |psi_1| / max |psi_1| over the middle of the length) below
+  :data:`SENSITIVE_DIP` flags it. The retired |psi_1|^2-weighted mean phase gradient is
+  :func:`weighted_phase_gradient` (only under that name, never a "wavelength");
 - wavelength ``2 pi / |k|`` (:func:`wavelength`); a **standing wave** (the phase turns by
   less than :data:`STANDING_PHASE_RAD` along the whole beat) has wavelength ``inf`` in
   arrays, printed ``none`` in text and ``null`` in JSON (:func:`finite_or_none`);
@@ -38,7 +48,7 @@ import numpy as np
 from jaxtyping import ArrayLike, Complex, Float, Inexact
 
 STANDING_PHASE_RAD = 1e-9
-"""A beat whose mean phase gradient turns its phase by less than this along the whole
+"""A beat whose phase slope turns its phase by less than this along the whole
 length (``|k| * length``) is a standing wave: no wavelength, no direction."""
 
 
@@ -57,12 +67,38 @@ def along(v: Inexact[ArrayLike, "..."], angle: Float[ArrayLike, ""], axis: int =
     return xp.cos(angle) * v[..., 0] + xp.sin(angle) * v[..., 1]
 
 
-def phase_gradient(
+def phase_slope(
+    s: Float[ArrayLike, " m"],
+    psi: Inexact[ArrayLike, " m"],
+    dpsi: Inexact[ArrayLike, " m"],
+    weights: Float[ArrayLike, " m"],
+    length: float = 1.0,
+) -> Float[ArrayLike, ""]:
+    """Least-squares slope k of the unwrapped phase of psi over [0, ``length``] (rad per
+    unit of s), by quadrature of its smooth form::
+
+        k = sum w s (L - s) phi' / sum w s (L - s),   phi' = Im(conj(psi) dpsi) / |psi|^2
+
+    with ``psi`` and its s-derivative ``dpsi`` at quadrature points ``s`` (measured from
+    the base) with weights ``w``. Points where ``psi = 0`` contribute no phase turn (an
+    exact zero has no phase; at an end the phase is taken by continuity); 0 for
+    ``psi = 0`` everywhere. Differentiable wherever psi != 0."""
+    xp = _xp(s, psi, dpsi, weights)
+    a2 = xp.abs(psi) ** 2
+    nz = a2 > 0
+    dphi = xp.where(nz, xp.imag(xp.conj(psi) * dpsi) / xp.where(nz, a2, 1.0), 0.0)
+    g = weights * s * (length - s)
+    return xp.sum(g * dphi) / xp.sum(g)
+
+
+def weighted_phase_gradient(
     psi: Inexact[ArrayLike, " m"], dpsi: Inexact[ArrayLike, " m"], weights: Float[ArrayLike, " m"]
 ) -> Float[ArrayLike, ""]:
-    """``k = sum w Im(conj(psi) dpsi) / sum w |psi|^2``: the quadrature, with points where
-    ``psi`` and its s-derivative ``dpsi`` are known and weights ``w``, of the mean phase
-    gradient (rad per unit of s). 0 for ``psi = 0`` everywhere."""
+    """Retired (2026-12-03 to 2026-12-06): ``k = sum w Im(conj(psi) dpsi) / sum w |psi|^2``,
+    the |psi|^2-weighted mean phase gradient. It discounts the phase that turns where the
+    amplitude is small (it called the paper's 17 um fig. 12 beat 50 um), so it is never a
+    wavelength; kept for comparison only (:func:`axojax.eigen.metrics.weighted_wavenumber`).
+    0 for ``psi = 0`` everywhere."""
     xp = _xp(psi, dpsi, weights)
     num = xp.sum(weights * xp.imag(xp.conj(psi) * dpsi))
     den = xp.sum(weights * xp.abs(psi) ** 2)
@@ -70,18 +106,85 @@ def phase_gradient(
     return xp.where(ok, num / xp.where(ok, den, 1.0), 0.0)
 
 
+def unwrapped_phase(psi1: Complex[ArrayLike, " S"]) -> Float[ArrayLike, " S"]:
+    """Phase of samples psi_1 unwrapped by summing ``arg(conj(psi_j) psi_{j+1})`` from
+    ``arg(psi_0)`` (rad). A sample that is exactly 0 (a clamped base) has no phase: it
+    takes its next neighbour's (its previous one's at the far end), so it adds no turn;
+    :func:`sampled_wavenumber` gives it no weight."""
+    xp = _xp(psi1)
+    after = xp.concatenate([psi1[1:], psi1[-2:-1]])
+    psi1 = xp.where(psi1 == 0, after, psi1)
+    step = _angle(xp, xp.conj(psi1[:-1]) * psi1[1:])
+    start = _angle(xp, psi1[:1])
+    return xp.concatenate([start, start + xp.cumsum(step)])
+
+
+def _angle(xp, z):
+    """arg z, 0 where z = 0, with a finite derivative there (no 0/0)."""
+    nz = z != 0
+    return xp.where(nz, xp.angle(xp.where(nz, z, 1.0)), 0.0)
+
+
+def trapezoid_weights(s: Float[ArrayLike, " S"]) -> Float[ArrayLike, " S"]:
+    """Weights of the trapezoidal rule on samples at ``s`` (any spacing; units of s)."""
+    xp = _xp(s)
+    ds = xp.diff(s)
+    zero = xp.zeros_like(s[:1])
+    return xp.concatenate([ds, zero]) / 2 + xp.concatenate([zero, ds]) / 2
+
+
 def sampled_wavenumber(
     s: Float[ArrayLike, " S"], psi1: Complex[ArrayLike, " S"]
 ) -> Float[ArrayLike, ""]:
-    """Mean phase gradient k of psi_1 sampled at increasing arc lengths ``s`` (any
-    spacing), by the midpoint rule: psi_1 and psi_1' at the middle of each interval are
-    the mean and the difference quotient of its ends, so
-    ``k = sum_j Im(conj(psi_j) psi_{j+1}) / sum_j |psi_j + psi_{j+1}|^2 / 4 (s_{j+1} - s_j)``.
-    Rad per unit of s."""
+    """Least-squares slope k of the unwrapped phase of psi_1 sampled at increasing arc
+    lengths ``s`` (rad per unit of s): :func:`unwrapped_phase`, then the line fitted with
+    the trapezoidal rule's weights (:func:`trapezoid_weights`), the discrete form of the
+    uniform weight on [s_0, s_end] whatever the spacing (for evenly spaced samples it
+    differs from ``np.polyfit`` only by the half weight of the two ends). A sample that is
+    exactly 0 has no phase and no weight (at an end: the phase by continuity)."""
     xp = _xp(s, psi1)
-    ds = xp.diff(s)
-    mid = (psi1[1:] + psi1[:-1]) / 2
-    return phase_gradient(mid, xp.diff(psi1) / ds, ds)
+    w = xp.where(psi1 == 0, 0.0, trapezoid_weights(s))
+    return ls_slope(s, unwrapped_phase(psi1), w)
+
+
+MIDDLE = 0.1
+""":func:`amplitude_dip` looks at the middle of the length, ``[MIDDLE L, (1 - MIDDLE) L]``:
+psi_1 may vanish at an end (a clamped base) without making the phase ill defined."""
+
+SENSITIVE_DIP = 0.1
+"""A beat whose :func:`amplitude_dip` is below this has a near-zero of psi_1 inside the
+flagellum, where the phase turns fast: its wavelength is sensitive (reports flag it)."""
+
+
+def amplitude_dip(
+    s: Float[ArrayLike, " S"], psi1: Complex[ArrayLike, " S"]
+) -> Float[ArrayLike, ""]:
+    """min |psi_1| / max |psi_1| over the middle of the length (:data:`MIDDLE`; points
+    ``s`` in any order, as quadrature points or samples). Below :data:`SENSITIVE_DIP` the
+    wavelength is sensitive (module docstring); 0 for psi_1 = 0 everywhere."""
+    xp = _xp(s, psi1)
+    a = xp.abs(psi1)
+    lo, hi = xp.min(s), xp.max(s)
+    inside = (s >= lo + MIDDLE * (hi - lo)) & (s <= hi - MIDDLE * (hi - lo))
+    top = xp.max(a)
+    low = xp.min(xp.where(inside, a, xp.inf))
+    return xp.where(top > 0, low / xp.where(top > 0, top, 1.0), 0.0)
+
+
+def is_sensitive(dip) -> bool:
+    """True where :func:`amplitude_dip` says the wavelength is sensitive."""
+    return dip is not None and bool(float(dip) < SENSITIVE_DIP)
+
+
+def sensitive_note(dip) -> str:
+    """What the command line adds after a wavelength whose :func:`amplitude_dip` is below
+    :data:`SENSITIVE_DIP` (``""`` otherwise, or for ``None``)."""
+    if not is_sensitive(dip):
+        return ""
+    return (
+        f"  (sensitive: |psi_1| dips to {float(dip):.2g} of its maximum inside the flagellum,"
+        " where the phase turns fast)"
+    )
 
 
 def wavelength(k: Float[ArrayLike, "..."], length: float = 1.0) -> Float[ArrayLike, "..."]:
@@ -159,14 +262,22 @@ def tip_amplitude(y: Float[ArrayLike, "... T"], axis: int = -1) -> Float[ArrayLi
 
 
 __all__ = [
+    "MIDDLE",
     "STANDING_PHASE_RAD",
     "along",
     "direction",
     "dynamic_amplitude",
     "finite_or_none",
     "ls_slope",
-    "phase_gradient",
+    "SENSITIVE_DIP",
+    "amplitude_dip",
+    "is_sensitive",
+    "phase_slope",
+    "sensitive_note",
     "sampled_wavenumber",
+    "trapezoid_weights",
+    "unwrapped_phase",
+    "weighted_phase_gradient",
     "static_curvature",
     "tip_amplitude",
     "wavelength",
