@@ -211,9 +211,9 @@ def beat_rows(
         if c.quantity == "wavelength_um":
             span = m["phase_span_rad"]
             note.append(
-                ("a near-standing wave: " if span < np.pi else "")
-                + f"the phase of psi_1 turns {span:.1f} rad along the cilium, running "
-                f"{'base to tip' if m['direction'] > 0 else 'tip to base'} (L 2 pi / {span:.1f} = {units.length_um * 2 * np.pi / span:.1f} um)"
+                f"the phase of psi_1 turns {span:.1f} rad from base to tip, running "
+                f"{'base to tip' if m['direction'] > 0 else 'tip to base'}, unevenly: the wavelength is 2 pi over "
+                "its least-squares slope (docs/model.md section 5)"
             )
         if c.quantity in ("dynamic_amplitude_rad", "static_curvature_rad_per_um"):
             note.append(
