@@ -353,3 +353,53 @@ def test_3d_centreline_of_the_model_reduces_and_fits_back(tmp_path, model3d):
         )
     ]
     assert rms[0] < 0.05 and rms[1] > 10 * rms[0]
+
+
+def test_cli_fit_of_a_3d_beat_with_joint_components(tmp_path, model3d, capsys):
+    """``axojax fit --data FILE --components joint`` fits the in-plane and out-of-plane
+    psi_1 of a 3D centreline with one complex scale (the library's
+    ``BeatData.joint_shape_target()``), back to the truth p = 320; the default fits the
+    in-plane component alone; a planar model and the limit cycle are refused in one line."""
+    from axojax.fem import interpolation_matrix
+
+    mode = ax.dominant_mode(model3d, TRUTH)
+    x = np.linspace(0.0, 1.0, 61)
+    q = np.asarray(mode.eigenvector).reshape(model3d.n_filaments, model3d.n_dirs, -1).mean(0)
+    u = q @ interpolation_matrix(model3d.n_elements, x, 0).T
+    u = 0.04 * u / np.abs(u).max()
+    t = np.arange(61)[:, None, None] / (12 * 12.0)
+    yz = np.real(u[None] * np.exp(2j * np.pi * 12.0 * t))
+    pts = np.concatenate([np.broadcast_to(x, (t.size, 1, x.size)), yz], axis=1)
+    pts = 12.0 * np.moveaxis(pts, 1, 2) @ random_rotation(5).T
+    path = tmp_path / "model.npz"
+    np.savez(path, x_um=pts[..., 0], y_um=pts[..., 1], z_um=pts[..., 2], frame_rate_hz=144.0)
+    # the frames at 12 per cycle of the truth's own frequency at the data's length and the
+    # default EI and c_n, so that the frequency target agrees with the shape
+    f = float(mode.frequency_hz(ax.Units(length_um=read_beat(path).length_um)))
+    np.savez(path, x_um=pts[..., 0], y_um=pts[..., 1], z_um=pts[..., 2], frame_rate_hz=12 * f)
+    common = ["fit", "--model", "seven", "--elements", "6", "--rotation-deg", "30", "--free", "p"]
+    common += [
+        "--ks",
+        "1e5",
+        "--kl-ratio",
+        "1000",
+        "--p",
+        "300",
+        "--data",
+        str(path),
+        "--starts",
+        "1",
+    ]
+    common += ["--planarity-threshold", "0.05", "--no-mesh-check", "--json"]
+    docs = {}
+    for comp in ("in-plane", "joint"):
+        assert main([*common, "--components", comp]) == 0, comp
+        docs[comp] = json.loads(capsys.readouterr().out)
+    shapes = {k: d["conditions"][0]["shape"]["component"] for k, d in docs.items()}
+    assert set(shapes["in-plane"]) == {"in_plane"}
+    assert shapes["joint"].count("out_of_plane") == shapes["joint"].count("in_plane") > 0
+    assert docs["joint"]["params"]["p"] == pytest.approx(320.0, rel=0.01)
+    flat = ["fit", "--model", "two", "--free", "p", "--data", str(path), "--components", "joint"]
+    flat += ["--planarity-threshold", "0.05"]
+    assert main(flat) == 2
+    assert "in one plane" in capsys.readouterr().err

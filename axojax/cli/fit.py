@@ -16,6 +16,7 @@ import warnings
 
 from .. import _io, _progress
 from ..beats import OBSERVATIONS, Target, observation_targets, read_beat
+from ..beats.reduction import PLANARITY_THRESHOLD
 from ..eigen.solvers import AbstractEigenSolver, Auto
 from ..inverse import (
     SHAPE_FLOOR,
@@ -167,6 +168,21 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "5-10%% of a typical |psi_1|)",
     )
     parser.add_argument(
+        "--components",
+        choices=("in-plane", "joint"),
+        default="in-plane",
+        help="with --data of a 3D beat: fit psi_1 in the beat plane only (in-plane, default), or the "
+        "in-plane and out-of-plane psi_1 together with one complex scale (joint; a 3D model such as "
+        "seven, and the linear mode only); a planar beat has the in-plane component alone",
+    )
+    parser.add_argument(
+        "--planarity-threshold",
+        type=common.finite_float,
+        default=PLANARITY_THRESHOLD,
+        metavar="R",
+        help=f"with --data of a 3D beat: s3/s2 below R is planar (default {PLANARITY_THRESHOLD:g}, as axojax data)",
+    )
+    parser.add_argument(
         "--exclude-base-um",
         type=common.finite_float,
         default=0.0,
@@ -249,11 +265,11 @@ def _targets(args: argparse.Namespace) -> list[Target]:
     return out
 
 
-def _read_data(path, flag: str):
+def _read_data(path, flag: str, planarity_threshold: float = PLANARITY_THRESHOLD):
     """(BeatData, its summary: what ``axojax data`` prints) of a beat file; the reader
     refuses data no fit can use (:mod:`axojax.beats.data`)."""
     try:
-        beat = read_beat(path)
+        beat = read_beat(path, planarity_threshold=planarity_threshold)
     except (ValueError, OSError) as err:
         raise common.CLIError(f"{flag}: {err}") from None
     return beat, beat.summary()
@@ -403,7 +419,7 @@ def _data(args: argparse.Namespace, units: Units, source: str, model):
     flagellum when it has one (a bundled beat; as ``axojax compare`` does:
     :func:`axojax.inverse.compare.default_units`, shared by the model's filaments), else
     axojax's defaults."""
-    beat, summary = _read_data(args.data, "--data")
+    beat, summary = _read_data(args.data, "--data", args.planarity_threshold)
     length = beat.length_um
     if abs(length - units.length_um) > 1e-6 * length and _given(args, "--length-um"):
         raise common.CLIError(
@@ -419,6 +435,17 @@ def _data(args: argparse.Namespace, units: Units, source: str, model):
             source += f" ({'--ei' if ei_given else '--cn'} given)"
     units = Units(length, ei, cn)  # the data's length
     targets, shape = beat.targets()
+    if getattr(args, "components", "in-plane") == "joint":
+        if args.target == "limit-cycle":
+            raise common.CLIError(
+                "--components joint: the limit cycle's shape is in-plane only; leave it out or fit the linear mode"
+            )
+        if beat.out_of_plane is not None and model.n_dirs == 1:
+            raise common.CLIError(
+                f"--components joint: {args.data} beats in 3D but model {model.name!r} in one plane; "
+                "use a 3D model (e.g. --model seven)"
+            )
+        shape = beat.joint_shape_target()
     if args.target == "limit-cycle":
         # psi_0 and psi_1 in absolute amplitude, and the data's frequency as the cycle's.
         targets = [
