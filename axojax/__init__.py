@@ -58,26 +58,39 @@ _LAZY = {
     "sweep": (".sweeps", "sweep"),
     "Units": (".units", "Units"),
     "Flagellum": (".units", "Flagellum"),
+    "assembly": (".assembly", None),
+    "beats": (".beats", None),
+    "cache": (".cache", None),
+    "critical": (".critical", None),
+    "dynamics": (".dynamics", None),
+    "fem": (".fem", None),
+    "params": (".params", None),
+    "sweeps": (".sweeps", None),
+    "units": (".units", None),
+    "waveform": (".waveform", None),
 }
 
 __all__ = sorted(_LAZY)  # noqa: PLE0605
 
-# Subpackages that an eager import used to bind as attributes too (``ax.dynamics``, ...).
-_SUBMODULES = (
-    "assembly",
-    "cache",
-    "critical",
-    "dynamics",
-    "fem",
-    "beats",
-    "params",
-    "sweeps",
-    "units",
-    "waveform",
-)
-
 if TYPE_CHECKING:  # the same names for static tools (type checkers, the API docs' griffe)
-    from . import datasets, eigen, inverse, linalg, models, orbits
+    from . import (
+        assembly,
+        beats,
+        cache,
+        critical,
+        datasets,
+        dynamics,
+        eigen,
+        fem,
+        inverse,
+        linalg,
+        models,
+        orbits,
+        params,
+        sweeps,
+        units,
+        waveform,
+    )
     from .assembly import System, assemble
     from .beats import ShapeTarget, Target, read_beat
     from .cache import enable_compilation_cache
@@ -92,8 +105,6 @@ if TYPE_CHECKING:  # the same names for static tools (type checkers, the API doc
 
 
 def __getattr__(name: str):
-    if name in _SUBMODULES:
-        return importlib.import_module(f".{name}", __name__)
     try:
         module, attribute = _LAZY[name]
     except KeyError:
@@ -106,4 +117,4 @@ def __getattr__(name: str):
 
 
 def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_LAZY) | set(_SUBMODULES))
+    return sorted(set(globals()) | set(_LAZY))

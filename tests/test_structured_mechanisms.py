@@ -14,9 +14,9 @@ import pytest
 import scipy.linalg as sl
 
 import axojax as ax
-from axojax.assembly import assemble_blocks
+from axojax.assembly import assemble_blocks, pencil_of
 from axojax.eigen import Arnoldi, Dense
-from axojax.eigen.arnoldi import pencil_of, structured_dominant
+from axojax.eigen.arnoldi import structured_dominant
 from axojax.eigen.arnoldi_nearest import structured_nearest
 from axojax.eigen.nearest import nearest_eigenpair
 from axojax.linalg import BlockTridiagonal, bordered, bordered_cholesky, bordered_lu

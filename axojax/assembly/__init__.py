@@ -23,7 +23,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
-from ..linalg import BlockTridiagonal
+from ..linalg import BlockTridiagonal, Bordered, bordered
 from ..models.section import Model
 from ..params import Params
 from .border import Border, border_terms, check_base_params
@@ -58,6 +58,7 @@ __all__ = [
     "moment_load",
     "node_major",
     "pair_forces",
+    "pencil_of",
     "static_couple",
     "terms",
 ]
@@ -219,4 +220,20 @@ def assemble_blocks(model: Model, params: Params) -> BlockSystem:
         C_nb=border.C_nb[perm],
         C_bn=border.C_bn[:, perm],
         C_bb=border.C_bb,
+    )
+
+
+def pencil_of(system) -> tuple[Bordered, Bordered]:
+    """(A, C) of a node-major block system (:func:`assemble_blocks`, or any object with its
+    fields) as bordered matrices
+    (:class:`axojax.linalg.Bordered`): its border blocks ``A_nb``, ``A_bn``, ``A_bb``,
+    ``C_nb``, ... (extra unknowns after the node unknowns, e.g. a base's) where it has
+    them, else none (m = 0). What the structured eigen-solver and the time integrator
+    factor."""
+    A_nb = getattr(system, "A_nb", None)
+    if A_nb is None:
+        return bordered(system.A), bordered(system.C)
+    return (
+        bordered(system.A, A_nb, system.A_bn, system.A_bb),
+        bordered(system.C, system.C_nb, system.C_bn, system.C_bb),
     )

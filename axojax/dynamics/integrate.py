@@ -34,8 +34,7 @@ import numpy as np
 import optimistix as optx
 from jaxtyping import Array, ArrayLike, Float, Real
 
-from ..assembly import assemble, assemble_blocks, node_major
-from ..eigen.arnoldi import pencil_of
+from ..assembly import assemble, assemble_blocks, node_major, pencil_of
 from ..eigen.pencil import symmetric_positive_definite
 from ..linalg import bordered_lu, lu_factor
 from ..models.section import Model

@@ -2,7 +2,7 @@
 
 Problem: ``(A + lambda C) v = 0`` with A, C block-tridiagonal (node-major, see
 :func:`axojax.assembly.assemble_blocks`), optionally with a border of m extra unknowns
-after the node unknowns (:class:`axojax.linalg.Bordered`, :func:`pencil_of`: every
+after the node unknowns (:class:`axojax.linalg.Bordered`, :func:`axojax.assembly.pencil_of`: every
 factorisation below then eliminates the border by its Schur complement), C symmetric
 positive definite; wanted: the eigenvalue of largest real part, exactly (to the accuracy
 of a dense solver), and a statement that nothing lies to its right.
@@ -164,20 +164,6 @@ def _symmetric(C: Bordered) -> Array:
     bound holds only then. The friction parts of regulated dynein (beta''/omega0) make C
     non-symmetric; such points are not certified and go to the dense solver."""
     return (C + C.T.scale(-1.0)).max_abs() <= SYMMETRY_RTOL * C.max_abs()
-
-
-def pencil_of(system) -> tuple[Bordered, Bordered]:
-    """(A, C) of a node-major block system (:func:`axojax.assembly.assemble_blocks`) as
-    bordered matrices: its border blocks ``A_nb``, ``A_bn``, ``A_bb``, ``C_nb``, ...
-    (extra unknowns after the node unknowns, e.g. a base's) where it has them, else none
-    (m = 0)."""
-    A_nb = getattr(system, "A_nb", None)
-    if A_nb is None:
-        return bordered(system.A), bordered(system.C)
-    return (
-        bordered(system.A, A_nb, system.A_bn, system.A_bb),
-        bordered(system.C, system.C_nb, system.C_bn, system.C_bb),
-    )
 
 
 def pole(

@@ -39,6 +39,7 @@ from jaxtyping import Array, Complex, Float
 from ..fem import make_mesh
 from ..models.section import Model
 from ..waveform.measures import along, amplitude_dip, phase_slope, weighted_phase_gradient
+from ..waveform.shapes import centreline
 
 MIN_POINTS = 200
 
@@ -51,14 +52,9 @@ def _gauss(n_elements: int) -> tuple[np.ndarray, np.ndarray]:
     return mesh.x, mesh.weights
 
 
-@functools.lru_cache(maxsize=64)
-def _quadrature(
-    model: Model,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """(x, weights, phi, dphi, ddphi) at the Gauss points, the shape functions from
-    :meth:`axojax.models.Model.interpolation` (its base's dofs included)."""
-    x, w = _gauss(model.n_elements)
-    return x, w, *(model.interpolation(x, r) for r in range(3))
+def _gauss_points(model: Model) -> tuple[np.ndarray, np.ndarray]:
+    """(x, weights) at the Gauss points of ``model``'s mesh."""
+    return _gauss(model.n_elements)
 
 
 def mode_shapes(
@@ -86,21 +82,15 @@ def _safe_sqrt(x):
     return jnp.where(pos, jnp.sqrt(jnp.where(pos, x, 1.0)), 0.0)
 
 
-def _centreline(model: Model, v: Complex[Array, " n"]) -> Complex[Array, "d r"]:
-    """Mean over filaments of the nodal values of ``v``: (d, r) (r: the columns of
-    :meth:`axojax.models.Model.interpolation`)."""
-    return model.filament_dofs(jnp.asarray(v)).mean(axis=0)
-
-
 def beat_plane(
     model: Model, v: Complex[Array, " n"]
 ) -> tuple[Complex[Array, " m"], Complex[Array, " m"], Array, Array]:
     """Complex in-plane centreline displacement u and u' at the quadrature points, the
     beat-direction angle (radians from y towards z) and the out-of-plane ratio."""
-    x, w, phi, dphi, _ = _quadrature(model)
-    q = _centreline(model, v)  # (d, r)
-    u = q @ jnp.asarray(phi).T  # (d, m)
-    du = q @ jnp.asarray(dphi).T
+    x, w = _gauss_points(model)
+    v = jnp.asarray(v)
+    u = centreline(model, v, x)  # (d, m)
+    du = centreline(model, v, x, derivative=1)
     if model.n_dirs == 1:
         return u[0], du[0], jnp.zeros(()), jnp.zeros(())
     R = jnp.real(jnp.einsum("am,bm,m->ab", u, jnp.conj(u), jnp.asarray(w)))
@@ -117,10 +107,10 @@ def beat_plane(
 
 def _tangent(model: Model, v: Complex[Array, " n"], angle: Float[Array, ""]):
     """(x, w, psi_1, psi_1') of the state ``v`` along ``angle`` at the Gauss points."""
-    x, w, _, dphi, ddphi = _quadrature(model)
-    q = _centreline(model, v)
-    psi = along(q @ jnp.asarray(dphi).T, angle)
-    dpsi = along(q @ jnp.asarray(ddphi).T, angle)
+    x, w = _gauss_points(model)
+    v = jnp.asarray(v)
+    psi = along(centreline(model, v, x, derivative=1), angle)
+    dpsi = along(centreline(model, v, x, derivative=2), angle)
     return jnp.asarray(x), jnp.asarray(w), psi, dpsi
 
 
@@ -162,6 +152,6 @@ def displacement_wavenumber(model: Model, v: Complex[Array, " n"]) -> Float[Arra
     """Retired: the weighted mean phase gradient taken of the displacement u instead of
     its slope (rad per L), axojax's wavenumber until 2026-12. Kept for comparison only;
     never a wavelength (:func:`wavenumber` is)."""
-    _, w, _, _, _ = _quadrature(model)
+    _, w = _gauss_points(model)
     u, du, _, _ = beat_plane(model, v)
     return weighted_phase_gradient(u, du, jnp.asarray(w))

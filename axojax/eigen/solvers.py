@@ -31,11 +31,11 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Complex, Float, Inexact
 
-from ..assembly import assemble, assemble_blocks, node_major
+from ..assembly import assemble, assemble_blocks, node_major, pencil_of
 from ..models.section import Model
 from ..params import Params
 from . import deflation
-from .arnoldi import ArnoldiOptions, pencil_of, structured_dominant
+from .arnoldi import ArnoldiOptions, structured_dominant
 from .arnoldi_nearest import structured_nearest
 from .dominant import dominant_eigenpair
 from .nearest import nearest_eigenpair

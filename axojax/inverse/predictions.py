@@ -15,6 +15,7 @@ from ..models.section import Model
 from ..orbits.measures import cycle_measures
 from ..units import Units
 from ..waveform import measures
+from ..waveform.shapes import centreline
 from .cycle_targets import ALIASES
 
 K_FLOOR = 1e-6  # rad/L: a standing wave has no wavelength (inf); a fit sees 2 pi / K_FLOOR
@@ -58,10 +59,8 @@ def model_psi1(
         raise ValueError(
             f"an out-of-plane shape target needs a 3D model; {model.name!r} beats in one plane"
         )
-    dphi = jnp.asarray(model.interpolation(np.asarray(s), 1))
-    q = model.filament_dofs(jnp.asarray(mode.eigenvector)).mean(axis=0)
     _, _, angle, _ = beat_plane(model, mode.eigenvector)
-    slope = q @ dphi.T  # (d, S)
+    slope = centreline(model, jnp.asarray(mode.eigenvector), np.asarray(s), derivative=1)
     if not out.any():
         return measures.along(slope, angle)
     return jnp.where(
