@@ -16,7 +16,7 @@ Python, and Python code in general, caches nothing unless asked:
 ``ax.enable_compilation_cache()``. A cached program is the same program: results are
 identical with and without the cache.
 
-Posterior runs also keep their start-up there (:mod:`axojax.inverse._warm_cache`): the
+Posterior runs also keep their start-up there (:mod:`axojax.inverse.sampling._warm_cache`): the
 posterior mode, the Laplace approximation and the warm-up's adapted state, in
 ``PATH/posterior/`` (:data:`WARM_SUBDIR`), so that an identical second run goes straight
 to its draws. ``axojax fit --posterior`` does so whenever the compilation cache is on;

@@ -15,7 +15,7 @@ import time
 import warnings
 
 import axojax as ax
-from axojax.inverse.compare import default_units
+from axojax.inverse.comparison.compare import default_units
 
 
 def main() -> None:

@@ -15,7 +15,7 @@ purpose, so that start-up dominates, as it does when a user iterates.
 
     python benchmarks/bench_posterior_cache.py [--draws 20] [--chains 2] [-- EXTRA FIT ARGS]
 
-With the posterior's warm-state cache (:mod:`axojax.inverse._warm_cache`, kept in the same
+With the posterior's warm-state cache (:mod:`axojax.inverse.sampling._warm_cache`, kept in the same
 directory's ``posterior/``), the second run loads the first's start-up (posterior mode,
 Laplace approximation, warm-up state) and goes straight to its draws. "Start" below is
 the wall time up to the first draw: the whole run less the draws' sampling, the

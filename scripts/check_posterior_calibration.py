@@ -35,7 +35,7 @@ both arms. Chains started two at each optimum (4 x 200, the suggested transport 
 ks) stay in their arms (p 251-289 and 291-379; R-hat 1.78): for NUTS the arms are two
 modes, whose masses (35 / 65 %) would have to be estimated, each along its own curved
 arm, to weight them; or a sampler that crosses the ridge (tempering). Before the transport was chosen by
-importance sampling (axojax/inverse/transport_choice.py), the first truth (p 279, ks
+importance sampling (axojax/inverse/sampling/transport_choice.py), the first truth (p 279, ks
 6.4e3) was missed too: p 215-235, ks 2.3e3-5.0e3.
 
     python scripts/check_posterior_calibration.py [--truths 20] [--draws 200] [--json FILE]

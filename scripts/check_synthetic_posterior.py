@@ -29,9 +29,9 @@ import axojax as ax
 from axojax.beats.targets import Target
 from axojax.eigen.solvers import Auto
 from axojax.inverse import build_problem
-from axojax.inverse._densities import _Target
-from axojax.inverse._nuts import _compiled
-from axojax.inverse.transport import build_map
+from axojax.inverse.sampling._densities import _Target
+from axojax.inverse.sampling._nuts import _compiled
+from axojax.inverse.sampling.transport import build_map
 
 TRUTH = {"p": 300.0, "ks": 1e6}
 

@@ -1,7 +1,7 @@
 """The profile of the human sperm posterior along ks (issue 31's sperm command: seven
 filaments, 10 elements, p and ks free, kl = ks / 1000, EI 90.9 pN um^2 and c_n 0.000285
 pN s/um^2 per filament, shape floor 0.2 rad), as ``axojax fit --posterior`` tabulates it
-(:func:`axojax.inverse.transport.build_map`) from the fit's optimum, p 1033.85, ks
+(:func:`axojax.inverse.sampling.transport.build_map`) from the fit's optimum, p 1033.85, ks
 4.988e7 (the best of 16 starts; 4 starts stop at a local optimum, p 405, ks 2.9e4, whose
 log density is about -223).
 
@@ -22,9 +22,9 @@ import axojax as ax
 from axojax.beats import read_beat
 from axojax.eigen.solvers import Auto
 from axojax.inverse import build_problem
-from axojax.inverse._densities import _Target
-from axojax.inverse._nuts import _compiled
-from axojax.inverse.transport import build_map
+from axojax.inverse.sampling._densities import _Target
+from axojax.inverse.sampling._nuts import _compiled
+from axojax.inverse.sampling.transport import build_map
 from axojax.units import Units
 
 

@@ -91,7 +91,7 @@ def pytest_configure(config):
         else pathlib.Path(tempfile.mkdtemp(prefix="axojax-test-cache-"))
     )
     if not hasattr(config, "workerinput"):  # the controller, before any worker starts:
-        # the posterior's warm states (axojax/inverse/_warm_cache.py) kept by the CLI's
+        # the posterior's warm states (axojax/inverse/sampling/_warm_cache.py) kept by the CLI's
         # tests in this directory are dropped, so that each run executes their start-up
         # code (tests/test_posterior_cache.py checks loading them within a run).
         shutil.rmtree(path / WARM_SUBDIR, ignore_errors=True)

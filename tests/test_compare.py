@@ -16,7 +16,7 @@ from test_mechanisms import _hopf, _shape
 
 import axojax as ax
 from axojax.cli.main import main
-from axojax.inverse.mechanisms import row
+from axojax.inverse.comparison.mechanisms import row
 
 SP, CHI_BAR = 200.0, 10.0  # the synthetic beat: Sp = omega xi L^4 / kappa, chi' a^2 L^2 / kappa
 LENGTH, EI, CN = 10.0, 100.0, 0.001  # tau = CN L^4 / EI = 0.1 s

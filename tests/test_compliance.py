@@ -20,7 +20,7 @@ from test_compare import fourier_file
 import axojax as ax
 from axojax.cli import compare as cli_compare
 from axojax.cli.main import main
-from axojax.inverse.mechanisms import (
+from axojax.inverse.comparison.mechanisms import (
     BASES,
     COMPLIANCE,
     ELASTIC,

@@ -13,7 +13,7 @@ import axojax as ax
 from axojax.beats.bundled import DATASETS, HUMAN_SPERM
 from axojax.cli import compare as cli_compare
 from axojax.cli.main import main
-from axojax.inverse.compare import default_units, render_table
+from axojax.inverse.comparison.compare import default_units, render_table
 from axojax.units import Flagellum
 
 

@@ -256,7 +256,7 @@ def test_scaled_sigmas_widen_the_posterior_by_their_factor():
 def test_start_is_the_mode_of_the_density_in_z():
     """The chains' centre (Levenberg-Marquardt on the residuals and the logistic map's
     pseudo-residuals) against scipy's BFGS maximum of the same log density in z."""
-    from axojax.inverse._laplace import _logistic_residuals
+    from axojax.inverse.sampling._laplace import _logistic_residuals
 
     z = jnp.linspace(-30.0, 30.0, 13)
     exact = jax.nn.log_sigmoid(z) + jax.nn.log_sigmoid(-z) + np.log(4.0)

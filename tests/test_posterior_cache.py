@@ -1,4 +1,4 @@
-"""The posterior's warm-state cache (axojax/inverse/_warm_cache.py, issue 31: a second
+"""The posterior's warm-state cache (axojax/inverse/sampling/_warm_cache.py, issue 31: a second
 identical run starts faster): a second run with ``cache=`` loads the first's start-up
 (centre, Laplace approximation, warm-up state) without computing it and draws bitwise
 what the first and an uncached run drew; a change in any keyed input misses; a corrupt
@@ -18,11 +18,11 @@ from test_posterior import linear_problem
 import axojax as ax
 from axojax.beats import Target
 from axojax.inverse import ScaledSigmas, build_problem, posterior
-from axojax.inverse._warm_cache import SUFFIX, run_key
+from axojax.inverse.sampling._warm_cache import SUFFIX, run_key
 
 RUN = {"draws": 8, "chains": 2, "warmup": 20, "seed": 0}
 MODEL = ax.models.two(n_elements=3)
-posterior_module = importlib.import_module("axojax.inverse.posterior")
+posterior_module = importlib.import_module("axojax.inverse.sampling.posterior")
 
 
 def problem(frequency=30.0, bounds=None, prior=None):

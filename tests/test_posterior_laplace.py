@@ -10,7 +10,7 @@ import pytest
 from test_posterior import SMALL, LinearGaussian, linear_problem
 
 from axojax.inverse import NUTS, Posterior, posterior
-from axojax.inverse._laplace import Laplace, laplace_of
+from axojax.inverse.sampling._laplace import Laplace, laplace_of
 
 
 def test_laplace_of_a_linear_problem_is_its_exact_posterior():
@@ -158,7 +158,7 @@ def test_curved_valley_posterior_contains_the_truth():
     and 1.2 um). The optimum (p 220, ks 3.2e3) looks Gaussian (correlation -0.30) while
     the valley runs on to the ks bound; whitened NUTS from it gave p 215-235, ks
     2.3e3-5.0e3. What `axojax fit --posterior` now picks (importance sampling through
-    each profile map, axojax/inverse/transport_choice.py) samples past the optimum's
+    each profile map, axojax/inverse/sampling/transport_choice.py) samples past the optimum's
     Laplace approximation, and a small run's 90 % intervals contain the truth. (The grid
     integration of this posterior, ``--quadrature 1``: p 216-372, ks 2.5e3-4.4e5.)"""
     import axojax as ax

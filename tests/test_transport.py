@@ -17,9 +17,9 @@ import scipy.stats
 from test_posterior import LinearGaussian
 
 from axojax.inverse import ProfileTransport, posterior
-from axojax.inverse._densities import _Target
-from axojax.inverse._nuts import _compiled
-from axojax.inverse.transport import build_map
+from axojax.inverse.sampling._densities import _Target
+from axojax.inverse.sampling._nuts import _compiled
+from axojax.inverse.sampling.transport import build_map
 
 M0, S0, S1 = 0.5, 1.0, 0.02
 LOWER, UPPER = np.array([-3.0, -3.0]), np.array([3.0, 12.0])
@@ -152,7 +152,7 @@ class CliffBanana(Banana):
 
 
 def test_profile_ends_at_a_cliff():
-    from axojax.inverse.transport import profile_ends
+    from axojax.inverse.sampling.transport import profile_ends
 
     problem = CliffBanana()
     target = _Target(problem)
@@ -296,7 +296,7 @@ def test_suggest_transport_sees_what_the_optimum_does_not():
     a graph over u0) makes it nearly standard normal, the one along u1 (two arms,
     u0 = +-sqrt(u1)) does worse. A normal posterior keeps the Laplace whitening."""
     from axojax.inverse import suggest_transport
-    from axojax.inverse.transport_choice import importance_scores
+    from axojax.inverse.sampling.transport_choice import importance_scores
 
     problem = Banana()
     u = jnp.array([M0, M0**2])
@@ -323,7 +323,7 @@ def test_the_suggested_map_is_sampled_as_built(monkeypatch):
 
     from axojax.inverse import suggest_transport
 
-    posterior_module = sys.modules["axojax.inverse.posterior"]
+    posterior_module = sys.modules["axojax.inverse.sampling.posterior"]
     transport = suggest_transport(Banana(), _Fit(0.0, (1.0, 0.3)))
     assert transport.along == "u0" and transport.profile is not None
 
@@ -388,7 +388,7 @@ def test_the_choice_of_map():
     posterior."""
     import math
 
-    from axojax.inverse.transport_choice import GAIN, _best
+    from axojax.inverse.sampling.transport_choice import GAIN, _best
 
     inf = math.inf
     assert _best({None: (-inf, 0.0, 0.0), 0: (-inf, 0.0, 0.0)}) is None

@@ -7,7 +7,7 @@ and with a basal spring; named bases as named; docs/mechanisms.md, basal complia
 
 Units: ``--ei`` and ``--cn`` (per filament); what is not given comes from the data set's
 flagellum when it is a bundled one (the human sperm's kappa and xi_n), else from axojax's
-defaults (:func:`axojax.inverse.compare.default_units`); the table says which.
+defaults (:func:`axojax.inverse.comparison.compare.default_units`); the table says which.
 
 Exit status 0; bad input (an unknown or unavailable mechanism or base, a coefficient
 named as a mechanism, a bad --compliance, a bad setting) is one line naming the flag,
@@ -20,8 +20,8 @@ import argparse
 import warnings
 
 from .._progress import enabled as progress_enabled
-from ..inverse.compare import compare, default_units, render_table
-from ..inverse.mechanisms import (
+from ..inverse.comparison.compare import compare, default_units, render_table
+from ..inverse.comparison.mechanisms import (
     BASES,
     COMPARE_PRESETS,
     COMPLIANCE,

@@ -26,7 +26,7 @@ from ..inverse import (
     solver_from_name,
 )
 from ..inverse.checks import fit_checks
-from ..inverse.compare import default_units
+from ..inverse.comparison.compare import default_units
 from ..params import DEFAULT_CUBIC
 from ..units import Units
 from . import common, fit_posterior
@@ -417,7 +417,7 @@ def _data(args: argparse.Namespace, units: Units, source: str, model):
     the nonlinear beat), the units at the data's length, the data's summary, and where
     the units came from: EI and c_n not given (--ei, --cn) come from the data set's
     flagellum when it has one (a bundled beat; as ``axojax compare`` does:
-    :func:`axojax.inverse.compare.default_units`, shared by the model's filaments), else
+    :func:`axojax.inverse.comparison.compare.default_units`, shared by the model's filaments), else
     axojax's defaults."""
     beat, summary = _read_data(args.data, "--data", args.planarity_threshold)
     length = beat.length_um

@@ -171,7 +171,7 @@ def sample(
 
 
 def _warm_cache_dir():
-    """Where ``--posterior`` keeps its start-up (:mod:`axojax.inverse._warm_cache`):
+    """Where ``--posterior`` keeps its start-up (:mod:`axojax.inverse.sampling._warm_cache`):
     ``posterior/`` in the compilation cache's directory when that cache is on (the
     ``axojax`` command: :mod:`axojax.cache`), else nowhere."""
     directory = compilation_cache_dir()

@@ -11,7 +11,7 @@ from .parameters import ORBIT_FIELDS, coordinate_bounds
 
 SIGNED = frozenset(MECHANISM_NAMES) - {"omega0"}
 """Regulated-dynein coefficients (chi', chi'', beta', beta''): signed, so fitted in a linear
-coordinate like ``gamma`` (give their bounds, e.g. :func:`axojax.inverse.mechanisms.row`)."""
+coordinate like ``gamma`` (give their bounds, e.g. :func:`axojax.inverse.comparison.mechanisms.row`)."""
 
 
 def _coordinate_bounds(name: str, bounds: dict) -> tuple[bool, float, float]:

@@ -98,7 +98,7 @@ def fit(
         prior: optional log prior in the fitted coordinates (used by samplers).
         shift: None: the beat is the dominant mode; a complex number (dimensionless):
             the eigenvalue nearest it (``1j * omega0`` for a regulated mechanism,
-            :mod:`axojax.inverse.mechanisms`).
+            :mod:`axojax.inverse.comparison.mechanisms`).
 
     Warns (``UserWarning``) when the targets are not reproduced or a parameter is not
     identifiable.

@@ -11,7 +11,7 @@ with exact derivatives through the dominant eigenpair (and the limit cycle, by t
 implicit function theorem). Conditions that share a model have their dominant modes
 computed in one ``jax.vmap``.
 
-Contract used by the samplers (:mod:`axojax.inverse.posterior`): ``names``, ``lower``,
+Contract used by the samplers (:mod:`axojax.inverse.sampling.posterior`): ``names``, ``lower``,
 ``upper``, ``u0``, ``residuals(u)``, ``log_prior(u)``, ``to_u(z)``, ``to_z(u)``,
 ``log_density(z)``, ``values(u)``.
 
@@ -287,8 +287,8 @@ class Problem:
     def fingerprint(self) -> str:
         """sha256 (hex) of everything that determines the residuals, bounds, start and
         prior: the key of a posterior's warm-state cache (``TypeError`` with a callable
-        prior: :func:`axojax.inverse._warm_cache.problem_fingerprint`)."""
-        from ._warm_cache import problem_fingerprint
+        prior: :func:`axojax.inverse.sampling._warm_cache.problem_fingerprint`)."""
+        from .sampling._warm_cache import problem_fingerprint
 
         return problem_fingerprint(self)
 
@@ -519,7 +519,7 @@ class Problem:
 
     def prefer(self, u: Float[np.ndarray, "c k"] | None) -> None:
         """Starts to use before any other (e.g. exact Hopf points screened by their loss,
-        :func:`axojax.inverse.compare.screened_starts`): :meth:`start_design` returns
+        :func:`axojax.inverse.comparison.compare.screened_starts`): :meth:`start_design` returns
         them first, clipped inside the bounds; None: none."""
         if u is None:
             self._preferred = None

@@ -121,7 +121,7 @@ class ScaledSigmas(eqx.Module):
 
     def fingerprint(self) -> str:
         """The wrapped problem's fingerprint with the factor (``TypeError`` when the
-        problem has none: :mod:`axojax.inverse._warm_cache`)."""
+        problem has none: :mod:`axojax.inverse.sampling._warm_cache`)."""
         from ._warm_cache import digest
 
         inner = getattr(self.problem, "fingerprint", None)
@@ -188,7 +188,7 @@ class _Target(eqx.Module):
 class _Whitened(eqx.Module):
     """``target`` in whitened coordinates: ``w -> target(centre + chol @ w)`` (the
     constant log-Jacobian left out: it changes no ratio of densities). With a
-    ``transport`` (a :class:`~axojax.inverse.transport.ProfileMap`), whitened after it:
+    ``transport`` (a :class:`~axojax.inverse.sampling.transport.ProfileMap`), whitened after it:
     ``w -> y = centre + chol @ w -> z = transport.to_z(y)``, the log density in ``y``
     being ``target(z) + transport.log_det(y)`` (``centre`` and ``chol`` then in ``y``)."""
 

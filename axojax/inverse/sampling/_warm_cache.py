@@ -88,7 +88,7 @@ def _feed(h, obj: Any) -> None:
             _feed(h, obj[key])
         h.update(b")")
     elif dataclasses.is_dataclass(obj) and not isinstance(obj, type):
-        from ..fem.filament import Profiles
+        from ...fem.filament import Profiles
 
         cls = type(obj)
         h.update(f"{cls.__module__}.{cls.__qualname__}(".encode())
@@ -254,7 +254,7 @@ class Warm(NamedTuple):
     mean ``start_u``, per chain the sampler's state after the warm-up (``state``:
     blackjax's HMCState fields), step size, inverse mass matrix and gradients spent, and
     with a transport its map's arrays (``profile``: :data:`PROFILE_FIELDS` of a
-    :class:`~axojax.inverse.transport.ProfileMap`; empty without one)."""
+    :class:`~axojax.inverse.sampling.transport.ProfileMap`; empty without one)."""
 
     z_c: np.ndarray
     cov: np.ndarray
@@ -337,7 +337,7 @@ def save(path: pathlib.Path, key: str, warm: Warm) -> None:
     directory that cannot be written is skipped silently (the run has its result)."""
     from blackjax.mcmc.hmc import HMCState
 
-    from .._io import atomic_path
+    from ..._io import atomic_path
 
     meta = {
         "format": FORMAT,

@@ -69,14 +69,14 @@ import math
 
 import numpy as np
 
-from ..beats.targets import Target
-from ..fem import Profiles
-from ..models import Base, presets
-from ..models import build_model as build_section_model
-from ..models.section import Model
-from ..params import BASAL_NAMES, MECHANISM_NAMES, Params
-from ..units import Units
-from .parameters import DEFAULT_BOUNDS
+from ...beats.targets import Target
+from ...fem import Profiles
+from ...models import Base, presets
+from ...models import build_model as build_section_model
+from ...models.section import Model
+from ...params import BASAL_NAMES, MECHANISM_NAMES, Params
+from ...units import Units
+from ..parameters import DEFAULT_BOUNDS
 
 MECHANISMS = ("steady", "sliding", "curvature", "sliding+curvature")
 """Every mechanism a row can have (docs/model.md section 8); the default set of compare."""
@@ -396,7 +396,7 @@ def _unit_terms(row: Row) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(K0, U_chi, U_beta): at lambda = i omega0 the pencil A + lambda C of the row's
     model is K0 + chi U_chi + beta U_beta, linear in the complex chi = chi' + i chi'' and
     beta = beta' + i beta'' (docs/model.md section 8: the terms equal chi and beta there)."""
-    from ..assembly import assemble
+    from ...assembly import assemble
 
     lam = row.shift
     base = row.params.replace(chi_re=0.0, chi_im=0.0, beta_re=0.0, beta_im=0.0)
@@ -445,7 +445,7 @@ def compliance_starts(row: Row) -> np.ndarray:
     import jax
     import jax.numpy as jnp
 
-    from ..assembly import assemble
+    from ...assembly import assemble
 
     lam = 1j * row.omega
     own = [f for f in row.free if f not in BASAL_NAMES]

@@ -11,9 +11,9 @@ from typing import Any
 
 import numpy as np
 
-from .._io import atomic_path
-from ..results import RESULTS
-from ..results import name as result_name
+from ..._io import atomic_path
+from ...results import RESULTS
+from ...results import name as result_name
 from ._laplace import Laplace
 
 NPZ_KIND = "posterior"
@@ -58,7 +58,7 @@ class Posterior:
         result: :class:`axojax.results.RESULTS` item: ``successful``, or
             ``chains_not_converged`` (``message`` says why). The one test of success is
             ``post.result == RESULTS.successful``.
-        laplace: the :class:`~axojax.inverse._laplace.Laplace` approximation at the centre
+        laplace: the :class:`~axojax.inverse.sampling._laplace.Laplace` approximation at the centre
             of the starts (the fast answer; None in files written before it existed).
         sd_ratio: per name, posterior sd / Laplace sd, in u (1: the approximation holds).
         shift: per name, (posterior mean - Laplace centre) / Laplace sd, in u.

@@ -3,7 +3,7 @@
 NUTS samples well where the density it sees is close to a standard normal. Two maps
 make it so, each exact (only the efficiency depends on the choice): the affine
 whitening by the Laplace approximation at the optimum (the default), and the profile
-transport along one free parameter (:class:`~axojax.inverse.transport.ProfileTransport`).
+transport along one free parameter (:class:`~axojax.inverse.sampling.transport.ProfileTransport`).
 From a least-squares fit, :func:`suggest_transport` picks:
 
 - a thin straight ridge (Gauss-Newton correlation at least :data:`RIDGE_CORRELATION`):
@@ -41,11 +41,11 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ..verdicts import NEAR_LOSS
 from ._densities import _Target
 from ._laplace import _centre, _covariance, _fitted_u
 from ._nuts import _compiled
 from .transport import DEFAULT_KNOTS, ProfileTransport, build_map
-from .verdicts import NEAR_LOSS
 
 RIDGE_CORRELATION = 0.99
 """A posterior whose Laplace approximation correlates two parameters at least this

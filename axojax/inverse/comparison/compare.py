@@ -1,13 +1,13 @@
 """``compare``: every hypothesis (mechanism x base) fitted to one observed beat, ranked.
 
-Each row is built by :func:`axojax.inverse.mechanisms.row` (the one place that sets its
+Each row is built by :func:`axojax.inverse.comparison.mechanisms.row` (the one place that sets its
 model, fixed values, free values, bounds and beat selection), fitted by least squares
 (Levenberg-Marquardt by default) from ``starts`` starts, and reported with Sartori's R^2
 of psi_1, chi^2/dof, AIC and BIC (:mod:`axojax.inverse.quality`). Rows are ordered by
 BIC; ``delta_bic`` is each row's BIC minus the best's.
 
 Starts. A regulated row's pins hold exactly on a discrete set of coefficients (its Hopf
-points at the observed frequency); :func:`axojax.inverse.mechanisms.hopf_starts` finds
+points at the observed frequency); :func:`axojax.inverse.comparison.mechanisms.hopf_starts` finds
 them as generalised eigenvalues, and these candidates, with a Sobol design of the box,
 are *screened*: their loss is evaluated in one vmapped, compiled program, and the
 ``starts`` best become the fit's starts (:meth:`Problem.prefer`). The steady row
@@ -29,13 +29,15 @@ import jax.numpy as jnp
 import numpy as np
 from tqdm.auto import tqdm
 
-from .. import _io
-from ..beats.data import BeatData, read_beat
-from ..models.presets import preset_section
-from ..results import jsonable
-from ..units import Units
-from .fit import build_problem
-from .least_squares import least_squares, solver_from_name
+from ... import _io
+from ...beats.data import BeatData, read_beat
+from ...models.presets import preset_section
+from ...results import jsonable
+from ...units import Units
+from ..fit import build_problem
+from ..least_squares import least_squares, solver_from_name
+from ..problem import SHAPE_FLOOR, Problem
+from ..report import FitResult
 from .mechanisms import (
     DEFAULT_ELEMENTS,
     DEFAULT_PRESET,
@@ -46,8 +48,6 @@ from .mechanisms import (
     row,
     with_compliance,
 )
-from .problem import SHAPE_FLOOR, Problem
-from .report import FitResult
 
 SCREEN = 64
 """Sobol points screened (with the Hopf points) for the starts of each row."""
@@ -97,12 +97,12 @@ class CompareRow:
         """The Laplace approximation of the row's posterior at its optimum: normal in the
         fitted coordinate u (log for positive values, linear for chi and beta) with
         covariance (J^T J)^-1, J the Jacobian of the normalised residuals (shape points
-        and pins) in u, uniform prior (:class:`axojax.inverse._laplace.Laplace`: its
+        and pins) in u, uniform prior (:class:`axojax.inverse.sampling._laplace.Laplace`: its
         ``quantiles``, ``sd`` and ``to_json`` with the correlations). J^T J is inverted
         after scaling its diagonal to 1 (a linear chi of 1e5 and a log kb differ by
         1e10 in scale, which alone would pass for an unconstrained direction). k model
         derivatives: seconds, where sampling (:func:`axojax.posterior`) takes minutes."""
-        from ._laplace import Laplace, laplace_of
+        from ..sampling._laplace import Laplace, laplace_of
 
         if self.problem is None:
             raise ValueError("laplace: this row has no problem (rows read from JSON do not)")
@@ -349,12 +349,12 @@ def compare(
     Args:
         data: a :class:`~axojax.beats.BeatData`, a beat file or a bundled name
             (``"human_sperm"``).
-        mechanisms: names of :data:`~axojax.inverse.mechanisms.MECHANISMS` (default all:
+        mechanisms: names of :data:`~axojax.inverse.comparison.mechanisms.MECHANISMS` (default all:
             steady, sliding, curvature, sliding+curvature).
-        bases: names of :data:`~axojax.inverse.mechanisms.BASES` (default
-            :data:`~axojax.inverse.mechanisms.DEFAULT_BASES`: clamped, free, head), each
+        bases: names of :data:`~axojax.inverse.comparison.mechanisms.BASES` (default
+            :data:`~axojax.inverse.comparison.mechanisms.DEFAULT_BASES`: clamped, free, head), each
             optionally with ``+compliance`` (``"head+compliance"``: a basal compliance,
-            kb and xib fitted too; :mod:`axojax.inverse.mechanisms`).
+            kb and xib fitted too; :mod:`axojax.inverse.comparison.mechanisms`).
         model: the preset every row uses (default ``two``: the continuum limit of the
             anchors, and the fastest; docs/mechanisms.md).
         n_elements: elements per filament.
@@ -371,12 +371,12 @@ def compare(
         pin_tolerance: relative sigma of the pins (growth rate and frequency).
         method: least-squares solver (``"lm"``, ``"lbfgs"``, ``"adam"``).
         head: the ``head`` base's :class:`~axojax.models.Base` (default: an ellipsoid of
-            :data:`~axojax.inverse.mechanisms.DEFAULT_HEAD_UM` in water).
+            :data:`~axojax.inverse.comparison.mechanisms.DEFAULT_HEAD_UM` in water).
         profiles: static relative x-profiles of EI, p and the links for every row's model
             (:class:`axojax.fem.Profiles`; e.g. ``Profiles(ei=lambda x: 3 - 2 * x)``, a base
             three times stiffer than the tip); uniform by default.
         compliance: basal compliance chi_b = k_b + i omega xi_b on the bases
-            (:data:`~axojax.inverse.mechanisms.COMPLIANCE_FORMS`): ``True`` every base with
+            (:data:`~axojax.inverse.comparison.mechanisms.COMPLIANCE_FORMS`): ``True`` every base with
             it (kb and xib fitted; a row keeps two values of its own, so that it stays
             within 6 with the amplitude: docs/mechanisms.md), ``"elastic"`` a basal spring
             (kb fitted; three of its own), ``"both"`` / ``"both-elastic"`` every base

@@ -47,10 +47,10 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array
 
-from .._progress import progress as progress_bar
-from .._progress import stage
-from ..cache import posterior_cache_dir
-from ..results import RESULTS, message
+from ..._progress import progress as progress_bar
+from ..._progress import stage
+from ...cache import posterior_cache_dir
+from ...results import RESULTS, message
 from . import _warm_cache, diagnostics
 from ._densities import InverseProblem, _Target, _Whitened, normal_prior
 from ._laplace import Laplace, _starts, laplace_of
@@ -120,7 +120,7 @@ def posterior(
             or a callable prior, runs uncached (:mod:`._warm_cache`).
             ``Posterior.warm_cache`` says what happened: "off", "stored", "loaded".
         transport: sample in coordinates that straighten a curved ridge
-            (:class:`~axojax.inverse.transport.ProfileTransport`, e.g.
+            (:class:`~axojax.inverse.sampling.transport.ProfileTransport`, e.g.
             ``ProfileTransport("ks")``: the profile along ks is tabulated from the centre
             before the warm-up; the posterior is exactly the same, the trajectories
             shorter). ``None``: the affine whitening alone.
