@@ -37,9 +37,10 @@ complex scale; the wavelengths are unchanged); the nearer to circular, the less
 significant e2's orientation (:attr:`Planarity.frame_ratio` reports the square root of
 the ratio of the two transverse variances, as a model's ``out_of_plane_ratio`` does).
 Between these limits a component's own wavelength depends on e2: the bundled sperm
-(ratio 0.70) gives 105 um in-plane and 45 um out-of-plane about the displacement's
-axis, 73 and 57 um about the oscillating tangent's (27 degrees away); the displacement's
-axis is the model's definition, so that a fit compares like with like. A record in the lab frame of a rolling
+(ratio 0.70) gives 130 um in-plane and 52 um out-of-plane about the displacement's axis
+(the phase slope of docs/model.md section 5; the axis of the oscillating tangent, 27
+degrees away, gives other values); the displacement's axis is the model's definition, so
+that a fit compares like with like. A record in the lab frame of a rolling
 cell (its beat plane turning with the body) must first be brought into a frame fixed to
 the cell (the head's orientation, which a centreline alone does not give; the bundled
 sperm is in its head-fixed frame): otherwise the roll, at the rolling frequency, mixes

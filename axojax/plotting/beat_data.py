@@ -10,12 +10,13 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..beats.data import BeatData
+from ..waveform import measures as wm
 
 
 def plot_beat_data(beat: BeatData) -> plt.Figure:
     """psi_0(s); |psi_1(s)| with its 1-sigma band; the unwrapped phase of psi_1(s) with
-    a line of the wavelength's slope k (the |psi_1|^2-weighted mean phase gradient, drawn
-    through the |psi_1|^2-weighted centre of the phase); the kymograph psi(s, t) of the
+    the wavelength's line: its least-squares fit (slope k, :mod:`axojax.waveform.measures`,
+    through the trapezoid-weighted centre of the phase, as fitted); the kymograph psi(s, t) of the
     first (at most 3) of the whole cycles the reduction used, their bounds marked (frames),
     or the two-mode reconstruction psi_0 + Re(psi_1 exp(i theta)) over one cycle (Fourier
     modes). A non-planar 3D beat shows its out-of-plane component dashed, with its own
@@ -46,7 +47,7 @@ def plot_beat_data(beat: BeatData) -> plt.Figure:
         )
         axes[1, 0].plot(
             s,
-            np.unwrap(np.angle(m.psi1)),
+            np.asarray(wm.unwrapped_phase(m.psi1)),  # the phase the wavelength is fitted to
             ls,
             label=f"phase of psi_1{label}",
             color=line.get_color(),
@@ -59,8 +60,8 @@ def plot_beat_data(beat: BeatData) -> plt.Figure:
         centre = precision * np.round((hi + lo) / 2 / precision)
         axes[0, 0].set_ylim(centre - 2 * precision, centre + 2 * precision)
     for (label, m, _, _), colour, measured in zip(comps, colours, beat.components):
-        phase = np.unwrap(np.angle(m.psi1))
-        w = np.abs(m.psi1) ** 2
+        phase = np.asarray(wm.unwrapped_phase(m.psi1))
+        w = np.where(m.psi1 == 0, 0.0, wm.trapezoid_weights(s))
         w = w if w.sum() > 0 else np.ones_like(w)
         centre = np.average(s, weights=w), np.average(phase, weights=w)
         fit = centre[1] + measured["wavenumber_rad_per_um"] * (s - centre[0])
