@@ -39,7 +39,8 @@ def check_base_params(model: Model, params: Params) -> Params:
         xib = np.asarray(params.xib, dtype=float)
         if not bool(np.all(xib > 0)):
             raise ValueError(
-                f"parameter xib must be > 0 with basal compliance (it keeps the damping matrix regular), got {xib.tolist()!r}"
+                "parameter xib must be > 0 with basal compliance (it keeps the damping matrix "
+                f"regular), got {xib.tolist()!r}"
             )
     return params
 

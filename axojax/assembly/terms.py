@@ -132,7 +132,8 @@ def _knot_profile(model: Model, params: Params, field: str):
     static = _PROFILE_OF.get(field)
     if static and getattr(model.profiles, static) is not None:
         raise ValueError(
-            f"parameter {field}: the model already has a static {static} profile (Profiles.{static}); give one of the two"
+            f"parameter {field}: the model already has a static {static} profile "
+            f"(Profiles.{static}); give one of the two"
         )
     if field == "p_knots" and model.section.load == "tip":
         raise ValueError(
@@ -141,7 +142,8 @@ def _knot_profile(model: Model, params: Params, field: str):
     v = jnp.asarray(values, dtype=float)
     if v.ndim != 1:
         raise ValueError(
-            f"parameter {field} must hold one value per knot at one parameter point (shape (K,)), got shape {v.shape}: map over a batch with jax.vmap"
+            f"parameter {field} must hold one value per knot at one parameter point (shape "
+            f"(K,)), got shape {v.shape}: map over a batch with jax.vmap"
         )
     return v, model.knot_positions(field, v.shape[0])
 

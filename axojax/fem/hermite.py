@@ -126,7 +126,8 @@ def make_mesh(
         raise ValueError(f"n_elements must be an integer >= 1, got {n_elements!r}")
     if n_elements > MAX_ELEMENTS:
         raise ValueError(
-            f"n_elements must be at most {MAX_ELEMENTS} (the mesh's dense tables grow as its square), got {n_elements!r}"
+            f"n_elements must be at most {MAX_ELEMENTS} (the mesh's dense tables grow as its "
+            f"square), got {n_elements!r}"
         )
     if points_per_element < 4:
         raise ValueError(

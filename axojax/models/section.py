@@ -320,7 +320,8 @@ class Model:
             return equally_spaced(n_values)
         if n_values != len(self.knots):
             raise ValueError(
-                f"parameter {name} has {n_values} values but the model has {len(self.knots)} knots at {list(self.knots)}"
+                f"parameter {name} has {n_values} values but the model has {len(self.knots)} "
+                f"knots at {list(self.knots)}"
             )
         return self.knots
 
