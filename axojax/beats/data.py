@@ -163,7 +163,8 @@ class BeatData:
         keep = self.s_um >= um - 1e-9 * max(1.0, self.length_um)
         if keep.sum() < 4:
             raise ValueError(
-                f"{self.source}: excluding {um:g} um of the base leaves {int(keep.sum())} points of {self.s_um.size} (length {self.length_um:g} um); need at least 4"
+                f"{self.source}: excluding {um:g} um of the base leaves {int(keep.sum())} "
+                f"points of {self.s_um.size} (length {self.length_um:g} um); need at least 4"
             )
 
         def cut(m: FourierModes) -> FourierModes:
@@ -408,7 +409,8 @@ def _read(file, length_um, frame_rate_hz, variables, cell, planarity_threshold) 
         if len(shapes) != 1 or a["x_um"].ndim != 2:
             fail(
                 raw.path,
-                f"centreline needs {', '.join(names)} of equal shape (frames, points), got {', '.join(str(a[n].shape) for n in names)}",
+                f"centreline needs {', '.join(names)} of equal shape (frames, points), got "
+                f"{', '.join(str(a[n].shape) for n in names)}",
             )
         pts = np.stack([a[n] for n in names], axis=-1)
         if pts.shape[1] < 4:
@@ -545,7 +547,10 @@ def beat_from_kymograph(
     if psi.ndim != 2 or psi.shape[1] < MIN_POINTS or psi.shape[0] < MIN_POINTS:
         fail(
             source,
-            f"needs at least {MIN_POINTS} arc-length points and {MIN_POINTS} frames (a wavelength needs a phase gradient, a frequency a time series), got {psi.shape[1] if psi.ndim == 2 else 0} points x {psi.shape[0] if psi.ndim else 0} frames",
+            f"needs at least {MIN_POINTS} arc-length points and {MIN_POINTS} frames (a "
+            "wavelength needs a phase gradient, a frequency a time series), got "
+            f"{psi.shape[1] if psi.ndim == 2 else 0} points x "
+            f"{psi.shape[0] if psi.ndim else 0} frames",
         )
     for i, comp in enumerate([psi, *extra]):
         check_angles(source, "psi" if i == 0 else "psi (out of plane)", np.asarray(comp, float))
@@ -566,6 +571,7 @@ def beat_from_kymograph(
         cycle_bounds_s=red.crossings_s,
         out_of_plane=(red.modes[1], red.psi1_sigma[1]) if extra else None,
         notes=(
-            f"frequency from {red.cycles} cycles: scatter {red.frequency_scatter_hz:.3g} Hz, sigma {red.frequency_sigma_hz:.3g} Hz (floor {FREQUENCY_REL_FLOOR:.0%})",
+            f"frequency from {red.cycles} cycles: scatter {red.frequency_scatter_hz:.3g} Hz, "
+            f"sigma {red.frequency_sigma_hz:.3g} Hz (floor {FREQUENCY_REL_FLOOR:.0%})",
         ),
     )

@@ -116,7 +116,8 @@ def _kind(arrays: dict, path) -> str:
     have = ", ".join(sorted(arrays)) or "nothing"
     fail(
         path,
-        f"missing data: need psi (kymograph), x_um and y_um[, z_um] (centreline) or s_um,psi0_rad,psi1_re_rad,psi1_im_rad (Fourier modes); found {have}",
+        "missing data: need psi (kymograph), x_um and y_um[, z_um] (centreline) or "
+        f"s_um,psi0_rad,psi1_re_rad,psi1_im_rad (Fourier modes); found {have}",
     )
 
 
@@ -293,7 +294,8 @@ def read_csv(path: pathlib.Path) -> RawBeat:
             return _finish(path, a, scalars, frames=numbers, warnings=warnings)
     fail(
         path,
-        f"missing columns: need frame,s_um,psi_rad or frame,x_um,y_um[,z_um] or {','.join(FOURIER)} (header: {','.join(cols)})",
+        "missing columns: need frame,s_um,psi_rad or frame,x_um,y_um[,z_um] or "
+        f"{','.join(FOURIER)} (header: {','.join(cols)})",
     )
 
 
@@ -374,13 +376,15 @@ def _pick_cell(path, name: str, value, cell: int | None):
         if len(filled) != 1:
             fail(
                 path,
-                f"cell array {name} has {len(filled)} non-empty cells ({', '.join(map(str, filled[:10]))}): choose one with cell=INDEX (0-based)",
+                f"cell array {name} has {len(filled)} non-empty cells "
+                f"({', '.join(map(str, filled[:10]))}): choose one with cell=INDEX (0-based)",
             )
         cell = filled[0]
     if not 0 <= cell < value.size or cell not in filled:
         fail(
             path,
-            f"cell {cell} of {name} is missing or empty (non-empty, 0-based: {', '.join(map(str, filled[:10])) or 'none'})",
+            f"cell {cell} of {name} is missing or empty (non-empty, 0-based: "
+            f"{', '.join(map(str, filled[:10])) or 'none'})",
         )
     return value.flat[cell]
 

@@ -7,8 +7,8 @@ Scalar targets (physical units, from the dominant mode): ``frequency_hz``,
 near the Hopf boundary: target 0 with a tolerance). With ``source="limit_cycle"`` a target
 is a measure of the nonlinear beat's periodic orbit (:func:`axojax.orbits.limit_cycle`,
 differentiable by the implicit function theorem) instead: ``frequency_hz``,
-``amplitude_um`` (tip, half peak-to-peak along the beat direction) or ``wavelength_um``. A :class:`ShapeTarget` is an observed
-first Fourier mode of the tangent angle, psi_1(s); the model's psi_1 (the dominant
+``amplitude_um`` (tip, half peak-to-peak along the beat direction) or ``wavelength_um``. A
+:class:`ShapeTarget` is an observed first Fourier mode of the tangent angle, psi_1(s); the model's psi_1 (the dominant
 eigenvector's centreline slope in its beat plane) is fitted with the best complex scale
 alpha, so the residual ``psi_obs - alpha psi_model`` ignores the mode's arbitrary
 amplitude and phase but not its shape or propagation direction.
@@ -111,7 +111,8 @@ class ShapeTarget:
             object.__setattr__(self, "component", tuple(str(c) for c in self.component))
             if (len(self.component),) != shape:
                 raise ValueError(
-                    f"shape target: component must be one name or one per point of s_um {shape}, got {len(self.component)}"
+                    "shape target: component must be one name or one per point of s_um "
+                    f"{shape}, got {len(self.component)}"
                 )
         bad = sorted(set(self.components) - set(COMPONENTS))
         if bad:
