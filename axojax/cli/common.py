@@ -228,7 +228,8 @@ def add_solver_flag(parser: argparse.ArgumentParser) -> None:
         default="auto",
         metavar="NAME",
         help=f"dominant-eigenpair solver: {', '.join(SOLVERS)} (default auto: certified Arnoldi on the "
-        f"block-tridiagonal pencil for models of {Auto().min_arnoldi_dof}+ unknowns, and for sweeps (or traced boundaries) of "
+        f"block-tridiagonal pencil for models of {Auto().min_arnoldi_dof}+ unknowns, and for "
+        "sweeps (or traced boundaries) of "
         f"{Auto().min_batch_points}+ points on models of {Auto().min_batch_dof}+ unknowns; dense otherwise)",
     )
 
@@ -303,7 +304,8 @@ def model_from_args(args: argparse.Namespace, dense_spectrum: bool = False) -> M
         raise CLIError(f"--elements: expected an integer in 1..{MAX_ELEMENTS}, got {n}")
     if abs(args.rotation_deg) > MAX_ROTATION_DEG:
         raise CLIError(
-            f"--rotation-deg: expected degrees in -{MAX_ROTATION_DEG:g}..{MAX_ROTATION_DEG:g}, got {args.rotation_deg:g}"
+            f"--rotation-deg: expected degrees in -{MAX_ROTATION_DEG:g}..{MAX_ROTATION_DEG:g}, "
+            f"got {args.rotation_deg:g}"
         )
     if args.model_file is not None:
         source = "--model-file"
@@ -427,7 +429,8 @@ def parse_names(text: str, flag: str) -> list[str]:
             field = f"{element[0]}[{element[1]}]"
         if field is None:
             raise CLIError(
-                f"{flag}: unknown parameter {n!r}; choose from {', '.join(PARAM_FLAGS)} or a knot value such as ei-knots[0]"
+                f"{flag}: unknown parameter {n!r}; choose from {', '.join(PARAM_FLAGS)} or a "
+                "knot value such as ei-knots[0]"
             )
         out.append(field)
     return out

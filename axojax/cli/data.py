@@ -48,7 +48,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="FILE",
         nargs="?",
         default=None,
-        help="beat file (.csv, .npz, .mat: kymograph, 2D/3D centreline or Fourier modes) or a bundled data set's name (--list lists them)",
+        help=(
+            "beat file (.csv, .npz, .mat: kymograph, 2D/3D centreline or Fourier modes) or a "
+            "bundled data set's name (--list lists them)"
+        ),
     )
     parser.add_argument(
         "--list",
@@ -252,7 +255,8 @@ def render(doc: dict) -> str:
         f"  static curvature  {_static_curvature(doc)}",
         f"  dynamic amplitude {_num(doc['dynamic_amplitude_rad'], '.4g', 'rad')}",
         *_component_lines(doc.get("components", [])),
-        f"  psi_1 sigma       {doc['psi1_sigma_rad']['min']:.2g} .. {doc['psi1_sigma_rad']['max']:.2g} rad (floor {doc['floors']['psi1_rad']:g})",
+        f"  psi_1 sigma       {doc['psi1_sigma_rad']['min']:.2g} .. "
+        f"{doc['psi1_sigma_rad']['max']:.2g} rad (floor {doc['floors']['psi1_rad']:g})",
     ]
     if doc["planarity"] is not None:
         r = doc["planarity"]["ratios"]

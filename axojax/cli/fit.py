@@ -52,13 +52,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--free",
         default=None,
         metavar="NAMES",
-        help="comma-separated parameters to fit, e.g. p,ks; cubic (the stiffening, --cubic its start) with --target limit-cycle (or free = [...] in --spec)",
+        help="comma-separated parameters to fit, e.g. p,ks; cubic (the stiffening, --cubic its "
+        "start) with --target limit-cycle (or free = [...] in --spec)",
     )
     parser.add_argument(
         "--spec",
         default=None,
         metavar="FIT.toml",
-        help="fit several conditions at once (global fit): model, free parameters and [[condition]] tables (format: docs/interface.md, 'The fit spec')",
+        help="fit several conditions at once (global fit): model, free parameters and "
+        "[[condition]] tables (format: docs/interface.md, 'The fit spec')",
     )
     common.add_solver_flag(parser)
     parser.add_argument(
@@ -164,7 +166,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         type=common.finite_float,
         default=SHAPE_FLOOR,
         metavar="RAD",
-        help=f"model-discrepancy floor added in quadrature to psi_1's sigma (default {SHAPE_FLOOR:g} rad: tangent-angle accuracy of tracked centrelines, "
+        help="model-discrepancy floor added in quadrature to psi_1's sigma (default "
+        f"{SHAPE_FLOOR:g} rad: tangent-angle accuracy of tracked centrelines, "
         "5-10%% of a typical |psi_1|)",
     )
     parser.add_argument(
@@ -228,7 +231,8 @@ def _targets(args: argparse.Namespace) -> list[Target]:
         )
     elif args.observation is not None:
         raise common.CLIError(
-            "--observation: fits the linear mode; with --target limit-cycle give --target-frequency/--target-wavelength/--target-amplitude or --data"
+            "--observation: fits the linear mode; with --target limit-cycle give "
+            "--target-frequency/--target-wavelength/--target-amplitude or --data"
         )
     spec = (
         ("frequency_hz", args.target_frequency, args.frequency_sigma, 0.05, "--target-frequency"),

@@ -81,7 +81,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=None,
         metavar="DRAWS",
         help="then sample the posterior from the optimum with NUTS: DRAWS per chain after --warmup steps "
-        "(adds \"posterior\" to the report; with --out FIT.json the draws go to FIT.posterior.npz, drawn by 'axojax plot')",
+        '(adds "posterior" to the report; with --out FIT.json the draws go to '
+        "FIT.posterior.npz, drawn by 'axojax plot')",
     )
     parser.add_argument(
         "--chains",

@@ -50,7 +50,8 @@ def render(doc: dict) -> str:
         for t in c["targets"]:
             got = t["achieved"]
             lines.append(
-                f"{head}  {t['name']}: {got if got is not None else float('nan'):.4g} vs {t['value']:.4g} +- {t['sigma']:.3g} ({t['residual']:+.2f} sigma)"
+                f"{head}  {t['name']}: {got if got is not None else float('nan'):.4g} vs "
+                f"{t['value']:.4g} +- {t['sigma']:.3g} ({t['residual']:+.2f} sigma)"
             )
         if c.get("shape_rms") is not None:
             lines.append(f"{head}  mode shape rms residual {c['shape_rms']:.2f} sigma")
@@ -79,12 +80,15 @@ def _render_posterior(post: dict | None) -> list[str]:
         f"posterior ({post['chains']} chains x {post['draws']} draws, {post['seconds']:.1f} s):"
     )
     lines.append(
-        f"{'parameter':>12s}  {'mean':>12s}  {'sd':>10s}  {'q05':>12s}  {'q95':>12s}  {'rhat':>6s}  {'ess':>7s}  {'sd/Laplace':>10s}"
+        f"{'parameter':>12s}  {'mean':>12s}  {'sd':>10s}  {'q05':>12s}  {'q95':>12s}  "
+        f"{'rhat':>6s}  {'ess':>7s}  {'sd/Laplace':>10s}"
     )
     ratio = post.get("sd_ratio") or {}
     for k, m in post["mean"].items():
         lines.append(
-            f"{k:>12s}  {m:12.5g}  {post['sd'][k]:10.3g}  {post['q05'][k]:12.5g}  {post['q95'][k]:12.5g}  {post['rhat'][k]:6.3f}  {post['ess'][k]:7.0f}  {_num(ratio.get(k)):>10s}"
+            f"{k:>12s}  {m:12.5g}  {post['sd'][k]:10.3g}  {post['q05'][k]:12.5g}  "
+            f"{post['q95'][k]:12.5g}  {post['rhat'][k]:6.3f}  {post['ess'][k]:7.0f}  "
+            f"{_num(ratio.get(k)):>10s}"
         )
     if post.get("gradients_per_draw") is not None:
         lines.append(
@@ -119,7 +123,8 @@ def render_laplace(lap: dict) -> list[str]:
     lines.append(f"{'parameter':>12s}  {'centre':>12s}  {'sd':>10s}  {'q05':>12s}  {'q95':>12s}")
     for k, c in lap["centre"].items():
         lines.append(
-            f"{k:>12s}  {c:12.5g}  {_num(lap['sd'][k]):>10s}  {_num(lap['q05'][k], '12.5g')}  {_num(lap['q95'][k], '12.5g')}"
+            f"{k:>12s}  {c:12.5g}  {_num(lap['sd'][k]):>10s}  {_num(lap['q05'][k], '12.5g')}  "
+            f"{_num(lap['q95'][k], '12.5g')}"
         )
     names, corr = lap["names"], lap["corr"]
     pairs = [

@@ -15,7 +15,10 @@ SUBCOMMANDS = {
     "modes": "spectrum and dominant mode at one parameter point",
     "critical": "Hopf point in p, optionally along a second parameter",
     "sweep": "dominant mode over a parameter grid, saved to .npz",
-    "fit": "estimate free parameters from observed beats (least squares: Levenberg-Marquardt by default; NUTS posteriors)",
+    "fit": (
+        "estimate free parameters from observed beats "
+        "(least squares: Levenberg-Marquardt by default; NUTS posteriors)"
+    ),
     "simulate": "nonlinear beat in the time domain (diffrax), saved to .npz",
     "orbit": "limit cycle computed directly, or its branch in p from the Hopf point",
     "data": "what axojax extracts from beat data (frequency, psi_0, psi_1, planarity) before any fit",

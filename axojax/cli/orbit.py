@@ -166,13 +166,17 @@ def render(doc: dict) -> str:
         h = doc["hopf"]
         lines.append(f"Hopf point of the equilibrium: p = {h['p']:.6g}, {h['frequency_hz']:.3f} Hz")
     lines.append(
-        f"{'p':>10s}  {'freq (Hz)':>10s}  {'period (ms)':>11s}  {'tip amp (um)':>12s}  {'wavelength (um)':>15s}  {'|rho_2|':>8s}  stable"
+        f"{'p':>10s}  {'freq (Hz)':>10s}  {'period (ms)':>11s}  {'tip amp (um)':>12s}  "
+        f"{'wavelength (um)':>15s}  {'|rho_2|':>8s}  stable"
     )
     for o in doc["orbits"]:
         rho = sorted((abs(complex(*r)) for r in o["floquet"]), reverse=True)
         second = rho[1] if len(rho) > 1 else float("nan")
         lines.append(
-            f"{o['p']:10.5g}  {o['frequency_hz']:10.4f}  {o['period_s'] * 1e3:11.3f}  {o['tip_amplitude_um']:12.4f}  {wavelength_text(o['wavelength_um'], '.3f', ''):>15s}  {second:8.4f}  {o['stable']}"
+            f"{o['p']:10.5g}  {o['frequency_hz']:10.4f}  {o['period_s'] * 1e3:11.3f}  "
+            f"{o['tip_amplitude_um']:12.4f}  "
+            f"{wavelength_text(o['wavelength_um'], '.3f', ''):>15s}  {second:8.4f}  "
+            f"{o['stable']}"
         )
     if doc.get("missing"):
         lines.append("no orbit at p = " + ", ".join(f"{p:g}" for p in doc["missing"]))

@@ -68,7 +68,8 @@ def _meta(path: pathlib.Path) -> dict:
     if not zipfile.is_zipfile(path):
         raise _bad(
             path,
-            "is not an .npz file (no zip archive: truncated, damaged or another format); rerun the command that wrote it",
+            "is not an .npz file (no zip archive: truncated, damaged or another format); rerun "
+            "the command that wrote it",
         )
     try:
         with np.load(path, allow_pickle=False) as f:
@@ -83,7 +84,9 @@ def _meta(path: pathlib.Path) -> dict:
     except READ_ERRORS as err:
         raise _bad(
             path,
-            f"cannot be read as an .npz file: truncated or damaged ({type(err).__name__}: {str(err).splitlines()[0] if str(err) else 'no detail'}); rerun the command that wrote it",
+            f"cannot be read as an .npz file: truncated or damaged ({type(err).__name__}: "
+            f"{str(err).splitlines()[0] if str(err) else 'no detail'}); rerun the command that "
+            "wrote it",
         ) from None
     try:
         meta = json.loads(text)
@@ -112,7 +115,8 @@ def _check_shapes(
         ):
             raise _bad(
                 path,
-                f"is a {kind} file whose {name!r} array has shape {a.shape}, expected {tuple('*' if s is None else s for s in shape)} (non-empty)",
+                f"is a {kind} file whose {name!r} array has shape {a.shape}, expected "
+                f"{tuple('*' if s is None else s for s in shape)} (non-empty)",
             )
 
 
@@ -209,7 +213,8 @@ def _load(path: pathlib.Path, kind: str):
         detail = str(err).splitlines()[0] if str(err) else "no detail"
         raise _bad(
             path,
-            f"is a {kind} file that cannot be read whole ({type(err).__name__}: {detail}); rerun the command that wrote it",
+            f"is a {kind} file that cannot be read whole ({type(err).__name__}: {detail}); "
+            "rerun the command that wrote it",
         ) from None
 
 
@@ -227,7 +232,8 @@ def _figure(args: argparse.Namespace):
         return plot_section(model), "section", model.name
     if args.file is None:
         raise common.CLIError(
-            "FILE: give FILE.npz (a sweep, simulation, orbit branch or posterior), FIT.json (a fit report), or --model/--model-file for a cross-section"
+            "FILE: give FILE.npz (a sweep, simulation, orbit branch or posterior), FIT.json (a "
+            "fit report), or --model/--model-file for a cross-section"
         )
     if args.rotation_deg != 0.0:
         raise common.CLIError(
@@ -260,7 +266,8 @@ def _figure(args: argparse.Namespace):
     except (ValueError, IndexError, KeyError, TypeError) as err:
         raise _bad(
             path,
-            f"is a {kind} file whose contents do not make a figure ({type(err).__name__}: {str(err).splitlines()[0] if str(err) else 'no detail'})",
+            f"is a {kind} file whose contents do not make a figure ({type(err).__name__}: "
+            f"{str(err).splitlines()[0] if str(err) else 'no detail'})",
         ) from None
 
 

@@ -63,7 +63,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         type=int,
         default=None,
         metavar="N",
-        help="solver step budget (default: 10000 + 2000 per period of the linear frequency, rounded up to a multiple of 10000); running out ends in state solver_failed",
+        help="solver step budget (default: 10000 + 2000 per period of the linear frequency, "
+        "rounded up to a multiple of 10000); running out ends in state solver_failed",
     )
     parser.add_argument(
         "--out", default=None, metavar="FILE.npz", help="write the time series here"
@@ -94,7 +95,8 @@ def run(args: argparse.Namespace) -> dict:
         )
     if args.perturbation_um > units.length_um:
         raise common.CLIError(
-            f"--perturbation-um: a tip displacement of {args.perturbation_um:g} um exceeds the cilium length ({units.length_um:g} um, --length-um)"
+            f"--perturbation-um: a tip displacement of {args.perturbation_um:g} um exceeds the "
+            f"cilium length ({units.length_um:g} um, --length-um)"
         )
     if args.rtol >= 1:
         raise common.CLIError(f"--rtol: expected a relative tolerance < 1, got {args.rtol:g}")
@@ -147,7 +149,8 @@ def _check_duration(model, params, units, t_end_s: float) -> None:
     steps = MIN_STEPS + STEPS_PER_PERIOD * t_end_s * max(frequency, 20.0)
     if not math.isfinite(steps) or steps > MAX_STEPS:
         raise common.CLIError(
-            f"--t-end: {t_end_s:g} s at the linear frequency {frequency:.4g} Hz would need a budget of about {steps:.3g} solver steps "
+            f"--t-end: {t_end_s:g} s at the linear frequency {frequency:.4g} Hz would need a "
+            f"budget of about {steps:.3g} solver steps "
             f"(limit {MAX_STEPS:g}); give a shorter --t-end, or --max-steps"
         )
 
@@ -157,15 +160,19 @@ def render(doc: dict) -> str:
     reason = f": {doc['reason']}" if doc.get("reason") else ""
     lines = [
         f"state: {doc['state']}{reason}",
-        f"linear (dominant eigenvalue): {lin['classification']}, {lin['frequency_hz']:.3f} Hz, growth {lin['growth_rate_per_s']:.3f} /s",
+        f"linear (dominant eigenvalue): {lin['classification']}, {lin['frequency_hz']:.3f} Hz, "
+        f"growth {lin['growth_rate_per_s']:.3f} /s",
     ]
     lc = doc["limit_cycle"]
     if lc is not None:
         w = doc["waveform"]
         lines.append(
-            f"limit cycle: {lc['frequency_hz']:.3f} Hz (period {lc['period_s'] * 1e3:.2f} ms), tip amplitude {lc['tip_amplitude_um']:.3f} um"
+            f"limit cycle: {lc['frequency_hz']:.3f} Hz (period {lc['period_s'] * 1e3:.2f} ms), "
+            f"tip amplitude {lc['tip_amplitude_um']:.3f} um"
         )
         lines.append(
-            f"waveform: wavelength {wavelength_text(w.get('wavelength_um'), '.3f')}, static curvature {w['static_curvature_rad_per_um']:.4f} rad/um, dynamic amplitude {w['dynamic_amplitude_rad']:.3f} rad"
+            f"waveform: wavelength {wavelength_text(w.get('wavelength_um'), '.3f')}, static "
+            f"curvature {w['static_curvature_rad_per_um']:.4f} rad/um, dynamic amplitude "
+            f"{w['dynamic_amplitude_rad']:.3f} rad"
         )
     return "\n".join(lines)

@@ -51,7 +51,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument(
         "--distributed",
         action="store_true",
-        help="join a jax.distributed job; coordinator, process count and index found from the cluster (SLURM, Open MPI, ...) unless given below",
+        help="join a jax.distributed job; coordinator, process count and index found from the "
+        "cluster (SLURM, Open MPI, ...) unless given below",
     )
     group.add_argument(
         "--coordinator",
@@ -120,7 +121,8 @@ def _wait_for_coordinator(host: str, port: int, timeout_s: float) -> None:
         except OSError:
             if time.monotonic() > deadline:
                 raise common.CLIError(
-                    f"--coordinator: nothing answered at {host}:{port} within {timeout_s:g} s (--timeout); is process 0 running?"
+                    f"--coordinator: nothing answered at {host}:{port} within {timeout_s:g} s "
+                    "(--timeout); is process 0 running?"
                 ) from None
             time.sleep(0.5)
 
@@ -154,7 +156,8 @@ def init_distributed(args: argparse.Namespace) -> None:
         and args.process_id >= args.num_processes
     ):
         raise common.CLIError(
-            f"--process-id: expected 0..{args.num_processes - 1} (--num-processes {args.num_processes}), got {args.process_id}"
+            f"--process-id: expected 0..{args.num_processes - 1} (--num-processes "
+            f"{args.num_processes}), got {args.process_id}"
         )
     if host is not None and args.process_id:
         _wait_for_coordinator(host, int(port), timeout)
@@ -275,7 +278,8 @@ def render(doc: dict) -> str:
     axes = ", ".join(f"{k} {a:g}..{b:g} ({n})" for k, (a, b, n) in doc["axes"].items())
     c = doc["counts"]
     return (
-        f"swept {doc['model']} over {axes}: {doc['points']} points in {doc['seconds']:.1f} s ({doc['points_per_s']:.1f} points/s)\n"
+        f"swept {doc['model']} over {axes}: {doc['points']} points in {doc['seconds']:.1f} s "
+        f"({doc['points_per_s']:.1f} points/s)\n"
         f"stable {c['stable']}, flutter {c['flutter']}, divergence {c['divergence']}\n"
         f"solver {doc['solver']['name']} ({doc['solver']['dense_fallbacks']} points recomputed densely)\n"
         f"saved {doc['out']}"
