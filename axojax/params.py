@@ -171,7 +171,8 @@ class Params(eqx.Module):
         bad = sorted(k for k in changes if not is_parameter_name(k))
         if bad:
             raise ValueError(
-                f"unknown parameter(s) {bad}; known: {', '.join(PARAM_NAMES + KNOT_NAMES)} and knot values such as ei_knots[0]"
+                f"unknown parameter(s) {bad}; known: {', '.join(PARAM_NAMES + KNOT_NAMES)} and "
+                "knot values such as ei_knots[0]"
             )
         out = self
         for k, v in changes.items():
@@ -276,7 +277,8 @@ class Params(eqx.Module):
                     raise ValueError(f"parameter {name} must be {rel} {low:g}, got {_show(value)}")
             if not bool(np.all(np.abs(arr) <= MAX_MAGNITUDE)):
                 raise ValueError(
-                    f"parameter {name} must be at most {MAX_MAGNITUDE:g} in magnitude (float64 loses the answer beyond), got {_show(value)}"
+                    f"parameter {name} must be at most {MAX_MAGNITUDE:g} in magnitude (float64 "
+                    f"loses the answer beyond), got {_show(value)}"
                 )
         for name in KNOT_NAMES:
             value = self.knot_values(name)
@@ -285,7 +287,8 @@ class Params(eqx.Module):
             arr = np.asarray(value, dtype=float)
             if not (np.all(np.isfinite(arr)) and np.all(arr >= 0) and np.all(arr <= MAX_MAGNITUDE)):
                 raise ValueError(
-                    f"parameter {name} must be finite, >= 0 and at most {MAX_MAGNITUDE:g} at every knot, got {arr.tolist()!r}"
+                    f"parameter {name} must be finite, >= 0 and at most {MAX_MAGNITUDE:g} at "
+                    f"every knot, got {arr.tolist()!r}"
                 )
         if not isinstance(self.omega0, jax.core.Tracer):
             for name in DYNAMIC_NAMES:
@@ -295,7 +298,8 @@ class Params(eqx.Module):
                 dynamic = np.asarray(value, dtype=float) != 0
                 if bool(np.any(dynamic & (np.asarray(self.omega0, dtype=float) <= 0))):
                     raise ValueError(
-                        f"parameter omega0 must be > 0 when {name} is non-zero (it is {_show(value)}), got {_show(self.omega0)}"
+                        f"parameter omega0 must be > 0 when {name} is non-zero (it is "
+                        f"{_show(value)}), got {_show(self.omega0)}"
                     )
         return self
 

@@ -75,10 +75,19 @@ class RESULTS(diffrax.RESULTS):
     """Result codes of axojax's solvers (module docstring); diffrax's and optimistix's
     codes included."""
 
-    invalid_params = "A parameter is NaN, infinite, out of its range or beyond 1e9 in magnitude (see `axojax.Params.validate`); the numbers are NaN."
+    invalid_params = (
+        "A parameter is NaN, infinite, out of its range or beyond 1e9 in magnitude (see "
+        "`axojax.Params.validate`); the numbers are NaN."
+    )
     no_crossing = "No Hopf crossing: the dominant eigenvalue's real part stays <= 0 up to `p_max`."
-    chains_not_converged = "The posterior's chains are not to be trusted: R-hat above 1.01, too few effective samples or divergent transitions (the posterior's message says which)."
-    no_start = "No limit cycle: the Hopf normal form has no small orbit here (subcritical, or not past the Hopf point); start from a nearby orbit."
+    chains_not_converged = (
+        "The posterior's chains are not to be trusted: R-hat above 1.01, too few effective "
+        "samples or divergent transitions (the posterior's message says which)."
+    )
+    no_start = (
+        "No limit cycle: the Hopf normal form has no small orbit here (subcritical, or not "
+        "past the Hopf point); start from a nearby orbit."
+    )
 
 
 NAMES: tuple[str, ...] = tuple(

@@ -128,7 +128,8 @@ class Simulation:
         rest = self.meta.get("at_rest")
         if self.state == "decaying" and rest is not None:
             return (
-                f"the straight state is linearly unstable ({self.linear['classification']}) but the tip came to rest: the run ended "
+                f"the straight state is linearly unstable ({self.linear['classification']}) "
+                "but the tip came to rest: the run ended "
                 f"at a static state with filament tips up to {rest['max_filament_tip_um']:.3g} um from the axis "
                 f"(centreline tip {rest['centreline_tip_um']:.2g} um)"
             )

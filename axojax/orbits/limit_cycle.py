@@ -81,9 +81,22 @@ def failure_reason(cycle: LimitCycle, params: Params) -> str:
     lam = complex(cycle.linear_eigenvalue)
     p = float(params.p)
     if lam.real <= 0:
-        return f"no limit cycle at p = {p:g}: the equilibrium is linearly stable there (growth rate {lam.real:.4g} per tau); raise p past the Hopf point"
+        return (
+            f"no limit cycle at p = {p:g}: the equilibrium is linearly stable there (growth "
+            f"rate {lam.real:.4g} per tau); raise p past the Hopf point"
+        )
     if abs(lam.imag) <= 1e-9 * abs(lam):
-        return f"no limit cycle at p = {p:g}: the dominant mode does not oscillate (divergence, eigenvalue {lam.real:.4g})"
+        return (
+            f"no limit cycle at p = {p:g}: the dominant mode does not oscillate (divergence, "
+            f"eigenvalue {lam.real:.4g})"
+        )
     if not bool(cycle.started):
-        return f"no limit cycle at p = {p:g}: the Hopf bifurcation is not supercritical here (the normal form has no small orbit); start from a nearby orbit"
-    return f"no limit cycle found at p = {p:g}: Newton did not converge in {int(cycle.steps)} steps (last correction {float(cycle.correction):.2g}); start from a nearby orbit (continuation)"
+        return (
+            f"no limit cycle at p = {p:g}: the Hopf bifurcation is not supercritical here (the "
+            "normal form has no small orbit); start from a nearby orbit"
+        )
+    return (
+        f"no limit cycle found at p = {p:g}: Newton did not converge in {int(cycle.steps)} "
+        f"steps (last correction {float(cycle.correction):.2g}); start from a nearby orbit "
+        "(continuation)"
+    )

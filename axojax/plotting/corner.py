@@ -90,7 +90,8 @@ def plot_corner(
     worst = max(post.rhat[n] for n in names)
     fewest = min(post.ess[n] for n in names)
     fig.suptitle(
-        f"posterior: {post.chains} chains x {post.draws} draws, R-hat <= {worst:.3f}, ESS >= {fewest:.0f}, {post.divergences} divergent",
+        f"posterior: {post.chains} chains x {post.draws} draws, R-hat <= {worst:.3f}, ESS >= "
+        f"{fewest:.0f}, {post.divergences} divergent",
         fontsize=9,
     )
     fig.tight_layout()

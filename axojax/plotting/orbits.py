@@ -83,7 +83,8 @@ def plot_branch(path_or_arrays, meta: dict | None = None) -> plt.Figure:
         0, 1.1 * max(1.0, float(np.nanmax(second[ok])) if np.any(ok & np.isfinite(second)) else 1.0)
     )
     fig.suptitle(
-        f"limit cycles of {meta.get('model', '')} ({meta.get('n_elements', '')} elements), cubic {meta.get('cubic', '')}"
+        f"limit cycles of {meta.get('model', '')} ({meta.get('n_elements', '')} elements), "
+        f"cubic {meta.get('cubic', '')}"
     )
     return fig
 

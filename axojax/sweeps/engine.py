@@ -393,7 +393,8 @@ def _run_chunks(
                 vals = _read_chunk(part_path(c))
                 if vals is None:
                     raise ValueError(
-                        f"chunk file {part_path(c)} written by another process cannot be read; rerun the sweep to recompute it"
+                        f"chunk file {part_path(c)} written by another process cannot be read; "
+                        "rerun the sweep to recompute it"
                     )
                 results[c] = vals
     return results
