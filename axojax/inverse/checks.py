@@ -291,8 +291,8 @@ def fit_checks(
     problem: Problem, result: FitResult, *, mesh: bool = True, **mesh_options
 ) -> dict[str, Any]:
     """``{"regime": regime(...), "mesh_check": mesh_check(...)}``: the JSON entries of a
-    fit report (plain numbers; NaN and infinities as None). ``mesh=False``: ``"mesh_check"`` is None; a finer model too large for
-    memory: ``{"skipped": reason}``. ``mesh_options`` go to :func:`mesh_check`."""
+    fit report (plain numbers; NaN and infinities as None). ``mesh=False``: ``"mesh_check"``
+    is None; a finer model too large for memory: ``{"skipped": reason}``. ``mesh_options`` go to :func:`mesh_check`."""
     checked: dict[str, Any] | None = None
     if mesh:
         try:

@@ -48,9 +48,8 @@ class Condition:
         for name in values:
             if name not in PARAM_NAMES:
                 raise ValueError(
-                    f"condition {self.label or ''}: unknown parameter {name!r}; choose from {', '.join(PARAM_NAMES)}".replace(
-                        "condition : ", "condition: "
-                    )
+                    f"condition {self.label or ''}: unknown parameter {name!r}; choose from "
+                    f"{', '.join(PARAM_NAMES)}".replace("condition : ", "condition: ")
                 )
         object.__setattr__(self, "params", {k: float(v) for k, v in values.items()})
         object.__setattr__(self, "targets", tuple(self.targets))
@@ -59,9 +58,8 @@ class Condition:
                 raise TypeError(f"condition targets must be axojax.beats.Target, got {t!r}")
         if not self.targets and self.shape is None:
             raise ValueError(
-                f"condition {self.label if self.label is not None else ''}: give at least one target or a shape".replace(
-                    "condition : ", "condition: "
-                )
+                f"condition {self.label if self.label is not None else ''}: give at least one "
+                "target or a shape".replace("condition : ", "condition: ")
             )
 
     def describe(self) -> dict[str, Any]:

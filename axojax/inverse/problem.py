@@ -230,7 +230,8 @@ class Problem:
             orbit_solver = _without_floquet(orbit_solver)  # stability is not fitted: skip it
         elif fitted & ORBIT_FIELDS:
             raise ValueError(
-                "free: cubic is the limit cycle's stiffening; only limit-cycle targets (source='limit_cycle') depend on it"
+                "free: cubic is the limit cycle's stiffening; only limit-cycle targets "
+                "(source='limit_cycle') depend on it"
             )
         self.cubic, self.orbit_solver = cubic, orbit_solver
 
@@ -268,7 +269,8 @@ class Problem:
         mask = s >= self.exclude_base_um if keep else s < self.exclude_base_um
         if keep and mask.sum() < 2:
             raise ValueError(
-                f"exclude_base_um: {self.exclude_base_um:g} um leaves fewer than 2 shape points (condition {label}); the data end at {s.max():g} um"
+                f"exclude_base_um: {self.exclude_base_um:g} um leaves fewer than 2 shape "
+                f"points (condition {label}); the data end at {s.max():g} um"
             )
         if not mask.any():
             return None

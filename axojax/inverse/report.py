@@ -459,8 +459,10 @@ def _cycle_notes(problem: Problem, ev) -> list[str]:
     where = " in condition(s) " + ", ".join(failed) if problem.n_conditions > 1 else ""
     return [
         f"no limit cycle found{where} at these parameters (Newton from the Hopf normal form "
-        f"did not converge, or the straight state does not beat there): its targets count {CYCLE_FAILED:g} sigma and give no gradient, so the fit "
-        "could not move; start nearer a beating state (p a little above the Hopf point of `axojax critical`), or follow the branch with `axojax orbit --p a:b:n`"
+        "did not converge, or the straight state does not beat there): its targets count "
+        f"{CYCLE_FAILED:g} sigma and give no gradient, so the fit "
+        "could not move; start nearer a beating state (p a little above the Hopf point of "
+        "`axojax critical`), or follow the branch with `axojax orbit --p a:b:n`"
     ]
 
 
@@ -472,7 +474,9 @@ def _excluded_notes(conditions: list[dict]) -> list[str]:
         ex = c["excluded_base"]
         if ex is not None:
             out.append(
-                f"basal stretch s < {ex['exclude_base_um']:g} um{(' of ' + c['label']) if multi else ''} left out: misfit there {ex['rms_rad']:.3g} rad rms "
+                f"basal stretch s < {ex['exclude_base_um']:g} "
+                f"um{(' of ' + c['label']) if multi else ''} left out: misfit there "
+                f"{ex['rms_rad']:.3g} rad rms "
                 f"({ex['rms_sigma']:.2g} sigma) vs {ex['kept_rms_rad']:.3g} rad rms on the fitted points"
             )
     return out
@@ -561,7 +565,8 @@ def _at_bound(name: str, p, u: float) -> str:
     edge = p.lower if lower else p.upper
     edge = math.exp(edge) if p.log else edge
     return (
-        f"{name} sits at its {'lower' if lower else 'upper'} bound {_fmt(edge)}: the data push it out of the box (or do not constrain it); "
+        f"{name} sits at its {'lower' if lower else 'upper'} bound {_fmt(edge)}: the data push "
+        "it out of the box (or do not constrain it); "
         "it is not determined; widen the bound, fix it, or add data that depend on it"
     )
 

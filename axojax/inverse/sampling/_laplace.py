@@ -98,7 +98,8 @@ def _starts(target, init, chains: int, key, call) -> tuple[Array, Array, Array, 
             given = np.asarray(init, dtype=float)
         if given.shape not in ((k,), (chains, k)):
             raise ValueError(
-                f"init must be a point (k={k},) or one per chain ({chains}, {k}) in the fitted coordinate, got shape {given.shape}"
+                f"init must be a point (k={k},) or one per chain ({chains}, {k}) in the fitted "
+                f"coordinate, got shape {given.shape}"
             )
         if not (np.all(np.isfinite(given)) and np.all(given > lower) and np.all(given < upper)):
             raise ValueError(

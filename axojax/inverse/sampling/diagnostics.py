@@ -115,6 +115,7 @@ def sampler_notes(
         )
     if divergences:
         notes.append(
-            f"{divergences} divergent transitions of {draws} (try NUTS(target_acceptance_rate=0.95), or check the bounds)"
+            f"{divergences} divergent transitions of {draws} (try "
+            "NUTS(target_acceptance_rate=0.95), or check the bounds)"
         )
     return notes

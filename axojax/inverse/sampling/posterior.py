@@ -331,7 +331,8 @@ def _check(problem, draws, chains, warmup, sampler, prior):
     upper = np.asarray(problem.upper, dtype=float).reshape(-1)
     if k == 0 or lower.shape != (k,) or upper.shape != (k,):
         raise ValueError(
-            f"problem: names, lower and upper must have one entry per free parameter, got {k}, {lower.shape}, {upper.shape}"
+            f"problem: names, lower and upper must have one entry per free parameter, got {k}, "
+            f"{lower.shape}, {upper.shape}"
         )
     for name, value in (("draws", draws), ("chains", chains)):
         if not (isinstance(value, (int, np.integer)) and value >= 1):
@@ -346,7 +347,8 @@ def _check(problem, draws, chains, warmup, sampler, prior):
         prior = normal_prior(names, prior)
     elif prior is not None and not callable(prior):
         raise TypeError(
-            f"prior must be a callable log_prior(u), a {{name: (mean_u, sd_u)}} mapping or None, got {type(prior).__name__}"
+            f"prior must be a callable log_prior(u), a {{name: (mean_u, sd_u)}} mapping or "
+            f"None, got {type(prior).__name__}"
         )
     return names, lower, upper, prior
 
