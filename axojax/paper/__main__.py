@@ -19,7 +19,8 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(
         prog="python -m axojax.paper",
-        description="The paper-vs-axojax table: prints its markdown, or with --write rewrites README.md's block and docs/paper_table.md.",
+        description="The paper-vs-axojax table: prints its markdown, or with --write rewrites "
+        "README.md's block and docs/paper_table.md.",
     )
     parser.add_argument(
         "--write", action="store_true", help="rewrite README.md's block and docs/paper_table.md"

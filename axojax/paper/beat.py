@@ -54,7 +54,8 @@ class BeatSettings:
 
     def describe(self, units: Units = Units()) -> str:
         return (
-            f"here p = {self.p_factor:g} p_c of the {self.imbalance:g}:1 model ({self.imbalance_kind} reading), a0 = {Params().a0 * units.length_um:g} um, "
+            f"here p = {self.p_factor:g} p_c of the {self.imbalance:g}:1 model "
+            f"({self.imbalance_kind} reading), a0 = {Params().a0 * units.length_um:g} um, "
             f"cubic {self.cubic:g}, N_e = {self.n_elements}, {self.t_end_s:g} s"
         )
 
@@ -204,8 +205,10 @@ def beat_rows(
             note.append("elasticities of the linear mode at these parameters")
         if c.quantity == "frequency_hz":
             note.append(
-                f"the {settings.imbalance:g}:1 model starts beating at p_c = {run.p_c:.1f} with {run.onset_hz:.1f} Hz, and the "
-                f"frequency rises with p past it; this beat runs {m['beat_angle_deg']:.0f} deg from y towards z (the linear "
+                f"the {settings.imbalance:g}:1 model starts beating at p_c = {run.p_c:.1f} "
+                f"with {run.onset_hz:.1f} Hz, and the "
+                f"frequency rises with p past it; this beat runs {m['beat_angle_deg']:.0f} deg "
+                "from y towards z (the linear "
                 f"mode's out-of-plane ratio is {float(linear.values['out_of_plane_ratio'][0]):.2f})"
             )
         if c.quantity == "wavelength_um":
@@ -217,7 +220,8 @@ def beat_rows(
             )
         if c.quantity in ("dynamic_amplitude_rad", "static_curvature_rad_per_um"):
             note.append(
-                "the amplitude is set by the unstated nonlinearity and p, the static bend by the moment p a0 (1 - 1/imbalance)"
+                "the amplitude is set by the unstated nonlinearity and p, the static bend by "
+                "the moment p a0 (1 - 1/imbalance)"
             )
         if c.quantity == "static_curvature_rad_per_um":
             note.append("its sign depends on which side carries the larger force")

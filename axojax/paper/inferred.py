@@ -2,7 +2,8 @@
 unstated, and the table rows "with inferred parameters" beside the stated ones.
 
 ``python -m axojax.paper --inferred --json`` prints :func:`inferred_json`:
-``{"fig7": {"params": {...}, "elements", ...}, "fig12": {"params": {...}, "imbalance", "imbalance_kind", "cubic", "elements", ...}}``
+``{"fig7": {"params": {...}, "elements", ...},
+"fig12": {"params": {...}, "imbalance", "imbalance_kind", "cubic", "elements", ...}}``
 (params keyed like the command-line flags without dashes; dimensionless). Each figure
 is one :class:`Inferred` entry of :data:`INFERRED`; add a figure by adding an entry.
 
@@ -110,7 +111,8 @@ INFERRED: dict[str, Inferred] = {
         params=dict(INFERRED_FIG7["params"]),
         elements=INFERRED_FIG7["elements"],
         how="one global fit over fig. 7d-h (p = 300, 150, 200, 400, 800 -> 51, 17, 22, 66, 245 Hz, 2 % sigma): "
-        "Levenberg-Marquardt over log ks, log kl, log cl, gamma from 16 starts (notebooks/gallery_fig07_global_fit.ipynb, "
+        "Levenberg-Marquardt over log ks, log kl, log cl, gamma from 16 starts "
+        "(notebooks/gallery_fig07_global_fit.ipynb, "
         f"{FIG7_FITTED}); kl is bounded only from above (see the notebook's profile)",
     ),
     "fig12": Inferred(
@@ -134,7 +136,8 @@ INFERRED: dict[str, Inferred] = {
         "(notebooks/gallery_fig12_asymmetric_beat.ipynb, 2026-12-03)",
     ),
 }
-"""The inferred sets, keyed by figure (``"fig7"``: :mod:`.inferred_fig7`; ``"fig12"``; another figure adds its own key)."""
+"""The inferred sets, keyed by figure (``"fig7"``: :mod:`.inferred_fig7`; ``"fig12"``;
+another figure adds its own key)."""
 
 
 def inferred_json() -> dict[str, dict[str, Any]]:
@@ -189,7 +192,8 @@ def inferred_rows(claims: Sequence[Claim], units: Units = Units(), measured=None
     pr = inf.params
     context = (
         f"inferred: p = {pr['p']:.1f}, a0 = {pr['a0'] * units.length_um:.3f} um, cubic {inf.cubic:.3g}, "
-        f"cl = {pr['cl']:.3g}, kl = {pr['kl']:.4g}, ks = {pr['ks']:.0e}, {inf.imbalance:g}:1 {inf.imbalance_kind} reading, "
+        f"cl = {pr['cl']:.3g}, kl = {pr['kl']:.4g}, ks = {pr['ks']:.0e}, {inf.imbalance:g}:1 "
+        f"{inf.imbalance_kind} reading, "
         f"N_e = {inf.elements}; limit cycle {'stable' if bool(cyc.stable) else 'unstable'}, out-of-plane "
         f"{float(m.out_of_plane):.3f} (minor/major axis of the tip trace)"
     )

@@ -220,7 +220,10 @@ def _scan_text(c: Claim, scan) -> str:
     ks, f, flutter = scan(c.params["p"])
     if not np.any(flutter):
         return f"stable for every k_s = {sci(ks[0])}..{sci(ks[-1])} at this p"
-    text = f"over the map's k_s = {sci(ks[0])}..{sci(ks[-1])} (k_l = k_s/1e3) axojax gives {np.min(f[flutter]):.0f}-{np.max(f[flutter]):.0f} Hz at this p"
+    text = (
+        f"over the map's k_s = {sci(ks[0])}..{sci(ks[-1])} (k_l = k_s/1e3) axojax gives "
+        f"{np.min(f[flutter]):.0f}-{np.max(f[flutter]):.0f} Hz at this p"
+    )
     cross = [
         k
         for k in range(len(ks) - 1)

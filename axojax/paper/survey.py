@@ -57,7 +57,11 @@ def survey_rows(claims: Sequence[Claim]) -> list[Row]:
     """Rows for the ``kind == "survey"`` claims (flutter points of :func:`map_sweep`)."""
     r = map_sweep()
     flutter = r.data["classification"] == 1
-    grid = f"here {r.meta['model']}, p = {MAP_P[0]:g}..{MAP_P[-1]:g} x k_s = {sci(MAP_KS[0])}..{sci(MAP_KS[-1])} ({MAP_P.size} x {MAP_KS.size}, k_s/k_l = {sci(MAP_RATIO)}), {flutter.sum()} flutter points"
+    grid = (
+        f"here {r.meta['model']}, p = {MAP_P[0]:g}..{MAP_P[-1]:g} x k_s = "
+        f"{sci(MAP_KS[0])}..{sci(MAP_KS[-1])} ({MAP_P.size} x {MAP_KS.size}, k_s/k_l = "
+        f"{sci(MAP_RATIO)}), {flutter.sum()} flutter points"
+    )
     rows = []
     for c in claims:
         if c.kind != "survey":
@@ -78,12 +82,14 @@ def survey_rows(claims: Sequence[Claim]) -> list[Row]:
             note.append(f"lowest at {_where(r, data, lo)}, highest at {_where(r, data, hi)}")
             if c.quantity == "wavelength_um":
                 note.append(
-                    "the wavelength grows towards the Hopf boundary, so the range depends on how near the grid comes to it"
+                    "the wavelength grows towards the Hopf boundary, so the range depends on "
+                    "how near the grid comes to it"
                 )
             if c.quantity == "velocity_um_per_s":
                 f = r.data["frequency_hz"][flutter]
                 note.append(
-                    f"velocity = wavelength x frequency, and the map's frequencies span {f.min():.0f}-{f.max():.0f} Hz (fig. 7 rows for the paper's)"
+                    "velocity = wavelength x frequency, and the map's frequencies span "
+                    f"{f.min():.0f}-{f.max():.0f} Hz (fig. 7 rows for the paper's)"
                 )
         rows.append(Row(c, value, shown, None, "; ".join(note)))
     return rows
