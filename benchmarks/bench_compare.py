@@ -7,7 +7,8 @@ prints the total wall time, each row's (compilation, screening of its starts and
 least-squares fit), and the table. Timings are for one machine and one run, not
 assertions; the machine may be shared, so the CPU time of the process is printed too.
 
-    python benchmarks/bench_compare.py [--elements 16] [--starts 3] [--model two] [--ei PN_UM2 --cn PN_S_UM2] [--compliance off]
+    python benchmarks/bench_compare.py [--elements 16] [--starts 3] [--model two] \\
+        [--ei PN_UM2 --cn PN_S_UM2] [--compliance off]
 """
 
 import argparse

@@ -28,7 +28,8 @@ P = jnp.linspace(200.0, 800.0, 64); KS = jnp.full(64, 2e5)
 out = {"xla_flags": __import__("os").environ.get("XLA_FLAGS", "")}
 for name, solver in (("arnoldi", Arnoldi()), ("dense", Dense())):
     f = lambda p, ks: ax.dominant_mode(model, ax.Params(p=p, ks=ks), solver=solver).eigenvalue
-    for kind, fn in (("value", jax.vmap(f)), ("gradient", jax.vmap(jax.grad(lambda p, ks: f(p, ks).real, argnums=(0, 1))))):
+    grad = jax.grad(lambda p, ks: f(p, ks).real, argnums=(0, 1))
+    for kind, fn in (("value", jax.vmap(f)), ("gradient", jax.vmap(grad))):
         lowered = jax.jit(fn).lower(P, KS)
         t0 = time.process_time(); compiled = lowered.compile(); t1 = time.process_time()
         jax.block_until_ready(compiled(P, KS))
@@ -36,8 +37,9 @@ for name, solver in (("arnoldi", Arnoldi()), ("dense", Dense())):
         for _ in range(3):
             res = jax.block_until_ready(compiled(P, KS))
         t3 = time.perf_counter()
+        first = res[0] if isinstance(res, tuple) else res
         out[f"{name} {kind}"] = {"compile_s": t1 - t0, "ms_per_point": (t3 - t2) / 3 / 64 * 1e3,
-                                  "checksum": float(jnp.sum(jnp.abs(jnp.asarray(res[0] if isinstance(res, tuple) else res))))}
+                                  "checksum": float(jnp.sum(jnp.abs(jnp.asarray(first))))}
 print(json.dumps(out))
 """
 
@@ -68,14 +70,16 @@ def main() -> None:
     keys = [k for k in runs[False][0] if k != "xla_flags"]
     print(f"{args.repeats} alternating fresh processes each; median; load {os.getloadavg()[0]:.1f}")
     print(
-        f"{'program':18s} {'compile s (new -> old emitters)':>32s} {'ratio':>6s} {'ms/point (new -> old)':>24s} {'ratio':>6s}  same result"
+        f"{'program':18s} {'compile s (new -> old emitters)':>32s} {'ratio':>6s} "
+        f"{'ms/point (new -> old)':>24s} {'ratio':>6s}  same result"
     )
     for k in keys:
         c = [statistics.median(r[k]["compile_s"] for r in runs[off]) for off in (False, True)]
         t = [statistics.median(r[k]["ms_per_point"] for r in runs[off]) for off in (False, True)]
         same = abs(runs[False][0][k]["checksum"] / runs[True][0][k]["checksum"] - 1) < 1e-10
         print(
-            f"{k:18s} {c[0]:15.2f} -> {c[1]:6.2f} {c[0] / c[1]:14.2f}x {t[0]:13.2f} -> {t[1]:6.2f} {t[0] / t[1]:7.2f}x  {same}"
+            f"{k:18s} {c[0]:15.2f} -> {c[1]:6.2f} {c[0] / c[1]:14.2f}x {t[0]:13.2f} -> "
+            f"{t[1]:6.2f} {t[0] / t[1]:7.2f}x  {same}"
         )
 
 

@@ -63,7 +63,8 @@ def compare(problem: Problem, starts: int, label: str, check=None) -> None:
         )
     (a, wa, ra), (b, wb, rb) = rows
     print(
-        f"wall-time ratio {b}/{a}: {wb / wa:.2f}; iterations {b}/{a}: {sum(rb.iterations) / max(sum(ra.iterations), 1):.2f}; "
+        f"wall-time ratio {b}/{a}: {wb / wa:.2f}; iterations {b}/{a}: "
+        f"{sum(rb.iterations) / max(sum(ra.iterations), 1):.2f}; "
         f"best loss {ra.loss:.4g} ({a}) vs {rb.loss:.4g} ({b})"
     )
 
@@ -127,7 +128,8 @@ def _warm_cold(problem: Problem, truth: ax.Params, label: str, repeats: int = 3)
     z0 = problem.to_z(jnp.asarray(problem.u0))
     print(f"\n== {label}")
     print(
-        f"{'start':>6s}  {'LM steps':>8s}  {'orbits':>6s}  {'Newton/orbit':>12s}  {'fit s':>6s}  {'compile s':>9s}  fitted, relative to the truth"
+        f"{'start':>6s}  {'LM steps':>8s}  {'orbits':>6s}  {'Newton/orbit':>12s}  "
+        f"{'fit s':>6s}  {'compile s':>9s}  fitted, relative to the truth"
     )
     runs, first = {}, {}
     for name, lm in (
@@ -152,13 +154,15 @@ def _warm_cold(problem: Problem, truth: ax.Params, label: str, repeats: int = 3)
         fitted = problem.values(np.asarray(problem.to_u(z)))
         vals = ", ".join(f"{k} {v / float(getattr(truth, k)) - 1:+.1e}" for k, v in fitted.items())
         print(
-            f"{name:>6s}  {int(steps):8d}  {len(counts):6d}  {np.mean(counts):12.2f}  {wall:6.2f}  {first[name] - wall:9.1f}  {vals}"
+            f"{name:>6s}  {int(steps):8d}  {len(counts):6d}  {np.mean(counts):12.2f}  "
+            f"{wall:6.2f}  {first[name] - wall:9.1f}  {vals}"
         )
         rows[name] = (np.mean(counts), wall, fitted)
     (nc, wc, fc), (nw, ww, fw) = rows["cold"], rows["warm"]
     agree = max(abs(fw[k] / fc[k] - 1) for k in fc)
     print(
-        f"warm/cold: Newton steps per orbit {nw / nc:.2f}, fit wall time {ww / wc:.2f} (median of {repeats}); fitted values agree to {agree:.1e}"
+        f"warm/cold: Newton steps per orbit {nw / nc:.2f}, fit wall time {ww / wc:.2f} (median "
+        f"of {repeats}); fitted values agree to {agree:.1e}"
     )
 
 
@@ -213,7 +217,8 @@ def cycle_fit(harmonics: int) -> None:
     _warm_cold(
         problem,
         truth,
-        f"limit-cycle waveform fit, fig. 12 orbit (seven filaments, {model.n_dof} dof, {harmonics} harmonics): free p, a0, cl from 3 % off",
+        f"limit-cycle waveform fit, fig. 12 orbit (seven filaments, {model.n_dof} dof, "
+        f"{harmonics} harmonics): free p, a0, cl from 3 % off",
     )
 
 

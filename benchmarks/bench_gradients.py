@@ -150,7 +150,8 @@ def small_batch(model, solver, Z, repeats: int) -> None:
     t_g = best_time(jax.jit(jax.vmap(jax.value_and_grad(loss, has_aux=True))), Z, repeats)
     path = "batched" if solver.batched else "per-point"
     print(
-        f"Arnoldi {path:9s} {Z.shape[0]} points: value {t_v * 1e3:7.2f} ms/call   value + gradient {t_g * 1e3:7.2f} ms/call   ratio {t_g / t_v:5.2f}x",
+        f"Arnoldi {path:9s} {Z.shape[0]} points: value {t_v * 1e3:7.2f} ms/call   value + "
+        f"gradient {t_g * 1e3:7.2f} ms/call   ratio {t_g / t_v:5.2f}x",
         flush=True,
     )
     return t_v, t_g
@@ -167,7 +168,8 @@ def report(model, solver, Z, args) -> None:
 
     t_v, t_r, t_f = clock(value), clock(value_grad), clock(value_jac)
     print(
-        f"solver {solver}, device: {jax.devices()[0].device_kind}, model {args.model} ({model.n_dof} dof), {args.points} points, best of {args.repeats}"
+        f"solver {solver}, device: {jax.devices()[0].device_kind}, model {args.model} "
+        f"({model.n_dof} dof), {args.points} points, best of {args.repeats}"
     )
     print(f"value (3 metrics)                     {t_v * 1e3:8.3f} ms/point")
     print(
@@ -230,10 +232,12 @@ def log_density(repeats: int) -> list[str]:
     x = jnp.log(jnp.array([280.0, 1e6]))
     t_e, t_eg = alternating(jax.jit(eig), jax.jit(jax.value_and_grad(eig)), x, repeats)
     print(
-        f"dominant mode alone (frequency + wavelength): value {t_e * 1e3:7.2f} ms   value + gradient {t_eg * 1e3:7.2f} ms   ratio {t_eg / t_e:5.2f}x ({chosen})"
+        f"dominant mode alone (frequency + wavelength): value {t_e * 1e3:7.2f} ms   value + "
+        f"gradient {t_eg * 1e3:7.2f} ms   ratio {t_eg / t_e:5.2f}x ({chosen})"
     )
     return [
-        f"log density value + gradient / value, one point: {t_g / t_v:.2f}x; four vmapped: {t_g4 / t_v4:.2f}x (target <= 1.3x)"
+        f"log density value + gradient / value, one point: {t_g / t_v:.2f}x; four vmapped: "
+        f"{t_g4 / t_v4:.2f}x (target <= 1.3x)"
     ]
 
 

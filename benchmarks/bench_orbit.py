@@ -46,9 +46,12 @@ def main() -> None:
     r = orbit_times(args.elements, args.harmonics)
     rho = sorted((abs(complex(*z)) for z in r["floquet"]), reverse=True)
     print(
-        f"one orbit, seven filaments, {args.elements} elements ({r['n_dof']} dof), cubic 10, p = 1.04 p_c, {args.harmonics} harmonics: "
-        f"{r['after_compilation_s']:.2f} s ({r['with_compilation_s']:.1f} s with compilation), {r['newton_steps']} Newton steps; "
-        f"{r['frequency_hz']:.3f} Hz, tip amplitude {r['tip_amplitude_um']:.3f} um, wavelength {r['wavelength_um']:.2f} um, "
+        f"one orbit, seven filaments, {args.elements} elements ({r['n_dof']} dof), cubic 10, p "
+        f"= 1.04 p_c, {args.harmonics} harmonics: "
+        f"{r['after_compilation_s']:.2f} s ({r['with_compilation_s']:.1f} s with compilation), "
+        f"{r['newton_steps']} Newton steps; "
+        f"{r['frequency_hz']:.3f} Hz, tip amplitude {r['tip_amplitude_um']:.3f} um, wavelength "
+        f"{r['wavelength_um']:.2f} um, "
         f"Floquet |rho| = {', '.join(f'{x:.3g}' for x in rho[:4])} ({'stable' if r['stable'] else 'unstable'})"
     )
 

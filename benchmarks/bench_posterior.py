@@ -143,29 +143,42 @@ def main() -> None:
         print("warning:", w.message)
     ess_min = min(post.ess.values())
     print(
-        f"\n{args.chains} chains x {args.draws} draws (+{args.warmup} warm-up), {'sequential' if args.sequential else 'vmapped'} chains, solver {args.solver}, N_e = {args.elements}, {sampler}"
+        f"\n{args.chains} chains x {args.draws} draws (+{args.warmup} warm-up), "
+        f"{'sequential' if args.sequential else 'vmapped'} chains, solver {args.solver}, N_e = "
+        f"{args.elements}, {sampler}"
     )
     print(
-        f"total {post.seconds:.1f} s (target 300 s): compile {post.seconds_compile:.1f} s; starts {post.seconds_start:.1f} s, warm-up {post.seconds_warmup:.1f} s, sampling {post.seconds_sampling:.1f} s (each with its compilation)"
+        f"total {post.seconds:.1f} s (target 300 s): compile {post.seconds_compile:.1f} s; "
+        f"starts {post.seconds_start:.1f} s, warm-up {post.seconds_warmup:.1f} s, sampling "
+        f"{post.seconds_sampling:.1f} s (each with its compilation)"
     )
     print(
-        f"gradients {post.gradients} ({post.gradients / (args.chains * (args.draws + args.warmup)):.1f} per chain step), divergences {post.divergences}, acceptance {post.acceptance:.2f}, step sizes {np.round(post.step_size, 3)}"
+        f"gradients {post.gradients} "
+        f"({post.gradients / (args.chains * (args.draws + args.warmup)):.1f} per chain step), "
+        f"divergences {post.divergences}, acceptance {post.acceptance:.2f}, step sizes "
+        f"{np.round(post.step_size, 3)}"
     )
     print(
-        f"time per gradient {1e3 * post.seconds_per_gradient:.2f} ms (x{post.seconds_per_gradient / single:.2f} one value-and-gradient alone)"
+        f"time per gradient {1e3 * post.seconds_per_gradient:.2f} ms "
+        f"(x{post.seconds_per_gradient / single:.2f} one value-and-gradient alone)"
     )
     print(
-        f"time per effective sample {post.seconds_per_ess:.3f} s (smallest bulk ESS {ess_min:.0f}); excluding compilation {(post.seconds - post.seconds_compile) / ess_min:.3f} s"
+        f"time per effective sample {post.seconds_per_ess:.3f} s (smallest bulk ESS "
+        f"{ess_min:.0f}); excluding compilation "
+        f"{(post.seconds - post.seconds_compile) / ess_min:.3f} s"
     )
     print(
-        f"total / 5-minute target: {post.seconds / 300:.2f}; gradients per effective sample {post.gradients / ess_min:.0f}"
+        f"total / 5-minute target: {post.seconds / 300:.2f}; gradients per effective sample "
+        f"{post.gradients / ess_min:.0f}"
     )
     print(
         f"\n{'name':>4} {'truth':>10} {'q05':>10} {'q50':>10} {'q95':>10} {'R-hat':>7} {'ESS':>7} {'ESS tail':>8}"
     )
     for n in post.names:
         print(
-            f"{n:>4} {TRUTH[n]:10.4g} {post.q05[n]:10.4g} {post.q50[n]:10.4g} {post.q95[n]:10.4g} {post.rhat[n]:7.4f} {post.ess[n]:7.0f} {post.ess_tail[n]:8.0f}"
+            f"{n:>4} {TRUTH[n]:10.4g} {post.q05[n]:10.4g} {post.q50[n]:10.4g} "
+            f"{post.q95[n]:10.4g} {post.rhat[n]:7.4f} {post.ess[n]:7.0f} "
+            f"{post.ess_tail[n]:8.0f}"
         )
     print(f"load average at the end {os.getloadavg()}")
 

@@ -134,7 +134,9 @@ def run(name: str, argv: list[str], warmup: int | None, vectorize: bool | None =
     post = doc["posterior"]
     fit_s = wall - post["seconds"]
     print(
-        f"\n== {name} (exit {rc}, chains {dict([(None, 'as the CLI runs them'), (True, 'vmapped'), (False, 'sequential')])[vectorize]}): axojax {' '.join(argv)}"
+        f"\n== {name} (exit {rc}, chains "
+        f"{dict([(None, 'as the CLI runs them'), (True, 'vmapped'), (False, 'sequential')])[vectorize]}): "
+        f"axojax {' '.join(argv)}"
     )
     print(
         f"wall {wall:.1f} s (target 300 s): fit {fit_s:.1f} s, posterior {post['seconds']:.1f} s "
@@ -150,7 +152,8 @@ def run(name: str, argv: list[str], warmup: int | None, vectorize: bool | None =
         f"{post.get('transport')}"
     )
     print(
-        f"{'name':>4} {'fit':>10} {'q05':>10} {'mean':>10} {'q95':>10} {'R-hat':>7} {'ESS':>6} {'tail':>6} {'sd/Lap':>7}"
+        f"{'name':>4} {'fit':>10} {'q05':>10} {'mean':>10} {'q95':>10} {'R-hat':>7} {'ESS':>6} "
+        f"{'tail':>6} {'sd/Lap':>7}"
     )
     for n in post["mean"]:
         ratio = post["sd_ratio"].get(n)

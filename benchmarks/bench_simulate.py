@@ -58,15 +58,19 @@ def run(elements: int, cubic: float, periods: float) -> tuple:
     if sim.limit_cycle:
         f_lc = sim.limit_cycle["frequency_hz"]
         lc = (
-            f", limit cycle {f_lc:.2f} Hz ({100 * (f_lc / f_hopf - 1):+.1f} % from the Hopf frequency {f_hopf:.2f} Hz), "
+            f", limit cycle {f_lc:.2f} Hz ({100 * (f_lc / f_hopf - 1):+.1f} % from the Hopf "
+            f"frequency {f_hopf:.2f} Hz), "
             f"tip amplitude {sim.limit_cycle['tip_amplitude_um']:.2f} um"
         )
     print(
-        f"{elements} elements ({model.n_dof} dof), cubic {cubic:g}, {periods:g} periods ({t_end:.3f} s): state {sim.state}{lc}"
+        f"{elements} elements ({model.n_dof} dof), cubic {cubic:g}, {periods:g} periods "
+        f"({t_end:.3f} s): state {sim.state}{lc}"
     )
     print(
-        f"  axojax: first call (compile + run) {times[0]:7.2f} s; second call (run) {times[1]:7.2f} s = {times[1] / periods:.3f} s per period; "
-        f"{solver['steps']} accepted + {solver['rejected']} rejected steps ({times[1] / max(solver['steps'] + solver['rejected'], 1) * 1e3:.2f} ms each); "
+        f"  axojax: first call (compile + run) {times[0]:7.2f} s; second call (run) "
+        f"{times[1]:7.2f} s = {times[1] / periods:.3f} s per period; "
+        f"{solver['steps']} accepted + {solver['rejected']} rejected steps "
+        f"({times[1] / max(solver['steps'] + solver['rejected'], 1) * 1e3:.2f} ms each); "
         f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores"
     )
     return model, params, t_end, sim, times
@@ -123,7 +127,8 @@ def main() -> None:
         seconds, sol = scipy_radau(model, params, cubic, t_end)
         tip_scipy = centreline(model, sol.y[:, -1], np.array([1.0]))[:, 0] * ax.Units().length_um
         print(
-            f"  scipy Radau, exact Jacobian: {seconds:7.2f} s ({sol.message.rstrip('.')}; {sol.t.size - 1} steps, {sol.njev} Jacobians, "
+            f"  scipy Radau, exact Jacobian: {seconds:7.2f} s ({sol.message.rstrip('.')}; "
+            f"{sol.t.size - 1} steps, {sol.njev} Jacobians, "
             f"{sol.nlu} LU factorisations); load average {os.getloadavg()[0]:.1f}"
         )
         print(
@@ -138,9 +143,13 @@ def main() -> None:
 
         r = orbit_times(args.nl_elements, cubic=cubic)
         print(
-            f"one orbit directly (ax.limit_cycle, harmonic balance, Floquet multipliers included): {r['after_compilation_s']:.2f} s "
-            f"({r['with_compilation_s']:.1f} s with compilation), {r['newton_steps']} Newton steps, {r['frequency_hz']:.3f} Hz "
-            f"(simulation: {(sim.limit_cycle or {}).get('frequency_hz', float('nan')):.3f} Hz), tip amplitude {r['tip_amplitude_um']:.3f} um; load average {os.getloadavg()[0]:.1f}"
+            "one orbit directly (ax.limit_cycle, harmonic balance, Floquet multipliers "
+            f"included): {r['after_compilation_s']:.2f} s "
+            f"({r['with_compilation_s']:.1f} s with compilation), {r['newton_steps']} Newton "
+            f"steps, {r['frequency_hz']:.3f} Hz "
+            f"(simulation: {(sim.limit_cycle or {}).get('frequency_hz', float('nan')):.3f} "
+            f"Hz), tip amplitude {r['tip_amplitude_um']:.3f} um; load average "
+            f"{os.getloadavg()[0]:.1f}"
         )
 
 

@@ -124,7 +124,10 @@ def scipy_loops(model, p, ks):
 
 def import_seconds(repeats: int = 3) -> float:
     """Best wall time of importing the ``axojax sweep`` command's modules in a fresh process."""
-    code = "import time; t = time.perf_counter(); import axojax.cli.main, axojax.cli.sweep; print(time.perf_counter() - t)"
+    code = (
+        "import time; t = time.perf_counter(); import axojax.cli.main, axojax.cli.sweep; "
+        "print(time.perf_counter() - t)"
+    )
     return min(
         float(
             subprocess.run(
@@ -181,21 +184,26 @@ def main() -> None:
         t_warm, _ = whole_command(args, args.p, args.ks, cache)
     t_eig, t_arpack, err = scipy_loops(model, p, ks)
     print(
-        f"1. model {args.model} ({model.n_dof} dof), {n} points, {os.cpu_count()} cores, device {jax.devices()[0].device_kind}"
+        f"1. model {args.model} ({model.n_dof} dof), {n} points, {os.cpu_count()} cores, "
+        f"device {jax.devices()[0].device_kind}"
     )
     solver = doc.get("solver", {})
     print(
-        f"axojax sweep command (incl. start-up, compile; solver {solver.get('name')}, {solver.get('dense_fallbacks')} dense fallbacks):"
+        f"axojax sweep command (incl. start-up, compile; solver {solver.get('name')}, "
+        f"{solver.get('dense_fallbacks')} dense fallbacks):"
         f" {t_ax:8.2f} s {n / t_ax:8.2f} points/s"
     )
     print(
-        f"scipy.linalg.eig loop (matrices prebuilt; faster of all cores and one thread): {t_eig:8.2f} s {n / t_eig:8.2f} points/s"
+        "scipy.linalg.eig loop (matrices prebuilt; faster of all cores and one thread): "
+        f"{t_eig:8.2f} s {n / t_eig:8.2f} points/s"
     )
     print(
-        f"scipy ARPACK shift-invert loop (shift 1 % from the answer; equals eig to 1e-6 at {np.sum(err < 1e-6)} of {n} points): {t_arpack:8.2f} s {n / t_arpack:8.2f} points/s"
+        "scipy ARPACK shift-invert loop (shift 1 % from the answer; equals eig to 1e-6 at "
+        f"{np.sum(err < 1e-6)} of {n} points): {t_arpack:8.2f} s {n / t_arpack:8.2f} points/s"
     )
     print(
-        f"the same command again, compiled programs loaded from its cache (axojax/cache.py): {t_warm:8.2f} s {n / t_warm:8.2f} points/s"
+        "the same command again, compiled programs loaded from its cache (axojax/cache.py): "
+        f"{t_warm:8.2f} s {n / t_warm:8.2f} points/s"
     )
     print(
         f"ratio axojax / scipy eig:    {t_eig / t_ax:8.2f}x (with the cache: {t_eig / t_warm:.2f}x)"
@@ -205,13 +213,16 @@ def main() -> None:
         k = args.large
         t_big, doc = whole_command(args, f"100:900:{k}", f"log:1e2:1e7:{k}")
         print(
-            f"a larger map, where compilation and start-up matter less: {k} x {k} = {k * k} points, whole command {t_big:.2f} s"
+            f"a larger map, where compilation and start-up matter less: {k} x {k} = {k * k} "
+            f"points, whole command {t_big:.2f} s"
             f" ({k * k / t_big:.2f} points/s, {doc['solver']['dense_fallbacks']} dense fallbacks):"
-            f" {k * k / t_big / (n / t_eig):.2f}x the scipy eig loop's rate, {k * k / t_big / (n / t_arpack):.2f}x ARPACK's"
+            f" {k * k / t_big / (n / t_eig):.2f}x the scipy eig loop's rate, "
+            f"{k * k / t_big / (n / t_arpack):.2f}x ARPACK's"
         )
     if not args.skip_scaling:
         print(
-            "\n2. time per point of the dominant eigenpair (vmapped, compile excluded; per-point path 16 points, batched 64, dense 4)"
+            "\n2. time per point of the dominant eigenpair (vmapped, compile excluded; "
+            "per-point path 16 points, batched 64, dense 4)"
         )
         sizes = (10, 20, 40, 80)
         rows = {"arnoldi": [], "arnoldi batched": [], "dense": []}
@@ -227,7 +238,8 @@ def main() -> None:
             )
             rows["dense"].append(per_point(m, Dense(), 4, repeats=1) if ne <= 40 else np.nan)
             print(
-                f"N_e = {ne:3d} ({m.n_dof:5d} dof): arnoldi {fmt(rows['arnoldi'][-1])}   arnoldi batched {fmt(rows['arnoldi batched'][-1])}"
+                f"N_e = {ne:3d} ({m.n_dof:5d} dof): arnoldi {fmt(rows['arnoldi'][-1])}   "
+                f"arnoldi batched {fmt(rows['arnoldi batched'][-1])}"
                 f"   dense {fmt(rows['dense'][-1])}",
                 flush=True,
             )
@@ -235,12 +247,15 @@ def main() -> None:
             ok = ~np.isnan(t)
             slope = np.polyfit(np.log(np.asarray(sizes)[ok]), np.log(np.asarray(t)[ok]), 1)[0]
             print(
-                f"fitted growth exponent, {name} (N_e = {', '.join(str(s) for s, k in zip(sizes, ok) if k)}): {slope:5.2f}"
+                f"fitted growth exponent, {name} (N_e = "
+                f"{', '.join(str(s) for s, k in zip(sizes, ok) if k)}): {slope:5.2f}"
             )
         if model.n_elements == 10:
             t10 = rows["arnoldi"][0]
             print(
-                f"per point at N_e = 10, compile excluded: {t_eig / n / t10:.1f}x the scipy eig loop (target 60x), {t_arpack / n / t10:.1f}x ARPACK's best case (target 8x);"
+                f"per point at N_e = 10, compile excluded: {t_eig / n / t10:.1f}x the scipy "
+                f"eig loop (target 60x), {t_arpack / n / t10:.1f}x ARPACK's best case (target "
+                "8x);"
                 f" batched path {t_eig / n / rows['arnoldi batched'][0]:.1f}x"
             )
 

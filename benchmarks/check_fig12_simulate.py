@@ -59,7 +59,8 @@ def main(argv=None) -> int:
         good = abs(diff) <= rel
         ok &= good
         print(
-            f"{name:28s} simulate {lc[name]:10.5g}  orbit {orbit[name]:10.5g}  {diff:+.2e}  {'ok' if good else 'FAILS'} (within {rel:g})"
+            f"{name:28s} simulate {lc[name]:10.5g}  orbit {orbit[name]:10.5g}  {diff:+.2e}  "
+            f"{'ok' if good else 'FAILS'} (within {rel:g})"
         )
     return 0 if ok else 1
 
