@@ -3,8 +3,9 @@ sampler's quantiles (``benchmarks/bench_posterior_speed.py synthetic``) independ
 
 The problem is the benchmark's: p and ks (kl = ks / 1000) of the seven-filament model at
 10 elements from the frequency and wavelength of its dominant mode at p 300, ks 1e6 with
-the command line's default sigmas (5 % of the frequency, 10 % of the wavelength), no noise, uniform priors in log p and log ks within the default bounds, the
-solver ``axojax fit --posterior`` uses. The posterior is a ridge p(ks); the quadrature
+the command line's default sigmas (5 % of the frequency, 10 % of the wavelength), no
+noise, uniform priors in log p and log ks within the default bounds, the solver
+``axojax fit --posterior`` uses. The posterior is a ridge p(ks); the quadrature
 runs in the coordinates ``(z_ks, b)`` of the profile map (``z_p = c(z_ks) + L(z_ks) b``,
 Jacobian ``L(z_ks)``: any smooth coordinates give the same integral), on a grid of
 ``--along`` x ``--across`` points over the knots' range and ``|b| <= 6``. It prints the

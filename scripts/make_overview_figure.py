@@ -79,7 +79,8 @@ def main(out: str | None = None) -> pathlib.Path:
     b.set(
         xlabel="displacement in the beat plane (um)",
         ylabel="distance from the base (um)",
-        title=f"its beating mode at the star:\n{float(mode.frequency_hz(units)):.1f} Hz (paper: 51 Hz),\nwavelength {float(mode.wavelength_um(units)):.1f} um",
+        title=f"its beating mode at the star:\n{float(mode.frequency_hz(units)):.1f} Hz "
+        f"(paper: 51 Hz),\nwavelength {float(mode.wavelength_um(units)):.1f} um",
     )
     b.title.set_fontsize(10)
     path.parent.mkdir(parents=True, exist_ok=True)

@@ -60,14 +60,19 @@ def problem_and_fit(n_elements: int = 6):
 
 def summarise(post, result, label: str) -> None:
     print(
-        f"\n{label}: {post.chains} chains x {post.draws} draws (+{post.warmup} warm-up), {post.seconds:.0f} s, {post.gradients / (post.chains * (post.draws + post.warmup)):.1f} gradients per step, {post.divergences} divergent; {post.message}"
+        f"\n{label}: {post.chains} chains x {post.draws} draws (+{post.warmup} warm-up), "
+        f"{post.seconds:.0f} s, "
+        f"{post.gradients / (post.chains * (post.draws + post.warmup)):.1f} gradients per "
+        f"step, {post.divergences} divergent; {post.message}"
     )
     print(
         f"  {'':3s} {'optimum':>10s} {'q05':>10s} {'q50':>10s} {'q95':>10s} {'R-hat':>6s} {'ESS':>6s} {'ESS tail':>8s}"
     )
     for n in post.names:
         print(
-            f"  {n:3s} {result.params[n]:10.4g} {post.q05[n]:10.4g} {post.q50[n]:10.4g} {post.q95[n]:10.4g} {post.rhat[n]:6.3f} {post.ess[n]:6.0f} {post.ess_tail[n]:8.0f}"
+            f"  {n:3s} {result.params[n]:10.4g} {post.q05[n]:10.4g} {post.q50[n]:10.4g} "
+            f"{post.q95[n]:10.4g} {post.rhat[n]:6.3f} {post.ess[n]:6.0f} "
+            f"{post.ess_tail[n]:8.0f}"
         )
     u = post.u.reshape(-1, len(post.names))
     print(
