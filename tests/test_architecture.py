@@ -177,7 +177,8 @@ def test_the_residual_path_goes_only_downward():
     ]
     for a, allowed in ALLOWED.items():
         bad += [
-            f"{a} may import only {', '.join(sorted(allowed)) or 'nothing of axojax'}; it imports {b}: {', '.join(files)}"
+            f"{a} may import only {', '.join(sorted(allowed)) or 'nothing of axojax'}; it "
+            f"imports {b}: {', '.join(files)}"
             for b, files in GRAPH.get(a, {}).items()
             if b not in allowed
         ]

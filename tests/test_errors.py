@@ -34,7 +34,10 @@ def test_python_wrong_types_name_the_argument():
         ax.dominant_mode(ax.models.two(), None)
     with pytest.raises(TypeError, match="model"):
         ax.dominant_mode("seven", ax.Params())
-    code = "import axojax as ax\ntry:\n    ax.dominant_mode(ax.models.two(), None)\nexcept TypeError as e:\n    print(e)"
+    code = (
+        "import axojax as ax\ntry:\n    ax.dominant_mode(ax.models.two(), None)\nexcept "
+        "TypeError as e:\n    print(e)"
+    )
     out = subprocess.run(
         [sys.executable, "-c", code], capture_output=True, text=True, timeout=300
     ).stdout

@@ -363,7 +363,8 @@ def test_json_npz_and_corner_plot(tmp_path):
 
 @pytest.mark.skipif(
     os.environ.get("AXOJAX_SLOW_TESTS") != "1",
-    reason="50 s: set AXOJAX_SLOW_TESTS=1 (tests/test_cli_posterior.py samples a seven-filament model in the default run)",
+    reason="50 s: set AXOJAX_SLOW_TESTS=1 (tests/test_cli_posterior.py samples a "
+    "seven-filament model in the default run)",
 )
 def test_seven_filament_posterior_matches_quadrature():
     """One parameter (p) of the four-element seven-filament model from noisy frequency and

@@ -91,9 +91,10 @@ def test_disabled_bar_prints_nothing(monkeypatch):
 
 
 def test_cli_passes_the_json_rule(monkeypatch, capsys):
-    """stderr a terminal, stdout a pipe: ``fit --json`` asks for no bar; text output shows the bars of the fit's starts and of the posterior (run
-    in process with no delay, so that a fast run shows them too), and the fast answer
-    (the Laplace approximation) comes first."""
+    """stderr a terminal, stdout a pipe: ``fit --json`` asks for no bar; text output shows
+    the bars of the fit's starts and of the posterior (run in process with no delay, so that
+    a fast run shows them too), and the fast answer (the Laplace approximation) comes
+    first."""
     monkeypatch.delenv(_progress.PROGRESS_ENV, raising=False)
     monkeypatch.setattr(_progress, "DELAY_S", 0.0)
     monkeypatch.setattr(_progress, "_isatty", lambda stream: stream is sys.stderr)

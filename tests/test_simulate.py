@@ -62,7 +62,8 @@ def test_limit_cycle_just_past_hopf_is_supercritical(seven6, hopf6, capsys):
     with capsys.disabled():
         for factor, (lc, f_lin) in out.items():
             print(
-                f"\np = {factor} p_c: limit cycle {lc['frequency_hz']:.3f} Hz, tip amplitude {lc['tip_amplitude_um']:.3f} um; "
+                f"\np = {factor} p_c: limit cycle {lc['frequency_hz']:.3f} Hz, tip amplitude "
+                f"{lc['tip_amplitude_um']:.3f} um; "
                 f"linear: Im(lambda)/2pi at this p {f_lin:.3f} Hz, at the Hopf point {f_hopf:.3f} Hz"
             )
     lc4, f_lin4 = out[1.04]

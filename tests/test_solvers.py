@@ -214,7 +214,8 @@ def test_seven_sweep_arnoldi_equals_dense(capsys, arnoldi):
     }
     with capsys.disabled():
         print(
-            f"\nseven, 30 points: {certified.sum()} certified by Arnoldi, {(certified == 0).sum()} by the dense fallback"
+            f"\nseven, 30 points: {certified.sum()} certified by Arnoldi, "
+            f"{(certified == 0).sum()} by the dense fallback"
         )
     assert certified.mean() >= 0.8
 

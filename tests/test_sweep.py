@@ -285,7 +285,8 @@ def test_batched_lapack_over_two_devices_does_not_deadlock():
         f = jax.jit(jax.vmap(one), in_shardings=sh, out_shardings=sh)
         grid = np.stack(np.meshgrid(np.linspace(200, 500, 6), [1e2, 1e3], indexing="ij"), -1).reshape(-1, 4, 2)
         lam = [np.asarray(f(jax.device_put(jnp.asarray(rows), sh))["eigenvalue_real"]) for rows in grid]
-        ref = ax.dominant_mode(m, ax.Params(p=float(grid[-1, -1, 0]), kl=float(grid[-1, -1, 1])), solver=ax.eigen.Dense())
+        last = ax.Params(p=float(grid[-1, -1, 0]), kl=float(grid[-1, -1, 1]))
+        ref = ax.dominant_mode(m, last, solver=ax.eigen.Dense())
         assert abs(lam[-1][-1] - float(ref.eigenvalue.real)) <= 1e-9 * (1 + abs(lam[-1][-1]))
         print("finished", jax.__version__, os.environ.get("NPROC"))
         """
