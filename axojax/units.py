@@ -88,6 +88,10 @@ class Units:
         """Link damping (pN s/um^2) to c = c_dim / c_n."""
         return c_pn_s_per_um2 / self.cn_pn_s_um2
 
+    def c_to_pn_s_per_um2(self, c: ArrayLike) -> ArrayLike:
+        """Link damping c (dimensionless, c_dim / c_n) to pN s/um^2."""
+        return c * self.cn_pn_s_um2
+
     def ktheta_from_pn_um2(self, ktheta_pn_um2: ArrayLike) -> ArrayLike:
         """Tangent-angle coupling (pN um^2 per rad, per length) to k_theta L^2 / EI."""
         return ktheta_pn_um2 * self.length_um**2 / self.ei_pn_um2

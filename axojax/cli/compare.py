@@ -20,7 +20,7 @@ import argparse
 import warnings
 
 from .._progress import enabled as progress_enabled
-from ..inverse.comparison.compare import compare, default_units, render_table
+from ..inverse.comparison.compare import compare, default_units, render_params, render_table
 from ..inverse.comparison.mechanisms import (
     BASES,
     COMPARE_PRESETS,
@@ -172,6 +172,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="REPORT.json",
         help="save the comparison (drawn by 'axojax plot REPORT.json')",
     )
+    parser.add_argument(
+        "--params",
+        action="store_true",
+        help="also print every row's fitted values in physical units (chi pN/um^2, beta pN, "
+        "k_b pN/um, xi_b pN s/um, p pN/um, link stiffness and damping) with standard errors",
+    )
     parser.add_argument("--json", action="store_true", help="print one JSON document on stdout")
 
 
@@ -284,11 +290,15 @@ def run(args: argparse.Namespace) -> dict:
         except OSError as err:
             raise common.CLIError(f"--out: cannot write {args.out!r} ({err})") from None
         doc["out"] = str(args.out)
+    if args.params and not args.json:
+        doc["show_params"] = True  # read by render only (the terminal's second table)
     return doc
 
 
 def render(doc: dict) -> str:
     text = render_table(doc)
+    if doc.pop("show_params", False):
+        text += "\n\n" + render_params(doc)
     if "out" in doc:
         text += f"\nsaved {doc['out']} (draw it with 'axojax plot {doc['out']}')"
     return text

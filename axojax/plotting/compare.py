@@ -1,7 +1,9 @@
 """Figure of a comparison (``axojax compare --out REPORT.json``, :func:`axojax.compare`).
 
 Top: the observed psi_1 amplitude |psi_1| and phase arg psi_1 along s (points) with every
-row's fit (lines; legend: mechanism, base, R^2, delta BIC). Bottom: the waveform over one
+row's fit (lines; legend: mechanism, base, R^2, delta BIC, BIC weight, and the table's
+status mark: ``*`` not successful, dashed; ``n/a`` not applicable, dotted). The title
+carries the verdict line (:func:`axojax.inverse.comparison.compare.verdict`). Bottom: the waveform over one
 cycle, observed first, then each row's, side by side (centrelines integrated from
 psi(s, phase) = psi_0(s) + Re(psi_1(s) e^{i phase}); every fit uses the observed psi_0,
 which a linear mode does not predict).
@@ -15,6 +17,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from ..inverse.comparison.compare import mark, verdict
 from .fit_report import _centrelines
 
 MAX_ROWS = 8
@@ -52,22 +55,30 @@ def plot_comparison(doc: dict):
         fits.append(fit)
         r2 = "-" if r["r2"] is None else f"{r['r2']:.3f}"
         dbic = "-" if r["delta_bic"] is None else f"{r['delta_bic']:.0f}"
-        label = f"{r['mechanism']} ({r['base']}): R^2 {r2}, dBIC {dbic}"
-        amp.plot(s, np.abs(fit), color=colours(i % 10), label=label)
+        status = r.get("status", "successful")
+        weight = "" if r.get("weight") is None else f", w {r['weight']:.2f}"
+        flag = mark(r)
+        label = f"{flag + ' ' if flag else ''}{r['mechanism']} ({r['base']}): R^2 {r2}, dBIC {dbic}{weight}"
+        if flag:
+            label += f" [{status}]"
+        style = "-" if not flag else (":" if status == "not_applicable" else "--")
+        amp.plot(s, np.abs(fit), style, color=colours(i % 10), label=label)
         # the fitted phase follows the observed one's branch
         ph = _phase(fit)
         ph += 2 * np.pi * np.round(np.nanmean(_phase(obs) - ph) / (2 * np.pi))
-        pha.plot(s, ph, color=colours(i % 10))
+        pha.plot(s, ph, style, color=colours(i % 10))
     amp.set(xlabel="s (um)", ylabel="|psi_1| (rad)", title="psi_1 amplitude")
     pha.set(xlabel="s (um)", ylabel="arg psi_1 (rad)", title="psi_1 phase")
     amp.legend(fontsize=7, loc="best")
     model = doc.get("model", {})
+    v = doc.get("verdict") or verdict(doc)
     fig.suptitle(
         f"mechanisms on {data.get('file', 'the beat')}: {data.get('frequency_hz', float('nan')):.4g} Hz, "
-        f"model {model.get('preset', '?')} ({model.get('elements', '?')} elements), rows by BIC"
+        f"model {model.get('preset', '?')} ({model.get('elements', '?')} elements), rows by BIC\n"
+        f"verdict: {v['text']}"
     )
     shapes = [("observed", obs, "k")] + [
-        (f"{r['mechanism']}\n{r['base']}", f, colours(i % 10))
+        (f"{mark(r) + ' ' if mark(r) else ''}{r['mechanism']}\n{r['base']}", f, colours(i % 10))
         for i, (r, f) in enumerate(zip(rows, fits))
     ]
     first = None

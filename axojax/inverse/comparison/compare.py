@@ -53,6 +53,37 @@ SCREEN = 64
 """Sobol points screened (with the Hopf points) for the starts of each row."""
 BATCH = 64
 """Candidates per vmapped evaluation while screening (one compiled program per row)."""
+FREQUENCY_MATCH = 0.02
+"""A ``successful`` row's beat is within 2 % of the observed frequency."""
+GROWTH_MATCH = 3.0
+"""... and its growth rate within 3 of the pin's sigmas (pin_tolerance x omega) of 0."""
+RIGID_FREQUENCY = 0.01
+"""A fitted beat below 1 % of the observed frequency is a neutral (rigid-body) mode."""
+FIT_R2 = 0.9
+"""The verdict's bar of R^2 (Sartori et al.'s fits: 0.95; docs/mechanisms.md)."""
+FIT_CHI2_QUANTILE = 0.99
+"""chi^2/dof within the data's sigmas (the shape floor in them): below this quantile of
+the chi^2 distribution of the row's degrees of freedom, over dof."""
+STATUS_MARKS = {"failed": "*", "not_applicable": "n/a"}
+"""The table's marks: ``*`` a row that did not converge or missed the observed beat,
+``n/a`` a row that cannot reach it (its reason below the table)."""
+PHYSICAL = {
+    "chi_re": ("chi_re_pn_per_um2", "chi_to_pn_per_um2"),
+    "chi_im": ("chi_im_pn_per_um2", "chi_to_pn_per_um2"),
+    "beta_re": ("beta_re_pn", "beta_to_pn"),
+    "beta_im": ("beta_im_pn", "beta_to_pn"),
+    "p": ("p_pn_per_um", "p_to_pn_per_um"),
+    "kb": ("kb_pn_per_um", "kb_to_pn_per_um"),
+    "xib": ("xib_pn_s_per_um", "xib_to_pn_s_per_um"),
+    "kl": ("kl_pn_per_um2", "k_to_pn_per_um2"),
+    "ks": ("ks_pn_per_um2", "k_to_pn_per_um2"),
+    "cl": ("cl_pn_s_per_um2", "c_to_pn_s_per_um2"),
+    "gamma": ("gamma", None),
+}
+"""Each fitted value's physical name (its unit in the name) and the :class:`Units`
+conversion to it (docs/model.md section 1 and 8): chi in pN/um^2, beta in pN, the steady
+load p in pN/um, the basal spring k_b in pN/um and friction xi_b in pN s/um, the links'
+stiffness (pN/um^2) and damping (pN s/um^2); the dynein moment gain gamma is a number."""
 
 
 @dataclasses.dataclass
@@ -62,8 +93,18 @@ class CompareRow:
     Attributes:
         mechanism, base: the hypothesis.
         free: its fitted values' names (dimensionless :class:`~axojax.Params` fields).
-        params: their fitted values (dimensionless), and ``physical`` ones of chi
-            (pN/um^2) and beta (pN).
+        params: their fitted values (dimensionless); ``physical``: the same in physical
+            units (:data:`PHYSICAL`), ``physical_stderr`` their standard errors (the
+            Laplace approximation at the optimum, :meth:`laplace`; inf where the data do
+            not determine a value, None where the row was not fitted).
+        status: ``"successful"`` (the solver converged and the beat sits at the observed
+            frequency, within 2 %, with growth rate 0 within 3 of the pins' sigmas), the
+            solver's failure code (e.g. ``"nonlinear_max_steps_reached"``),
+            ``"missed_beat"`` (converged, but off the observed beat) or
+            ``"not_applicable"`` (the row cannot reach the beat); ``reason`` in words
+            (None when successful).
+        weight: the row's BIC weight exp(-dBIC/2) / sum, over the successful rows (None
+            for the others): the probability of the row among them.
         frequency_hz, growth_rate_per_s: the beat's (the pins' achieved values).
         r2, chi2_per_dof, aic, bic, n_free: :mod:`axojax.inverse.quality`.
         delta_bic: BIC minus the best row's.
@@ -92,8 +133,16 @@ class CompareRow:
     wall_s: float
     delta_bic: float | None = None
     problem: Problem | None = dataclasses.field(default=None, repr=False)
+    status: str = "successful"
+    reason: str | None = None
+    physical_stderr: dict[str, float | None] = dataclasses.field(default_factory=dict)
+    weight: float | None = None
 
-    def laplace(self):
+    @property
+    def successful(self) -> bool:
+        return self.status == "successful"
+
+    def laplace(self, jacobian=None):
         """The Laplace approximation of the row's posterior at its optimum: normal in the
         fitted coordinate u (log for positive values, linear for chi and beta) with
         covariance (J^T J)^-1, J the Jacobian of the normalised residuals (shape points
@@ -101,14 +150,15 @@ class CompareRow:
         ``quantiles``, ``sd`` and ``to_json`` with the correlations). J^T J is inverted
         after scaling its diagonal to 1 (a linear chi of 1e5 and a log kb differ by
         1e10 in scale, which alone would pass for an unconstrained direction). k model
-        derivatives: seconds, where sampling (:func:`axojax.posterior`) takes minutes."""
+        derivatives: seconds, where sampling (:func:`axojax.posterior`) takes minutes.
+        ``jacobian``: J at the optimum when already known (the fit's report has it)."""
         from ..sampling._laplace import Laplace, laplace_of
 
         if self.problem is None:
             raise ValueError("laplace: this row has no problem (rows read from JSON do not)")
         p = self.problem
         u = _to_u(p, np.array([[self.fit.params[n] for n in p.names]]))[0]
-        jac = np.asarray(p.jacobian(u), dtype=float)
+        jac = np.asarray(p.jacobian(u) if jacobian is None else jacobian, dtype=float)
         precision = jac.T @ jac
         diag = np.diag(precision)
         scale = np.where(diag > 0, 1.0 / np.sqrt(np.where(diag > 0, diag, 1.0)), np.inf)
@@ -124,6 +174,10 @@ class CompareRow:
             "free": list(self.free),
             "params": dict(self.params),
             "physical": dict(self.physical),
+            "physical_stderr": dict(self.physical_stderr),
+            "status": self.status,
+            "reason": self.reason,
+            "weight": self.weight,
             "frequency_hz": self.frequency_hz,
             "growth_rate_per_s": self.growth_rate_per_s,
             "r2": self.r2,
@@ -134,7 +188,7 @@ class CompareRow:
             "n_free": self.n_free,
             "at_bound": list(self.at_bound),
             "psi1_model": [[float(z.real), float(z.imag)] for z in self.psi1_model],
-            "result": self.fit.to_json()["result"],
+            "result": None if self.fit is None else self.fit.to_json()["result"],
             "wall_s": self.wall_s,
         }
 
@@ -181,7 +235,7 @@ class Comparison:
             psi1=[[float(z.real), float(z.imag)] for z in self.psi1],
             psi0=None if self.psi0 is None else np.asarray(self.psi0, dtype=float).tolist(),
         )
-        return jsonable(
+        doc = jsonable(
             {
                 "kind": "comparison",
                 "data": data,
@@ -200,27 +254,44 @@ class Comparison:
                 "wall_s": self.wall_s,
             }
         )
+        doc["verdict"] = jsonable(verdict(doc))
+        return doc
 
     def save(self, path: str | pathlib.Path) -> None:
         """Write :meth:`to_json` (read by ``axojax plot REPORT.json``), atomically."""
         _io.write_text(path, json.dumps(self.to_json(), indent=1, allow_nan=False) + "\n")
 
-    def table(self) -> str:
-        """The rows as a text table, best first."""
-        return render_table(self.to_json())
+    def table(self, params: bool = False) -> str:
+        """The rows as a text table, best first, with the status marks' footnotes and the
+        verdict; ``params``: the fitted values in physical units with their standard
+        errors as a second table (:func:`render_params`)."""
+        doc = self.to_json()
+        return render_table(doc) + ("\n\n" + render_params(doc) if params else "")
+
+
+def mark(row: dict[str, Any]) -> str:
+    """A row's status mark on the table: "" successful, ``*`` failed (not converged, or
+    off the observed beat), ``n/a`` not applicable (:data:`STATUS_MARKS`)."""
+    status = row.get("status", "successful")
+    if status == "successful":
+        return ""
+    return STATUS_MARKS["not_applicable" if status == "not_applicable" else "failed"]
 
 
 def render_table(doc: dict[str, Any]) -> str:
-    """A comparison document (:meth:`Comparison.to_json`) as a text table."""
+    """A comparison document (:meth:`Comparison.to_json`) as a text table: the rows (a
+    status mark after the rank of each row that is not successful, explained below the
+    table), the model and units, and the verdict."""
 
     def num(x, fmt):
-        return "-" if x is None else format(x, fmt)
+        width = "".join(c for c in fmt.split(".")[0] if c.isdigit()) or "0"
+        return f"{'-':>{width}}" if x is None else format(x, fmt)
 
     f_obs = doc["data"].get("frequency_hz")
     wb = max([8] + [len(r["base"]) for r in doc["rows"]])  # "clamped+compliance": 18
     head = (
-        f"{'rank':>4}  {'mechanism':<18} {'base':<{wb}} {'R^2':>7} {'f (Hz)':>8} {'df %':>7} "
-        f"{'chi2/dof':>9} {'BIC':>10} {'dBIC':>9} {'n':>2}  at bound"
+        f"{'rank':>4}{'':4} {'mechanism':<18} {'base':<{wb}} {'R^2':>7} {'f (Hz)':>8} {'df %':>7} "
+        f"{'chi2/dof':>9} {'BIC':>10} {'dBIC':>9} {'weight':>6} {'n':>2}  at bound"
     )
     lines = [head]
     for i, r in enumerate(doc["rows"], 1):
@@ -229,23 +300,86 @@ def render_table(doc: dict[str, Any]) -> str:
             if r["frequency_hz"] is None or not f_obs
             else 100 * (r["frequency_hz"] - f_obs) / f_obs
         )
+        w = r.get("weight")
         lines.append(
-            f"{i:>4}  {r['mechanism']:<18} {r['base']:<{wb}} {num(r['r2'], '7.3f')} "
+            f"{i:>4}{mark(r):<4} {r['mechanism']:<18} {r['base']:<{wb}} {num(r['r2'], '7.3f')} "
             f"{num(r['frequency_hz'], '8.3f')} {num(df, '+7.2f')} {num(r['chi2_per_dof'], '9.3g')} "
-            f"{num(r['bic'], '10.1f')} {num(r['delta_bic'], '9.1f')} {r['n_free']:>2}  "
-            + (", ".join(r["at_bound"]) or "-")
+            f"{num(r['bic'], '10.1f')} {num(r['delta_bic'], '9.1f')} {num(w, '6.2f')} "
+            f"{r['n_free']:>2}  " + (", ".join(r["at_bound"]) or "-")
         )
+    failed = [(i, r) for i, r in enumerate(doc["rows"], 1) if mark(r)]
+    for symbol, meaning in (
+        ("*", "not successful: ranked below every successful row, no weight"),
+        ("n/a", "not applicable: this row cannot reach the observed beat"),
+    ):
+        these = [(i, r) for i, r in failed if mark(r) == symbol]
+        if these:
+            lines.append(f"{symbol} {meaning}:")
+            lines += [f"  {i:>2} {r['mechanism']} on {r['base']}: {r['reason']}" for i, r in these]
     m = doc["model"]
     lines.append(
         f"model {m['preset']} ({m['elements']} elements), sperm number {m['sperm_number']:.4g}; "
-        f"observed {num(f_obs, '.4g')} Hz; rows by BIC (lower is better); "
-        f"R^2 is Sartori's of psi_1"
+        f"observed {num(f_obs, '.4g')} Hz; rows by BIC (lower is better), successful rows first; "
+        f"R^2 is Sartori's of psi_1; weight: BIC weight among the successful rows"
     )
     if m.get("units_source"):
         lines.append(
             f"units: EI {m['ei_pn_um2']:.4g} pN um^2 and c_n {m['cn_pn_s_um2']:.3g} pN s/um^2 "
             f"per filament, L {m['length_um']:.4g} um ({m['units_source']})"
         )
+    v = doc.get("verdict") or verdict(doc)
+    lines.append(f"verdict: {v['text']}")
+    lines.append(f"  ({v['rule']})")
+    return "\n".join(lines)
+
+
+PARAM_ORDER = tuple(key for key, _ in PHYSICAL.values())
+PARAM_UNITS = {
+    "chi_re_pn_per_um2": ("chi'", "pN/um^2"),
+    "chi_im_pn_per_um2": ("chi''", "pN/um^2"),
+    "beta_re_pn": ("beta'", "pN"),
+    "beta_im_pn": ("beta''", "pN"),
+    "p_pn_per_um": ("p", "pN/um"),
+    "kb_pn_per_um": ("k_b", "pN/um"),
+    "xib_pn_s_per_um": ("xi_b", "pN s/um"),
+    "kl_pn_per_um2": ("k_l", "pN/um^2"),
+    "ks_pn_per_um2": ("k_s", "pN/um^2"),
+    "cl_pn_s_per_um2": ("c_l", "pN s/um^2"),
+    "gamma": ("gamma", ""),
+}
+"""How :func:`render_params` names each physical value, and its unit."""
+
+
+def _pm(value: float | None, se: float | None) -> str:
+    if value is None:
+        return "-"
+    if se is None:
+        return f"{value:.3g} +- ?"
+    return f"{value:.3g} +- {se:.2g}"
+
+
+def render_params(doc: dict[str, Any]) -> str:
+    """Every row's fitted values in physical units with standard errors (the row's
+    Laplace approximation; ``?`` where the data do not determine a value), rows in the
+    table's order (``axojax compare --params``)."""
+    lines = ["fitted values (physical units) +- standard error, rows as ranked above:"]
+    for i, r in enumerate(doc["rows"], 1):
+        phys, se = r.get("physical") or {}, r.get("physical_stderr") or {}
+        parts = []
+        for key in PARAM_ORDER:
+            if key in phys:
+                label, unit = PARAM_UNITS[key]
+                parts.append(
+                    f"{label} {_pm(phys[key], se.get(key))}" + (f" {unit}" if unit else "")
+                )
+        lines.append(
+            f"{i:>4}{mark(r):<4} {r['mechanism']} on {r['base']}: " + ("; ".join(parts) or "-")
+        )
+    lines.append(
+        "chi = chi' + i chi'' (sliding control), beta = beta' + i beta'' (curvature control), "
+        "p the steady dynein load, k_b + i omega xi_b the basal compliance, k_l and c_l the "
+        "links' stiffness and damping (docs/mechanisms.md); ? = not determined by the data"
+    )
     return "\n".join(lines)
 
 
@@ -277,19 +411,135 @@ def _to_u(problem: Problem, values: np.ndarray) -> np.ndarray:
 
 
 def _physical(values: dict[str, float], units: Units) -> dict[str, float]:
+    """Fitted values (dimensionless) in physical units (:data:`PHYSICAL`); the same
+    linear conversion turns a standard error into its physical one."""
     out = {}
-    for re_im in ("re", "im"):
-        if f"chi_{re_im}" in values:
-            out[f"chi_{re_im}_pn_per_um2"] = float(units.chi_to_pn_per_um2(values[f"chi_{re_im}"]))
-        if f"beta_{re_im}" in values:
-            out[f"beta_{re_im}_pn"] = float(units.beta_to_pn(values[f"beta_{re_im}"]))
-    if "p" in values:
-        out["p_pn_per_um"] = float(units.p_to_pn_per_um(values["p"]))
-    if "kb" in values:
-        out["kb_pn_per_um"] = float(units.kb_to_pn_per_um(values["kb"]))
-    if "xib" in values:
-        out["xib_pn_s_per_um"] = float(units.xib_to_pn_s_per_um(values["xib"]))
+    for name, v in values.items():
+        if name in PHYSICAL and v is not None:
+            key, conv = PHYSICAL[name]
+            out[key] = float(v) if conv is None else float(getattr(units, conv)(v))
     return out
+
+
+def row_status(
+    mechanism: str,
+    base: str,
+    result: str,
+    frequency_hz: float,
+    growth_rate_per_s: float,
+    frequency_obs: float,
+    pin_tolerance: float = PIN_TOLERANCE,
+) -> tuple[str, str | None]:
+    """A fitted row's status and its reason in words (:class:`CompareRow`): a beat at
+    0 Hz (below :data:`RIGID_FREQUENCY` of the observed) is a neutral, rigid-body mode:
+    the row is ``not_applicable`` (on a base that holds nothing the steady load's net
+    moment is not balanced at the base, so no mode of it reaches the observed beat);
+    a solver that did not converge gives its code; a converged fit off the observed
+    frequency (more than :data:`FREQUENCY_MATCH`) or growing or decaying (more than
+    :data:`GROWTH_MATCH` pin sigmas) is ``missed_beat``; else ``successful``."""
+    omega = 2 * math.pi * frequency_obs
+    f, g = frequency_hz, growth_rate_per_s
+    if math.isfinite(f) and abs(f) < RIGID_FREQUENCY * frequency_obs:
+        why = (
+            "its net moment is not held at a free base, so"
+            if mechanism == "steady" and not base.startswith(("clamped", "pivot"))
+            else "so"
+        )
+        return "not_applicable", (
+            f"the mode it follows is a rigid-body motion at {f:.3g} Hz: {why} this row has no "
+            f"beat near the observed {frequency_obs:.4g} Hz to fit"
+        )
+    if result != "successful":
+        return result, f"the least-squares solver stopped before converging ({result})"
+    if not (math.isfinite(f) and math.isfinite(g)):
+        return "missed_beat", "the fitted beat has no finite frequency or growth rate"
+    if abs(f - frequency_obs) > FREQUENCY_MATCH * frequency_obs:
+        return "missed_beat", (
+            f"its beat is at {f:.4g} Hz, {100 * (f - frequency_obs) / frequency_obs:+.1f} % "
+            f"off the observed {frequency_obs:.4g} Hz (at most {100 * FREQUENCY_MATCH:g} %)"
+        )
+    if abs(g) > GROWTH_MATCH * pin_tolerance * omega:
+        return "missed_beat", (
+            f"its beat {'grows' if g > 0 else 'decays'} at {g:.3g} 1/s (at most "
+            f"{GROWTH_MATCH * pin_tolerance * omega:.3g} 1/s: {GROWTH_MATCH:g} of the pin's sigmas)"
+        )
+    return "successful", None
+
+
+def _rank_key(r) -> tuple[int, float]:
+    """Successful rows first, then failed ones, then not applicable; each by BIC."""
+    group = 0 if r.status == "successful" else 2 if r.status == "not_applicable" else 1
+    return group, math.inf if r.bic is None else r.bic
+
+
+def rank(rows: list) -> None:
+    """Order ``rows`` in place (:func:`_rank_key`) and set each one's ``delta_bic`` (to
+    the first row's BIC) and ``weight`` (BIC weights over the successful rows)."""
+    rows.sort(key=_rank_key)
+    best = rows[0].bic if rows else None
+    ok = [r.bic for r in rows if r.successful and r.bic is not None]
+    total = sum(math.exp(-0.5 * (b - min(ok))) for b in ok) if ok else 0.0
+    for r in rows:
+        r.delta_bic = None if r.bic is None or best is None else r.bic - best
+        ok_row = r.successful and r.bic is not None and total > 0
+        r.weight = math.exp(-0.5 * (r.bic - min(ok))) / total if ok_row else None
+
+
+def verdict(doc: dict[str, Any]) -> dict[str, Any]:
+    """Whether the best row fits the beat, from a comparison document's rows (best
+    first): ``fits`` when the best row is successful, has R^2 >= :data:`FIT_R2` and
+    chi^2/dof within the data's sigmas (at most the :data:`FIT_CHI2_QUANTILE` quantile of
+    chi^2 with its degrees of freedom, over dof: the sigmas hold the shape floor);
+    ``shape`` when only the chi^2 bar is missed (the shape is fitted, but residuals
+    exceed what the sigmas allow: the model misses something the data resolve);
+    ``none`` otherwise. ``text`` says it in one line, ``rule`` states the bars."""
+    from scipy.stats import chi2 as chi2_dist
+
+    rows = doc["rows"]
+    n = 2 * len(doc["data"]["s_um"]) + 2  # Re and Im of each point, and the two pins
+    rule = (
+        f"a row fits when it is successful, R^2 >= {FIT_R2:g} and chi2/dof <= the "
+        f"{100 * FIT_CHI2_QUANTILE:g} % point of chi^2/dof for its degrees of freedom"
+    )
+    ok = [r for r in rows if r.get("status", "successful") == "successful" and r["r2"] is not None]
+    if not ok:
+        best_r2 = max((r["r2"] for r in rows if r["r2"] is not None), default=None)
+        tail = "" if best_r2 is None else f" (best R^2 {best_r2:.2f}, not converged)"
+        return {
+            "fits": "none",
+            "best": None,
+            "rule": rule,
+            "chi2_per_dof_max": None,
+            "text": f"no row fits this beat: none converged at the observed beat{tail}",
+        }
+    best = ok[0]
+    dof = max(n - best["n_free"], 1)
+    limit = float(chi2_dist.ppf(FIT_CHI2_QUANTILE, dof) / dof)
+    name = f"{best['mechanism']} on {best['base']}"
+    r2, c2 = best["r2"], best["chi2_per_dof"]
+    weight = best.get("weight")
+    share = "" if weight is None else f", BIC weight {weight:.2f}"
+    top_r2 = max(r["r2"] for r in ok)
+    if r2 >= FIT_R2 and c2 is not None and c2 <= limit:
+        fits, text = (
+            "fits",
+            f"{name} fits this beat: R^2 {r2:.3f}, chi2/dof {c2:.3g} (<= {limit:.3g}){share}",
+        )
+    elif r2 >= FIT_R2:
+        fits = "shape"
+        text = (
+            f"{name} fits the shape (R^2 {r2:.3f}{share}) but not within the data's sigmas: "
+            f"chi2/dof {c2:.3g} > {limit:.3g} (the model misses what the data resolve)"
+        )
+    else:
+        fits, text = "none", f"no row fits this beat (best R^2 {top_r2:.2f}; best by BIC: {name})"
+    return {
+        "fits": fits,
+        "best": {"mechanism": best["mechanism"], "base": best["base"]},
+        "rule": rule,
+        "chi2_per_dof_max": limit,
+        "text": text,
+    }
 
 
 def default_units(
@@ -415,11 +665,10 @@ def compare(
     for mech, base in tqdm(combos, desc="compare rows", unit="row", disable=not progress):
         the_model = build_model(model, n_elements, base, units, head, profiles)
         spec = row(mech, base, the_model, units, f_obs, pin_tolerance=pin_tolerance)
-        rows.append(_fit_row(spec, shape, units, optimiser, starts, seed, shape_floor))
-    rows.sort(key=lambda r: math.inf if r.bic is None else r.bic)
-    best = rows[0].bic
-    for r in rows:
-        r.delta_bic = None if r.bic is None or best is None else r.bic - best
+        rows.append(
+            _fit_row(spec, shape, units, optimiser, starts, seed, shape_floor, f_obs, pin_tolerance)
+        )
+    rank(rows)
     return Comparison(
         data=beat.summary(),
         s_um=np.asarray(shape.s_um, dtype=float),
@@ -437,7 +686,9 @@ def compare(
     )
 
 
-def _fit_row(spec, shape, units, optimiser, starts, seed, shape_floor) -> CompareRow:
+def _fit_row(
+    spec, shape, units, optimiser, starts, seed, shape_floor, f_obs, pin_tolerance=PIN_TOLERANCE
+) -> CompareRow:
     t0 = time.perf_counter()
     problem = build_problem(
         spec.model,
@@ -461,14 +712,19 @@ def _fit_row(spec, shape, units, optimiser, starts, seed, shape_floor) -> Compar
     shape_data = fit.conditions[0]["shape"]
     psi1 = np.asarray(shape_data["psi1_fit_re"]) + 1j * np.asarray(shape_data["psi1_fit_im"])
     values = dict(fit.params)
-    return CompareRow(
+    frequency = float(fit.achieved.get("frequency_hz", math.nan))
+    growth = float(fit.achieved.get("growth_rate_per_s", math.nan))
+    status, reason = row_status(
+        spec.mechanism, spec.base, fit.to_json()["result"], frequency, growth, f_obs, pin_tolerance
+    )
+    out = CompareRow(
         mechanism=spec.mechanism,
         base=spec.base,
         free=tuple(spec.free),
         params=values,
         physical=_physical(values, units),
-        frequency_hz=float(fit.achieved.get("frequency_hz", math.nan)),
-        growth_rate_per_s=float(fit.achieved.get("growth_rate_per_s", math.nan)),
+        frequency_hz=frequency,
+        growth_rate_per_s=growth,
         r2=fit.r2,
         chi2_per_dof=fit.chi2_per_dof,
         aic=fit.aic,
@@ -477,6 +733,30 @@ def _fit_row(spec, shape, units, optimiser, starts, seed, shape_floor) -> Compar
         at_bound=list(fit.at_bound),
         psi1_model=psi1,
         fit=fit,
-        wall_s=time.perf_counter() - t0,
+        wall_s=0.0,
         problem=problem,
+        status=status,
+        reason=reason,
     )
+    out.physical_stderr = _physical_stderr(out, units)
+    out.wall_s = time.perf_counter() - t0
+    return out
+
+
+def _physical_stderr(r: CompareRow, units: Units) -> dict[str, float | None]:
+    """Standard errors of ``r.physical`` from the row's Laplace approximation (its
+    Jacobian taken from the fit's own compiled report program: no new compilation); inf
+    where the data do not determine a value, None if it cannot be computed."""
+    p = r.problem
+    try:
+        u = _to_u(p, np.array([[r.fit.params[n] for n in p.names]]))[0]
+        sd = r.laplace(jacobian=p.evaluate(u)["J"]).sd()
+    except (ValueError, np.linalg.LinAlgError, KeyError):
+        return {k: None for k in r.physical}
+    out = {}
+    for name, v in sd.items():
+        if name in PHYSICAL:
+            key, conv = PHYSICAL[name]
+            se = abs(float(v)) if conv is None else abs(float(getattr(units, conv)(v)))
+            out[key] = se if math.isfinite(se) else math.inf
+    return out
