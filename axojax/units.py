@@ -192,3 +192,76 @@ class Flagellum:
 
     def to_json(self) -> dict:
         return dataclasses.asdict(self)
+
+
+@dataclasses.dataclass(frozen=True)
+class Organism:
+    """A preset of one organism's flagellum for a comparison (``axojax compare --organism``):
+    its :class:`Flagellum` (kappa, xi_n in water) and its head or cell body as a prolate
+    ellipsoid's semi-axes (um) for the ``head`` base, each with its source in words
+    (docs/mechanisms.md, units; a value marked "to be confirmed" still needs a source)."""
+
+    name: str
+    flagellum: Flagellum
+    head_um: tuple[float, float]
+    head_source: str = ""
+
+
+def _lighthill(radius_um: float, wavelength_um: float, viscosity_pa_s: float = 1e-3) -> float:
+    """Lighthill's (1976) resistive-force coefficient 4 pi mu / (ln(2q/a) + 1/2), q = 0.09
+    lambda, in pN s/um^2 (mu in Pa s = pN s/um^2)."""
+    return 4 * math.pi * viscosity_pa_s / (math.log(2 * 0.09 * wavelength_um / radius_um) + 0.5)
+
+
+ORGANISMS: dict[str, Organism] = {
+    o.name: o
+    for o in (
+        Organism(
+            "human_sperm",
+            Flagellum(
+                1900.0,
+                3.2e-3,
+                "kappa: Saggiorato et al., Nat. Commun. 8:1415 (2017), fig. 4 (uniform rigidity "
+                "reproducing human sperm beats); xi_n: Lighthill (1976), a 0.25 um, lambda 45 um, water",
+            ),
+            (2.5, 1.5),
+            "a human sperm head, about 5 x 3 um (WHO laboratory manual, 5th ed. 2010: head length "
+            "4-5.5 um, width 2.5-3.5 um)",
+        ),
+        Organism(
+            "bull_sperm",
+            Flagellum(
+                1700.0,
+                3.4e-3,
+                "kappa: Riedel-Kruse et al., HFSP J 1:192 (2007), their bull sperm fit; xi_n 3.4e-3 "
+                "pN s/um^2: the value used with that fit in issue 45 (to be confirmed against the paper)",
+            ),
+            (4.5, 2.25),
+            "a bull sperm head, a paddle about 9 x 4.5 um taken as a prolate ellipsoid (to be confirmed)",
+        ),
+        Organism(
+            "sea_urchin_sperm",
+            Flagellum(
+                900.0,
+                round(_lighthill(0.1, 30.0), 5),
+                "kappa: Okuno & Hiramoto, J. Exp. Biol. 79:235 (1979), live echinoderm sperm flagella "
+                "0.3-1.5e-21 N m^2 (0.9e-21 taken); xi_n: Lighthill (1976), a 0.1 um, lambda 30 um, water",
+            ),
+            (2.5, 0.75),
+            "a sea urchin sperm head, conical, about 5 x 1.5 um (to be confirmed)",
+        ),
+        Organism(
+            "chlamydomonas",
+            Flagellum(
+                400.0,
+                3.4e-3,
+                "kappa 400 pN um^2 and xi_n 3.4e-3 pN s/um^2: the values of issue 45's Chlamydomonas "
+                "check, in the range of Sartori et al., eLife 5:e13258 (2016) (to be confirmed)",
+            ),
+            (5.0, 4.0),
+            "a Chlamydomonas cell body, about 10 x 8 um (to be confirmed)",
+        ),
+    )
+}
+"""The organism presets of ``axojax compare --organism NAME``: kappa, xi_n and the head's
+semi-axes of each, with sources (docs/mechanisms.md, units)."""

@@ -5,9 +5,13 @@ Basal compliance: bases named ``KIND+compliance`` / ``KIND+elastic``, or ``--com
 off|on|elastic|both|both-elastic|all`` for every base (default: the default bases without
 and with a basal spring; named bases as named; docs/mechanisms.md, basal compliance).
 
-Units: ``--ei`` and ``--cn`` (per filament); what is not given comes from the data set's
-flagellum when it is a bundled one (the human sperm's kappa and xi_n), else from axojax's
-defaults (:func:`axojax.inverse.comparison.compare.default_units`); the table says which.
+Units: ``--kappa`` and ``--xi-n`` (the whole flagellum's bending rigidity and normal drag),
+or ``--ei`` and ``--cn`` (per filament: kappa / F, xi_n / F for the preset's F filaments),
+or ``--organism NAME`` (:data:`axojax.units.ORGANISMS`: kappa, xi_n and the head's
+semi-axes); what is not given comes from the data set's flagellum when it is a bundled one
+(the human sperm's kappa and xi_n), else from axojax's defaults
+(:func:`axojax.inverse.comparison.compare.default_units`), with one warning line on stderr
+saying so; the table says which.
 
 Exit status 0; bad input (an unknown or unavailable mechanism or base, a coefficient
 named as a mechanism, a bad --compliance, a bad setting) is one line naming the flag,
@@ -17,6 +21,7 @@ exit 2.
 from __future__ import annotations
 
 import argparse
+import sys
 import warnings
 
 from .._progress import enabled as progress_enabled
@@ -38,8 +43,9 @@ from ..inverse.comparison.mechanisms import (
 )
 from ..inverse.problem import SHAPE_FLOOR
 from ..models import Base
+from ..models.presets import preset_section
 from ..params import MECHANISM_NAMES
-from ..units import Units
+from ..units import ORGANISMS, Units
 from . import _values, common
 
 MAX_STARTS = 100
@@ -95,7 +101,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--model",
         default=DEFAULT_PRESET,
         choices=COMPARE_PRESETS,
-        help=f"the preset every row uses (default {DEFAULT_PRESET}: the anchors' two-filament continuum limit, and the fastest)",
+        help=f"the preset every row uses (default {DEFAULT_PRESET}: the two-filament continuum limit of "
+        "the published fits this comparison follows, Sartori et al. 2016 and Riedel-Kruse et al. 2007; "
+        "the fastest)",
     )
     parser.add_argument(
         "--elements",
@@ -106,20 +114,41 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     du = Units()
     parser.add_argument(
+        "--organism",
+        default=None,
+        metavar="NAME",
+        help="kappa, xi_n and head size of an organism: " + ", ".join(ORGANISMS) + " (sources: "
+        "docs/mechanisms.md); --kappa/--xi-n/--ei/--cn/--head-um override its values",
+    )
+    parser.add_argument(
+        "--kappa",
+        type=common.finite_float,
+        default=None,
+        metavar="PN_UM2",
+        help="the whole flagellum's bending rigidity kappa, pN um^2 (shared by the model's filaments)",
+    )
+    parser.add_argument(
+        "--xi-n",
+        type=common.finite_float,
+        default=None,
+        metavar="PN_S_UM2",
+        help="the whole flagellum's normal drag coefficient xi_n per length, pN s/um^2 (water: about 3e-3)",
+    )
+    parser.add_argument(
         "--ei",
         type=common.finite_float,
         default=None,
         metavar="PN_UM2",
-        help="EI of one filament, pN um^2 (default: the bundled data set's flagellum, kappa "
-        f"shared by the filaments; else {du.ei_pn_um2:.4g}); with --cn it sets the beat's sperm number",
+        help="EI of ONE filament, pN um^2 (= kappa / F, F the model's filaments: 2 for 'two'); "
+        f"instead of --kappa (default: the bundled data set's, --organism's, else {du.ei_pn_um2:.4g})",
     )
     parser.add_argument(
         "--cn",
         type=common.finite_float,
         default=None,
         metavar="PN_S_UM2",
-        help="resistive coefficient of one filament, pN s um^-2 (default: the bundled data "
-        f"set's flagellum, xi_n shared by the filaments; else {du.cn_pn_s_um2:g})",
+        help="normal drag coefficient of ONE filament, pN s/um^2 (= xi_n / F); instead of --xi-n "
+        f"(default: the bundled data set's, --organism's, else {du.cn_pn_s_um2:g})",
     )
     parser.add_argument(
         "--sperm-number",
@@ -164,7 +193,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         type=common.finite_float,
         default=PIN_TOLERANCE,
         metavar="REL",
-        help=f"relative sigma of the pins of the beat: growth rate 0 and the data's frequency (default {PIN_TOLERANCE:g})",
+        help="relative uncertainty of the two targets that hold every row's beat at the observation "
+        f"(growth rate 0 and the data's frequency; default {PIN_TOLERANCE:g})",
     )
     parser.add_argument(
         "--out",
@@ -235,29 +265,7 @@ def run(args: argparse.Namespace) -> dict:
         beat = read_beat(args.data)
     except (ValueError, OSError) as err:
         raise common.CLIError(f"--data: {err}") from None
-    # None: the library's default (the data set's flagellum, or axojax's), named in the table
-    units = None
-    if args.ei is not None or args.cn is not None:
-        default, _ = default_units(beat, args.model)
-        ei = default.ei_pn_um2 if args.ei is None else args.ei
-        cn = default.cn_pn_s_um2 if args.cn is None else args.cn
-        try:
-            units = Units(beat.length_um, ei, cn)
-        except ValueError as err:
-            flag = "--ei" if "ei_pn_um2" in str(err) else "--cn"
-            raise common.CLIError(f"{flag}: {err}") from None
-    head = None
-    if args.head_um is not None or args.viscosity_pa_s is not None:
-        if bases is not None and not any(b.startswith("head") for b in bases):
-            flag = "--head-um" if args.head_um is not None else "--viscosity-pa-s"
-            raise common.CLIError(f"{flag}: needs the head base in --bases")
-        a, b = DEFAULT_HEAD_UM if args.head_um is None else _values._pair(args.head_um, "--head-um")
-        mu = DEFAULT_VISCOSITY_PA_S if args.viscosity_pa_s is None else args.viscosity_pa_s
-        try:
-            head = Base.head_from_ellipsoid(a, b, mu, units or default_units(beat, args.model)[0])
-        except ValueError as err:
-            flag = "--viscosity-pa-s" if "viscosity" in str(err) else "--head-um"
-            raise common.CLIError(f"{flag}: {err}") from None
+    units, organism, head = _units_and_head(args, beat, bases)
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -275,6 +283,7 @@ def run(args: argparse.Namespace) -> dict:
                 pin_tolerance=args.pin_tolerance,
                 progress=progress_enabled(json_output=args.json),
                 head=head,
+                organism=organism,
             )
     except ValueError as err:
         raise common.CLIError(f"--data: {err}") from None
@@ -293,6 +302,81 @@ def run(args: argparse.Namespace) -> dict:
     if args.params and not args.json:
         doc["show_params"] = True  # read by render only (the terminal's second table)
     return doc
+
+
+def _units_and_head(args: argparse.Namespace, beat, bases):
+    """The comparison's units (None: the library's default, named in the table), organism
+    and head from the flags; one warning line on stderr when a file of one's own comes
+    with no units at all."""
+    for a, b in (("kappa", "ei"), ("xi_n", "cn")):
+        if getattr(args, a) is not None and getattr(args, b) is not None:
+            flag = "--" + a.replace("_", "-")
+            raise common.CLIError(
+                f"{flag}: give --{a.replace('_', '-')} (whole flagellum) or --{b} (per filament), not both"
+            )
+    if args.xi_n is not None and args.sperm_number is not None:
+        raise common.CLIError(
+            "--sperm-number: sets the drag; give --sperm-number or --xi-n, not both"
+        )
+    organism = None
+    if args.organism is not None:
+        key = args.organism.strip().lower().replace("-", "_")
+        if key not in ORGANISMS:
+            raise common.CLIError(
+                f"--organism: unknown name {args.organism!r}; choose from {', '.join(ORGANISMS)}"
+            )
+        organism = ORGANISMS[key]
+    n_f = preset_section(args.model).n_filaments
+    given = {
+        "ei": args.ei if args.kappa is None else args.kappa / n_f,
+        "cn": args.cn if args.xi_n is None else args.xi_n / n_f,
+    }
+    units = None
+    if any(v is not None for v in given.values()):
+        if organism is not None:
+            default = organism.flagellum.units(beat.length_um, n_f)
+        else:
+            default, _ = default_units(beat, args.model)
+        ei = default.ei_pn_um2 if given["ei"] is None else given["ei"]
+        cn = default.cn_pn_s_um2 if given["cn"] is None else given["cn"]
+        try:
+            units = Units(beat.length_um, ei, cn)
+        except ValueError as err:
+            flag = (
+                ("--kappa" if args.kappa is not None else "--ei")
+                if "ei_pn_um2" in str(err)
+                else ("--xi-n" if args.xi_n is not None else "--cn")
+            )
+            raise common.CLIError(f"{flag}: {err}") from None
+    if units is None and organism is None and beat.flagellum is None and args.sperm_number is None:
+        u = Units()
+        print(
+            f"axojax: compare: warning: {args.data} carries no units: using axojax's defaults (kappa "
+            f"{u.ei_pn_um2 * n_f:.4g} pN um^2, xi_n {u.cn_pn_s_um2 * n_f:.3g} pN s/um^2: a 12 um cilium's); "
+            "give your organism's with --organism NAME or --kappa PN_UM2 --xi-n PN_S_UM2",
+            file=sys.stderr,
+        )
+    head = None
+    if args.head_um is not None or args.viscosity_pa_s is not None:
+        if bases is not None and not any(b.startswith("head") for b in bases):
+            flag = "--head-um" if args.head_um is not None else "--viscosity-pa-s"
+            raise common.CLIError(f"{flag}: needs the head base in --bases")
+        if args.head_um is not None:
+            a, b = _values._pair(args.head_um, "--head-um")
+        else:
+            a, b = DEFAULT_HEAD_UM if organism is None else organism.head_um
+        mu = DEFAULT_VISCOSITY_PA_S if args.viscosity_pa_s is None else args.viscosity_pa_s
+        try:
+            head_units = units or (
+                organism.flagellum.units(beat.length_um, n_f)
+                if organism
+                else default_units(beat, args.model)[0]
+            )
+            head = Base.head_from_ellipsoid(a, b, mu, head_units)
+        except ValueError as err:
+            flag = "--viscosity-pa-s" if "viscosity" in str(err) else "--head-um"
+            raise common.CLIError(f"{flag}: {err}") from None
+    return units, organism, head
 
 
 def render(doc: dict) -> str:

@@ -33,7 +33,7 @@ from ... import _io
 from ...beats.data import BeatData, read_beat
 from ...models.presets import preset_section
 from ...results import jsonable
-from ...units import Units
+from ...units import ORGANISMS, Organism, Units
 from ..fit import build_problem
 from ..least_squares import least_squares, solver_from_name
 from ..problem import SHAPE_FLOOR, Problem
@@ -41,6 +41,7 @@ from ..report import FitResult
 from .mechanisms import (
     DEFAULT_ELEMENTS,
     DEFAULT_PRESET,
+    DEFAULT_VISCOSITY_PA_S,
     PIN_TOLERANCE,
     build_model,
     check_names,
@@ -567,6 +568,17 @@ def default_units(
     )
 
 
+def organism_of(organism) -> Organism | None:
+    """An :class:`~axojax.units.Organism` from its name (:data:`~axojax.units.ORGANISMS`;
+    ``-`` or ``_`` alike), itself, or None; one-line ``ValueError`` for an unknown name."""
+    if organism is None or isinstance(organism, Organism):
+        return organism
+    key = str(organism).strip().lower().replace("-", "_")
+    if key not in ORGANISMS:
+        raise ValueError(f"organism: unknown name {organism!r}; choose from {', '.join(ORGANISMS)}")
+    return ORGANISMS[key]
+
+
 def _beat(data) -> BeatData:
     if isinstance(data, BeatData):
         return data
@@ -593,6 +605,7 @@ def compare(
     head=None,
     profiles=None,
     compliance: bool | str | None = None,
+    organism: str | Organism | None = None,
 ) -> Comparison:
     """Fit every mechanism x base to one beat and rank them by BIC.
 
@@ -633,6 +646,10 @@ def compare(
             without and with the one or the other, ``"all"`` all three, ``False`` the bases
             as named. Default ``None``: the default bases without and with a basal spring
             (``"both-elastic"``: 24 rows), named bases as named.
+        organism: a name of :data:`axojax.units.ORGANISMS` (``"human_sperm"``,
+            ``"bull_sperm"``, ``"sea_urchin_sperm"``, ``"chlamydomonas"``) or an
+            :class:`~axojax.units.Organism`: its kappa and xi_n (unless ``units`` are given)
+            and its head's semi-axes (unless ``head`` is given).
         progress: a bar over rows on stderr (``axojax compare`` shows it on a terminal,
             never with ``--json`` on a pipe: :mod:`axojax._progress`'s rule).
 
@@ -649,7 +666,17 @@ def compare(
     if shape is None:
         raise ValueError("data: the beat has no psi_1 shape to compare mechanisms on")
     f_obs = float(beat.frequency_hz)
-    if units is None:
+    org = organism_of(organism)
+    if org is not None and head is None:
+        head = org.head_um  # made a Base below, in the units chosen
+    if units is None and org is not None:
+        n_f = preset_section(model).n_filaments
+        units = org.flagellum.units(beat.length_um, n_f)
+        units_source = (
+            f"the {org.name} preset: kappa {org.flagellum.bending_rigidity_pn_um2:.4g} pN um^2, "
+            f"xi_n {org.flagellum.normal_drag_pn_s_um2:.3g} pN s/um^2, shared by {n_f} filaments"
+        )
+    elif units is None:
         units, units_source = default_units(beat, model)
     else:
         units, units_source = Units(beat.length_um, units.ei_pn_um2, units.cn_pn_s_um2), "given"
@@ -659,6 +686,10 @@ def compare(
         cn = sperm_number / float(units.omega0_from_hz(f_obs)) * units.cn_pn_s_um2
         units = Units(beat.length_um, units.ei_pn_um2, cn)
         units_source += f"; c_n set by the sperm number {sperm_number:g}"
+    if isinstance(head, tuple):
+        from ...models import Base
+
+        head = Base.head_from_ellipsoid(*head, DEFAULT_VISCOSITY_PA_S, units)
     t0 = time.perf_counter()
     rows: list[CompareRow] = []
     combos = [(m, b) for b in bases for m in mechanisms]
