@@ -8,7 +8,7 @@ least-squares fit), and the table. Timings are for one machine and one run, not
 assertions; the machine may be shared, so the CPU time of the process is printed too.
 
     python benchmarks/bench_compare.py [--elements 16] [--starts 3] [--model two] \\
-        [--ei PN_UM2 --cn PN_S_UM2] [--compliance off]
+        [--ei PN_UM2 --cn PN_S_UM2] [--compliance off] [--organism NAME] [--params]
 """
 
 import argparse
@@ -27,6 +27,8 @@ def main() -> None:
     parser.add_argument("--ei", type=float, default=None, help="default: the data set's")
     parser.add_argument("--cn", type=float, default=None, help="default: the data set's")
     parser.add_argument("--compliance", default=None, help="default: compare's (both-elastic)")
+    parser.add_argument("--organism", default=None, help="an axojax.units.ORGANISMS preset")
+    parser.add_argument("--params", action="store_true", help="also print the fitted values")
     args = parser.parse_args()
     beat = ax.datasets.human_sperm()
     units = None
@@ -49,15 +51,16 @@ def main() -> None:
             starts=args.starts,
             progress=False,
             compliance=compliance,
+            organism=args.organism,
         )
     wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
-    print(result.table())
+    print(result.table(params=args.params))
     print(
         f"default set ({len(result.rows)} rows, {args.model}, {args.elements} elements, "
         f"{args.starts} starts): {wall:.1f} s wall, {cpu:.1f} s CPU (all threads)"
     )
     for r in result.rows:
-        print(f"  {r.mechanism:<18} {r.base:<16} {r.wall_s:6.1f} s")
+        print(f"  {r.mechanism:<18} {r.base:<16} {r.wall_s:6.1f} s  {r.status}")
 
 
 if __name__ == "__main__":

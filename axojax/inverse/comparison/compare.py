@@ -462,7 +462,7 @@ def row_status(
     if abs(g) > GROWTH_MATCH * pin_tolerance * omega:
         return "missed_beat", (
             f"its beat {'grows' if g > 0 else 'decays'} at {g:.3g} 1/s (at most "
-            f"{GROWTH_MATCH * pin_tolerance * omega:.3g} 1/s: {GROWTH_MATCH:g} of the pin's sigmas)"
+            f"{GROWTH_MATCH * pin_tolerance * omega:.3g} 1/s: {GROWTH_MATCH:g} x --pin-tolerance x 2 pi f)"
         )
     return "successful", None
 
