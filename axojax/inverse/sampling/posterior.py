@@ -141,100 +141,176 @@ def posterior(
     clock = _Clock()
     key_init, key_warm, key_sample = jax.random.split(jax.random.PRNGKey(seed), 3)
     t0 = time.perf_counter()
+    run_key, file, warm = _cached(
+        directory, problem, prior, sampler, warmup, chains, seed, init, vectorize, transport
+    )
+    warm_cache = "off" if file is None else ("loaded" if warm is not None else "stored")
+    if warm is not None:  # an identical run's start-up: straight to the draws
+        start = (None, None, None, warm.start_u, (warm.u_c, warm.precision_u))
+    else:
+        start = _starts(target, init, chains, key_init, clock.call)
+    start_u, (u_c, precision_u) = start[3:]
+    laplace = laplace_of(problem, names, u_c, precision_u)
+    seconds = {"start": time.perf_counter() - t0}
+    if on_laplace is not None:
+        on_laplace(laplace)
+    compile_start = clock.seconds
+
+    t0 = time.perf_counter()
+    sampled, states, step_size, imm, warm_grads = _warm_up(
+        target,
+        sampler,
+        warm,
+        start,
+        key_warm,
+        clock,
+        _transport_spec(transport, along, init, own_prior),
+        cache=(file, run_key),
+        shape=(chains, warmup),
+        vectorize=vectorize,
+        progress=progress,
+    )
+    seconds["warmup"] = 0.0 if warm_cache == "loaded" else time.perf_counter() - t0
+    t0, compile_draws = time.perf_counter(), clock.seconds
+    out = _draw(
+        sampled, sampler, states, step_size, imm, draws, vectorize, key_sample, progress, clock
+    )
+    seconds["sampling"] = time.perf_counter() - t0
+    seconds["compile_chains"] = clock.seconds - compile_start
+    seconds["compile_draws"] = clock.seconds - compile_draws
+    return _summarise(
+        problem,
+        target,
+        sampled,
+        sampler,
+        clock,
+        out,
+        names=names,
+        bounds=(lower, upper),
+        shape=(chains, draws, warmup),
+        adapted=(step_size, warm_grads),
+        laplace=laplace,
+        transport=transport,
+        start_u=start_u,
+        warm_cache=warm_cache,
+        seconds=seconds,
+        t_start=t_start,
+    )
+
+
+def _cached(directory, problem, prior, sampler, warmup, chains, seed, init, vectorize, transport):
+    """The warm cache of this run (:mod:`._warm_cache`): its key and file (None: uncached)
+    and the start-up an identical run stored there (None: none, or none that fits)."""
     run_key = None
     if directory is not None:
         run_key = _warm_cache.run_key(
             problem, prior, sampler, warmup, chains, seed, init, vectorize, transport
         )
     file = None if run_key is None else _warm_cache.path_of(directory, run_key)
-    warm = None if file is None else _warm_cache.load(file, run_key, chains, len(names))
+    warm = None if file is None else _warm_cache.load(file, run_key, chains, len(problem.names))
     if warm is not None and (transport is not None) != bool(warm.profile):
         warm = None  # cannot happen with an honest key; recompute rather than guess
-    warm_cache = "off" if file is None else ("loaded" if warm is not None else "stored")
-    if warm is not None:  # an identical run's start-up: straight to the draws
-        u_c, precision_u, start_u = warm.u_c, warm.precision_u, warm.start_u
-    else:
-        z_start, z_c, cov, start_u, (u_c, precision_u) = _starts(
-            target, init, chains, key_init, clock.call
-        )
-    laplace = laplace_of(problem, names, u_c, precision_u)
-    seconds_start = time.perf_counter() - t0
-    if on_laplace is not None:
-        on_laplace(laplace)
-    compile_start = clock.seconds
+    return run_key, file, warm
 
-    t0 = time.perf_counter()
+
+def _transport_spec(transport, along, init, own_prior):
+    """What :func:`_adapt` takes of a transport: (index, knots, respread, built), or None
+    without one."""
+    if transport is None:
+        return None
+    return along, int(transport.knots), _spread(init), _built(transport, own_prior)
+
+
+def _warm_up(target, sampler, warm, start, key, clock, spec, *, cache, shape, vectorize, progress):
+    """The sampled density and, per chain, the state after the warm-up, its step size,
+    inverse mass matrix and gradients spent: resumed from ``warm`` (an identical run's,
+    from the warm cache) when given, else adapted from ``start`` (what :func:`._starts`
+    returned) with the transport ``spec`` (:func:`_transport_spec`) and kept in the
+    ``cache`` = (file, run_key) when it has a file. ``shape``: (chains, warmup)."""
     if warm is not None:
-        sampled, states, step_size, imm, warm_grads = _resume(target, sampler, warm, along)
-    else:
-        with stage(f"posterior warm-up ({chains} x {warmup} steps)", enable=progress):
-            sampled, states, step_size, imm, warm_grads = _adapt(
-                target,
-                sampler,
-                warmup,
-                vectorize,
-                key_warm,
-                z_start,
-                z_c,
-                cov,
-                clock.call,
-                None
-                if transport is None
-                else (
-                    along,
-                    int(transport.knots),
-                    _spread(init),
-                    _built(transport, own_prior),
-                ),
-            )
-        if file is not None:
-            chol = sampled.chol if sampler.whiten else jnp.eye(len(names))
-            profile = () if transport is None else _profile_arrays(sampled.transport)
-            warm = _warm_cache.Warm(
-                *(np.asarray(x) for x in (z_c, cov, chol, u_c, precision_u, start_u)),
-                state=tuple(np.asarray(x) for x in states),
-                step_size=np.asarray(step_size),
-                imm=np.asarray(imm),
-                warm_grads=np.asarray(warm_grads),
-                profile=profile,
-            )
-            _warm_cache.save(file, run_key, warm)
-    seconds_warmup = 0.0 if warm_cache == "loaded" else time.perf_counter() - t0
-    t0, compile_draws = time.perf_counter(), clock.seconds
-    z, logd, divergent, n_steps, accept, depth = _draw(
-        sampled, sampler, states, step_size, imm, draws, vectorize, key_sample, progress, clock
+        return _resume(target, sampler, warm, None if spec is None else spec[0])
+    chains, warmup = shape
+    z_start, z_c, cov, start_u, (u_c, precision_u) = start
+    with stage(f"posterior warm-up ({chains} x {warmup} steps)", enable=progress):
+        adapted = _adapt(
+            target, sampler, warmup, vectorize, key, z_start, z_c, cov, clock.call, spec
+        )
+    file, run_key = cache
+    if file is not None:
+        sampled, *rest = adapted
+        _store(file, run_key, sampled, sampler, (z_c, cov, u_c, precision_u, start_u), rest)
+    return adapted
+
+
+def _store(file, run_key, sampled, sampler, start, adapted) -> None:
+    """Keep the run's start-up in the warm cache: ``start`` = (z_c, cov, u_c, precision_u,
+    start_u), ``adapted`` = the warm-up's (states, step_size, imm, warm_grads), with the
+    whitening's Cholesky factor and the transport's map."""
+    z_c, cov, u_c, precision_u, start_u = start
+    states, step_size, imm, warm_grads = adapted
+    chol = sampled.chol if sampler.whiten else jnp.eye(len(z_c))
+    transported = isinstance(sampled, _Whitened) and sampled.transport is not None
+    profile = _profile_arrays(sampled.transport) if transported else ()
+    warm = _warm_cache.Warm(
+        *(np.asarray(x) for x in (z_c, cov, chol, u_c, precision_u, start_u)),
+        state=tuple(np.asarray(x) for x in states),
+        step_size=np.asarray(step_size),
+        imm=np.asarray(imm),
+        warm_grads=np.asarray(warm_grads),
+        profile=profile,
     )
-    seconds_sampling = time.perf_counter() - t0
-    compile_chains = clock.seconds - compile_start
-    compile_draws = clock.seconds - compile_draws
+    _warm_cache.save(file, run_key, warm)
+
+
+def _summarise(
+    problem,
+    target,
+    sampled,
+    sampler,
+    clock,
+    out,
+    *,
+    names,
+    bounds,
+    shape,
+    adapted,
+    laplace,
+    transport,
+    start_u,
+    warm_cache,
+    seconds,
+    t_start,
+) -> Posterior:
+    """The :class:`Posterior` of the draws ``out`` (what :func:`_draw` returned, in the
+    sampled coordinate), warning (for :func:`posterior`'s caller) when the chains are not
+    to be trusted or the trees were cut short. ``shape``: (chains, draws, warmup);
+    ``adapted``: the warm-up's (step_size, warm_grads); ``seconds``: start, warmup,
+    sampling, compile_chains and compile_draws; ``t_start``: when the run began."""
+    z, logd, divergent, n_steps, accept, depth = out
+    chains, draws, warmup = shape
+    step_size, warm_grads = adapted
     if isinstance(sampled, _Whitened):
         z = np.asarray(sampled.to_z(jnp.asarray(z)))
-
     u = np.asarray(clock.call(_to_u, None, target, jnp.asarray(z)))
     value_names, values, log_coordinate = _value_draws(problem, names, u, clock.call)
     k = len(names)
     summ = diagnostics.summary(values[..., :k])
     flat_u = u.reshape(-1, k)
     gradients = int(np.sum(warm_grads)) + int(np.sum(n_steps))
-    seconds = time.perf_counter() - t_start
+    total = time.perf_counter() - t_start
     ess_min = float(np.min(summ["ess_bulk"]))
     n_div = int(np.sum(divergent))
     notes = diagnostics.sampler_notes(names, summ, chains, chains * draws, n_div)
     if n_div and transport is not None:
         notes.append(_cliff_note(sampled.transport, problem, transport.along, laplace))
     for note in notes:
-        warnings.warn(note, stacklevel=2)
+        warnings.warn(note, stacklevel=3)
     saturated = float(np.mean(depth >= sampler.max_num_doublings))
     if saturated > SATURATION_WARN:
-        warnings.warn(_saturation_note(saturated, sampler, n_steps), stacklevel=2)
-    mean_u = {n: float(v) for n, v in zip(names, flat_u.mean(axis=0))}
-    sd_u = {n: float(v) for n, v in zip(names, flat_u.std(axis=0, ddof=1))}
-    moved = laplace.check(mean_u, sd_u)
-    work = seconds_warmup + seconds_sampling - compile_chains
-
-    def per(key):
-        return {n: float(summ[key][i]) for i, n in enumerate(names)}
-
+        warnings.warn(_saturation_note(saturated, sampler, n_steps), stacklevel=3)
+    stats = _statistics(names, summ, flat_u)
+    moved = laplace.check(stats["mean_u"], stats["sd_u"])
+    work = seconds["warmup"] + seconds["sampling"] - seconds["compile_chains"]
     result = RESULTS.successful if not notes else RESULTS.chains_not_converged
     return Posterior(
         names=names,
@@ -243,31 +319,22 @@ def posterior(
         values=values,
         log_density=np.asarray(logd),
         divergent=np.asarray(divergent, dtype=bool),
-        lower=lower,
-        upper=upper,
+        lower=bounds[0],
+        upper=bounds[1],
         log_coordinate=log_coordinate,
-        mean=per("mean"),
-        sd=per("sd"),
-        q05=per("q05"),
-        q50=per("q50"),
-        q95=per("q95"),
-        mean_u=mean_u,
-        sd_u=sd_u,
-        rhat=per("rhat"),
-        ess=per("ess_bulk"),
-        ess_tail=per("ess_tail"),
+        **stats,
         divergences=n_div,
         step_size=np.asarray(step_size, dtype=float),
         acceptance=float(np.mean(accept)),
         warmup=int(warmup),
         gradients=gradients,
-        seconds=seconds,
+        seconds=total,
         seconds_compile=clock.seconds,
-        seconds_start=seconds_start,
-        seconds_warmup=seconds_warmup,
-        seconds_sampling=seconds_sampling,
+        seconds_start=seconds["start"],
+        seconds_warmup=seconds["warmup"],
+        seconds_sampling=seconds["sampling"],
         seconds_per_gradient=work / max(gradients, 1),
-        seconds_per_ess=seconds / ess_min if ess_min > 0 else math.inf,
+        seconds_per_ess=total / ess_min if ess_min > 0 else math.inf,
         start_u=start_u,
         message="; ".join(notes) or message(result),
         result=result,
@@ -279,9 +346,31 @@ def posterior(
         max_num_doublings=int(sampler.max_num_doublings),
         gradients_per_draw=float(np.mean(n_steps)),
         warm_cache=warm_cache,
-        seconds_compile_draws=compile_draws,
+        seconds_compile_draws=seconds["compile_draws"],
         transport=None if transport is None else transport.along,
     )
+
+
+def _statistics(names, summ, flat_u) -> dict[str, dict[str, float]]:
+    """Per parameter, by name: mean, sd, 5/50/95 % quantiles, R-hat and bulk/tail ESS of
+    its values (``summ``: :func:`.diagnostics.summary`), and the mean and sd of its
+    draws in u (``flat_u``: (chains * draws, k)), as :class:`Posterior` names them."""
+
+    def per(key):
+        return {n: float(summ[key][i]) for i, n in enumerate(names)}
+
+    return {
+        "mean": per("mean"),
+        "sd": per("sd"),
+        "q05": per("q05"),
+        "q50": per("q50"),
+        "q95": per("q95"),
+        "mean_u": {n: float(v) for n, v in zip(names, flat_u.mean(axis=0))},
+        "sd_u": {n: float(v) for n, v in zip(names, flat_u.std(axis=0, ddof=1))},
+        "rhat": per("rhat"),
+        "ess": per("ess_bulk"),
+        "ess_tail": per("ess_tail"),
+    }
 
 
 def _cliff_note(profile, problem, along: str, laplace: Laplace) -> str:
