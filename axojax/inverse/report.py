@@ -239,14 +239,7 @@ def build_report(
     names = problem.names
     log = np.array([p.log for p in problem.parameters])
     values = problem.values(u)
-    span = problem.upper - problem.lower
-
-    cov, se_u, corr = _covariance(J)
-    frac = (u - problem.lower) / span
-    at_bound = [
-        n for n, f in zip(names, frac) if f <= AT_BOUND_FRACTION or f >= 1 - AT_BOUND_FRACTION
-    ]
-    verdict, combos = verdicts(names, cov, log, span, at_bound)
+    cov, se_u, corr, at_bound, verdict, combos = _uncertainty(problem, u, J)
     ident = {n: verdict[n] == "determined" for n in names}
     stderr = {
         n: float(values[n] * se_u[i]) if log[i] else float(se_u[i]) for i, n in enumerate(names)
@@ -263,15 +256,7 @@ def build_report(
     notes = _notes(problem, u, values, se_u, cov, verdict, combos)
     notes = _cycle_notes(problem, ev) + notes + _excluded_notes(conditions)
     notes += start_notes(starts, loss)
-    head = (
-        f"targets reproduced (loss {loss:.3g}"
-        + (f", chi2/dof {chi2:.3g}" if chi2 is not None else "")
-        + ")"
-        if targets_met
-        else "targets not reproduced within their uncertainty (infeasible for this model and bounds?): "
-        + "; ".join(off)
-    )
-    text = "; ".join([head] + notes)
+    text = "; ".join([_headline(targets_met, loss, chi2, off)] + notes)
     shared = {p.name: values[p.name] for p in problem.parameters if p.condition is None}
     return FitResult(
         params=dict(values),
@@ -305,6 +290,38 @@ def build_report(
         if result is None
         else (result if isinstance(result, RESULTS) else RESULTS.promote(result)),
         **quality,
+    )
+
+
+def _uncertainty(problem: Problem, u, J) -> tuple:
+    """What the Gauss-Newton matrix says of each fitted value: the covariance in u, the
+    standard errors in u and the correlations (:func:`_covariance`), the values at a
+    bound, and each value's verdict with the combinations determined
+    (:func:`.verdicts.verdicts`)."""
+    names = problem.names
+    log = np.array([p.log for p in problem.parameters])
+    span = problem.upper - problem.lower
+    cov, se_u, corr = _covariance(J)
+    frac = (u - problem.lower) / span
+    at_bound = [
+        n for n, f in zip(names, frac) if f <= AT_BOUND_FRACTION or f >= 1 - AT_BOUND_FRACTION
+    ]
+    verdict, combos = verdicts(names, cov, log, span, at_bound)
+    return cov, se_u, corr, at_bound, verdict, combos
+
+
+def _headline(targets_met: bool, loss: float, chi2: float | None, off: list[str]) -> str:
+    """The message's first part: the targets reproduced (loss, chi^2 per degree of
+    freedom), or which were missed."""
+    if targets_met:
+        return (
+            f"targets reproduced (loss {loss:.3g}"
+            + (f", chi2/dof {chi2:.3g}" if chi2 is not None else "")
+            + ")"
+        )
+    return (
+        "targets not reproduced within their uncertainty (infeasible for this model and "
+        "bounds?): " + "; ".join(off)
     )
 
 
