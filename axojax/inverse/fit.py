@@ -127,16 +127,22 @@ def fit(
         shift=shift,
     )
     result = least_squares(problem, optimiser, starts=starts, seed=seed, progress=progress)
+    _warn_if_unsettled(result)
+    return result
+
+
+def _warn_if_unsettled(result: FitResult) -> None:
+    """:func:`fit`'s warnings, pointed at its caller: the targets not reproduced (the
+    message's first part), and the parameters not identifiable."""
     if not result.targets_met:
-        warnings.warn(result.message.split("; ")[0], stacklevel=2)
+        warnings.warn(result.message.split("; ")[0], stacklevel=3)
     bad = [n for n, ok in result.identifiable.items() if not ok]
     if bad:
         warnings.warn(
             f"not identifiable from these targets: {', '.join(bad)}"
             + (f" (at a bound: {', '.join(result.at_bound)})" if result.at_bound else ""),
-            stacklevel=2,
+            stacklevel=3,
         )
-    return result
 
 
 def build_problem(
