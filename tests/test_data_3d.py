@@ -403,3 +403,17 @@ def test_cli_fit_of_a_3d_beat_with_joint_components(tmp_path, model3d, capsys):
     flat += ["--planarity-threshold", "0.05"]
     assert main(flat) == 2
     assert "in one plane" in capsys.readouterr().err
+    bad = [
+        "fit",
+        "--model",
+        "seven",
+        "--free",
+        "p",
+        "--data",
+        str(path),
+        "--planarity-threshold",
+        "0",
+    ]
+    assert main(bad) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--planarity-threshold: must be > 0, got 0" in err

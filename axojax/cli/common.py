@@ -22,6 +22,7 @@ from .._memory import (
     model_bytes,
     physical_memory,
 )
+from ..beats.reduction import PLANARITY_THRESHOLD
 from ..eigen.solvers import SOLVERS, AbstractEigenSolver, Auto, solver_from_name
 from ..fem import hermite
 from ..models import (
@@ -232,6 +233,25 @@ def add_solver_flag(parser: argparse.ArgumentParser) -> None:
         "sweeps (or traced boundaries) of "
         f"{Auto().min_batch_points}+ points on models of {Auto().min_batch_dof}+ unknowns; dense otherwise)",
     )
+
+
+def add_planarity_flag(parser: argparse.ArgumentParser) -> None:
+    """``--planarity-threshold R`` (``axojax data``, ``axojax fit --data``): a 3D beat whose
+    transverse singular values have s3/s2 below R is planar (one component of psi_1)."""
+    parser.add_argument(
+        "--planarity-threshold",
+        type=finite_float,
+        default=PLANARITY_THRESHOLD,
+        metavar="R",
+        help=f"3D beats with s3/s2 below R are planar (default {PLANARITY_THRESHOLD:g})",
+    )
+
+
+def check_planarity_threshold(args: argparse.Namespace) -> None:
+    """One line for a ``--planarity-threshold`` that is not > 0."""
+    value = getattr(args, "planarity_threshold", None)
+    if value is not None and not value > 0:
+        raise CLIError(f"--planarity-threshold: must be > 0, got {value:g}")
 
 
 def solver_from_args(args: argparse.Namespace) -> AbstractEigenSolver:

@@ -37,7 +37,6 @@ import warnings
 
 from .. import _io
 from ..beats.data import BeatDataWarning, read_beat
-from ..beats.reduction import PLANARITY_THRESHOLD
 from ..waveform.measures import wavelength_text
 from . import common
 
@@ -79,13 +78,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="INDEX",
         help=".mat cell arrays: which cell (0-based; default the only non-empty one)",
     )
-    parser.add_argument(
-        "--planarity-threshold",
-        type=common.finite_float,
-        default=PLANARITY_THRESHOLD,
-        metavar="R",
-        help=f"3D beats with s3/s2 below R are planar (default {PLANARITY_THRESHOLD:g})",
-    )
+    common.add_planarity_flag(parser)
     parser.add_argument(
         "--exclude-base-um",
         type=common.finite_float,

@@ -178,13 +178,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "in-plane and out-of-plane psi_1 together with one complex scale (joint; a 3D model such as "
         "seven, and the linear mode only); a planar beat has the in-plane component alone",
     )
-    parser.add_argument(
-        "--planarity-threshold",
-        type=common.finite_float,
-        default=PLANARITY_THRESHOLD,
-        metavar="R",
-        help=f"with --data of a 3D beat: s3/s2 below R is planar (default {PLANARITY_THRESHOLD:g}, as axojax data)",
-    )
+    common.add_planarity_flag(parser)
     parser.add_argument(
         "--exclude-base-um",
         type=common.finite_float,
@@ -423,6 +417,7 @@ def _data(args: argparse.Namespace, units: Units, source: str, model):
     flagellum when it has one (a bundled beat; as ``axojax compare`` does:
     :func:`axojax.inverse.comparison.compare.default_units`, shared by the model's filaments), else
     axojax's defaults."""
+    common.check_planarity_threshold(args)
     beat, summary = _read_data(args.data, "--data", args.planarity_threshold)
     length = beat.length_um
     if abs(length - units.length_um) > 1e-6 * length and _given(args, "--length-um"):
