@@ -282,7 +282,7 @@ def mark(row: dict[str, Any]) -> str:
 def render_table(doc: dict[str, Any]) -> str:
     """A comparison document (:meth:`Comparison.to_json`) as a text table: the rows (a
     status mark after the rank of each row that is not successful, explained below the
-    table), the model and units, and the verdict."""
+    table), the verdict, and the model and units (the last line)."""
 
     def num(x, fmt):
         width = "".join(c for c in fmt.split(".")[0] if c.isdigit()) or "0"
@@ -317,6 +317,9 @@ def render_table(doc: dict[str, Any]) -> str:
         if these:
             lines.append(f"{symbol} {meaning}:")
             lines += [f"  {i:>2} {r['mechanism']} on {r['base']}: {r['reason']}" for i, r in these]
+    v = doc.get("verdict") or verdict(doc)
+    lines.append(f"verdict: {v['text']}")
+    lines.append(f"  ({v['rule']})")
     m = doc["model"]
     lines.append(
         f"model {m['preset']} ({m['elements']} elements), sperm number {m['sperm_number']:.4g}; "
@@ -328,9 +331,6 @@ def render_table(doc: dict[str, Any]) -> str:
             f"units: EI {m['ei_pn_um2']:.4g} pN um^2 and c_n {m['cn_pn_s_um2']:.3g} pN s/um^2 "
             f"per filament, L {m['length_um']:.4g} um ({m['units_source']})"
         )
-    v = doc.get("verdict") or verdict(doc)
-    lines.append(f"verdict: {v['text']}")
-    lines.append(f"  ({v['rule']})")
     return "\n".join(lines)
 
 
@@ -497,7 +497,7 @@ def verdict(doc: dict[str, Any]) -> dict[str, Any]:
     from scipy.stats import chi2 as chi2_dist
 
     rows = doc["rows"]
-    n = 2 * len(doc["data"]["s_um"]) + 2  # Re and Im of each point, and the two pins
+    n = 2 * len(doc["data"].get("s_um", ())) + 2  # Re and Im of each point, and the two pins
     rule = (
         f"a row fits when it is successful, R^2 >= {FIT_R2:g} and chi2/dof <= the "
         f"{100 * FIT_CHI2_QUANTILE:g} % point of chi^2/dof for its degrees of freedom"
