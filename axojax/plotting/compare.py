@@ -42,8 +42,8 @@ def plot_comparison(doc: dict):
     obs = _complex(data["psi1"])
     psi0 = np.zeros_like(s) if data.get("psi0") is None else np.asarray(data["psi0"], float)
     n = len(rows) + 1
-    fig = plt.figure(figsize=(max(10, 2.2 * n), 8.5), layout="constrained")
-    grid = fig.add_gridspec(2, n, height_ratios=[1.2, 1])
+    fig = plt.figure(figsize=(max(10, 2.2 * n), 7.0), layout="constrained")
+    grid = fig.add_gridspec(2, n, height_ratios=[1.4, 1])
     amp = fig.add_subplot(grid[0, : n // 2 or 1])
     pha = fig.add_subplot(grid[0, n // 2 or 1 :])
     amp.plot(s, np.abs(obs), "ko", ms=3, label="observed")
@@ -93,5 +93,7 @@ def plot_comparison(doc: dict):
         ax.set_aspect("equal", adjustable="box")
         ax.set_title(title, fontsize=8)
         ax.set_xlabel("x (um)", fontsize=7)
+        if j == 0:
+            ax.set_ylabel("y (um), one cycle", fontsize=7)
         ax.tick_params(labelsize=6)
     return fig
