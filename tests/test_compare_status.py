@@ -18,15 +18,8 @@ import pytest
 
 import axojax as ax
 from axojax.cli.main import main
-from axojax.inverse.comparison.compare import (
-    FIT_R2,
-    PHYSICAL,
-    rank,
-    render_params,
-    render_table,
-    row_status,
-    verdict,
-)
+from axojax.inverse.comparison.table import PHYSICAL, render_params, render_table
+from axojax.inverse.comparison.verdict import FIT_R2, rank, row_status, verdict
 
 F = 10.0  # observed frequency (Hz)
 TOL = 1e-3

@@ -25,7 +25,7 @@ import sys
 import warnings
 
 from .._progress import enabled as progress_enabled
-from ..inverse.comparison.compare import compare, default_units, render_params, render_table
+from ..inverse.comparison.compare import compare, default_units
 from ..inverse.comparison.mechanisms import (
     BASES,
     COMPARE_PRESETS,
@@ -41,6 +41,7 @@ from ..inverse.comparison.mechanisms import (
     check_names,
     with_compliance,
 )
+from ..inverse.comparison.table import render_params, render_table
 from ..inverse.problem import SHAPE_FLOOR
 from ..models import Base
 from ..models.presets import preset_section

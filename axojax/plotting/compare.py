@@ -3,7 +3,7 @@
 Top: the observed psi_1 amplitude |psi_1| and phase arg psi_1 along s (points) with every
 row's fit (lines; legend: mechanism, base, R^2, delta BIC, BIC weight, and the table's
 status mark: ``*`` not successful, dashed; ``n/a`` not applicable, dotted). The title
-carries the verdict line (:func:`axojax.inverse.comparison.compare.verdict`). Bottom: the waveform over one
+carries the verdict line (:func:`axojax.inverse.comparison.verdict.verdict`). Bottom: the waveform over one
 cycle, observed first, then each row's, side by side (centrelines integrated from
 psi(s, phase) = psi_0(s) + Re(psi_1(s) e^{i phase}); every fit uses the observed psi_0,
 which a linear mode does not predict).
@@ -17,7 +17,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from ..inverse.comparison.compare import mark, verdict
+from ..inverse.comparison.verdict import mark, verdict
 from .fit_report import _centrelines
 
 MAX_ROWS = 8

@@ -49,42 +49,17 @@ from .mechanisms import (
     row,
     with_compliance,
 )
+from .table import PHYSICAL, render_params, render_table
+from .verdict import (
+    rank,
+    row_status,
+    verdict,
+)
 
 SCREEN = 64
 """Sobol points screened (with the Hopf points) for the starts of each row."""
 BATCH = 64
 """Candidates per vmapped evaluation while screening (one compiled program per row)."""
-FREQUENCY_MATCH = 0.02
-"""A ``successful`` row's beat is within 2 % of the observed frequency."""
-GROWTH_MATCH = 3.0
-"""... and its growth rate within 3 of the pin's sigmas (pin_tolerance x omega) of 0."""
-RIGID_FREQUENCY = 0.01
-"""A fitted beat below 1 % of the observed frequency is a neutral (rigid-body) mode."""
-FIT_R2 = 0.9
-"""The verdict's bar of R^2 (Sartori et al.'s fits: 0.95; docs/mechanisms.md)."""
-FIT_CHI2_QUANTILE = 0.99
-"""chi^2/dof within the data's sigmas (the shape floor in them): below this quantile of
-the chi^2 distribution of the row's degrees of freedom, over dof."""
-STATUS_MARKS = {"failed": "*", "not_applicable": "n/a"}
-"""The table's marks: ``*`` a row that did not converge or missed the observed beat,
-``n/a`` a row that cannot reach it (its reason below the table)."""
-PHYSICAL = {
-    "chi_re": ("chi_re_pn_per_um2", "chi_to_pn_per_um2"),
-    "chi_im": ("chi_im_pn_per_um2", "chi_to_pn_per_um2"),
-    "beta_re": ("beta_re_pn", "beta_to_pn"),
-    "beta_im": ("beta_im_pn", "beta_to_pn"),
-    "p": ("p_pn_per_um", "p_to_pn_per_um"),
-    "kb": ("kb_pn_per_um", "kb_to_pn_per_um"),
-    "xib": ("xib_pn_s_per_um", "xib_to_pn_s_per_um"),
-    "kl": ("kl_pn_per_um2", "k_to_pn_per_um2"),
-    "ks": ("ks_pn_per_um2", "k_to_pn_per_um2"),
-    "cl": ("cl_pn_s_per_um2", "c_to_pn_s_per_um2"),
-    "gamma": ("gamma", None),
-}
-"""Each fitted value's physical name (its unit in the name) and the :class:`Units`
-conversion to it (docs/model.md section 1 and 8): chi in pN/um^2, beta in pN, the steady
-load p in pN/um, the basal spring k_b in pN/um and friction xi_b in pN s/um, the links'
-stiffness (pN/um^2) and damping (pN s/um^2); the dynein moment gain gamma is a number."""
 
 
 @dataclasses.dataclass
@@ -95,7 +70,7 @@ class CompareRow:
         mechanism, base: the hypothesis.
         free: its fitted values' names (dimensionless :class:`~axojax.Params` fields).
         params: their fitted values (dimensionless); ``physical``: the same in physical
-            units (:data:`PHYSICAL`), ``physical_stderr`` their standard errors (the
+            units (:data:`axojax.inverse.comparison.table.PHYSICAL`), ``physical_stderr`` their standard errors (the
             Laplace approximation at the optimum, :meth:`laplace`; inf where the data do
             not determine a value, None where the row was not fitted).
         status: ``"successful"`` (the solver converged and the beat sits at the observed
@@ -265,123 +240,9 @@ class Comparison:
     def table(self, params: bool = False) -> str:
         """The rows as a text table, best first, with the status marks' footnotes and the
         verdict; ``params``: the fitted values in physical units with their standard
-        errors as a second table (:func:`render_params`)."""
+        errors as a second table (:func:`axojax.inverse.comparison.table.render_params`)."""
         doc = self.to_json()
         return render_table(doc) + ("\n\n" + render_params(doc) if params else "")
-
-
-def mark(row: dict[str, Any]) -> str:
-    """A row's status mark on the table: "" successful, ``*`` failed (not converged, or
-    off the observed beat), ``n/a`` not applicable (:data:`STATUS_MARKS`)."""
-    status = row.get("status", "successful")
-    if status == "successful":
-        return ""
-    return STATUS_MARKS["not_applicable" if status == "not_applicable" else "failed"]
-
-
-def render_table(doc: dict[str, Any]) -> str:
-    """A comparison document (:meth:`Comparison.to_json`) as a text table: the rows (a
-    status mark after the rank of each row that is not successful, explained below the
-    table), the verdict, and the model and units (the last line)."""
-
-    def num(x, fmt):
-        width = "".join(c for c in fmt.split(".")[0] if c.isdigit()) or "0"
-        return f"{'-':>{width}}" if x is None else format(x, fmt)
-
-    f_obs = doc["data"].get("frequency_hz")
-    wb = max([8] + [len(r["base"]) for r in doc["rows"]])  # "clamped+compliance": 18
-    head = (
-        f"{'rank':>4}{'':4} {'mechanism':<18} {'base':<{wb}} {'R^2':>7} {'f (Hz)':>8} {'df %':>7} "
-        f"{'chi2/dof':>9} {'BIC':>10} {'dBIC':>9} {'weight':>6} {'n':>2}  at bound"
-    )
-    lines = [head]
-    for i, r in enumerate(doc["rows"], 1):
-        df = (
-            None
-            if r["frequency_hz"] is None or not f_obs
-            else 100 * (r["frequency_hz"] - f_obs) / f_obs
-        )
-        w = r.get("weight")
-        lines.append(
-            f"{i:>4}{mark(r):<4} {r['mechanism']:<18} {r['base']:<{wb}} {num(r['r2'], '7.3f')} "
-            f"{num(r['frequency_hz'], '8.3f')} {num(df, '+7.2f')} {num(r['chi2_per_dof'], '9.3g')} "
-            f"{num(r['bic'], '10.1f')} {num(r['delta_bic'], '9.1f')} {num(w, '6.2f')} "
-            f"{r['n_free']:>2}  " + (", ".join(r["at_bound"]) or "-")
-        )
-    failed = [(i, r) for i, r in enumerate(doc["rows"], 1) if mark(r)]
-    for symbol, meaning in (
-        ("*", "not successful: ranked below every successful row, no weight"),
-        ("n/a", "not applicable: this row cannot reach the observed beat"),
-    ):
-        these = [(i, r) for i, r in failed if mark(r) == symbol]
-        if these:
-            lines.append(f"{symbol} {meaning}:")
-            lines += [f"  {i:>2} {r['mechanism']} on {r['base']}: {r['reason']}" for i, r in these]
-    v = doc.get("verdict") or verdict(doc)
-    lines.append(f"verdict: {v['text']}")
-    lines.append(f"  ({v['rule']})")
-    m = doc["model"]
-    lines.append(
-        f"model {m['preset']} ({m['elements']} elements), sperm number {m['sperm_number']:.4g}; "
-        f"observed {num(f_obs, '.4g')} Hz; rows by BIC (lower is better), successful rows first; "
-        f"R^2 is Sartori's of psi_1; weight: BIC weight among the successful rows"
-    )
-    if m.get("units_source"):
-        lines.append(
-            f"units: EI {m['ei_pn_um2']:.4g} pN um^2 and c_n {m['cn_pn_s_um2']:.3g} pN s/um^2 "
-            f"per filament, L {m['length_um']:.4g} um ({m['units_source']})"
-        )
-    return "\n".join(lines)
-
-
-PARAM_ORDER = tuple(key for key, _ in PHYSICAL.values())
-PARAM_UNITS = {
-    "chi_re_pn_per_um2": ("chi'", "pN/um^2"),
-    "chi_im_pn_per_um2": ("chi''", "pN/um^2"),
-    "beta_re_pn": ("beta'", "pN"),
-    "beta_im_pn": ("beta''", "pN"),
-    "p_pn_per_um": ("p", "pN/um"),
-    "kb_pn_per_um": ("k_b", "pN/um"),
-    "xib_pn_s_per_um": ("xi_b", "pN s/um"),
-    "kl_pn_per_um2": ("k_l", "pN/um^2"),
-    "ks_pn_per_um2": ("k_s", "pN/um^2"),
-    "cl_pn_s_per_um2": ("c_l", "pN s/um^2"),
-    "gamma": ("gamma", ""),
-}
-"""How :func:`render_params` names each physical value, and its unit."""
-
-
-def _pm(value: float | None, se: float | None) -> str:
-    if value is None:
-        return "-"
-    if se is None:
-        return f"{value:.3g} +- ?"
-    return f"{value:.3g} +- {se:.2g}"
-
-
-def render_params(doc: dict[str, Any]) -> str:
-    """Every row's fitted values in physical units with standard errors (the row's
-    Laplace approximation; ``?`` where the data do not determine a value), rows in the
-    table's order (``axojax compare --params``)."""
-    lines = ["fitted values (physical units) +- standard error, rows as ranked above:"]
-    for i, r in enumerate(doc["rows"], 1):
-        phys, se = r.get("physical") or {}, r.get("physical_stderr") or {}
-        parts = []
-        for key in PARAM_ORDER:
-            if key in phys:
-                label, unit = PARAM_UNITS[key]
-                parts.append(
-                    f"{label} {_pm(phys[key], se.get(key))}" + (f" {unit}" if unit else "")
-                )
-        lines.append(
-            f"{i:>4}{mark(r):<4} {r['mechanism']} on {r['base']}: " + ("; ".join(parts) or "-")
-        )
-    lines.append(
-        "chi = chi' + i chi'' (sliding control), beta = beta' + i beta'' (curvature control), "
-        "p the steady dynein load, k_b + i omega xi_b the basal compliance, k_l and c_l the "
-        "links' stiffness and damping (docs/mechanisms.md); ? = not determined by the data"
-    )
-    return "\n".join(lines)
 
 
 def screened_starts(problem: Problem, candidates: np.ndarray, n: int) -> np.ndarray:
@@ -412,7 +273,7 @@ def _to_u(problem: Problem, values: np.ndarray) -> np.ndarray:
 
 
 def _physical(values: dict[str, float], units: Units) -> dict[str, float]:
-    """Fitted values (dimensionless) in physical units (:data:`PHYSICAL`); the same
+    """Fitted values (dimensionless) in physical units (:data:`axojax.inverse.comparison.table.PHYSICAL`); the same
     linear conversion turns a standard error into its physical one."""
     out = {}
     for name, v in values.items():
@@ -420,127 +281,6 @@ def _physical(values: dict[str, float], units: Units) -> dict[str, float]:
             key, conv = PHYSICAL[name]
             out[key] = float(v) if conv is None else float(getattr(units, conv)(v))
     return out
-
-
-def row_status(
-    mechanism: str,
-    base: str,
-    result: str,
-    frequency_hz: float,
-    growth_rate_per_s: float,
-    frequency_obs: float,
-    pin_tolerance: float = PIN_TOLERANCE,
-) -> tuple[str, str | None]:
-    """A fitted row's status and its reason in words (:class:`CompareRow`): a beat at
-    0 Hz (below :data:`RIGID_FREQUENCY` of the observed) is a neutral, rigid-body mode:
-    the row is ``not_applicable`` (on a base that holds nothing the steady load's net
-    moment is not balanced at the base, so no mode of it reaches the observed beat);
-    a solver that did not converge gives its code; a converged fit off the observed
-    frequency (more than :data:`FREQUENCY_MATCH`) or growing or decaying (more than
-    :data:`GROWTH_MATCH` pin sigmas) is ``missed_beat``; else ``successful``."""
-    omega = 2 * math.pi * frequency_obs
-    f, g = frequency_hz, growth_rate_per_s
-    if math.isfinite(f) and abs(f) < RIGID_FREQUENCY * frequency_obs:
-        why = (
-            "its net moment is not held at a free base, so"
-            if mechanism == "steady" and not base.startswith(("clamped", "pivot"))
-            else "so"
-        )
-        return "not_applicable", (
-            f"the mode it follows is a rigid-body motion at {f:.3g} Hz: {why} this row has no "
-            f"beat near the observed {frequency_obs:.4g} Hz to fit"
-        )
-    if result != "successful":
-        return result, f"the least-squares solver stopped before converging ({result})"
-    if not (math.isfinite(f) and math.isfinite(g)):
-        return "missed_beat", "the fitted beat has no finite frequency or growth rate"
-    if abs(f - frequency_obs) > FREQUENCY_MATCH * frequency_obs:
-        return "missed_beat", (
-            f"its beat is at {f:.4g} Hz, {100 * (f - frequency_obs) / frequency_obs:+.1f} % "
-            f"off the observed {frequency_obs:.4g} Hz (at most {100 * FREQUENCY_MATCH:g} %)"
-        )
-    if abs(g) > GROWTH_MATCH * pin_tolerance * omega:
-        return "missed_beat", (
-            f"its beat {'grows' if g > 0 else 'decays'} at {g:.3g} 1/s (at most "
-            f"{GROWTH_MATCH * pin_tolerance * omega:.3g} 1/s: {GROWTH_MATCH:g} x --pin-tolerance x 2 pi f)"
-        )
-    return "successful", None
-
-
-def _rank_key(r) -> tuple[int, float]:
-    """Successful rows first, then failed ones, then not applicable; each by BIC."""
-    group = 0 if r.status == "successful" else 2 if r.status == "not_applicable" else 1
-    return group, math.inf if r.bic is None else r.bic
-
-
-def rank(rows: list) -> None:
-    """Order ``rows`` in place (:func:`_rank_key`) and set each one's ``delta_bic`` (to
-    the first row's BIC) and ``weight`` (BIC weights over the successful rows)."""
-    rows.sort(key=_rank_key)
-    best = rows[0].bic if rows else None
-    ok = [r.bic for r in rows if r.successful and r.bic is not None]
-    total = sum(math.exp(-0.5 * (b - min(ok))) for b in ok) if ok else 0.0
-    for r in rows:
-        r.delta_bic = None if r.bic is None or best is None else r.bic - best
-        ok_row = r.successful and r.bic is not None and total > 0
-        r.weight = math.exp(-0.5 * (r.bic - min(ok))) / total if ok_row else None
-
-
-def verdict(doc: dict[str, Any]) -> dict[str, Any]:
-    """Whether the best row fits the beat, from a comparison document's rows (best
-    first): ``fits`` when the best row is successful, has R^2 >= :data:`FIT_R2` and
-    chi^2/dof within the data's sigmas (at most the :data:`FIT_CHI2_QUANTILE` quantile of
-    chi^2 with its degrees of freedom, over dof: the sigmas hold the shape floor);
-    ``shape`` when only the chi^2 bar is missed (the shape is fitted, but residuals
-    exceed what the sigmas allow: the model misses something the data resolve);
-    ``none`` otherwise. ``text`` says it in one line, ``rule`` states the bars."""
-    from scipy.stats import chi2 as chi2_dist
-
-    rows = doc["rows"]
-    n = 2 * len(doc["data"].get("s_um", ())) + 2  # Re and Im of each point, and the two pins
-    rule = (
-        f"a row fits when it is successful, R^2 >= {FIT_R2:g} and chi2/dof <= the "
-        f"{100 * FIT_CHI2_QUANTILE:g} % point of chi^2/dof for its degrees of freedom"
-    )
-    ok = [r for r in rows if r.get("status", "successful") == "successful" and r["r2"] is not None]
-    if not ok:
-        best_r2 = max((r["r2"] for r in rows if r["r2"] is not None), default=None)
-        tail = "" if best_r2 is None else f" (best R^2 {best_r2:.2f}, not converged)"
-        return {
-            "fits": "none",
-            "best": None,
-            "rule": rule,
-            "chi2_per_dof_max": None,
-            "text": f"no row fits this beat: none converged at the observed beat{tail}",
-        }
-    best = ok[0]
-    dof = max(n - best["n_free"], 1)
-    limit = float(chi2_dist.ppf(FIT_CHI2_QUANTILE, dof) / dof)
-    name = f"{best['mechanism']} on {best['base']}"
-    r2, c2 = best["r2"], best["chi2_per_dof"]
-    weight = best.get("weight")
-    share = "" if weight is None else f", BIC weight {weight:.2f}"
-    top_r2 = max(r["r2"] for r in ok)
-    if r2 >= FIT_R2 and c2 is not None and c2 <= limit:
-        fits, text = (
-            "fits",
-            f"{name} fits this beat: R^2 {r2:.3f}, chi2/dof {c2:.3g} (<= {limit:.3g}){share}",
-        )
-    elif r2 >= FIT_R2:
-        fits = "shape"
-        text = (
-            f"{name} fits the shape (R^2 {r2:.3f}{share}) but not within the data's sigmas: "
-            f"chi2/dof {c2:.3g} > {limit:.3g} (the model misses what the data resolve)"
-        )
-    else:
-        fits, text = "none", f"no row fits this beat (best R^2 {top_r2:.2f}; best by BIC: {name})"
-    return {
-        "fits": fits,
-        "best": {"mechanism": best["mechanism"], "base": best["base"]},
-        "rule": rule,
-        "chi2_per_dof_max": limit,
-        "text": text,
-    }
 
 
 def default_units(
