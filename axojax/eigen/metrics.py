@@ -125,11 +125,15 @@ def tangent_wavenumber(
     return phase_slope(x, psi, dpsi, w)
 
 
-def tangent_dip(model: Model, v: Complex[Array, " n"], angle: Float[Array, ""]) -> Float[Array, ""]:
-    """:func:`axojax.waveform.measures.amplitude_dip` of psi_1 = u' at the Gauss points:
-    below :data:`axojax.waveform.measures.SENSITIVE_DIP` the wavelength is sensitive."""
-    x, _, psi, _ = _tangent(model, v, angle)
-    return amplitude_dip(x, psi)
+def tangent_measures(
+    model: Model, v: Complex[Array, " n"], angle: Float[Array, ""]
+) -> tuple[Float[Array, ""], Float[Array, ""]]:
+    """(k, dip): :func:`tangent_wavenumber` and
+    :func:`axojax.waveform.measures.amplitude_dip` of psi_1 = u' from one evaluation of
+    psi_1 at the Gauss points (below :data:`axojax.waveform.measures.SENSITIVE_DIP` the
+    wavelength is sensitive)."""
+    x, w, psi, dpsi = _tangent(model, v, angle)
+    return phase_slope(x, psi, dpsi, w), amplitude_dip(x, psi)
 
 
 def wavenumber(model: Model, v: Complex[Array, " n"]) -> Float[Array, ""]:

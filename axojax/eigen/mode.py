@@ -18,7 +18,7 @@ from ..units import Units
 from ..waveform import measures
 from . import deflation, pencil
 from .dominant import dominant_eigenpair, normalise
-from .metrics import beat_plane, tangent_dip, tangent_wavenumber
+from .metrics import beat_plane, tangent_measures
 from .solvers import AbstractEigenSolver, Auto, Dense
 
 STABLE, FLUTTER, DIVERGENCE = 0, 1, 2
@@ -125,7 +125,7 @@ def mode_from_eigenpair(
 ) -> Mode:
     """All metrics of an eigenpair (differentiable through lam and v)."""
     _, _, angle, ratio = beat_plane(model, v)
-    k = tangent_wavenumber(model, v, angle)
+    k, dip = tangent_measures(model, v, angle)  # psi_1 evaluated once for both
     omega = jnp.abs(jnp.imag(lam))
     cls = classify(lam)
     oscillating = jnp.abs(jnp.imag(lam)) > IMAG_RTOL * (1.0 + jnp.abs(lam))
@@ -141,7 +141,7 @@ def mode_from_eigenpair(
         velocity=wavelength * omega / (2 * jnp.pi),
         direction=direction,
         out_of_plane_ratio=ratio,
-        amplitude_dip=tangent_dip(model, v, angle),
+        amplitude_dip=dip,
         beat_angle=angle,
         classification=cls,
         certified=jnp.asarray(certified) > 0.5,
