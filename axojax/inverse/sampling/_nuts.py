@@ -57,6 +57,10 @@ class NUTS(eqx.Module):
 
 DEFAULT_NUTS = NUTS()
 
+START_EVALUATIONS = 2
+"""Log-density evaluations of a chain before its first step: the check that its start is
+finite (:func:`_finite_starts`, a value) and blackjax's initial state (value and gradient)."""
+
 
 # -- compiled pieces ---------------------------------------------------------------------
 # Each runs as fn(static, *dynamic): the arrays of the problem (when it is a pytree, e.g. an
@@ -127,7 +131,8 @@ def _finite_starts(target, z, z_c):
 def _warmup(settings, target, keys, z0, z_c, imm0):
     """Window adaptation of every chain (vmapped or mapped) from ``z0`` (a start with a
     non-finite density moved to ``z_c``): final states, step sizes, inverse mass matrices
-    and the gradients spent per chain."""
+    and the log-density evaluations spent per chain (:data:`START_EVALUATIONS` and every
+    leapfrog step's value and gradient)."""
     sampler, num_steps, vectorize = settings
     z0 = _finite_starts(target, z0, z_c)
     adapt = blackjax.window_adaptation(
@@ -148,7 +153,7 @@ def _warmup(settings, target, keys, z0, z_c, imm0):
             state,
             params["step_size"],
             params["inverse_mass_matrix"],
-            jnp.sum(info.info.num_integration_steps),
+            jnp.sum(info.info.num_integration_steps) + START_EVALUATIONS,
         )
 
     return _over_chains(one, vectorize, keys, z0)

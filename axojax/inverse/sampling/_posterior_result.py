@@ -42,7 +42,10 @@ class Posterior:
         step_size: (chains,) adapted step sizes (in the whitened coordinates unless
             ``NUTS(whiten=False)``); acceptance: mean acceptance rate.
         warmup: warm-up steps per chain.
-        gradients: gradient evaluations (leapfrog steps) of all chains, warm-up included.
+        gradients: log-density evaluations (gradient or not) of all chains, warm-up
+            included: NUTS's leapfrog steps (each a value and gradient) of every step run
+            (the draws kept and the compiled chunk's surplus), and two per chain at its
+            start; the starts' optimisation and Laplace approximation are not counted.
         seconds: wall time of the whole call (compilation, optimisation, warm-up, sampling).
         seconds_compile: the part spent compiling (0 when a problem of the same structure
             was sampled before in this process: compiled programs are cached).
@@ -131,6 +134,13 @@ class Posterior:
         """Draws per chain."""
         return int(self.u.shape[1])
 
+    @property
+    def gradients_per_ess(self) -> float:
+        """Log-density evaluations (:attr:`gradients`) per effective draw of the parameter
+        with the smallest bulk ESS (inf when an ESS is 0)."""
+        ess = min(self.ess.values(), default=0.0)
+        return float(self.gradients) / ess if ess > 0 else math.inf
+
     def value_draws(self, name: str) -> np.ndarray:
         """(chains, draws) draws of one parameter value."""
         return self.values[..., self.value_names.index(name)]
@@ -154,7 +164,10 @@ class Posterior:
         ``max_num_doublings``, ``gradients_per_draw``, ``warm_cache`` ("off", "stored"
         or "loaded": :func:`~axojax.inverse.posterior`'s ``cache``),
         ``seconds_compile_draws``, ``transport`` (the parameter along whose profile the
-        sampled coordinates were straightened, or None)."""
+        sampled coordinates were straightened, or None), ``gradients`` (every log-density
+        evaluation of the chains, warm-up included: :attr:`gradients`) and
+        ``gradients_per_ess`` (``gradients`` over the smallest bulk ESS: the cost of one
+        effective draw of the worst-sampled parameter)."""
         return {
             "draws": self.draws,
             "chains": self.chains,
@@ -187,6 +200,8 @@ class Posterior:
             "warm_cache": self.warm_cache,
             "seconds_compile_draws": self.seconds_compile_draws,
             "transport": self.transport,
+            "gradients": int(self.gradients),
+            "gradients_per_ess": self.gradients_per_ess,
         }
 
     def save(self, path, *, truth: Mapping[str, float] | None = None) -> None:

@@ -51,7 +51,7 @@ from ..._progress import progress as progress_bar
 from ..._progress import stage
 from ...cache import posterior_cache_dir
 from ...results import RESULTS, message
-from . import _warm_cache, diagnostics
+from . import _nuts, _warm_cache, diagnostics
 from ._densities import InverseProblem, _Target, _Whitened, normal_prior
 from ._laplace import Laplace, _starts, laplace_of
 from ._nuts import DEFAULT_NUTS, NUTS, _compiled, _init_states, _sample, _to_u, _values, _warmup
@@ -286,7 +286,7 @@ def _summarise(
     to be trusted or the trees were cut short. ``shape``: (chains, draws, warmup);
     ``adapted``: the warm-up's (step_size, warm_grads); ``seconds``: start, warmup,
     sampling, compile_chains and compile_draws; ``t_start``: when the run began."""
-    z, logd, divergent, n_steps, accept, depth = out
+    z, logd, divergent, n_steps, accept, depth, spent = out
     chains, draws, warmup = shape
     step_size, warm_grads = adapted
     if isinstance(sampled, _Whitened):
@@ -296,7 +296,7 @@ def _summarise(
     k = len(names)
     summ = diagnostics.summary(values[..., :k])
     flat_u = u.reshape(-1, k)
-    gradients = int(np.sum(warm_grads)) + int(np.sum(n_steps))
+    gradients = int(np.sum(warm_grads)) + spent  # every evaluation of the chains, warm-up included
     total = time.perf_counter() - t_start
     ess_min = float(np.min(summ["ess_bulk"]))
     n_div = int(np.sum(divergent))
@@ -510,7 +510,7 @@ def _adapt(target, sampler, warmup, vectorize, key, z_start, z_c, cov, call, tra
         states = call(_init_states, None, sampled, x_start, x_c)
         step_size = jnp.full(chains, 0.5)
         imm = jnp.broadcast_to(imm0, (chains, *imm0.shape))
-        warm_grads = jnp.zeros(chains, dtype=int)
+        warm_grads = jnp.full(chains, _nuts.START_EVALUATIONS)
     jax.block_until_ready(states)
     return sampled, states, step_size, imm, warm_grads
 
@@ -544,7 +544,8 @@ def _resume(target, sampler, warm, along=None):
 def _draw(sampled, sampler, states, step_size, imm, draws, vectorize, key, progress, clock):
     """``draws`` NUTS steps of every chain, in chunks of :data:`SAMPLE_CHUNK` (one
     compiled program): positions, log densities, divergent, gradients, acceptance
-    rates and tree depths, each (chains, draws, ...)."""
+    rates and tree depths, each (chains, draws, ...), and the gradients of every step
+    run (the last chunk's dropped surplus included: evaluated, so counted)."""
     chains = step_size.shape[0]
     n_chunks = -(-draws // SAMPLE_CHUNK)
     keys = jax.random.split(key, n_chunks * chains * SAMPLE_CHUNK).reshape(
@@ -560,7 +561,8 @@ def _draw(sampled, sampler, states, step_size, imm, draws, vectorize, key, progr
             )
             outs.append(jax.device_get(out))
             bar.update(chains * min(SAMPLE_CHUNK, draws - i * SAMPLE_CHUNK))
-    return tuple(np.concatenate([o[j] for o in outs], axis=1)[:, :draws] for j in range(6))
+    spent = int(sum(np.sum(o[3]) for o in outs))
+    return (*(np.concatenate([o[j] for o in outs], axis=1)[:, :draws] for j in range(6)), spent)
 
 
 def _value_draws(problem, names, u, call):
