@@ -2,6 +2,7 @@
 chains, warm-up included, counted independently of the sampler by a host callback inside
 the density the chains evaluate."""
 
+import threading
 import warnings
 
 import jax
@@ -23,8 +24,12 @@ class Counted(LinearGaussian):
 COUNT = [0]
 
 
+LOCK = threading.Lock()  # XLA may run the callbacks on several threads
+
+
 def _bump(z):
-    COUNT[0] += int(np.asarray(z).size // np.shape(z)[-1])
+    with LOCK:
+        COUNT[0] += int(np.asarray(z).size // np.shape(z)[-1])
 
 
 def test_gradients_count_every_evaluation_of_the_chains():
@@ -49,6 +54,7 @@ def test_gradients_count_every_evaluation_of_the_chains():
             on_laplace=reset,
         )
     assert post.gradients > chains * (draws + 30)  # at least one leapfrog step a step
+    jax.effects_barrier()  # every callback has run
     assert post.gradients == COUNT[0]
     doc = post.to_json()
     assert doc["gradients"] == post.gradients

@@ -43,6 +43,7 @@ from .sampling import diagnostics
 from .sampling._densities import InverseProblem, NormalPrior, ScaledSigmas, normal_prior
 from .sampling._nuts import NUTS
 from .sampling._posterior_result import Posterior, load_truth
+from .sampling._smc import SMC
 from .sampling.posterior import posterior
 from .sampling.transport import ProfileTransport
 from .sampling.transport_choice import suggest_transport
@@ -77,6 +78,7 @@ __all__ = [
     "Posterior",
     "Problem",
     "ScaledSigmas",
+    "SMC",
     "WarmSolution",
     "build_report",
     "checks",

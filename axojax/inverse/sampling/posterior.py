@@ -56,6 +56,8 @@ from ._densities import InverseProblem, _Target, _Whitened, normal_prior
 from ._laplace import Laplace, _starts, laplace_of
 from ._nuts import DEFAULT_NUTS, NUTS, _compiled, _init_states, _sample, _to_u, _values, _warmup
 from ._posterior_result import Posterior
+from ._smc import SMC
+from .smc import smc_posterior
 from .transport import PROFILE_DROP, ProfileMap, ProfileTransport, build_map, profile_ends
 
 SAMPLE_CHUNK = 50
@@ -74,7 +76,7 @@ def posterior(
     seed: int = 0,
     init: Any = None,
     prior: Callable[[Array], Array] | Mapping[str, tuple[float, float]] | None = None,
-    sampler: NUTS = DEFAULT_NUTS,
+    sampler: NUTS | SMC = DEFAULT_NUTS,
     vectorize: bool = True,
     progress: bool = False,
     on_laplace: Callable[[Laplace], None] | None = None,
@@ -98,7 +100,10 @@ def posterior(
         prior: replaces ``problem.log_prior``: a jax-traceable ``log_prior(u)``, or
             ``{name: (mean_u, sd_u)}`` (:func:`normal_prior`). ``None``: the problem's
             own prior (uniform in ``u`` by default).
-        sampler: :class:`NUTS` settings.
+        sampler: :class:`NUTS` settings, or :class:`SMC`: ``chains`` independent runs of
+            adaptive tempered SMC from the prior (:mod:`.smc`; for several modes or cliffs;
+            ``init``, ``warmup``, ``vectorize``, ``on_laplace`` and ``cache`` then do not
+            apply, a ``transport`` is refused).
         vectorize: run the chains vmapped (they step together, each NUTS step costing
             the longest of the chains' trajectories; batched model evaluations), or,
             ``False``, one after another inside the same compiled program (each chain
@@ -135,6 +140,8 @@ def posterior(
     t_start = time.perf_counter()
     own_prior = prior is None
     names, lower, upper, prior = _check(problem, draws, chains, warmup, sampler, prior)
+    if isinstance(sampler, SMC):  # independent runs from the prior: .smc
+        return smc_posterior(problem, sampler, (draws, chains, seed), prior, progress, transport)
     along = _check_transport(transport, names)
     directory = posterior_cache_dir(cache)
     target = _Target(problem, prior)
@@ -430,8 +437,10 @@ def _check(problem, draws, chains, warmup, sampler, prior):
         raise ValueError(f"draws must be >= 4 (R-hat splits each chain), got {draws}")
     if not (isinstance(warmup, (int, np.integer)) and warmup >= 0):
         raise ValueError(f"warmup must be an integer >= 0, got {warmup!r}")
-    if not isinstance(sampler, NUTS):
-        raise TypeError(f"sampler must be an axojax.inverse.NUTS, got {type(sampler).__name__}")
+    if not isinstance(sampler, (NUTS, SMC)):
+        raise TypeError(
+            f"sampler must be an axojax.inverse.NUTS or SMC, got {type(sampler).__name__}"
+        )
     if isinstance(prior, Mapping):
         prior = normal_prior(names, prior)
     elif prior is not None and not callable(prior):
