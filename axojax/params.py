@@ -54,6 +54,15 @@ PARAM_NAMES = (
 BASAL_NAMES = ("kb", "xib")
 """The basal compliance (docs/model.md section 8, bases): used only by a model whose
 base has ``compliance=True``."""
+CB_FLOOR = 1.0 / MAX_MAGNITUDE
+"""``cb = 0`` sets ``kb = 1 / CB_FLOOR``, the stiffest spring :data:`MAX_MAGNITUDE` allows."""
+DERIVED_NAMES = {"cb": "kb"}
+"""Names that set a field through a map, taken by :meth:`Params.replace`,
+:meth:`Params.value_of` and fits like a field's: ``cb``, the basal compliance 1/k_b
+(dimensionless EI / (k_b L^3)), sets ``kb = 1 / (cb + CB_FLOOR)``. ``cb = 0`` is a rigid
+base: the base without compliance, inside a fit's range (issue 45's nested hypotheses;
+the spring of 1e9 moves the eigenvalues by about 1e-9 of chi / kb's scale, far below any
+fit's tolerance: tests/test_compare_nested.py)."""
 MECHANISM_NAMES = ("chi_re", "chi_im", "beta_re", "beta_im", "omega0")
 """The regulated-dynein coefficients (docs/model.md section 8); all 0 is the steady load."""
 KNOT_NAMES = ("ei_knots", "drag_knots", "p_knots")
@@ -76,7 +85,12 @@ def knot_element(name: str) -> tuple[str, int] | None:
 def is_parameter_name(name: str) -> bool:
     """A field of :class:`Params` (:data:`PARAM_NAMES`, :data:`KNOT_NAMES`) or one knot
     value (``"ei_knots[2]"``)."""
-    return name in PARAM_NAMES or name in KNOT_NAMES or knot_element(name) is not None
+    return (
+        name in PARAM_NAMES
+        or name in KNOT_NAMES
+        or name in DERIVED_NAMES
+        or knot_element(name) is not None
+    )
 
 
 # (lower bound, inclusive?) of each field; gamma is unbounded below.
@@ -176,6 +190,8 @@ class Params(eqx.Module):
             )
         out = self
         for k, v in changes.items():
+            if k == "cb":
+                k, v = "kb", 1.0 / (v + CB_FLOOR)
             element = knot_element(k)
             if element is not None:
                 field, index = element
@@ -197,7 +213,12 @@ class Params(eqx.Module):
         return jnp.asarray(values, dtype=float)
 
     def value_of(self, name: str) -> Any:
-        """The value of a field, or of one knot value (``"ei_knots[2]"``)."""
+        """The value of a field, of one knot value (``"ei_knots[2]"``) or of a derived
+        name (:data:`DERIVED_NAMES`: ``cb = 1 / kb - CB_FLOOR``, inf for kb = 0)."""
+        if name == "cb":
+            kb = np.asarray(self.kb, dtype=float) if not isinstance(self.kb, jax.Array) else self.kb
+            with np.errstate(divide="ignore"):
+                return 1.0 / kb - CB_FLOOR
         element = knot_element(name)
         if element is None:
             return getattr(self, name)

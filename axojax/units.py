@@ -134,6 +134,11 @@ class Units:
     def kb_to_pn_per_um(self, kb: ArrayLike) -> ArrayLike:
         return kb * self.ei_pn_um2 / self.length_um**3
 
+    def cb_to_um_per_pn(self, cb: ArrayLike) -> ArrayLike:
+        """Basal compliance cb = EI / (k_b L^3) (:data:`axojax.params.DERIVED_NAMES`) to
+        1 / k_b in um/pN (0: a rigid base)."""
+        return cb * self.length_um**3 / self.ei_pn_um2
+
     def xib_from_pn_s_per_um(self, xib_pn_s_per_um: ArrayLike) -> ArrayLike:
         """Basal sliding friction xi_b (pN s/um) to xi_b / (c_n L)."""
         return xib_pn_s_per_um / (self.cn_pn_s_um2 * self.length_um)

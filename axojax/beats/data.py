@@ -78,6 +78,8 @@ class BeatData:
             phase's crossings of multiples of 2 pi), ``None`` for Fourier modes.
         warnings: one line each, what the file holds that axojax did not read
             (:class:`BeatDataWarning`).
+        psi1_cycles: (n, S) psi_1 (rad) of each whole cycle, whose mean is ``modes.psi1``
+            (:attr:`Reduction.psi1_cycles`); None for Fourier modes or one cycle.
     """
 
     s_um: np.ndarray
@@ -100,6 +102,7 @@ class BeatData:
     flagellum: Flagellum | None = None
     cycle_bounds_s: np.ndarray | None = None
     warnings: tuple = ()
+    psi1_cycles: np.ndarray | None = None
 
     def targets(self) -> tuple[list[Target], ShapeTarget]:
         """Frequency target (none when the frequency is unknown) and the psi_1 shape
@@ -181,6 +184,7 @@ class BeatData:
             modes=cut(self.modes),
             psi1_sigma=self.psi1_sigma[keep],
             psi_rad=None if self.psi_rad is None else self.psi_rad[:, keep],
+            psi1_cycles=None if self.psi1_cycles is None else self.psi1_cycles[:, keep],
             out_of_plane=oop,
             excluded_base_um=max(um, self.excluded_base_um),
             notes=self.notes + (f"basal {um:g} um excluded ({int((~keep).sum())} points)",),
@@ -569,6 +573,7 @@ def beat_from_kymograph(
         cycles=red.cycles,
         periods_s=red.periods_s,
         cycle_bounds_s=red.crossings_s,
+        psi1_cycles=red.psi1_cycles[0],
         out_of_plane=(red.modes[1], red.psi1_sigma[1]) if extra else None,
         notes=(
             f"frequency from {red.cycles} cycles: scatter {red.frequency_scatter_hz:.3g} Hz, "

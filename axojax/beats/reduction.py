@@ -263,6 +263,10 @@ class Reduction:
         psi1_scatter: the same before the floor.
         crossings_s: (cycles + 1,) the times the beat phase crosses a multiple of 2 pi:
             the used cycles' bounds.
+        psi1_cycles: one (n, S) array per component: psi_1 of each whole cycle with at
+            least 3 frames (the estimates whose mean is psi_1; one phase reference), or
+            None with fewer than 2 such cycles (resampled by
+            :func:`axojax.inverse.comparison.robustness.cycle_bootstrap`).
     """
 
     frequency_hz: float
@@ -274,6 +278,7 @@ class Reduction:
     psi1_sigma: list
     psi1_scatter: list
     crossings_s: np.ndarray | None = None
+    psi1_cycles: list | None = None
 
 
 MIN_PERIODS = 1.5
@@ -384,7 +389,7 @@ def reduce_frames(
     resolution = f**2 * float(np.mean(dt)) / np.sqrt(6.0) / n
     sigma_f = max(scatter, resolution, FREQUENCY_REL_FLOOR * f)
     inside = (t >= tc[0]) & (t <= tc[-1])
-    modes, sigmas, scatters = [], [], []
+    modes, sigmas, scatters, cycles = [], [], [], []
     for comp in comps:
         per_cycle = []
         for a, b in itertools.pairwise(tc):
@@ -399,7 +404,9 @@ def reduce_frames(
             spread = np.sqrt(
                 (cs.real.var(axis=0, ddof=1) + cs.imag.var(axis=0, ddof=1)) / 2 / len(per_cycle)
             )
+            cycles.append(cs)
         else:
+            cycles.append(None)
             psi1, psi0 = c_all, a0_all
             spread = np.full(psi1.shape, rms * np.sqrt(2.0 / max(int(inside.sum()), 1)))
         modes.append(
@@ -424,4 +431,5 @@ def reduce_frames(
         psi1_sigma=sigmas,
         psi1_scatter=scatters,
         crossings_s=tc,
+        psi1_cycles=cycles,
     )

@@ -286,6 +286,9 @@ def solver_from_name(
     return solver
 
 
+_STEP_LIMITS = (RESULTS.nonlinear_max_steps_reached, RESULTS.max_steps_reached)
+
+
 def least_squares(
     problem: Problem,
     solver: LeastSquaresSolver | str = "lm",
@@ -293,6 +296,7 @@ def least_squares(
     starts: int = 4,
     seed: int = 0,
     progress: bool = False,
+    polish: int = 0,
 ) -> FitResult:
     """Fit ``problem`` by ``solver`` from ``starts`` starts; the report of the best.
 
@@ -304,6 +308,10 @@ def least_squares(
             design of the bounded box.
         seed: seed of the design.
         progress: a progress bar over starts (on stderr, :mod:`axojax._progress`).
+        polish: while the best start stopped at the solver's step limit, run the same
+            compiled solver on from where it stopped, at most this many more times (a
+            slow stretch of a valley, not a failure, often converges so; its steps add
+            up in ``iterations``).
     """
     solver = solver_from_name(solver)
     t0 = time.perf_counter()
@@ -322,8 +330,19 @@ def least_squares(
                 "result": result,
             }
         )
-    wall = time.perf_counter() - t0
     best = min(range(len(runs)), key=lambda i: runs[i]["loss"])
+    for _ in range(int(polish)):
+        if runs[best]["result"] not in _STEP_LIMITS:
+            break
+        z, value, steps, gnorm, result = run(jnp.asarray(runs[best]["z"]))
+        value = float(value)
+        if not (math.isfinite(value) and value <= runs[best]["loss"]):
+            break
+        steps = runs[best]["steps"] + int(steps)
+        runs[best].update(
+            z=np.asarray(z), loss=value, steps=steps, gnorm=float(gnorm), result=result
+        )
+    wall = time.perf_counter() - t0
     u_end = [np.asarray(problem.to_u(jnp.asarray(r["z"]))) for r in runs]
     start_log = [(problem.values(u), r["loss"]) for u, r in zip(initial, runs)]
     ends = [(problem.values(u), r["loss"]) for u, r in zip(u_end, runs)]

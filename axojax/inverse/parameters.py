@@ -2,7 +2,8 @@
 and fitted coordinate, and the logistic map between the bounded coordinate and R^k.
 
 Fitted coordinate ``u``: ``log(value)`` for positive quantities (every field of
-:class:`~axojax.Params` but ``gamma``), ``value`` itself for ``gamma`` (a signed gain).
+:class:`~axojax.Params` but ``gamma``), ``value`` itself for :data:`LINEAR` ones (the
+signed gain ``gamma``; the basal compliance ``cb``, from 0).
 Bounds are given as values and held as ``(lower, upper)`` in ``u``. Unconstrained
 optimisers and samplers work in ``z`` in R^k, ``u = lower + (upper - lower) sigmoid(z)``.
 
@@ -40,7 +41,9 @@ ORBIT_FIELDS = frozenset({"cubic"})
 """Free parameters that are not :class:`~axojax.Params` fields but options of the limit
 cycle: ``cubic``, the link stiffening kappa (1/L^2) of ``C dq/dt = -A q - f_nl(q) + b``
 (only limit-cycle targets depend on it)."""
-LINEAR = frozenset({"gamma"})
+LINEAR = frozenset({"gamma", "cb"})
+"""Fitted linearly: the signed gain gamma, and the basal compliance cb, whose range starts
+at 0 (a rigid base, the base without compliance)."""
 
 
 @dataclasses.dataclass(frozen=True)

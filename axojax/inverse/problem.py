@@ -521,7 +521,7 @@ class Problem:
 
     def prefer(self, u: Float[np.ndarray, "c k"] | None) -> None:
         """Starts to use before any other (e.g. exact Hopf points screened by their loss,
-        :func:`axojax.inverse.comparison.compare.screened_starts`): :meth:`start_design` returns
+        :func:`axojax.inverse.comparison.starts.screened_starts`): :meth:`start_design` returns
         them first, clipped inside the bounds; None: none."""
         if u is None:
             self._preferred = None

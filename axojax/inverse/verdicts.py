@@ -162,3 +162,27 @@ def start_notes(starts, loss: float) -> list[str]:
             "started here may not visit it"
         )
     return notes
+
+
+def distinct_optima(ends, limit: int = 8) -> list[dict]:
+    """The distinct points the starts stopped at, best first: ``ends`` is
+    :attr:`FitResult.optima` (values by name, final loss); two ends are one optimum when
+    their losses tie (:data:`LOSS_TIE`) and every value agrees to 1e-3 (relative, or
+    absolute for a value near 0). At most ``limit``, as ``{"params": ..., "loss": ...}``."""
+    out: list[dict] = []
+    for values, loss in sorted(ends, key=lambda e: e[1] if math.isfinite(e[1]) else math.inf):
+        if not math.isfinite(loss):
+            continue
+        tie = LOSS_TIE * max(abs(loss), 1.0)
+        same = any(
+            abs(o["loss"] - loss) <= tie
+            and all(
+                math.isclose(values[n], o["params"][n], rel_tol=1e-3, abs_tol=1e-9) for n in values
+            )
+            for o in out
+        )
+        if not same:
+            out.append({"params": dict(values), "loss": float(loss)})
+        if len(out) >= limit:
+            break
+    return out

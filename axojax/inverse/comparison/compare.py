@@ -7,7 +7,7 @@ of psi_1, chi^2/dof, AIC and BIC (:mod:`axojax.inverse.quality`). Rows are order
 BIC; ``delta_bic`` is each row's BIC minus the best's.
 
 Starts. A regulated row's pins hold exactly on a discrete set of coefficients (its Hopf
-points at the observed frequency); :func:`axojax.inverse.comparison.mechanisms.hopf_starts` finds
+points at the observed frequency); :func:`axojax.inverse.comparison.starts.hopf_starts` finds
 them as generalised eigenvalues, and these candidates, with a Sobol design of the box,
 are *screened*: their loss is evaluated in one vmapped, compiled program, and the
 ``starts`` best become the fit's starts (:meth:`Problem.prefer`). The steady row
@@ -24,8 +24,6 @@ import time
 import warnings
 from typing import Any
 
-import jax
-import jax.numpy as jnp
 import numpy as np
 from tqdm.auto import tqdm
 
@@ -38,6 +36,7 @@ from ..fit import build_problem
 from ..least_squares import least_squares, solver_from_name
 from ..problem import SHAPE_FLOOR, Problem
 from ..report import FitResult
+from ..verdicts import distinct_optima
 from .mechanisms import (
     DEFAULT_ELEMENTS,
     DEFAULT_PRESET,
@@ -45,10 +44,14 @@ from .mechanisms import (
     PIN_TOLERANCE,
     build_model,
     check_names,
-    hopf_starts,
+    contained,
+    nested_order,
     row,
+    row_at_bound,
     with_compliance,
 )
+from .robustness import cycle_bootstrap
+from .starts import SCREEN, _to_u, hopf_starts, nested_starts, row_starts, screened_starts
 from .table import PHYSICAL, render_params, render_table
 from .verdict import (
     rank,
@@ -56,8 +59,9 @@ from .verdict import (
     verdict,
 )
 
-SCREEN = 64
-"""Sobol points screened (with the Hopf points) for the starts of each row."""
+POLISH = 4
+"""Further runs of a row's solver from its best start's end while that stopped at the step
+limit (:func:`axojax.inverse.least_squares`'s ``polish``)."""
 BATCH = 64
 """Candidates per vmapped evaluation while screening (one compiled program per row)."""
 
@@ -85,6 +89,11 @@ class CompareRow:
         r2, chi2_per_dof, aic, bic, n_free: :mod:`axojax.inverse.quality`.
         delta_bic: BIC minus the best row's.
         at_bound: fitted values at a bound.
+        optima (JSON only): the distinct points its starts stopped at, best first, with
+            their losses (:func:`axojax.inverse.verdicts.distinct_optima`).
+        contains: the rows of the comparison this one contains ("mechanism/base",
+            :func:`~axojax.inverse.comparison.mechanisms.contained`): it started from
+            their optima too, so it fits at least as well as each.
         psi1_model: (S,) complex: the fitted psi_1 (rad) at the data's s.
         fit: the row's full :class:`~axojax.inverse.FitResult`.
         problem: the row's :class:`~axojax.inverse.Problem` (not in the JSON), e.g. for
@@ -113,6 +122,7 @@ class CompareRow:
     reason: str | None = None
     physical_stderr: dict[str, float | None] = dataclasses.field(default_factory=dict)
     weight: float | None = None
+    contains: list[str] = dataclasses.field(default_factory=list)
 
     @property
     def successful(self) -> bool:
@@ -163,6 +173,8 @@ class CompareRow:
             "delta_bic": self.delta_bic,
             "n_free": self.n_free,
             "at_bound": list(self.at_bound),
+            "contains": list(self.contains),
+            "optima": [] if self.fit is None else distinct_optima(self.fit.optima),
             "psi1_model": [[float(z.real), float(z.imag)] for z in self.psi1_model],
             "result": None if self.fit is None else self.fit.to_json()["result"],
             "wall_s": self.wall_s,
@@ -198,6 +210,8 @@ class Comparison:
     pin_tolerance: float = PIN_TOLERANCE
     shape_floor: float = SHAPE_FLOOR
     units_source: str = "given"
+    psi1_cycles: np.ndarray | None = dataclasses.field(default=None, repr=False)
+    psi1_sigma: np.ndarray | None = dataclasses.field(default=None, repr=False)
 
     @property
     def best(self) -> CompareRow:
@@ -230,8 +244,19 @@ class Comparison:
                 "wall_s": self.wall_s,
             }
         )
+        doc["robustness"] = jsonable(self.robustness(doc["rows"]))
         doc["verdict"] = jsonable(verdict(doc))
         return doc
+
+    def robustness(self, rows: list[dict] | None = None) -> dict | None:
+        """Each successful row's share of first places over bootstrap resamples of the
+        recording's cycles (:func:`axojax.inverse.comparison.robustness.cycle_bootstrap`;
+        None for a Fourier-mode file or too few cycles)."""
+        if self.psi1_cycles is None or self.psi1_sigma is None:
+            return None
+        rows = [r.to_json() for r in self.rows] if rows is None else rows
+        sigma = np.sqrt(np.asarray(self.psi1_sigma, float) ** 2 + self.shape_floor**2)
+        return cycle_bootstrap(rows, self.psi1_cycles, sigma, self.frequency_hz, self.pin_tolerance)
 
     def save(self, path: str | pathlib.Path) -> None:
         """Write :meth:`to_json` (read by ``axojax plot REPORT.json``), atomically."""
@@ -243,33 +268,6 @@ class Comparison:
         errors as a second table (:func:`axojax.inverse.comparison.table.render_params`)."""
         doc = self.to_json()
         return render_table(doc) + ("\n\n" + render_params(doc) if params else "")
-
-
-def screened_starts(problem: Problem, candidates: np.ndarray, n: int) -> np.ndarray:
-    """The ``n`` candidates (c, k; fitted coordinates u) of least loss, best first,
-    evaluated in one compiled, vmapped program (batches of :data:`BATCH`)."""
-    candidates = np.asarray(candidates, dtype=float)
-    if len(candidates) == 0:
-        return candidates
-    chi2 = jax.jit(jax.vmap(lambda u: jnp.sum(problem.residuals(u) ** 2)))
-    losses = []
-    for i in range(0, len(candidates), BATCH):
-        chunk = candidates[i : i + BATCH]
-        padded = np.vstack([chunk, np.repeat(chunk[-1:], BATCH - len(chunk), axis=0)])
-        losses.append(np.asarray(chi2(jnp.asarray(padded)))[: len(chunk)])
-    loss = np.concatenate(losses)
-    loss = np.where(np.isfinite(loss), loss, np.inf)
-    order = np.argsort(loss, kind="stable")
-    return candidates[order[:n]]
-
-
-def _to_u(problem: Problem, values: np.ndarray) -> np.ndarray:
-    """Values (c, k) of the problem's free parameters -> fitted coordinates u."""
-    out = np.array(values, dtype=float)
-    for j, p in enumerate(problem.parameters):
-        if p.log:
-            out[:, j] = np.log(np.maximum(out[:, j], 1e-300))
-    return out
 
 
 def _physical(values: dict[str, float], units: Units) -> dict[str, float]:
@@ -432,13 +430,17 @@ def compare(
         head = Base.head_from_ellipsoid(*head, DEFAULT_VISCOSITY_PA_S, units)
     t0 = time.perf_counter()
     rows: list[CompareRow] = []
-    combos = [(m, b) for b in bases for m in mechanisms]
+    fitted: dict[tuple[str, str], CompareRow] = {}
+    combos = nested_order([(m, b) for b in bases for m in mechanisms])
     for mech, base in tqdm(combos, desc="compare rows", unit="row", disable=not progress):
         the_model = build_model(model, n_elements, base, units, head, profiles)
         spec = row(mech, base, the_model, units, f_obs, pin_tolerance=pin_tolerance)
-        rows.append(
-            _fit_row(spec, shape, units, optimiser, starts, seed, shape_floor, f_obs, pin_tolerance)
+        inner = [fitted[c] for c in contained(mech, base) if c in fitted]
+        r = _fit_row(
+            spec, shape, units, optimiser, starts, seed, shape_floor, f_obs, pin_tolerance, inner
         )
+        fitted[(mech, base)] = r
+        rows.append(r)
     rank(rows)
     return Comparison(
         data=beat.summary(),
@@ -454,11 +456,22 @@ def compare(
         pin_tolerance=pin_tolerance,
         shape_floor=shape_floor,
         units_source=units_source,
+        psi1_cycles=beat.psi1_cycles,
+        psi1_sigma=np.asarray(shape.sigma, dtype=float),
     )
 
 
 def _fit_row(
-    spec, shape, units, optimiser, starts, seed, shape_floor, f_obs, pin_tolerance=PIN_TOLERANCE
+    spec,
+    shape,
+    units,
+    optimiser,
+    starts,
+    seed,
+    shape_floor,
+    f_obs,
+    pin_tolerance=PIN_TOLERANCE,
+    inner: list[CompareRow] = (),
 ) -> CompareRow:
     t0 = time.perf_counter()
     problem = build_problem(
@@ -476,10 +489,16 @@ def _fit_row(
         base=spec.base,
     )
     candidates = np.vstack([_to_u(problem, hopf_starts(spec)), problem.start_design(SCREEN, seed)])
-    problem.prefer(screened_starts(problem, candidates, starts))
+    preferred = np.vstack(
+        [
+            nested_starts(problem, spec, list(inner)),
+            screened_starts(problem, candidates, row_starts(starts, len(spec.free))),
+        ]
+    )
+    problem.prefer(preferred)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        fit = least_squares(problem, optimiser, starts=starts, seed=seed)
+        fit = least_squares(problem, optimiser, starts=len(preferred), seed=seed, polish=POLISH)
     shape_data = fit.conditions[0]["shape"]
     psi1 = np.asarray(shape_data["psi1_fit_re"]) + 1j * np.asarray(shape_data["psi1_fit_im"])
     values = dict(fit.params)
@@ -501,13 +520,14 @@ def _fit_row(
         aic=fit.aic,
         bic=fit.bic,
         n_free=fit.n_free,
-        at_bound=list(fit.at_bound),
+        at_bound=row_at_bound(spec, values, fit.at_bound),
         psi1_model=psi1,
         fit=fit,
         wall_s=0.0,
         problem=problem,
         status=status,
         reason=reason,
+        contains=[f"{r.mechanism}/{r.base}" for r in inner],
     )
     out.physical_stderr = _physical_stderr(out, units)
     out.wall_s = time.perf_counter() - t0

@@ -21,8 +21,8 @@ chi^2 (and the report shows its frequency and growth rate).
 A regulated row has p = 0 (no steady load) and omega0 fixed at the observed angular
 frequency, so its terms equal chi(omega0) and beta(omega0) at the beat; its beat is the
 eigenvalue *nearest* i omega0 (:func:`axojax.nearest_mode`), which with an active
-friction (chi'' < 0) is not the dominant one. With the complex amplitude (2 values),
-every row has at most 6 free values.
+friction (chi'' < 0) is not the dominant one. Without basal compliance a row has at
+most 4 free values (the complex amplitude, 2 more, not counted).
 
 Bounds of chi and beta come from Sartori's dimensionless groups of the two-filament
 continuum limit (``chi_bar = a0^2 chi / 2``, ``beta_bar = a0 beta / 2``, docs/model.md
@@ -42,24 +42,26 @@ without and with an elastic basal compliance (:data:`DEFAULT_COMPLIANCE`, below)
 Basal compliance (``compliance=True`` of :func:`axojax.compare`, or a base named
 ``"<kind>+compliance"``, e.g. ``"head+compliance"``): the basal sliding of each active pair
 is resisted by chi_b = k_b + i omega xi_b (``Params.kb``, ``Params.xib``), as in Sartori
-et al.'s free-base fits and Riedel-Kruse et al.'s clamped-head sperm fit. kb and xib are
-two more free values (fitted in log: both > 0), so that a row stays within 6 free values
-with the amplitude, a row with compliance keeps two values of its own
-(:data:`FREE_WITH_COMPLIANCE`): ``steady`` p and kl (ks on presets with spokes; cl and
-gamma stay at their :class:`~axojax.Params` defaults), ``sliding`` chi' and chi''
-(Riedel-Kruse's sliding control), ``curvature`` chi' and beta'' (Sartori's curvature
-control: their beta' = 0), ``sliding+curvature`` chi'' and beta'' (the dynamic parts of
-both; chi' = beta' = 0). At lambda = i omega0 the pencil is linear in the complex
-chi_b, so for any values of the others the chi_b that puts an eigenvalue exactly at the
-observed beat is a small generalised eigenvalue problem (Sartori et al. determine chi_b
-so): :func:`hopf_starts` solves it on a grid of the row's own values.
+et al.'s free-base fits and Riedel-Kruse et al.'s clamped-head sperm fit. The spring is
+fitted as its compliance ``cb = 1/k_b`` (:data:`axojax.params.DERIVED_NAMES`; linear, from
+0: a rigid base, which is the base without compliance), the friction xib in log (> 0). An
+*elastic* compliance (``compliance="elastic"``, bases ``"<kind>+elastic"``) fits cb only,
+xib fixed at the negligible low end of its range (a basal spring).
 
-An *elastic* basal compliance (``compliance="elastic"``, bases ``"<kind>+elastic"``) fits
-kb only, xib fixed at the negligible low end of its range (a basal spring), so a row keeps
-three values of its own (:data:`FREE_ELASTIC`): ``steady`` p, kl, gamma; ``sliding``
-chi', chi''; ``curvature`` chi', beta', beta''; ``sliding+curvature`` chi', chi'', beta'
-(beta'' = 0: on the human sperm it fits better than beta' = 0, docs/mechanisms.md). Its
-starts are the mechanism's Hopf points along a ladder of kb.
+Nested hypotheses (issue 45): a row's free values are its mechanism's own (above) and
+:data:`BASAL_FREE` of its base, so every row contains the rows of :func:`contained`
+(sliding+curvature contains sliding and curvature on the same base; ``+compliance``
+contains ``+elastic``, which contains the base without), the others' values at their
+floor (chi, beta 0, cb 0, xib at its low end). :func:`axojax.compare` fits them in
+:func:`nested_order` and starts each row from the optima of the rows it contains too, so
+that no row fits worse than one it contains. A row has at most 6 free values (the complex
+amplitude not counted).
+
+Starts: at lambda = i omega0 the pencil is linear in the complex chi_b, so for any values
+of the others the chi_b that puts an eigenvalue exactly at the observed beat is a small
+generalised eigenvalue problem (Sartori et al. determine chi_b so):
+:func:`axojax.inverse.comparison.starts.hopf_starts` solves it on a grid of the row's own
+values; an elastic row takes the mechanism's Hopf points along a ladder of kb.
 """
 
 from __future__ import annotations
@@ -74,7 +76,7 @@ from ...fem import Profiles
 from ...models import Base, presets
 from ...models import build_model as build_section_model
 from ...models.section import Model
-from ...params import BASAL_NAMES, MECHANISM_NAMES, Params
+from ...params import CB_FLOOR, Params
 from ...units import Units
 from ..parameters import DEFAULT_BOUNDS
 
@@ -113,27 +115,50 @@ FREE = {
     "curvature": ("chi_re", "beta_re", "beta_im"),
     "sliding+curvature": ("chi_re", "chi_im", "beta_re", "beta_im"),
 }
-FREE_WITH_COMPLIANCE = {
-    "sliding": ("chi_re", "chi_im", "kb", "xib"),
-    "curvature": ("chi_re", "beta_im", "kb", "xib"),
-    "sliding+curvature": ("chi_im", "beta_im", "kb", "xib"),
-}
-"""A regulated row's free values with basal compliance (module docstring); the steady
-row's are :func:`steady_free`'s first two and kb, xib."""
-FREE_ELASTIC = {
-    "sliding": ("chi_re", "chi_im", "kb"),
-    "curvature": ("chi_re", "beta_re", "beta_im", "kb"),
-    "sliding+curvature": ("chi_re", "chi_im", "beta_re", "kb"),
-}
-"""A regulated row's free values with an elastic basal compliance (module docstring); the
-steady row's are p, kl (or ks), gamma and kb."""
-ELASTIC_LADDER = 9
-"""Values of kb along which an elastic row's Hopf points are found."""
-MAX_HOPF_STARTS = 1024
-"""At most about this many Hopf points of an elastic row are screened (evenly taken)."""
-COMPLIANCE_GRID = 33 * 33
-"""Points of the grid of a compliant row's own free values in :func:`compliance_starts`
-(33 values each for two)."""
+BASAL_FREE = {"": (), "elastic": ("cb",), "compliance": ("cb", "xib")}
+"""What a basal compliance adds to a row's free values (module docstring): the compliance
+cb = 1/k_b (from 0: the base without it), and the friction xib for a full compliance."""
+
+
+def free_values(mechanism: str, model: Model, mode: str = "") -> tuple[str, ...]:
+    """A row's free values: the mechanism's own (:func:`steady_free` or :data:`FREE`),
+    then :data:`BASAL_FREE` of the base's compliance ``mode`` ("", "elastic",
+    "compliance"). Nested by construction: every row contains the rows of
+    :func:`contained`."""
+    own = steady_free(model) if mechanism == "steady" else FREE[mechanism]
+    return (*own, *BASAL_FREE[mode])
+
+
+MECHANISM_CONTAINS = {"sliding+curvature": ("sliding", "curvature")}
+"""The mechanisms each generalises (its free values contain theirs, the rest at 0)."""
+COMPLIANCE_CONTAINS = {"compliance": ("elastic", ""), "elastic": ("",)}
+"""The compliance modes each generalises: xib at its low end is the elastic base, cb = 0
+the base without compliance."""
+
+
+def contained(mechanism: str, base: str) -> list[tuple[str, str]]:
+    """Every (mechanism, base) the row (``mechanism``, ``base``) contains, itself excluded:
+    its free values include theirs, and its other values at their floor (chi, beta 0; cb
+    0; xib at its low end) make it theirs (issue 45: a row can never fit worse than a row
+    it contains, since it starts from their optima too)."""
+    kind, mode = parse_base(base)
+    mechs = (mechanism, *MECHANISM_CONTAINS.get(mechanism, ()))
+    modes = (mode, *COMPLIANCE_CONTAINS.get(mode, ()))
+    suffix = {v: k for k, v in SUFFIXES.items()}
+    out = [(m, kind + suffix[c]) for c in modes for m in mechs]
+    return [x for x in out if x != (mechanism, base)]
+
+
+def nested_order(combos) -> list[tuple[str, str]]:
+    """``combos`` (mechanism, base) ordered so that every row comes after the rows it
+    contains (:func:`contained`), otherwise as given."""
+    level = {"": 0, "elastic": 1, "compliance": 2}
+    return sorted(
+        combos,
+        key=lambda mb: (level[parse_base(mb[1])[1]], mb[0] in MECHANISM_CONTAINS),
+    )
+
+
 CHI_B_RANGE = (1e-3, 1e2)
 """Bounds of each part of chi_b_bar = a0^2 (kb + i omega0 xib) / F (Sartori's basal group,
 F filaments) in units of 1 + Sp^(1/2), as chi's (Sartori's chi_b_bar is about 4 at
@@ -361,12 +386,8 @@ def row(
     omega0 = float(units.omega0_from_hz(frequency_hz))
     targets = pins(frequency_hz, pin_tolerance)
     zero = {"chi_re": 0.0, "chi_im": 0.0, "beta_re": 0.0, "beta_im": 0.0, "omega0": 0.0}
+    free = free_values(mechanism, model, mode)
     if mechanism == "steady":
-        free = steady_free(model)
-        if mode == "compliance":
-            free = (*free[:2], "kb", "xib")
-        elif mode == "elastic":
-            free = (*free[:2], "gamma", "kb")
         ratio = STEADY_KL_RATIO if "ks" in free else None
         prm = params.replace(**zero)
         bounds = {k: DEFAULT_BOUNDS[k] for k in free if k in DEFAULT_BOUNDS}
@@ -375,9 +396,6 @@ def row(
         shift = None if kind == "clamped" else 1j * omega0
     else:
         prm = params.replace(**zero).replace(p=0.0, omega0=omega0)
-        free = {"": FREE, "compliance": FREE_WITH_COMPLIANCE, "elastic": FREE_ELASTIC}[mode][
-            mechanism
-        ]
         bounds = {k: v for k, v in coefficient_bounds(model, prm).items() if k in free}
         ratio, shift = None, 1j * omega0
     if mode:
@@ -387,163 +405,27 @@ def row(
         prm = prm.replace(**{k: math.sqrt(basal[k][0] * basal[k][1]) for k in ("kb", "xib")})
         if mode == "elastic":
             prm = prm.replace(xib=basal["xib"][0])
-        bounds.update({k: v for k, v in basal.items() if k in free})
+        bounds["cb"] = (0.0, 1.0 / basal["kb"][0])  # from a rigid base (cb = 0)
+        if "xib" in free:
+            bounds["xib"] = basal["xib"]
     return Row(mechanism, base, model, prm, free, bounds, ratio, shift, targets, omega0)
 
 
-# -- exact Hopf points: starts of a regulated row ------------------------------------------
-def _unit_terms(row: Row) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(K0, U_chi, U_beta): at lambda = i omega0 the pencil A + lambda C of the row's
-    model is K0 + chi U_chi + beta U_beta, linear in the complex chi = chi' + i chi'' and
-    beta = beta' + i beta'' (docs/model.md section 8: the terms equal chi and beta there)."""
-    from ...assembly import assemble
-
-    lam = row.shift
-    base = row.params.replace(chi_re=0.0, chi_im=0.0, beta_re=0.0, beta_im=0.0)
-
-    def pencil(prm: Params) -> np.ndarray:
-        system = assemble(row.model, prm)
-        return np.asarray(system.A) + lam * np.asarray(system.C)
-
-    k0 = pencil(base)
-    return k0, pencil(base.replace(chi_re=1.0)) - k0, pencil(base.replace(beta_re=1.0)) - k0
+def row_at_bound(row: Row, values: dict[str, float], at_bound) -> list[str]:
+    """The fit's ``at_bound`` names, with cb's read on the scale of a spring: cb spans five
+    decades of k_b linearly from 0, so 1 % of its range (the fit report's rule) is most
+    of them; cb is at its low end only when the spring is stiffer than the range's
+    stiffest (:func:`compliance_bounds`: a base as good as rigid), at its high end when
+    softer than 1.01 times the softest."""
+    out = [n for n in at_bound if n != "cb"]
+    if "cb" in values and "cb" in row.bounds:
+        lo, hi = compliance_bounds(row.model, row.params, row.omega)["kb"]
+        cb = values["cb"]
+        if cb <= compliance_of(hi) or cb >= compliance_of(1.01 * lo):
+            out.append("cb")
+    return out
 
 
-def _solve(k: np.ndarray, unit: np.ndarray) -> np.ndarray:
-    """Every complex g with K + g U singular (finite generalised eigenvalues)."""
-    import scipy.linalg as sl
-
-    g = sl.eig(k, -unit, right=False)
-    return g[np.isfinite(g)]
-
-
-def _grid(bound: float, n: int = 8) -> np.ndarray:
-    """0 and +- a geometric ladder up to ``bound`` (n values each side)."""
-    ladder = np.geomspace(bound * 1e-3, bound, n)
-    return np.concatenate([[0.0], ladder, -ladder])
-
-
-def _ladder(row: Row, name: str, n: int) -> np.ndarray:
-    """``n`` values of a free field inside its bounds: 0 and a signed geometric ladder for
-    chi and beta, a geometric one for a positive field."""
-    lo, hi = row.bounds[name]
-    if name in MECHANISM_NAMES:
-        return _grid(hi, n // 2)
-    if lo <= 0:  # gamma: signed, fitted linearly
-        return np.linspace(lo, hi, n + 2)[1:-1]
-    return np.geomspace(lo, hi, n + 2)[1:-1]
-
-
-def compliance_starts(row: Row) -> np.ndarray:
-    """(c, k) values of a row with basal compliance at which i omega (the observed beat)
-    is exactly an eigenvalue: on a grid of the row's own free values
-    (:data:`COMPLIANCE_GRID` points in all), the complex chi_b = kb + i omega xib that makes the
-    pencil A + i omega C singular, kept where kb and xib are inside their bounds. The
-    compliance adds kb E + xib E to A and C (E of rank m, the active pairs), so chi_b
-    solves det(I + chi_b E K^-1) = 0: m values per grid point (Sartori et al. determine
-    chi_b so)."""
-    import jax
-    import jax.numpy as jnp
-
-    from ...assembly import assemble
-
-    lam = 1j * row.omega
-    own = [f for f in row.free if f not in BASAL_NAMES]
-    n = max(3, int(round(COMPLIANCE_GRID ** (1 / max(len(own), 1)))))
-    grids = np.meshgrid(*[_ladder(row, f, n) for f in own], indexing="ij")
-    values = np.stack([g.ravel() for g in grids], axis=1)
-    base = row.params.replace(kb=0.0, xib=0.0)
-
-    def pencil(v):
-        system = assemble(row.model, base.with_values(dict(zip(own, v)), row.kl_ratio))
-        return system.A + lam * system.C
-
-    unit = np.asarray(assemble(row.model, base.replace(kb=1.0)).A) - np.asarray(
-        assemble(row.model, base).A
-    )
-    idx = np.flatnonzero(np.any(unit != 0, axis=1))
-    pencils = jax.jit(jax.vmap(pencil))
-    kept, chi_b = [], []
-    batch = min(256, len(values))  # pencils at a time (bounded memory), one compilation
-    for i in range(0, len(values), batch):
-        chunk = values[i : i + batch]
-        padded = np.vstack([chunk, np.repeat(chunk[-1:], batch - len(chunk), axis=0)])
-        k = np.asarray(pencils(jnp.asarray(padded)))[: len(chunk)]
-        keep = np.isfinite(k).all(axis=(1, 2)) & (np.linalg.cond(k) < 1e14)
-        rhs = np.zeros((int(keep.sum()), k.shape[1], idx.size))
-        rhs[:, idx, np.arange(idx.size)] = 1.0
-        x = np.linalg.solve(k[keep], rhs)
-        mu = np.linalg.eigvals(unit[np.ix_(idx, idx)] @ x[:, idx, :])  # (G, m)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            chi_b.append(-1.0 / mu)
-        kept.append(chunk[keep])
-    values, chi_b = np.concatenate(kept), np.concatenate(chi_b)
-    rows = []
-    for v, gs in zip(values, chi_b):
-        for g in gs[np.isfinite(gs)]:
-            point = dict(zip(own, v), kb=g.real, xib=g.imag / row.omega)
-            rows.append([point[f] for f in row.free])
-    return _inside(row, np.array(rows).reshape(-1, len(row.free)))
-
-
-def _inside(row: Row, out: np.ndarray) -> np.ndarray:
-    lo = np.array([row.bounds[f][0] for f in row.free])
-    hi = np.array([row.bounds[f][1] for f in row.free])
-    return out[np.all((out > lo) & (out < hi), axis=1)]
-
-
-def hopf_starts(row: Row) -> np.ndarray:
-    """(c, k) values of the row's free fields at which i omega0 is exactly an eigenvalue
-    (the pins hold), inside the bounds: every Hopf point of ``sliding`` (a generalised
-    eigenproblem in chi), of ``curvature`` along a ladder of chi' (one in beta), and of
-    ``sliding+curvature`` along a ladder of complex beta (one in chi) and with either
-    coefficient 0. With basal compliance, any mechanism: :func:`compliance_starts`.
-    Empty for ``steady`` without it (its beat is the dominant mode)."""
-    if row.compliance and "xib" in row.free:
-        return compliance_starts(row)
-    if row.compliance:  # elastic: the Hopf points of the mechanism along a ladder of kb
-        lo, hi = row.bounds["kb"]
-        rest = dataclasses.replace(row, free=tuple(f for f in row.free if f != "kb"))
-        out = [
-            np.hstack([p, np.full((len(p), 1), kb)])
-            for kb in np.geomspace(lo, hi, ELASTIC_LADDER + 2)[1:-1]
-            for p in [_mechanism_hopf(dataclasses.replace(rest, params=row.params.replace(kb=kb)))]
-        ]
-        order = [*rest.free, "kb"]
-        out = np.vstack(out)[:, [order.index(f) for f in row.free]]
-        return out[:: max(1, len(out) // MAX_HOPF_STARTS)]
-    return _mechanism_hopf(row)
-
-
-def _mechanism_hopf(row: Row) -> np.ndarray:
-    """:func:`hopf_starts` of a row whose compliance, if any, is fixed in its params."""
-    if row.shift is None or row.mechanism == "steady":
-        return np.zeros((0, len(row.free)))
-    k0, u_chi, u_beta = _unit_terms(row)
-    b = row.bounds
-    points: list[dict[str, float]] = []
-    if "chi_im" in row.free:  # sliding, or sliding + curvature: solve for chi
-        betas = [0.0]
-        if "beta_re" in row.free:  # beta' and (if free) beta'' on a grid
-            dynamic = "beta_im" in row.free
-            re = _grid(b["beta_re"][1], 3 if dynamic else 8)
-            im = _grid(b["beta_re"][1], 3) if dynamic else [0.0]
-            betas += [complex(x, y) for x in re for y in im]
-        for beta in betas:
-            for chi in _solve(k0 + beta * u_beta, u_chi):
-                points.append(
-                    {
-                        "chi_re": chi.real,
-                        "chi_im": chi.imag,
-                        "beta_re": beta.real,
-                        "beta_im": beta.imag,
-                    }
-                )
-    if "beta_im" in row.free:  # curvature (chi' real), or chi'' = 0 of sliding + curvature
-        for chi in _grid(b["chi_re"][1]):
-            for beta in _solve(k0 + chi * u_chi, u_beta):
-                points.append(
-                    {"chi_re": chi, "chi_im": 0.0, "beta_re": beta.real, "beta_im": beta.imag}
-                )
-    out = np.array([[p[f] for f in row.free] for p in points]).reshape(-1, len(row.free))
-    return _inside(row, out)
+def compliance_of(kb: float) -> float:
+    """The cb that :meth:`Params.replace` maps to exactly ``kb`` (:data:`DERIVED_NAMES`)."""
+    return 1.0 / kb - CB_FLOOR

@@ -15,6 +15,7 @@ PHYSICAL = {
     "beta_im": ("beta_im_pn", "beta_to_pn"),
     "p": ("p_pn_per_um", "p_to_pn_per_um"),
     "kb": ("kb_pn_per_um", "kb_to_pn_per_um"),
+    "cb": ("cb_um_per_pn", "cb_to_um_per_pn"),
     "xib": ("xib_pn_s_per_um", "xib_to_pn_s_per_um"),
     "kl": ("kl_pn_per_um2", "k_to_pn_per_um2"),
     "ks": ("ks_pn_per_um2", "k_to_pn_per_um2"),
@@ -23,7 +24,8 @@ PHYSICAL = {
 }
 """Each fitted value's physical name (its unit in the name) and the :class:`Units`
 conversion to it (docs/model.md section 1 and 8): chi in pN/um^2, beta in pN, the steady
-load p in pN/um, the basal spring k_b in pN/um and friction xi_b in pN s/um, the links'
+load p in pN/um, the basal spring k_b in pN/um (fitted as its compliance 1/k_b, um/pN: 0 is
+a rigid base) and friction xi_b in pN s/um, the links'
 stiffness (pN/um^2) and damping (pN s/um^2); the dynein moment gain gamma is a number."""
 
 
@@ -54,7 +56,7 @@ def render_table(doc: dict[str, Any]) -> str:
             f"{i:>4}{mark(r):<4} {r['mechanism']:<18} {r['base']:<{wb}} {num(r['r2'], '7.3f')} "
             f"{num(r['frequency_hz'], '8.3f')} {num(df, '+7.2f')} {num(r['chi2_per_dof'], '9.3g')} "
             f"{num(r['bic'], '10.1f')} {num(r['delta_bic'], '9.1f')} {num(w, '6.2f')} "
-            f"{r['n_free']:>2}  " + (", ".join(r["at_bound"]) or "-")
+            f"{len(r.get('free', ())):>2}  " + (", ".join(r["at_bound"]) or "-")
         )
     failed = [(i, r) for i, r in enumerate(doc["rows"], 1) if mark(r)]
     for symbol, meaning in (
@@ -72,7 +74,8 @@ def render_table(doc: dict[str, Any]) -> str:
     lines.append(
         f"model {m['preset']} ({m['elements']} elements), sperm number {m['sperm_number']:.4g}; "
         f"observed {num(f_obs, '.4g')} Hz; rows by BIC (lower is better), successful rows first; "
-        f"R^2 is Sartori's of psi_1; weight: BIC weight among the successful rows"
+        f"R^2 is Sartori's of psi_1; weight: BIC weight among the successful rows; n: free "
+        f"values (the complex amplitude's 2 more count in the BIC)"
     )
     if m.get("units_source"):
         lines.append(
@@ -90,6 +93,7 @@ PARAM_UNITS = {
     "beta_im_pn": ("beta''", "pN"),
     "p_pn_per_um": ("p", "pN/um"),
     "kb_pn_per_um": ("k_b", "pN/um"),
+    "cb_um_per_pn": ("1/k_b", "um/pN"),
     "xib_pn_s_per_um": ("xi_b", "pN s/um"),
     "kl_pn_per_um2": ("k_l", "pN/um^2"),
     "ks_pn_per_um2": ("k_s", "pN/um^2"),

@@ -106,7 +106,9 @@ def verdict(doc: dict[str, Any]) -> dict[str, Any]:
     chi^2 with its degrees of freedom, over dof: the sigmas hold the shape floor);
     ``shape`` when only the chi^2 bar is missed (the shape is fitted, but residuals
     exceed what the sigmas allow: the model misses something the data resolve);
-    ``none`` otherwise. ``text`` says it in one line, ``rule`` states the bars."""
+    ``none`` otherwise. ``text`` says it in one line (with the best row's share of first
+    places over bootstrap resamples of the cycles when the document has ``robustness``,
+    :mod:`axojax.inverse.comparison.robustness`), ``rule`` states the bars."""
     from scipy.stats import chi2 as chi2_dist
 
     rows = doc["rows"]
@@ -147,6 +149,12 @@ def verdict(doc: dict[str, Any]) -> dict[str, Any]:
         )
     else:
         fits, text = "none", f"no row fits this beat (best R^2 {top_r2:.2f}; best by BIC: {name})"
+    robust = doc.get("robustness")
+    if robust:
+        text += (
+            f"; first in {100 * robust['best_share']:.0f} % of {robust['resamples']} bootstrap "
+            f"resamples of the {robust['cycles']} cycles"
+        )
     return {
         "fits": fits,
         "best": {"mechanism": best["mechanism"], "base": best["base"]},
