@@ -35,6 +35,11 @@ SCALARS = ("frequency_hz", "wavelength_um", "velocity_um_per_s", "growth_rate_pe
 CYCLE_SCALARS = ("frequency_hz", "amplitude_um", "wavelength_um")
 SOURCES = ("linear", "limit_cycle")
 COMPONENTS = ("in_plane", "out_of_plane")
+FRAMES = ("lab", "basal")
+"""Frames a shape is compared in (:mod:`axojax.beats.frames`): ``lab``, the tangent angle as
+recorded (the model's psi_1 as it is, a moving base's rigid motion included); ``basal``,
+relative to the basal tangent, psi(s, t) - psi(0, t) (the model's psi_1(s) - psi_1(0)
+as well; the data transformed by :func:`axojax.beats.frames.in_basal_frame`)."""
 
 
 @dataclasses.dataclass(frozen=True)
@@ -81,7 +86,8 @@ class ShapeTarget:
     arbitrary time origin). ``component``: which transverse component is observed,
     ``"in_plane"`` (default) or ``"out_of_plane"`` (module docstring), one name for
     every point or a tuple of one name per point (:func:`join_components`); limit-cycle
-    shapes are in-plane only."""
+    shapes are in-plane only. ``frame``: :data:`FRAMES` (``"basal"``: model and data
+    compared relative to the basal tangent)."""
 
     s_um: np.ndarray
     psi1: np.ndarray
@@ -89,8 +95,11 @@ class ShapeTarget:
     psi0: np.ndarray | None = None
     source: str = "linear"
     component: str | tuple[str, ...] = "in_plane"
+    frame: str = "lab"
 
     def __post_init__(self) -> None:
+        if self.frame not in FRAMES:
+            raise ValueError(f"unknown shape frame {self.frame!r}; choose from {', '.join(FRAMES)}")
         if self.source not in SOURCES:
             raise ValueError(
                 f"unknown shape source {self.source!r}; choose from {', '.join(SOURCES)}"
@@ -121,6 +130,8 @@ class ShapeTarget:
             )
         if self.source == "limit_cycle" and set(self.components) != {"in_plane"}:
             raise ValueError("shape target: a limit-cycle shape is in-plane only")
+        if self.source == "limit_cycle" and self.frame != "lab":
+            raise ValueError("shape target: a limit-cycle shape is compared in the lab frame only")
 
     @property
     def components(self) -> tuple[str, ...]:
@@ -150,6 +161,8 @@ def join_components(targets: list[ShapeTarget] | tuple[ShapeTarget, ...]) -> Sha
         raise ValueError("join_components: the targets' sources differ")
     if len({t.psi0 is None for t in targets}) != 1:
         raise ValueError("join_components: give psi0 for all targets or none")
+    if len({t.frame for t in targets}) != 1:
+        raise ValueError("join_components: the targets' frames differ")
 
     def cat(get) -> np.ndarray:
         return np.concatenate(
@@ -163,4 +176,5 @@ def join_components(targets: list[ShapeTarget] | tuple[ShapeTarget, ...]) -> Sha
         psi0=None if targets[0].psi0 is None else cat(lambda t: t.psi0),
         source=targets[0].source,
         component=tuple(c for t in targets for c in t.components),
+        frame=targets[0].frame,
     )

@@ -93,10 +93,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=None,
         metavar="MODE",
         help="basal compliance chi_b = k_b + i omega xi_b on every base: off (as --bases "
-        "names them), on (kb and xib fitted; a row keeps two values of its own), elastic "
-        "(kb fitted, xi_b negligible; a row keeps three), both / both-elastic (every base "
+        "names them), on (the compliance 1/k_b and xi_b fitted besides the mechanism's "
+        "values), elastic (1/k_b fitted, xi_b negligible), both / both-elastic (every base "
         "without and with 'on' / 'elastic'), all (the three). Default: both-elastic for "
         "the default bases, off when --bases is given",
+    )
+    parser.add_argument(
+        "--frame",
+        choices=("lab", "basal"),
+        default="lab",
+        help="the frame psi is compared in: lab (as recorded, default: a lab-frame beat suits "
+        "free and head bases, a head-fixed one clamped bases) or basal (model and data "
+        "relative to the basal tangent, psi(s) - psi(0); docs/model.md section 8, frames)",
     )
     parser.add_argument(
         "--model",
@@ -285,6 +293,7 @@ def run(args: argparse.Namespace) -> dict:
                 progress=progress_enabled(json_output=args.json),
                 head=head,
                 organism=organism,
+                frame=args.frame,
             )
     except ValueError as err:
         raise common.CLIError(f"--data: {err}") from None

@@ -40,13 +40,19 @@ def scalar_value(mode: Mode, name: str, units: Units) -> Float[Array, ""]:
 
 
 def model_psi1(
-    model: Model, mode: Mode, s: Float[np.ndarray, " S"], component: str | tuple = "in_plane"
+    model: Model,
+    mode: Mode,
+    s: Float[np.ndarray, " S"],
+    component: str | tuple = "in_plane",
+    frame: str = "lab",
 ) -> Complex[Array, " S"]:
     """The model's complex psi_1 at ``s`` (units of L), up to scale: the centreline slope
     along its beat direction (``component="in_plane"``) or perpendicular to it in the
     cross-section plane, rotated from the beat direction by +90 degrees from y towards z
     (``"out_of_plane"``, the data's e3 = e1 x e2, :mod:`axojax.beats.reduction`).
-    ``component``: one name, or one per point of ``s`` (a joined target's).
+    ``component``: one name, or one per point of ``s`` (a joined target's). ``frame``
+    ``"basal"``: relative to the basal tangent, psi_1(s) - psi_1(0) of the same component
+    (:data:`axojax.beats.targets.FRAMES`).
 
     Raises:
         ValueError: an out-of-plane component asked of a planar (2D) model.
@@ -60,14 +66,19 @@ def model_psi1(
             f"an out-of-plane shape target needs a 3D model; {model.name!r} beats in one plane"
         )
     _, _, angle, _ = beat_plane(model, mode.eigenvector)
-    slope = centreline(model, jnp.asarray(mode.eigenvector), np.asarray(s), derivative=1)
-    if not out.any():
-        return measures.along(slope, angle)
-    return jnp.where(
-        jnp.asarray(out),
-        measures.along(slope, angle + jnp.pi / 2),
-        measures.along(slope, angle),
-    )
+
+    def at(x):
+        slope = centreline(model, jnp.asarray(mode.eigenvector), np.asarray(x), derivative=1)
+        if not out.any():
+            return measures.along(slope, angle)
+        return jnp.where(
+            jnp.asarray(out),
+            measures.along(slope, angle + jnp.pi / 2),
+            measures.along(slope, angle),
+        )
+
+    psi = at(s)
+    return psi - at(np.zeros(len(s))) if frame == "basal" else psi
 
 
 def shape_fit(
@@ -79,7 +90,9 @@ def shape_fit(
     target's points: one alpha for all of its components. ``at_component``: the
     component at each of ``at_um`` (default the target's ``component`` when it is one
     name, else required)."""
-    psi_m = model_psi1(model, mode, np.asarray(target.s_um) / units.length_um, target.component)
+    psi_m = model_psi1(
+        model, mode, np.asarray(target.s_um) / units.length_um, target.component, target.frame
+    )
     obs = jnp.asarray(target.psi1)
     w = 1.0 / jnp.broadcast_to(jnp.asarray(target.sigma, dtype=float), obs.shape) ** 2
     alpha = jnp.vdot(psi_m, w * obs) / jnp.vdot(psi_m, w * psi_m)  # weighted least squares
@@ -90,7 +103,7 @@ def shape_fit(
             raise ValueError("shape_fit: give at_component for a target of several components")
         at_component = target.component
     at = np.asarray(at_um) / units.length_um
-    return alpha * model_psi1(model, mode, at, at_component), alpha
+    return alpha * model_psi1(model, mode, at, at_component, target.frame), alpha
 
 
 def shape_residuals(

@@ -284,6 +284,7 @@ class Problem:
             psi0,
             shape.source,
             shape.component_at(mask),  # issue 33: each kept point's transverse component
+            shape.frame,
         )
 
     def fingerprint(self) -> str:

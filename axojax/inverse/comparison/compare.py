@@ -29,6 +29,8 @@ from tqdm.auto import tqdm
 
 from ... import _io
 from ...beats.data import BeatData, read_beat
+from ...beats.frames import in_basal_frame
+from ...beats.targets import FRAMES
 from ...models.presets import preset_section
 from ...results import jsonable
 from ...units import ORGANISMS, Organism, Units
@@ -212,6 +214,7 @@ class Comparison:
     units_source: str = "given"
     psi1_cycles: np.ndarray | None = dataclasses.field(default=None, repr=False)
     psi1_sigma: np.ndarray | None = dataclasses.field(default=None, repr=False)
+    frame: str = "lab"
 
     @property
     def best(self) -> CompareRow:
@@ -221,6 +224,7 @@ class Comparison:
         """The ``axojax compare --json`` document (docs/interface.md)."""
         data = dict(self.data)
         data.update(
+            frame=self.frame,
             s_um=self.s_um.tolist(),
             psi1=[[float(z.real), float(z.imag)] for z in self.psi1],
             psi0=None if self.psi0 is None else np.asarray(self.psi0, dtype=float).tolist(),
@@ -344,6 +348,7 @@ def compare(
     profiles=None,
     compliance: bool | str | None = None,
     organism: str | Organism | None = None,
+    frame: str = "lab",
 ) -> Comparison:
     """Fit every mechanism x base to one beat and rank them by BIC.
 
@@ -388,6 +393,8 @@ def compare(
             ``"bull_sperm"``, ``"sea_urchin_sperm"``, ``"chlamydomonas"``) or an
             :class:`~axojax.units.Organism`: its kappa and xi_n (unless ``units`` are given)
             and its head's semi-axes (unless ``head`` is given).
+        frame: ``"lab"`` (psi as recorded) or ``"basal"`` (model and data relative to the
+            basal tangent, psi(s) - psi(0): :mod:`axojax.beats.frames`).
         progress: a bar over rows on stderr (``axojax compare`` shows it on a terminal,
             never with ``--json`` on a pipe: :mod:`axojax._progress`'s rule).
 
@@ -399,8 +406,13 @@ def compare(
     if not (isinstance(starts, (int, np.integer)) and 1 <= starts <= 1000):
         raise ValueError(f"starts: expected an integer in 1..1000, got {starts!r}")
     optimiser = solver_from_name(method)
+    if frame not in FRAMES:
+        raise ValueError(f"frame: expected one of {', '.join(FRAMES)}, got {frame!r}")
     beat = _beat(data)
+    if frame == "basal":
+        beat = in_basal_frame(beat)
     targets, shape = beat.targets()
+    shape = dataclasses.replace(shape, frame=frame)
     if shape is None:
         raise ValueError("data: the beat has no psi_1 shape to compare mechanisms on")
     f_obs = float(beat.frequency_hz)
@@ -458,6 +470,7 @@ def compare(
         units_source=units_source,
         psi1_cycles=beat.psi1_cycles,
         psi1_sigma=np.asarray(shape.sigma, dtype=float),
+        frame=frame,
     )
 
 

@@ -70,6 +70,8 @@ def render_table(doc: dict[str, Any]) -> str:
     v = doc.get("verdict") or verdict(doc)
     lines.append(f"verdict: {v['text']}")
     lines.append(f"  ({v['rule']})")
+    if v.get("warning"):
+        lines.append(f"warning: {v['warning']}")
     m = doc["model"]
     lines.append(
         f"model {m['preset']} ({m['elements']} elements), sperm number {m['sperm_number']:.4g}; "

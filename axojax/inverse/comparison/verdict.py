@@ -8,6 +8,8 @@ from __future__ import annotations
 import math
 from typing import Any
 
+import numpy as np
+
 from .mechanisms import PIN_TOLERANCE
 
 FREQUENCY_MATCH = 0.02
@@ -149,6 +151,7 @@ def verdict(doc: dict[str, Any]) -> dict[str, Any]:
         )
     else:
         fits, text = "none", f"no row fits this beat (best R^2 {top_r2:.2f}; best by BIC: {name})"
+    warning = base_warning(doc, best)
     robust = doc.get("robustness")
     if robust:
         text += (
@@ -161,4 +164,34 @@ def verdict(doc: dict[str, Any]) -> dict[str, Any]:
         "rule": rule,
         "chi2_per_dof_max": limit,
         "text": text,
+        "warning": warning,
     }
+
+
+BASE_PSI1_SHARE = 0.2
+"""|psi_1(0)| above this share of max |psi_1| (and 3 of the data's median sigmas) contradicts
+a winning base that holds the tangent (clamped or pivot on a spring: psi_1(0) = 0)."""
+
+
+def base_warning(doc: dict[str, Any], best: dict[str, Any]) -> str | None:
+    """One line when the data's psi_1 at the base contradicts the best row's base: a held
+    base (clamped, with or without compliance) has psi_1(0) = 0, so a beat whose |psi_1(0)|
+    is a large share (:data:`BASE_PSI1_SHARE`) of its maximum, in the lab frame, was
+    recorded in a frame in which the base moves (docs/model.md section 8, frames); None
+    otherwise (or when the data do not start at the base)."""
+    data = doc["data"]
+    s, psi = data.get("s_um"), data.get("psi1")
+    if not s or not psi or abs(s[0]) > 1e-9 or data.get("frame", "lab") != "lab":
+        return None
+    if not best["base"].startswith("clamped"):
+        return None
+    a = np.abs(np.asarray(psi, dtype=float) @ [1, 1j])
+    sigma = (data.get("psi1_sigma_rad") or {}).get("median", 0.0)
+    if a.max() <= 0 or a[0] <= BASE_PSI1_SHARE * a.max() or a[0] <= 3 * sigma:
+        return None
+    return (
+        f"the data's |psi_1| at the base is {a[0] / a.max():.2f} of its maximum, but the best "
+        f"row's {best['base']} base holds psi_1(0) = 0: if the base moves in the recording's "
+        "frame (a lab-frame beat), free or head bases fit it as recorded, or compare both in "
+        "the basal frame (--frame basal)"
+    )
