@@ -53,7 +53,7 @@ from .mechanisms import (
     with_compliance,
 )
 from .robustness import cycle_bootstrap
-from .starts import SCREEN, _to_u, hopf_starts, nested_starts, row_starts, screened_starts
+from .starts import SCREEN, hopf_starts, nested_starts, row_starts, screened_starts, values_to_u
 from .table import PHYSICAL, render_params, render_table
 from .verdict import (
     rank,
@@ -145,7 +145,7 @@ class CompareRow:
         if self.problem is None:
             raise ValueError("laplace: this row has no problem (rows read from JSON do not)")
         p = self.problem
-        u = _to_u(p, np.array([[self.fit.params[n] for n in p.names]]))[0]
+        u = values_to_u(p, np.array([[self.fit.params[n] for n in p.names]]))[0]
         jac = np.asarray(p.jacobian(u) if jacobian is None else jacobian, dtype=float)
         precision = jac.T @ jac
         diag = np.diag(precision)
@@ -474,20 +474,10 @@ def compare(
     )
 
 
-def _fit_row(
-    spec,
-    shape,
-    units,
-    optimiser,
-    starts,
-    seed,
-    shape_floor,
-    f_obs,
-    pin_tolerance=PIN_TOLERANCE,
-    inner: list[CompareRow] = (),
-) -> CompareRow:
-    t0 = time.perf_counter()
-    problem = build_problem(
+def row_problem(spec, shape, units: Units, shape_floor: float = SHAPE_FLOOR) -> Problem:
+    """The inverse problem of one row (a :class:`~axojax.inverse.comparison.mechanisms.Row`)
+    on the observed ``shape`` (a :class:`~axojax.beats.ShapeTarget`)."""
+    return build_problem(
         spec.model,
         spec.params,
         list(spec.targets),
@@ -501,7 +491,25 @@ def _fit_row(
         mechanism=spec.mechanism,
         base=spec.base,
     )
-    candidates = np.vstack([_to_u(problem, hopf_starts(spec)), problem.start_design(SCREEN, seed)])
+
+
+def _fit_row(
+    spec,
+    shape,
+    units,
+    optimiser,
+    starts,
+    seed,
+    shape_floor,
+    f_obs,
+    pin_tolerance=PIN_TOLERANCE,
+    inner: list[CompareRow] = (),
+) -> CompareRow:
+    t0 = time.perf_counter()
+    problem = row_problem(spec, shape, units, shape_floor)
+    candidates = np.vstack(
+        [values_to_u(problem, hopf_starts(spec)), problem.start_design(SCREEN, seed)]
+    )
     preferred = np.vstack(
         [
             nested_starts(problem, spec, list(inner)),
@@ -553,7 +561,7 @@ def _physical_stderr(r: CompareRow, units: Units) -> dict[str, float | None]:
     where the data do not determine a value, None if it cannot be computed."""
     p = r.problem
     try:
-        u = _to_u(p, np.array([[r.fit.params[n] for n in p.names]]))[0]
+        u = values_to_u(p, np.array([[r.fit.params[n] for n in p.names]]))[0]
         sd = r.laplace(jacobian=p.evaluate(u)["J"]).sd()
     except (ValueError, np.linalg.LinAlgError, KeyError):
         return {k: None for k in r.physical}

@@ -61,7 +61,7 @@ def screened_starts(problem: Problem, candidates: np.ndarray, n: int) -> np.ndar
     return candidates[order[:n]]
 
 
-def _to_u(problem: Problem, values: np.ndarray) -> np.ndarray:
+def values_to_u(problem: Problem, values: np.ndarray) -> np.ndarray:
     """Values (c, k) of the problem's free parameters -> fitted coordinates u."""
     out = np.array(values, dtype=float)
     for j, p in enumerate(problem.parameters):
@@ -88,7 +88,7 @@ def nested_starts(problem: Problem, spec: Row, inner: list) -> np.ndarray:
         out.append([r.params.get(n, floor.get(n, 0.0)) for n in problem.names])
     if not out:
         return np.zeros((0, len(problem.names)))
-    return _to_u(problem, np.array(out, dtype=float))
+    return values_to_u(problem, np.array(out, dtype=float))
 
 
 # -- exact Hopf points: starts of a regulated row ------------------------------------------
