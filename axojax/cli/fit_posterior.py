@@ -1,7 +1,8 @@
 """``axojax fit --posterior``: the flags of the posterior that follows a fit
-(``--posterior``, ``--chains``, ``--warmup``, ``--along``), their checks, and the run of
-:func:`axojax.inverse.posterior` from the fit's optimum (with the warm-state cache when
-the compilation cache is on, the Laplace approximation printed first)."""
+(``--posterior``, ``--chains``, ``--warmup``, ``--along``, ``--sampler``), their checks,
+and the run of :func:`axojax.inverse.posterior`: NUTS from the fit's optimum (with the
+warm-state cache when the compilation cache is on, the Laplace approximation printed
+first), or ``--sampler smc``: independent SMC runs from the prior."""
 
 from __future__ import annotations
 
@@ -11,7 +12,7 @@ import warnings
 
 from .._progress import stage
 from ..cache import WARM_SUBDIR, compilation_cache_dir
-from ..inverse import ProfileTransport, posterior, suggest_transport
+from ..inverse import SMC, ProfileTransport, posterior, suggest_transport
 from . import common
 from .fit_text import render_laplace
 
@@ -58,7 +59,13 @@ def check_arguments(args: argparse.Namespace) -> None:
             raise common.CLIError("--warmup: applies to the posterior; add --posterior DRAWS")
         if args.along is not None:
             raise common.CLIError("--along: applies to the posterior; add --posterior DRAWS")
+        if args.sampler != "nuts":
+            raise common.CLIError("--sampler: applies to the posterior; add --posterior DRAWS")
         return
+    if args.sampler == "smc":
+        for flag, value in (("--warmup", args.warmup), ("--along", args.along)):
+            if value is not None:
+                raise common.CLIError(f"{flag}: applies to NUTS, not to --sampler smc")
     if args.warmup is not None and not MIN_WARMUP <= args.warmup <= MAX_DRAWS:
         raise common.CLIError(
             f"--warmup: steps per chain must be in {MIN_WARMUP}..{MAX_DRAWS}, got {args.warmup}"
@@ -113,6 +120,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "whitening, if any (axojax.inverse.suggest_transport); 'none': plain NUTS in whitened "
         "coordinates",
     )
+    parser.add_argument(
+        "--sampler",
+        choices=("nuts", "smc"),
+        default="nuts",
+        help="with --posterior: 'nuts' (default): NUTS chains from the optimum; 'smc': adaptive "
+        "tempered sequential Monte Carlo from the prior (axojax.inverse.SMC), --chains independent "
+        "runs of DRAWS particles each, for posteriors with several modes (as many targets as free "
+        "parameters) or cliffs where the dominant eigenmode changes; no gradients, several times "
+        "more evaluations per effective draw than NUTS on one smooth mode (docs/fitting.md)",
+    )
 
 
 AUTO = "auto"
@@ -145,6 +162,8 @@ def sample(
     """The posterior of ``problem`` from the fit ``result``'s optimum (``--posterior``),
     along ``transport`` (:func:`transport_of`; :data:`AUTO`: :func:`suggest_transport` of
     the fit); its warnings (R-hat, ESS, divergences) one line each on stderr."""
+    if args.sampler == "smc":
+        return _sample_smc(args, problem, progress)
     if transport == AUTO:
         with stage("posterior coordinates (profiles)", enable=progress):
             transport = suggest_transport(problem, result)
@@ -167,6 +186,22 @@ def sample(
     except ValueError as err:
         raise common.CLIError(f"--posterior: {err}") from None
     for w in caught:  # R-hat, ESS and divergence warnings: one line each on stderr
+        print(f"axojax: fit: posterior: {w.message}", file=sys.stderr)
+    return post
+
+
+def _sample_smc(args: argparse.Namespace, problem, progress: bool):
+    """``--sampler smc``: ``--chains`` SMC runs of ``--posterior`` particles each, from the
+    prior; the warnings one line each on stderr."""
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            post = posterior(
+                problem, draws=args.posterior, chains=args.chains, sampler=SMC(), progress=progress
+            )
+    except ValueError as err:
+        raise common.CLIError(f"--posterior: {err}") from None
+    for w in caught:
         print(f"axojax: fit: posterior: {w.message}", file=sys.stderr)
     return post
 

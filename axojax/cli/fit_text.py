@@ -90,7 +90,13 @@ def _render_posterior(post: dict | None) -> list[str]:
             f"{post['q95'][k]:12.5g}  {post['rhat'][k]:6.3f}  {post['ess'][k]:7.0f}  "
             f"{_num(ratio.get(k)):>10s}"
         )
-    if post.get("gradients_per_draw") is not None:
+    if post.get("sampler") == "smc":
+        lines.append(
+            f"SMC: {post['chains']} independent runs from the prior, tempering stages "
+            f"{', '.join(map(str, post['tempering_stages']))}; {post['gradients']} log-density "
+            f"evaluations ({post['gradients_per_ess']:.1f} per effective draw)"
+        )
+    elif post.get("gradients_per_draw") is not None:
         lines.append(
             f"NUTS: mean tree depth {post['tree_depth']:.2f} (limit {post['max_num_doublings']}, "
             f"reached in {100 * post['tree_depth_saturated']:.0f} % of draws), "
