@@ -30,7 +30,7 @@ import numpy as np
 
 from ..units import Flagellum
 from ..waveform import FourierModes
-from ..waveform.measures import finite_or_none
+from ..waveform.measures import amplitude_dip, finite_or_none, is_sensitive
 from . import reduction
 from .bundled import flagellum_of, resolve
 from .readers import RawBeat, fail, read_file
@@ -136,20 +136,27 @@ class BeatData:
     def components(self) -> list[dict]:
         """Measures of each reduced component (``"in_plane"``, and ``"out_of_plane"`` for a
         non-planar 3D beat): ``{"name", "wavelength_um" (None: standing),
-        "wavenumber_rad_per_um", "dynamic_amplitude_rad"}``, each by
-        :mod:`axojax.waveform.measures` (the functions of the in-plane properties)."""
+        "wavenumber_rad_per_um", "dynamic_amplitude_rad", "amplitude_dip",
+        "wavelength_sensitive"}``, each by :mod:`axojax.waveform.measures` (the functions of
+        the in-plane properties; the dip of psi_1 at the samples, sensitive below
+        ``SENSITIVE_DIP`` and only with a wavelength)."""
         comps = [("in_plane", self.modes)]
         if self.out_of_plane is not None:
             comps.append(("out_of_plane", self.out_of_plane[0]))
-        return [
-            {
-                "name": name,
-                "wavelength_um": finite_or_none(m.wavelength),
-                "wavenumber_rad_per_um": float(m.wavenumber),
-                "dynamic_amplitude_rad": float(m.dynamic_amplitude),
-            }
-            for name, m in comps
-        ]
+        out = []
+        for name, m in comps:
+            wl, dip = finite_or_none(m.wavelength), float(amplitude_dip(m.s, m.psi1))
+            out.append(
+                {
+                    "name": name,
+                    "wavelength_um": wl,
+                    "wavenumber_rad_per_um": float(m.wavenumber),
+                    "dynamic_amplitude_rad": float(m.dynamic_amplitude),
+                    "amplitude_dip": dip,
+                    "wavelength_sensitive": wl is not None and is_sensitive(dip),
+                }
+            )
+        return out
 
     def exclude_base(self, um: float) -> BeatData:
         """The same beat without its basal stretch s < ``um`` (arc lengths stay measured
@@ -231,8 +238,9 @@ class BeatData:
     def summary(self) -> dict:
         """What ``axojax data --json`` prints (keys in docs/interface.md, plus extras).
         ``wavelength_um``, ``dynamic_amplitude_rad`` and ``static_curvature_rad_per_um`` are
-        the in-plane component's; ``components`` lists every component's
-        (:attr:`components`)."""
+        the in-plane component's, as are ``amplitude_dip`` and ``wavelength_sensitive``;
+        ``components`` lists every component's (:attr:`components`)."""
+        comps = self.components
         return {
             "file": self.source,
             "kind": self.kind,
@@ -243,8 +251,10 @@ class BeatData:
             "static_curvature_rad_per_um": self.static_curvature_rad_per_um,
             "static_curvature_noise_rad_per_um": self.static_curvature_noise_rad_per_um,
             "dynamic_amplitude_rad": self.dynamic_amplitude_rad,
+            "amplitude_dip": comps[0]["amplitude_dip"],
+            "wavelength_sensitive": comps[0]["wavelength_sensitive"],
             "direction": self.direction,
-            "components": self.components,
+            "components": comps,
             "planarity": None if self.planarity is None else self.planarity.as_dict(),
             "n_points": int(self.s_um.size),
             "frames": None if self.t_s is None else int(self.t_s.size),

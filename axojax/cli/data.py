@@ -10,7 +10,10 @@ centreline without either length uses the median measured arc length of its fram
 
 JSON: the keys of docs/interface.md (``file``, ``kind``, ``length_um``, ``frequency_hz``,
 ``frequency_sigma_hz``, ``wavelength_um``, ``static_curvature_rad_per_um``,
-``dynamic_amplitude_rad``, ``planarity``) plus ``n_points``, ``frames``, ``cycles``,
+``dynamic_amplitude_rad``, ``planarity``) plus ``amplitude_dip`` (min / max of |psi_1|
+over the middle 80 % of the length, at the samples), ``wavelength_sensitive`` (true below
+0.1 with a wavelength: a near-node of psi_1 where the phase turns fast; the text adds a
+note after the wavelength), ``n_points``, ``frames``, ``cycles``,
 ``psi1_sigma_rad`` (min/median/max), ``floors``, ``excluded_base_um``,
 ``published_frequency_hz``, ``notes`` (what the reduction decided, in words),
 ``direction`` (``anterograde``: base to tip, ``retrograde`` or null: standing),
@@ -21,9 +24,10 @@ one line ``axojax: data: warning: ...`` on stderr).
 "ratios": {"s2_over_s1", "s3_over_s1", "s3_over_s2"}, "threshold", "planar", "treatment",
 "frame", "frame_ratio"}`` (``frame``: the beat frame's axes ``{"e1", "e2", "e3"}`` of a
 non-planar beat, else null; :mod:`axojax.beats.reduction`). ``wavelength_um``,
-``static_curvature_rad_per_um`` and ``dynamic_amplitude_rad`` are the in-plane
-component's; ``components`` lists ``{"name", "wavelength_um", "wavenumber_rad_per_um",
-"dynamic_amplitude_rad"}`` of every reduced component (``in_plane``, and ``out_of_plane``
+``static_curvature_rad_per_um``, ``dynamic_amplitude_rad``, ``amplitude_dip`` and
+``wavelength_sensitive`` are the in-plane component's; ``components`` lists ``{"name",
+"wavelength_um", "wavenumber_rad_per_um", "dynamic_amplitude_rad", "amplitude_dip",
+"wavelength_sensitive"}`` of every reduced component (``in_plane``, and ``out_of_plane``
 for a non-planar 3D beat). A frequency the file cannot give (a Fourier-mode file
 without one) is null.
 """
@@ -37,7 +41,7 @@ import warnings
 
 from .. import _io
 from ..beats.data import BeatDataWarning, read_beat
-from ..waveform.measures import wavelength_text
+from ..waveform.measures import sensitive_note, wavelength_text
 from . import common
 
 
@@ -204,9 +208,14 @@ def _component_lines(components: list[dict]) -> list[str]:
         return []
     return [
         f"  {c['name'].replace('_', '-'):17s} wavelength {wavelength_text(c['wavelength_um'])},"
-        f" dynamic amplitude {_num(c['dynamic_amplitude_rad'], '.4g', 'rad')}"
+        f" dynamic amplitude {_num(c['dynamic_amplitude_rad'], '.4g', 'rad')}" + _note(c)
         for c in components
     ]
+
+
+def _note(d: dict) -> str:
+    """The note after a sensitive wavelength (``""`` for none, or a report without the key)."""
+    return sensitive_note(d.get("amplitude_dip") if d.get("wavelength_sensitive") else None)
 
 
 def _static_curvature(doc: dict) -> str:
@@ -243,7 +252,8 @@ def render(doc: dict) -> str:
         f"  length            {_num(doc['length_um'], '.4g', 'um')}",
         f"  frequency         {freq}",
         f"  wavelength        {wavelength_text(doc['wavelength_um'])}"
-        + (" (in-plane component)" if len(doc.get("components", [])) > 1 else ""),
+        + (" (in-plane component)" if len(doc.get("components", [])) > 1 else "")
+        + _note(doc),
         f"  direction         {DIRECTIONS.get(doc.get('direction'), doc.get('direction'))}",
         f"  static curvature  {_static_curvature(doc)}",
         f"  dynamic amplitude {_num(doc['dynamic_amplitude_rad'], '.4g', 'rad')}",

@@ -1,5 +1,8 @@
 """``axojax orbit``: the limit cycle computed directly, or its branch in p from the Hopf
-point (harmonic balance, Newton, Floquet multipliers; :mod:`axojax.orbits`)."""
+point (harmonic balance, Newton, Floquet multipliers; :mod:`axojax.orbits`). Each orbit's
+report adds ``amplitude_dip`` and ``wavelength_sensitive`` of its psi_1
+(:meth:`axojax.orbits.CycleMeasures.scalars`, at the 41 points of its other measures); the
+text notes a sensitive wavelength at the end of its row."""
 
 from __future__ import annotations
 
@@ -11,7 +14,7 @@ import numpy as np
 
 from .. import _io
 from ..params import DEFAULT_CUBIC, Params
-from ..waveform.measures import wavelength_text
+from ..waveform.measures import sensitive_note, wavelength_text
 from . import common
 from .simulate import MAX_CUBIC
 
@@ -41,6 +44,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="FIGURE.png",
         help="figure: the branch (amplitude, frequency, stability against p) or the single orbit's waveform",
     )
+
+
+SENSITIVITY = ("amplitude_dip", "wavelength_sensitive")
+
+
+def _sensitivity(cycle, units) -> dict:
+    """``amplitude_dip`` and ``wavelength_sensitive`` of an orbit's psi_1 (the default
+    arc lengths of :func:`axojax.orbits.cycle_measures`, as its report's other measures)."""
+    from ..orbits.measures import cycle_measures
+
+    scalars = cycle_measures(cycle, None, units).scalars()
+    return {k: scalars[k] for k in SENSITIVITY}
 
 
 def run(args: argparse.Namespace) -> dict:
@@ -97,7 +112,7 @@ def run(args: argparse.Namespace) -> dict:
             cycle = limit_cycle(model, params, args.cubic, solver=solver, throw=True)
         except ValueError as err:
             raise common.CLIError(f"--p: {err}") from None
-        report = {"p": float(params.p), **cycle.to_json(units)}
+        report = {"p": float(params.p), **cycle.to_json(units), **_sensitivity(cycle, units)}
         if args.out is not None:
             Branch(
                 np.array([float(params.p)]),
@@ -123,7 +138,11 @@ def run(args: argparse.Namespace) -> dict:
 
         bar = tqdm(total=len(p_values), desc="orbits", unit="p")
 
+    flags = {}  # p -> the orbit's sensitivity (the branch keeps summaries, not orbits)
+
     def progress(p, cyc):
+        if cyc is not None:
+            flags[float(p)] = _sensitivity(cyc, units)
         if bar is not None:
             bar.update(1)
             bar.set_postfix_str(
@@ -140,6 +159,9 @@ def run(args: argparse.Namespace) -> dict:
     finally:
         if bar is not None:
             bar.close()
+    for c in result.cycles:
+        if c is not None:
+            c.update(flags.get(c["p"], {}))
     if args.out is not None:
         result.save(args.out)  # written whole (axojax._io)
     if args.plot is not None:
@@ -177,6 +199,7 @@ def render(doc: dict) -> str:
             f"{o['tip_amplitude_um']:12.4f}  "
             f"{wavelength_text(o['wavelength_um'], '.3f', ''):>15s}  {second:8.4f}  "
             f"{o['stable']}"
+            + sensitive_note(o.get("amplitude_dip") if o.get("wavelength_sensitive") else None)
         )
     if doc.get("missing"):
         lines.append("no orbit at p = " + ", ".join(f"{p:g}" for p in doc["missing"]))

@@ -10,7 +10,7 @@ from .. import _io
 from ..dynamics import simulate
 from ..dynamics.simulate import MIN_STEPS, STEPS_PER_PERIOD, check_inputs
 from ..params import DEFAULT_CUBIC
-from ..waveform.measures import wavelength_text
+from ..waveform.measures import sensitive_note, wavelength_text
 from . import common
 
 MAX_STEPS = 100_000_000
@@ -174,5 +174,6 @@ def render(doc: dict) -> str:
             f"waveform: wavelength {wavelength_text(w.get('wavelength_um'), '.3f')}, static "
             f"curvature {w['static_curvature_rad_per_um']:.4f} rad/um, dynamic amplitude "
             f"{w['dynamic_amplitude_rad']:.3f} rad"
+            + sensitive_note(w.get("amplitude_dip") if w.get("wavelength_sensitive") else None)
         )
     return "\n".join(lines)

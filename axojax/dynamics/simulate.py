@@ -20,7 +20,7 @@ from ..params import DEFAULT_CUBIC, Params
 from ..results import RESULTS
 from ..units import Units
 from ..waveform import FourierModes, fourier_modes
-from ..waveform.measures import along, finite_or_none
+from ..waveform.measures import along, amplitude_dip, finite_or_none, is_sensitive
 from ..waveform.shapes import centreline
 from ..well_posed import require_passive_friction
 from .analysis import classify_trajectory
@@ -67,10 +67,11 @@ class Simulation:
         limit_cycle: on a limit cycle: ``frequency_hz``, ``period_s``, ``tip_amplitude_um``
             (half peak-to-peak along the beat direction), ``wavelength_um`` (None for a
             standing wave), ``direction`` (``anterograde``, ``retrograde`` or None),
-            ``static_curvature_rad_per_um``, ``dynamic_amplitude_rad`` (the measures of
+            ``static_curvature_rad_per_um``, ``dynamic_amplitude_rad``,
+            ``amplitude_dip`` and ``wavelength_sensitive`` (the measures of
             :mod:`axojax.waveform.measures` on psi_0, psi_1 of the last
-            ``MEASURE_PERIODS`` whole periods at the ``n_points`` saved points); otherwise
-            None.
+            ``MEASURE_PERIODS`` whole periods at the ``n_points`` saved points:
+            :func:`waveform_measures`); otherwise None.
         linear: dominant eigenvalue at the same parameters: ``frequency_hz``,
             ``growth_rate_per_s``, ``classification``.
         meta: parameters, cubic coefficient, units, model, solver statistics
@@ -252,6 +253,22 @@ def settled_modes(t: np.ndarray, s: np.ndarray, psi: np.ndarray, period: float) 
     return fourier_modes(t[late], s, psi[late], period)
 
 
+def waveform_measures(modes: FourierModes) -> dict[str, Any]:
+    """The waveform measures of a settled beat's psi_0, psi_1 (s in um): wavelength (None
+    for a standing wave), direction, static curvature, dynamic amplitude, and the
+    ``amplitude_dip`` of psi_1 with ``wavelength_sensitive`` (a wavelength and a dip below
+    ``SENSITIVE_DIP``: a near-node of psi_1, where the phase turns fast)."""
+    wavelength, dip = finite_or_none(modes.wavelength), float(amplitude_dip(modes.s, modes.psi1))
+    return {
+        "wavelength_um": wavelength,
+        "direction": {1: "anterograde", -1: "retrograde"}.get(modes.direction),
+        "static_curvature_rad_per_um": modes.static_curvature,
+        "dynamic_amplitude_rad": modes.dynamic_amplitude,
+        "amplitude_dip": dip,
+        "wavelength_sensitive": wavelength is not None and is_sensitive(dip),
+    }
+
+
 RTOL_RANGE = (1e-12, 1e-1)
 """Accepted relative tolerances of the time integration."""
 MIN_T_END_S = 1e-9
@@ -427,10 +444,7 @@ def simulate(
             "frequency_hz": 1.0 / (period * tau),
             "period_s": period * tau,
             "tip_amplitude_um": float(cycles.amplitudes[-1]) * units.length_um,
-            "wavelength_um": finite_or_none(modes.wavelength),
-            "direction": {1: "anterograde", -1: "retrograde"}.get(modes.direction),
-            "static_curvature_rad_per_um": modes.static_curvature,
-            "dynamic_amplitude_rad": modes.dynamic_amplitude,
+            **waveform_measures(modes),
             "cycles": cycles.count,
         }
     at_rest = None

@@ -10,7 +10,9 @@ simulate``; Geyer et al.'s measures, which the paper uses in section 3.7.1):
 - wavelength: 2 pi / |k|, k the least-squares slope of psi_1(s)'s unwrapped phase (um);
 
 and here also the tip amplitude (half peak-to-peak along the beat direction, um), the
-frequency (Hz) and the out-of-plane measure (minor / major axis of the tip trace).
+frequency (Hz) and the out-of-plane measure (minor / major axis of the tip trace), and
+the amplitude dip of psi_1 at the arc lengths (min / max |psi_1| over the middle 80 %:
+below ``SENSITIVE_DIP`` the wavelength is sensitive, :mod:`axojax.waveform.measures`).
 
 For a limit cycle, psi is the small-angle tangent angle of the mean centreline (the
 x-derivative of the filaments' mean displacement, docs/model.md) along the beat
@@ -76,7 +78,8 @@ class CycleMeasures(eqx.Module):
         frequency_hz, tip_amplitude_um, wavelength_um (the orbit's: inf for a standing
             wave),
         static_curvature_rad_per_um, dynamic_amplitude_rad, out_of_plane (minor / major
-        axis of the tip trace).
+        axis of the tip trace), amplitude_dip (min / max |psi_1| over the middle 80 % of
+        ``s_um``; not a fit target, so not in ``SCALARS``).
     """
 
     s_um: Float[Array, " S"]
@@ -88,6 +91,7 @@ class CycleMeasures(eqx.Module):
     static_curvature_rad_per_um: Float[Array, ""]
     dynamic_amplitude_rad: Float[Array, ""]
     out_of_plane: Float[Array, ""]
+    amplitude_dip: Float[Array, ""]
 
     SCALARS = (
         "frequency_hz",
@@ -98,9 +102,13 @@ class CycleMeasures(eqx.Module):
         "out_of_plane",
     )
 
-    def scalars(self) -> dict[str, float]:
-        """The scalar measures as Python floats."""
-        return {k: float(getattr(self, k)) for k in self.SCALARS}
+    def scalars(self) -> dict[str, float | bool]:
+        """The scalar measures as Python floats, with ``amplitude_dip`` and
+        ``wavelength_sensitive`` (the dip below ``SENSITIVE_DIP``, for a travelling wave)."""
+        out = {k: float(getattr(self, k)) for k in self.SCALARS}
+        dip = float(self.amplitude_dip)
+        sensitive = bool(np.isfinite(out["wavelength_um"])) and wm.is_sensitive(dip)
+        return out | {"amplitude_dip": dip, "wavelength_sensitive": sensitive}
 
 
 def cycle_measures(
@@ -119,4 +127,5 @@ def cycle_measures(
         static_curvature_rad_per_um=wm.static_curvature(s, psi0),
         dynamic_amplitude_rad=wm.dynamic_amplitude(s, psi1),
         out_of_plane=tip_trace_axes(cycle),
+        amplitude_dip=wm.amplitude_dip(s, psi1),
     )
