@@ -238,3 +238,19 @@ def test_simulate_flags_a_near_node(monkeypatch, capsys, shape, flagged):
     assert main(argv) == 0
     line = next(ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("waveform:"))
     assert (NOTE in line) == flagged
+
+
+def test_fit_reports_the_achieved_modes_dip(capsys):
+    """`axojax fit`: the achieved mode's amplitude_dip in the JSON (the dominant mode's at the
+    fitted values), and the note on the terminal exactly when it is below SENSITIVE_DIP."""
+    argv = ["fit", "--model", "two", "--elements", "6", "--p", "160", "--free", "p"]
+    argv += ["--target-frequency", "20", "--starts", "1"]
+    assert main([*argv, "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    dip = doc["achieved"]["amplitude_dip"]
+    model = ax.models.two(6)
+    mode = ax.dominant_mode(model, ax.Params(p=doc["params"]["p"]))
+    assert dip == pytest.approx(float(mode.amplitude_dip), rel=1e-9)
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert ("sensitive:" in out) == (dip < SENSITIVE_DIP)

@@ -5,6 +5,7 @@ the regime and mesh check, the loss, and the posterior's summary."""
 from __future__ import annotations
 
 from ..inverse.checks import render_checks
+from ..waveform.measures import sensitive_note
 
 
 def render(doc: dict) -> str:
@@ -32,8 +33,10 @@ def render(doc: dict) -> str:
                 if a["wavelength_um"] is None
                 else f"{a['wavelength_um']:.3f} um"
             )
+            dip = a.get("amplitude_dip") if a["wavelength_um"] is not None else None
             lines.append(
                 f"{head}achieved: {a['frequency_hz']:.3f} Hz, wavelength {wl}, growth {a['growth_rate_per_s']:.3f} /s"
+                + sensitive_note(dip)
             )
         if "limit_cycle_frequency_hz" in a:
             f, amp, wl = (

@@ -487,6 +487,7 @@ class Problem:
                 )  # else no wavelength, as `axojax modes` says (NaN -> null)
                 for k in ("wavelength_um", "velocity_um_per_s"):
                     achieved[k] = jnp.where(travels, achieved[k], jnp.nan)
+                achieved["amplitude_dip"] = modes[i].amplitude_dip  # the wavelength's sensitivity
                 d["achieved"] = achieved
                 shape = self.conditions[i].shape
                 if shape is not None:
