@@ -93,9 +93,10 @@ class CompareRow:
         at_bound: fitted values at a bound.
         optima (JSON only): the distinct points its starts stopped at, best first, with
             their losses (:func:`axojax.inverse.verdicts.distinct_optima`).
-        contains: the rows of the comparison this one contains ("mechanism/base",
+        contains: the rows this one contains ("mechanism/base",
             :func:`~axojax.inverse.comparison.mechanisms.contained`): it started from
-            their optima too, so it fits at least as well as each.
+            their optima too, so it fits at least as well as each (they are fitted
+            first even when not asked for, and then not ranked).
         psi1_model: (S,) complex: the fitted psi_1 (rad) at the data's s.
         fit: the row's full :class:`~axojax.inverse.FitResult`.
         problem: the row's :class:`~axojax.inverse.Problem` (not in the JSON), e.g. for
@@ -196,6 +197,8 @@ class Comparison:
         units_source: where ``units`` came from (given, the data set's flagellum, or
             axojax's defaults), in words.
         rows: :class:`CompareRow` s ordered by BIC.
+        auxiliary: rows not asked for but contained in asked ones, fitted only for their
+            optima (the JSON's ``auxiliary_rows``: names, values, R^2, status; not ranked).
         wall_s: total time (s).
     """
 
@@ -215,6 +218,7 @@ class Comparison:
     psi1_cycles: np.ndarray | None = dataclasses.field(default=None, repr=False)
     psi1_sigma: np.ndarray | None = dataclasses.field(default=None, repr=False)
     frame: str = "lab"
+    auxiliary: list = dataclasses.field(default_factory=list, repr=False)
 
     @property
     def best(self) -> CompareRow:
@@ -245,6 +249,13 @@ class Comparison:
                 "pin_tolerance": self.pin_tolerance,
                 "shape_floor_rad": self.shape_floor,
                 "rows": [r.to_json() for r in self.rows],
+                "auxiliary_rows": [
+                    {
+                        k: r.to_json()[k]
+                        for k in ("mechanism", "base", "free", "params", "r2", "status")
+                    }
+                    for r in self.auxiliary
+                ],
                 "wall_s": self.wall_s,
             }
         )
@@ -443,7 +454,10 @@ def compare(
     t0 = time.perf_counter()
     rows: list[CompareRow] = []
     fitted: dict[tuple[str, str], CompareRow] = {}
-    combos = nested_order([(m, b) for b in bases for m in mechanisms])
+    asked = [(m, b) for b in bases for m in mechanisms]
+    # the rows each asked row contains are fitted first, for their optima, even when not
+    # asked for (then not ranked): a row's fit must never fall below theirs
+    combos = nested_order(list(dict.fromkeys(c for a in asked for c in [*contained(*a), a])))
     for mech, base in tqdm(combos, desc="compare rows", unit="row", disable=not progress):
         the_model = build_model(model, n_elements, base, units, head, profiles)
         spec = row(mech, base, the_model, units, f_obs, pin_tolerance=pin_tolerance)
@@ -452,7 +466,9 @@ def compare(
             spec, shape, units, optimiser, starts, seed, shape_floor, f_obs, pin_tolerance, inner
         )
         fitted[(mech, base)] = r
-        rows.append(r)
+        if (mech, base) in asked:
+            rows.append(r)
+    auxiliary = [r for c, r in fitted.items() if c not in asked]
     rank(rows)
     return Comparison(
         data=beat.summary(),
@@ -471,6 +487,7 @@ def compare(
         psi1_cycles=beat.psi1_cycles,
         psi1_sigma=np.asarray(shape.sigma, dtype=float),
         frame=frame,
+        auxiliary=auxiliary,
     )
 
 
