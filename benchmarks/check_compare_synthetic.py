@@ -3,7 +3,7 @@
 For each organism of :data:`axojax.units.ORGANISMS` (its kappa, xi_n and head) at a typical
 length and frequency, a beat is made with the model: the ``--truth`` row (default
 sliding+curvature on clamped+elastic) at one of its exact Hopf points (drawn with the
-seed), its psi_1 scaled to 0.8 rad at the tip, plus Gaussian noise of 0.02 rad on each of
+seed), its psi_1 scaled to a peak of 0.8 rad, plus Gaussian noise of 0.02 rad on each of
 Re and Im (the file's sigma). Then the default comparison (24 nested rows) runs with
 ``organism=...`` and the script prints, per organism: the truth row's status and R^2, the
 best row, the rows that are not successful, every nesting violation (a row whose R^2 is
@@ -39,7 +39,7 @@ SIZES = {  # typical length (um) and beat frequency (Hz)
     "chlamydomonas": (12.0, 50.0),  # Sartori et al. 2016: about 12 um, 50-70 Hz
 }
 NOISE_RAD = 0.02
-TIP_RAD = 0.8
+PEAK_RAD = 0.8
 
 
 def synthetic_beat(name: str, truth: tuple[str, str], elements: int, rng, folder) -> str:
@@ -55,7 +55,7 @@ def synthetic_beat(name: str, truth: tuple[str, str], elements: int, rng, folder
     points = values_to_u(problem, hopf_starts(spec))
     u = points[rng.integers(len(points))]
     psi1 = np.asarray(problem.evaluate(u)["conditions"][0]["psi1_fit"])
-    psi1 = TIP_RAD * psi1 / abs(psi1[-1])
+    psi1 = PEAK_RAD * psi1 / np.abs(psi1).max()
     psi1 = psi1 + NOISE_RAD * (rng.normal(size=s.size) + 1j * rng.normal(size=s.size))
     path = pathlib.Path(folder) / f"{name}.npz"
     np.savez(
