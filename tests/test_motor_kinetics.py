@@ -237,3 +237,37 @@ def test_refuses_a_bad_tau_and_is_traceable():
 
     grad = jax.grad(lambda t: jnp.trace(assemble_motor(model, params, t).C))(jnp.asarray(0.1))
     assert float(grad) == model.n_unknowns
+
+
+def test_nearest_mode_with_motor_kinetics_is_the_dense_augmented_pencils():
+    """``ax.nearest_mode(..., tau_m=)``: at the Hopf point the same mode as today's (eigenvalue
+    and unit eigenvector, 1e-8); off it the eigenvalue is scipy's nearest of the augmented
+    pencil and its derivative in tau_m matches central differences; dense only."""
+    model, params = ax.models.two(n_elements=8), _sliding_row()
+    w0 = float(params.omega0)
+    old = ax.nearest_mode(model, params, 1j * w0)
+    new = ax.nearest_mode(model, params, 1j * w0, tau_m=1.0 / w0)
+    assert abs(complex(new.eigenvalue) - complex(old.eigenvalue)) <= 1e-8 * w0
+    assert np.abs(np.asarray(new.eigenvector) - np.asarray(old.eigenvector)).max() <= 1e-8
+    off = params.replace(chi_re=1.1 * float(params.chi_re))
+    tau = 0.5 / w0
+    system = assemble_motor(model, off, tau)
+    lam = _spectrum(system.A, system.C)
+    ref = lam[np.argmin(np.abs(lam - 1j * w0))]
+    mode = ax.nearest_mode(model, off, 1j * w0, tau_m=tau)
+    assert abs(complex(mode.eigenvalue) - ref) <= 1e-9 * abs(ref)
+    import jax
+
+    def growth(t):
+        return ax.eigen.nearest.nearest_mode_impl(
+            model, off, 1j * w0, ax.eigen.Dense(), t
+        ).growth_rate
+
+    g = float(jax.grad(growth)(jnp.asarray(tau)))
+    h = 1e-3 * tau
+    fd = (float(growth(jnp.asarray(tau + h))) - float(growth(jnp.asarray(tau - h)))) / (2 * h)
+    assert abs(g - fd) <= 1e-5 * abs(fd), (g, fd)
+    with pytest.raises(ValueError, match="densely"):
+        ax.nearest_mode(model, params, 1j * w0, solver=ax.eigen.Arnoldi(), tau_m=tau)
+    with pytest.raises(ValueError, match="tau_m"):
+        ax.nearest_mode(model, params, 1j * w0, tau_m=-1.0)

@@ -68,7 +68,9 @@ def _nearest_jvp(primals, tangents):
     return eigenpair_jvp(A, C, dA, dC, *_primal(A, C, left=True, select=_select_near(shift)))
 
 
-def nearest_mode_impl(model: Model, params: Params, shift: ArrayLike, solver) -> "Mode":  # noqa: F821
+def nearest_mode_impl(
+    model: Model, params: Params, shift: ArrayLike, solver, tau_m: ArrayLike | None = None
+) -> "Mode":  # noqa: F821
     """:func:`nearest_mode` without its validation and ``jax.jit`` (for code that traces
     it inside its own transformations, e.g. fits)."""
     from .mode import with_result
@@ -77,20 +79,48 @@ def nearest_mode_impl(model: Model, params: Params, shift: ArrayLike, solver) ->
     ok = valid(params)
     if model.base.compliance:  # check_base_params's rule, traceable
         ok = ok & (jnp.asarray(params.xib, dtype=float) > 0)
-    lam, v, certified = solver.nearest(model, params, jnp.asarray(shift, dtype=complex))
+    if tau_m is None:
+        lam, v, certified = solver.nearest(model, params, jnp.asarray(shift, dtype=complex))
+    else:
+        lam, v, certified = _nearest_with_motors(model, params, shift, tau_m)
+        ok = ok & (jnp.asarray(tau_m, dtype=float) > 0)
     return with_result(model, lam, v, certified, ok)
+
+
+def _nearest_with_motors(
+    model: Model, params: Params, shift: ArrayLike, tau_m: ArrayLike
+) -> tuple[Complex[Array, ""], Complex[Array, " n"], Float[Array, ""]]:
+    """The dense eigenpair nearest ``shift`` of the pencil with motor kinetics
+    (:func:`axojax.assembly.motor_kinetics.assemble_motor`, 2 N unknowns), its eigenvector
+    restricted to the model's N unknowns (the motor copy y = q / (1 + tau_m lambda) dropped)
+    and normalised as the dense solver's."""
+    from ..assembly.motor_kinetics import assemble_motor
+    from .dominant import normalise
+
+    system = assemble_motor(model, params, tau_m)
+    lam, v = nearest_eigenpair(system.A, system.C, jnp.asarray(shift, dtype=complex))
+    return lam, normalise(v[: system.n]), jnp.ones((), float)
 
 
 _nearest_mode_jit = jax.jit(nearest_mode_impl, static_argnums=(0, 3))
 
 
-def nearest_mode(model: Model, params: Params, shift: ArrayLike, solver=None) -> "Mode":  # noqa: F821
+def nearest_mode(
+    model: Model, params: Params, shift: ArrayLike, solver=None, tau_m: ArrayLike | None = None
+) -> "Mode":  # noqa: F821
     """The mode whose eigenvalue is nearest ``shift`` (dimensionless, 1/tau; e.g.
     ``1j * params.omega0`` for the beat of a regulated mechanism).
 
     Like :func:`axojax.dominant_mode` (validation, ``jit``, ``vmap``, ``grad``) except for
     the selection; ``mode.certified`` says whether the solver certified that no eigenvalue
     lies nearer the shift. ``solver`` defaults to :class:`~axojax.eigen.Dense`.
+
+    ``tau_m`` (dimensionless, in tau; > 0): motor kinetics of that relaxation time instead
+    of the regulated friction (:mod:`axojax.assembly.motor_kinetics`, docs/model.md
+    section 8): the same eigenvalue and psi_1 where i omega0 is one, a bounded spectrum
+    with active friction. **Dense solves only** (the (2N, 2N) augmented pencil): with
+    ``tau_m`` the solver must be :class:`~axojax.eigen.Dense` (or None). None (default):
+    today's friction form, unchanged.
     """
     from .solvers import AbstractEigenSolver, Dense
 
@@ -99,4 +129,13 @@ def nearest_mode(model: Model, params: Params, shift: ArrayLike, solver=None) ->
         raise TypeError(f"solver must be an axojax eigen-solver, got {solver!r}")
     require_scalars(params, "nearest_mode")
     shift = complex(shift) if not isinstance(shift, jax.core.Tracer) else shift
-    return _nearest_mode_jit(model, params.validate(), shift, solver)
+    if tau_m is None:
+        return _nearest_mode_jit(model, params.validate(), shift, solver)
+    if type(solver) is not Dense:
+        raise ValueError(
+            f"motor kinetics (tau_m) is solved densely only: pass solver=Dense() or none, got {solver!r}"
+        )
+    from ..assembly.motor_kinetics import check_tau_m
+
+    check_tau_m(params, tau_m)
+    return _nearest_mode_jit(model, params.validate(), shift, solver, tau_m)
