@@ -238,11 +238,13 @@ ORGANISMS: dict[str, Organism] = {
             Flagellum(
                 1700.0,
                 3.4e-3,
-                "kappa: Riedel-Kruse et al., HFSP J 1:192 (2007), their bull sperm fit; xi_n 3.4e-3 "
-                "pN s/um^2: the value used with that fit in issue 45 (to be confirmed against the paper)",
+                "kappa 1700 pN um^2 and xi_n 3.4e-3 pN s/um^2: Riedel-Kruse et al., HFSP J 1:192 "
+                "(2007), as their fitting code states them (JHowardLab/AxonemeFits, parameters.m: "
+                "defBendingRigidity = 1700, defNormalFriction = 0.0034, the bull sperm example)",
             ),
-            (4.5, 2.25),
-            "a bull sperm head, a paddle about 9 x 4.5 um taken as a prolate ellipsoid (to be confirmed)",
+            (4.75, 2.35),
+            "a bull sperm head, a flat paddle 9.53 x 4.73 um (major, minor axis; 1219 sperm of two "
+            "Jersey bulls, Asian J. Anim. Vet. Adv. 2:196 (2007)) taken as a prolate ellipsoid",
         ),
         Organism(
             "sea_urchin_sperm",
@@ -258,13 +260,15 @@ ORGANISMS: dict[str, Organism] = {
         Organism(
             "chlamydomonas",
             Flagellum(
-                400.0,
-                3.4e-3,
-                "kappa 400 pN um^2 and xi_n 3.4e-3 pN s/um^2: the values of issue 45's Chlamydomonas "
-                "check, in the range of Sartori et al., eLife 5:e13258 (2016) (to be confirmed)",
+                580.0,
+                4.9e-3,
+                "Sartori et al., eLife 5:e13258 (2016), appendix 5: 'a bending rigidity of 580 pN um^2' "
+                "and 'xi_n ~ 0.0049 pN s um^-2' (water at 24 C, 0.55 um above the surface); their "
+                "code's Chlamydomonas examples use 400 pN um^2 and 3.4e-3",
             ),
             (5.0, 4.0),
-            "a Chlamydomonas cell body, about 10 x 8 um (to be confirmed)",
+            "a Chlamydomonas cell body, about 10 um across (Nikon MicroscopyU: 'typically only ten "
+            "microns in diameter'), 10 x 8 um taken (to be confirmed against a primary source)",
         ),
     )
 }

@@ -1,4 +1,4 @@
-"""Motor kinetics (docs/model.md and MODEL.md section 8, issue 47 item 1): a well-posed time
+"""Motor kinetics (docs/model.md section 8, issue 47 item 1): a well-posed time
 domain for an active friction (chi'' < 0 or beta'' < 0).
 
 Today's regulated dynein responds to a pair's sliding Delta_a as chi' Delta_a +
