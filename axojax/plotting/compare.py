@@ -11,12 +11,15 @@ which a linear mode does not predict).
 
 from __future__ import annotations
 
+import textwrap
+
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from ..inverse.comparison.table import physical_text
 from ..inverse.comparison.verdict import mark, verdict
 from .fit_report import _centrelines
 
@@ -72,10 +75,14 @@ def plot_comparison(doc: dict):
     amp.legend(fontsize=7, loc="best")
     model = doc.get("model", {})
     v = doc.get("verdict") or verdict(doc)
+    width = int(8 * fig.get_figwidth())  # characters of the title font across the figure
+    lines = [f"verdict: {v['text']}"]
+    if rows:
+        lines.append(f"{rows[0]['mechanism']} on {rows[0]['base']}: {physical_text(rows[0])}")
     fig.suptitle(
         f"mechanisms on {data.get('file', 'the beat')}: {data.get('frequency_hz', float('nan')):.4g} Hz, "
         f"model {model.get('preset', '?')} ({model.get('elements', '?')} elements), rows by BIC\n"
-        f"verdict: {v['text']}"
+        + "\n".join(textwrap.fill(line, width) for line in lines)
     )
     shapes = [("observed", obs, "k")] + [
         (f"{mark(r) + ' ' if mark(r) else ''}{r['mechanism']}\n{r['base']}", f, colours(i % 10))

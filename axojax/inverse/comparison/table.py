@@ -113,26 +113,28 @@ def _pm(value: float | None, se: float | None) -> str:
     return f"{value:.3g} +- {se:.2g}"
 
 
+def physical_text(row: dict[str, Any]) -> str:
+    """One row's fitted values in physical units with standard errors, on one line
+    ("chi' -124 +- 5.2 pN/um^2; ..."; ``-`` when it has none)."""
+    phys, se = row.get("physical") or {}, row.get("physical_stderr") or {}
+    parts = []
+    for key in PARAM_ORDER:
+        if key in phys:
+            label, unit = PARAM_UNITS[key]
+            parts.append(f"{label} {_pm(phys[key], se.get(key))}" + (f" {unit}" if unit else ""))
+    return "; ".join(parts) or "-"
+
+
 def render_params(doc: dict[str, Any]) -> str:
     """Every row's fitted values in physical units with standard errors (the row's
     Laplace approximation; ``?`` where the data do not determine a value), rows in the
     table's order (``axojax compare --params``)."""
     lines = ["fitted values (physical units) +- standard error, rows as ranked above:"]
     for i, r in enumerate(doc["rows"], 1):
-        phys, se = r.get("physical") or {}, r.get("physical_stderr") or {}
-        parts = []
-        for key in PARAM_ORDER:
-            if key in phys:
-                label, unit = PARAM_UNITS[key]
-                parts.append(
-                    f"{label} {_pm(phys[key], se.get(key))}" + (f" {unit}" if unit else "")
-                )
-        lines.append(
-            f"{i:>4}{mark(r):<4} {r['mechanism']} on {r['base']}: " + ("; ".join(parts) or "-")
-        )
+        lines.append(f"{i:>4}{mark(r):<4} {r['mechanism']} on {r['base']}: " + physical_text(r))
     lines.append(
         "chi = chi' + i chi'' (sliding control), beta = beta' + i beta'' (curvature control), "
-        "p the steady dynein load, k_b + i omega xi_b the basal compliance, k_l and c_l the "
+        "p the steady dynein load, 1/k_b and xi_b the basal compliance and friction, k_l and c_l the "
         "links' stiffness and damping (docs/mechanisms.md); ? = not determined by the data"
     )
     return "\n".join(lines)
