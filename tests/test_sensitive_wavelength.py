@@ -17,6 +17,7 @@ import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from test_compare import fourier_file as write_fourier_file
 
 import axojax as ax
 import axojax.orbits
@@ -54,18 +55,7 @@ def reference_dip(s, psi1):
 def fourier_file(path, psi1_of):
     x = np.linspace(0.0, 1.0, 41)
     psi1 = psi1_of(x)
-    np.savez(
-        path,
-        s_um=x * L_UM,
-        psi0_rad=np.zeros_like(x),
-        psi1_re_rad=psi1.real,
-        psi1_im_rad=psi1.imag,
-        psi1_sigma_rad=np.full_like(x, 0.01),
-        length_um=L_UM,
-        frequency_hz=F_HZ,
-        frequency_sigma_hz=0.01 * F_HZ,
-    )
-    return str(path), x * L_UM, psi1
+    return write_fourier_file(path, x, psi1, L_UM, F_HZ), x * L_UM, psi1
 
 
 @pytest.mark.parametrize("shape,flagged", [(node, True), (smooth, False)], ids=["node", "smooth"])
