@@ -26,11 +26,7 @@ import warnings
 import numpy as np
 
 import axojax as ax
-from axojax.beats import ShapeTarget
-from axojax.inverse.comparison.compare import row_problem
-from axojax.inverse.comparison.mechanisms import build_model, row
-from axojax.inverse.comparison.starts import hopf_starts, values_to_u
-from axojax.units import ORGANISMS
+from axojax.inverse.comparison.synthetic import synthetic_beat
 
 SIZES = {  # typical length (um) and beat frequency (Hz)
     "human_sperm": (46.0, 10.0),  # the bundled beat's
@@ -38,38 +34,6 @@ SIZES = {  # typical length (um) and beat frequency (Hz)
     "sea_urchin_sperm": (40.0, 35.0),  # Brokaw's sea urchin sperm: 40-50 um, 30-40 Hz
     "chlamydomonas": (12.0, 50.0),  # Sartori et al. 2016: about 12 um, 50-70 Hz
 }
-NOISE_RAD = 0.02
-PEAK_RAD = 0.8
-
-
-def synthetic_beat(name: str, truth: tuple[str, str], elements: int, rng, folder) -> str:
-    """A Fourier-mode file of the truth row's beat for organism ``name`` (module docstring)."""
-    length, freq = SIZES[name]
-    org = ORGANISMS[name]
-    units = org.flagellum.units(length, 2)
-    model = build_model("two", elements, truth[1], units)
-    spec = row(*truth, model, units, freq)
-    s = np.linspace(0.0, length, 41)
-    dummy = ShapeTarget(s, np.exp(-1j * s / length), np.full(s.size, 1.0))
-    problem = row_problem(spec, dummy, units)
-    points = values_to_u(problem, hopf_starts(spec))
-    u = points[rng.integers(len(points))]
-    psi1 = np.asarray(problem.evaluate(u)["conditions"][0]["psi1_fit"])
-    psi1 = PEAK_RAD * psi1 / np.abs(psi1).max()
-    psi1 = psi1 + NOISE_RAD * (rng.normal(size=s.size) + 1j * rng.normal(size=s.size))
-    path = pathlib.Path(folder) / f"{name}.npz"
-    np.savez(
-        path,
-        s_um=s,
-        psi0_rad=np.zeros_like(s),
-        psi1_re_rad=psi1.real,
-        psi1_im_rad=psi1.imag,
-        psi1_sigma_rad=np.full_like(s, NOISE_RAD),
-        length_um=length,
-        frequency_hz=freq,
-        frequency_sigma_hz=0.01 * freq,
-    )
-    return str(path)
 
 
 def main() -> None:
@@ -84,7 +48,14 @@ def main() -> None:
     rng = np.random.default_rng(args.seed)
     with tempfile.TemporaryDirectory() as folder:
         for name in args.organisms.split(","):
-            path = synthetic_beat(name, truth, args.elements, rng, folder)
+            path, _ = synthetic_beat(
+                pathlib.Path(folder) / f"{name}.npz",
+                name,
+                truth,
+                *SIZES[name],
+                rng,
+                n_elements=args.elements,
+            )
             t0 = time.perf_counter()
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")

@@ -122,3 +122,35 @@ def test_no_row_fits_worse_than_a_row_it_contains(tmp_path, capsys):
             assert r["r2"] >= every[inner]["r2"] - 0.01, (name, r["r2"], inner, every[inner]["r2"])
     assert "cb_um_per_pn" in rows["curvature/clamped+elastic"]["physical"]
     assert np.isfinite(rows["curvature/clamped"]["r2"])
+
+
+@pytest.mark.slow  # a comparison of 6 rows: about a minute
+def test_a_synthetic_organism_beat_is_found_and_nested(tmp_path):
+    """Issue 45's acceptance on a synthetic beat of an organism's size and units: a
+    Chlamydomonas flagellum (12 um, 50 Hz, its preset's kappa and xi_n), the beat of
+    sliding+curvature on clamped+elastic at one of its exact Hopf points plus 0.02 rad of
+    noise (axojax.inverse.comparison.synthetic). The truth row is successful at the
+    observed beat and fits to the noise (R^2 > 0.97); no row falls below a row it contains."""
+    from axojax.inverse.comparison.synthetic import synthetic_beat
+
+    truth = ("sliding+curvature", "clamped+elastic")
+    rng = np.random.default_rng(3)
+    path, _ = synthetic_beat(
+        tmp_path / "c.npz", "chlamydomonas", truth, 12.0, 50.0, rng, n_elements=8
+    )
+    doc = ax.compare(
+        path,
+        mechanisms=("curvature", "sliding+curvature"),
+        bases=("clamped", "clamped+elastic"),
+        organism="chlamydomonas",
+        n_elements=8,
+        starts=2,
+    ).to_json()
+    rows = {f"{r['mechanism']}/{r['base']}": r for r in doc["rows"]}
+    every = {**rows, **{f"{r['mechanism']}/{r['base']}": r for r in doc["auxiliary_rows"]}}
+    t = rows["/".join(truth)]
+    assert t["status"] == "successful" and t["r2"] > 0.97, (t["status"], t["r2"])
+    assert abs(t["frequency_hz"] - 50.0) < 0.02 * 50.0
+    for name, r in rows.items():
+        for inner in r["contains"]:
+            assert r["r2"] >= every[inner]["r2"] - 0.01, (name, r["r2"], inner, every[inner]["r2"])
