@@ -27,6 +27,48 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="comma-separated parameters to differentiate by, e.g. p,ks",
     )
     common.add_solver_flag(parser)
+    parser.add_argument(
+        "--motor-tau-ms",
+        type=common.finite_float,
+        default=None,
+        metavar="MS",
+        help="motor kinetics of relaxation time MS (ms) for a regulated mechanism (docs/model.md "
+        "section 8): the same beat at omega0, a spectrum bounded as the mesh is refined even with "
+        "an active friction (dense solve; issue 47's first step)",
+    )
+
+
+def motor_kinetics(model, params, units: Units, tau_ms: float) -> dict:
+    """``axojax modes --motor-tau-ms``: the augmented pencil's largest growth rate (dense
+    eigenvalues, 1/s) and the beat, the eigenvalue nearest i omega0, with motor kinetics of
+    relaxation time ``tau_ms`` (ms); one-line ``CLIError`` for a bad value."""
+    import scipy.linalg as sl
+
+    from ..assembly.motor_kinetics import assemble_motor
+    from ..eigen import Dense, nearest_mode
+
+    if not tau_ms > 0:
+        raise common.CLIError(f"--motor-tau-ms: must be > 0 ms, got {tau_ms:g}")
+    omega0 = float(params.omega0)
+    if not omega0 > 0:
+        raise common.CLIError(
+            "--motor-tau-ms: needs a regulated mechanism at a beat frequency (--mechanism, --chi "
+            "or --beta, --omega0-hz)"
+        )
+    tau_m = tau_ms * 1e-3 / units.tau_s
+    try:
+        system = assemble_motor(model, params, tau_m)
+    except ValueError as err:
+        raise common.CLIError(f"--motor-tau-ms: {err}") from None
+    lam = sl.eigvals(-np.asarray(system.A), np.asarray(system.C))
+    lam = lam[np.isfinite(lam)]
+    beat = nearest_mode(model, params, 1j * omega0, Dense(), tau_m=tau_m)
+    return {
+        "tau_ms": float(tau_ms),
+        "tau_m": float(tau_m),
+        "max_growth_rate_per_s": float(np.max(lam.real)) / units.tau_s,
+        "beat": beat.to_json(units),
+    }
 
 
 def metric_gradients(
@@ -78,6 +120,8 @@ def run(args: argparse.Namespace) -> dict:
             "omega0_hz": float(params.omega0) / (2 * np.pi * units.tau_s),
             "active_friction": friction_margin(model, params) < -TOLERANCE,
         }
+    if args.motor_tau_ms is not None:
+        doc["motor_kinetics"] = motor_kinetics(model, params, units, args.motor_tau_ms)
     if names:
         doc["gradients"] = metric_gradients(
             model, params, names, common.kl_ratio(args), units, solver
@@ -127,6 +171,15 @@ def render(doc: dict) -> str:
                 "  note: the friction is active (chi'' or beta'' < 0), so the dominant mode above is a "
                 "spurious short wave that grows faster on finer meshes; read the mode nearest i omega0 as the beat"
             )
+    if "motor_kinetics" in doc:
+        m, b = doc["motor_kinetics"], doc["motor_kinetics"]["beat"]
+        lines += [
+            "",
+            f"with motor kinetics (tau_m = {m['tau_ms']:g} ms): largest growth rate of the spectrum "
+            f"{m['max_growth_rate_per_s']:.4g} 1/s",
+            f"  beat            {b['eigenvalue'][0]:.6f} {b['eigenvalue'][1]:+.6f}i, "
+            f"{fmt(b['frequency_hz'], 'Hz')}, growth {fmt(b['growth_rate_per_s'], '1/s')}",
+        ]
     if "gradients" in doc:
         lines += ["", "gradients (per unit of the dimensionless parameter):"]
         for metric, g in doc["gradients"].items():
