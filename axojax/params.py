@@ -56,7 +56,7 @@ BASAL_NAMES = ("kb", "xib")
 base has ``compliance=True``."""
 CB_FLOOR = 1.0 / MAX_MAGNITUDE
 """``cb = 0`` sets ``kb = 1 / CB_FLOOR``, the stiffest spring :data:`MAX_MAGNITUDE` allows."""
-DERIVED_NAMES = {"cb": "kb"}
+DERIVED_NAMES = ("cb",)
 """Names that set a field through a map, taken by :meth:`Params.replace`,
 :meth:`Params.value_of` and fits like a field's: ``cb``, the basal compliance 1/k_b
 (dimensionless EI / (k_b L^3)), sets ``kb = 1 / (cb + CB_FLOOR)``. ``cb = 0`` is a rigid

@@ -33,6 +33,7 @@ from ...beats.frames import in_basal_frame
 from ...beats.targets import FRAMES
 from ...models.presets import preset_section
 from ...results import jsonable
+from ...results import name as result_name
 from ...units import ORGANISMS, Organism, Units
 from ..fit import build_problem
 from ..least_squares import least_squares, solver_from_name
@@ -64,8 +65,6 @@ from .verdict import (
 POLISH = 4
 """Further runs of a row's solver from its best start's end while that stopped at the step
 limit (:func:`axojax.inverse.least_squares`'s ``polish``)."""
-BATCH = 64
-"""Candidates per vmapped evaluation while screening (one compiled program per row)."""
 
 
 @dataclasses.dataclass
@@ -179,7 +178,7 @@ class CompareRow:
             "contains": list(self.contains),
             "optima": [] if self.fit is None else distinct_optima(self.fit.optima),
             "psi1_model": [[float(z.real), float(z.imag)] for z in self.psi1_model],
-            "result": None if self.fit is None else self.fit.to_json()["result"],
+            "result": None if self.fit is None else result_name(self.fit.result),
             "wall_s": self.wall_s,
         }
 
@@ -250,11 +249,8 @@ class Comparison:
                 "shape_floor_rad": self.shape_floor,
                 "rows": [r.to_json() for r in self.rows],
                 "auxiliary_rows": [
-                    {
-                        k: r.to_json()[k]
-                        for k in ("mechanism", "base", "free", "params", "r2", "status")
-                    }
-                    for r in self.auxiliary
+                    {k: d[k] for k in ("mechanism", "base", "free", "params", "r2", "status")}
+                    for d in (r.to_json() for r in self.auxiliary)
                 ],
                 "wall_s": self.wall_s,
             }
@@ -423,9 +419,9 @@ def compare(
     if frame == "basal":
         beat = in_basal_frame(beat)
     targets, shape = beat.targets()
-    shape = dataclasses.replace(shape, frame=frame)
     if shape is None:
         raise ValueError("data: the beat has no psi_1 shape to compare mechanisms on")
+    shape = dataclasses.replace(shape, frame=frame)
     f_obs = float(beat.frequency_hz)
     org = organism_of(organism)
     if org is not None and head is None:
@@ -543,7 +539,7 @@ def _fit_row(
     frequency = float(fit.achieved.get("frequency_hz", math.nan))
     growth = float(fit.achieved.get("growth_rate_per_s", math.nan))
     status, reason = row_status(
-        spec.mechanism, spec.base, fit.to_json()["result"], frequency, growth, f_obs, pin_tolerance
+        spec.mechanism, spec.base, result_name(fit.result), frequency, growth, f_obs, pin_tolerance
     )
     out = CompareRow(
         mechanism=spec.mechanism,
