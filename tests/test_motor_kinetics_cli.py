@@ -43,3 +43,9 @@ def test_motor_kinetics_needs_a_regulated_beat(capsys):
     code = main(["modes", "--model", "two", "--elements", "4", "--motor-tau-ms", "-1"])
     err = capsys.readouterr().err
     assert code == 2 and err.count("\n") == 1 and "--motor-tau-ms" in err
+    regulated = ["--p", "0", "--mechanism", "sliding", "--chi=-469,-625", "--omega0-hz", "186"]
+    code = main(
+        ["modes", "--model", "two", "--elements", "4", *regulated, "--motor-tau-ms", "1e300"]
+    )
+    err = capsys.readouterr().err  # beyond float64's digits: refused, not a traceback
+    assert code == 2 and err.count("\n") == 1 and "--motor-tau-ms" in err and "tau_m" in err

@@ -51,7 +51,7 @@ import numpy as np
 from jaxtyping import Array, ArrayLike, Float
 
 from ..models.section import Model
-from ..params import Params
+from ..params import MAX_MAGNITUDE, Params
 
 
 class MotorSystem(eqx.Module):
@@ -106,14 +106,17 @@ def mechanism_matrices(
 
 
 def check_tau_m(params: Params, tau_m: ArrayLike) -> None:
-    """One-line ``ValueError`` unless tau_m > 0 and finite, and omega0 > 0 where chi'' or
+    """One-line ``ValueError`` unless tau_m is one number in [1 / MAX_MAGNITUDE,
+    MAX_MAGNITUDE] (positive; beyond, c_inf and c_1 lose their digits in float64, as any
+    parameter beyond :data:`axojax.params.MAX_MAGNITUDE`), and omega0 > 0 where chi'' or
     beta'' is non-zero (concrete values only; traced ones pass)."""
     if isinstance(tau_m, jax.core.Tracer):
         return
     t = np.asarray(tau_m, dtype=float)
-    if t.shape != () or not (np.isfinite(t) and t > 0):
+    if t.shape != () or not (np.isfinite(t) and 1 / MAX_MAGNITUDE <= t <= MAX_MAGNITUDE):
         raise ValueError(
-            f"motor time tau_m must be one finite number > 0 (dimensionless), got {tau_m!r}"
+            f"motor time tau_m must be one number in [{1 / MAX_MAGNITUDE:g}, {MAX_MAGNITUDE:g}] "
+            f"(dimensionless), got {tau_m!r}"
         )
     params.validate()
 
