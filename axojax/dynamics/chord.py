@@ -98,8 +98,16 @@ class MassSystem(eqx.Module):
         return jnp.zeros_like(rhs).at[self.perm].set(lu.solve(rhs[self.perm]))
 
     def stage_factor(self, c: Scalar, q: Float[Array, " n"]) -> BlockLU | BorderedLU:
-        """The block LU of ``C + c K(q)``, ``K = A + d f_nl / dq`` (node-major)."""
+        """The block LU of ``C + c K(q)``, ``K = A + d f_nl / dq`` (node-major). Where C's
+        node blocks are larger than the links' (motor kinetics: each node block holds the
+        node's q then its motor copy y, :mod:`axojax.dynamics.motors`) the link tangent's
+        blocks are padded with zeros: the links do not act on y."""
         K = self.links.tangent_blocks(q)
+        tri = self.C_blocks.tri if isinstance(self.C_blocks, Bordered) else self.C_blocks
+        extra = tri.block_size - K.block_size
+        if extra:
+            pad = lambda x: jnp.pad(x, ((0, 0), (0, extra), (0, extra)))
+            K = BlockTridiagonal(pad(K.lower), pad(K.diag), pad(K.upper))
         if isinstance(self.C_blocks, Bordered):
             m = self.C_blocks.m
             zero = jnp.zeros((K.shape[0], m), K.diag.dtype)

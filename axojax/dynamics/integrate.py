@@ -35,12 +35,14 @@ import optimistix as optx
 from jaxtyping import Array, ArrayLike, Float, Real
 
 from ..assembly import assemble, assemble_blocks, node_major, pencil_of
+from ..assembly.motor_kinetics import assemble_motor
 from ..eigen.pencil import symmetric_positive_definite
 from ..linalg import bordered_lu, lu_factor
 from ..models.section import Model
 from ..params import Params
 from ..results import RESULTS, message
 from .chord import MassChord, MassSystem, mass_vector_field
+from .motors import motor_blocks, motor_order
 from .nonlinear import cubic_links
 
 
@@ -81,22 +83,36 @@ def result_message(code) -> str:
     return line.split(". ")[0].rstrip(".") if line else "successful"
 
 
-def mass_system(model: Model, params: Params, kappa: Real[ArrayLike, ""]) -> MassSystem:
-    """The ODE ``C dq/dt = b - A q - f_nl(q)`` at ``params`` as a :class:`MassSystem`
-    (``C^{-1} A``, ``C^{-1} b`` and the block LU of ``C`` formed once)."""
-    s = assemble(model, params)
-    blocks = assemble_blocks(model, params)
-    eye = jnp.eye(s.C.shape[0])
-    factor = jsl.cho_factor(s.C, lower=True)
-    spd = symmetric_positive_definite(s.C, factor[0])
+def _inverse(C: Float[Array, "n n"]) -> Float[Array, "n n"]:
+    """C^{-1}: by Cholesky where C is symmetric positive definite, else by LU."""
+    eye = jnp.eye(C.shape[0])
+    factor = jsl.cho_factor(C, lower=True)
+    spd = symmetric_positive_definite(C, factor[0])
     # C is symmetric positive definite except with the friction parts of regulated dynein
     # (beta''/omega0 makes it non-symmetric): then an LU inverse; the select keeps the
     # Cholesky inverse exactly where it applies.
-    C_inv = jnp.where(
+    return jnp.where(
         spd,
         jsl.cho_solve((jnp.where(spd, factor[0], eye), True), eye),
-        jnp.linalg.solve(jnp.where(spd, eye, s.C), eye),
+        jnp.linalg.solve(jnp.where(spd, eye, C), eye),
     )
+
+
+def mass_system(
+    model: Model,
+    params: Params,
+    kappa: Real[ArrayLike, ""],
+    tau_m: Real[ArrayLike, ""] | None = None,
+) -> MassSystem:
+    """The ODE ``C dq/dt = b - A q - f_nl(q)`` at ``params`` as a :class:`MassSystem`
+    (``C^{-1} A``, ``C^{-1} b`` and the block LU of ``C`` formed once). With ``tau_m``
+    (dimensionless, > 0): the augmented system of motor kinetics, state X = (q, y) of
+    2 N unknowns (:mod:`axojax.dynamics.motors`)."""
+    if tau_m is not None:
+        return _motor_mass_system(model, params, kappa, tau_m)
+    s = assemble(model, params)
+    blocks = assemble_blocks(model, params)
+    C_inv = _inverse(s.C)
     perm = node_major(model)
     if model.n_border:  # a base that is not clamped: its unknowns border the node blocks
         A_blocks, C_blocks = pencil_of(blocks)
@@ -119,9 +135,40 @@ def mass_system(model: Model, params: Params, kappa: Real[ArrayLike, ""]) -> Mas
     )
 
 
-def vector_field(model: Model, params: Params, kappa: Real[ArrayLike, ""]):
-    """dq/dt as a diffrax-style ``f(t, q, args)`` (``args`` unused)."""
-    system = mass_system(model, params, kappa)
+def _motor_mass_system(
+    model: Model, params: Params, kappa: Real[ArrayLike, ""], tau_m: Real[ArrayLike, ""]
+) -> MassSystem:
+    """:func:`mass_system` of the augmented system ``C' dX/dt = b' - A' X - f_nl(X)``
+    (:func:`~axojax.assembly.motor_kinetics.assemble_motor`), blocks in
+    :func:`~axojax.dynamics.motors.motor_order`; the links act on q only."""
+    s = assemble_motor(model, params, tau_m)
+    C_inv = _inverse(s.C)
+    A_blocks, C_blocks = motor_blocks(model, s.A), motor_blocks(model, s.C)
+    C_lu = bordered_lu(C_blocks) if model.n_border else lu_factor(C_blocks)
+    return MassSystem(
+        C=s.C,
+        A=s.A,
+        b=s.b,
+        C_inv=C_inv,
+        C_inv_A=C_inv @ s.A,
+        C_inv_b=C_inv @ s.b,
+        perm=jnp.asarray(motor_order(model)),
+        C_blocks=C_blocks,
+        A_blocks=A_blocks,
+        C_lu=C_lu,
+        links=cubic_links(model, params, kappa, n_extra=model.n_unknowns),
+    )
+
+
+def vector_field(
+    model: Model,
+    params: Params,
+    kappa: Real[ArrayLike, ""],
+    tau_m: Real[ArrayLike, ""] | None = None,
+):
+    """dq/dt (with ``tau_m``: dX/dt of the augmented state) as a diffrax-style
+    ``f(t, q, args)`` (``args`` unused)."""
+    system = mass_system(model, params, kappa, tau_m)
     return lambda t, q, args: mass_vector_field(t, q, system)
 
 
@@ -144,6 +191,7 @@ def integrate(
     root_atol: float = 1e-6,
     max_steps: int = 200_000,
     progress: bool = False,
+    tau_m: Real[ArrayLike, ""] | None = None,
 ) -> Trajectory:
     """Integrate from ``q0`` at ``t[0]`` and save at the (increasing) times ``t``.
 
@@ -159,6 +207,9 @@ def integrate(
         max_steps: solver step limit; reaching it ends with ``ok = False`` and diffrax's
             ``max_steps_reached`` result.
         progress: show a tqdm progress bar (diffrax's ``TqdmProgressMeter``).
+        tau_m: motor kinetics of this relaxation time (tau, > 0; may be traced): the
+            state is X = (q, y), 2 N unknowns, ``q0`` and the trajectory's ``q`` too
+            (:mod:`axojax.dynamics.motors`). None (default): today's system.
     """
     sol = diffrax.diffeqsolve(
         diffrax.ODETerm(mass_vector_field),
@@ -167,7 +218,7 @@ def integrate(
         t1=t[-1],
         dt0=None,
         y0=q0,
-        args=mass_system(model, params, kappa),
+        args=mass_system(model, params, kappa, tau_m),
         saveat=diffrax.SaveAt(
             subs=[diffrax.SubSaveAt(ts=t), diffrax.SubSaveAt(t1=True)]
         ),  # t1: where it stopped

@@ -112,9 +112,13 @@ class CubicLinks(eqx.Module):
         return BlockTridiagonal(out[: N - 1], out[N - 1 : 2 * N - 1], out[2 * N - 1 :])
 
 
-def cubic_links(model: Model, params: Params, kappa: Real[ArrayLike, ""]) -> CubicLinks:
+def cubic_links(
+    model: Model, params: Params, kappa: Real[ArrayLike, ""], n_extra: int = 0
+) -> CubicLinks:
     """:class:`CubicLinks` of ``model`` at ``params`` (a model without links gets one
-    zero-stiffness placeholder link, so that force and tangent are zero)."""
+    zero-stiffness placeholder link, so that force and tangent are zero). ``n_extra``:
+    unknowns of the state after the model's own (the motor copy y of motor kinetics,
+    :mod:`axojax.dynamics.motors`), on which the links do not act, as on the border."""
     phi, wk = (jnp.asarray(a) for a in _rule(model))
     if model.link_B.shape[0] == 0:
         return CubicLinks(
@@ -122,7 +126,7 @@ def cubic_links(model: Model, params: Params, kappa: Real[ArrayLike, ""]) -> Cub
             phi=phi,
             weight=jnp.zeros((1, wk.shape[0])),
             n_fd=model.n_fd,
-            n_border=model.n_border,
+            n_border=model.n_border + n_extra,
         )
     k = jnp.asarray(kappa, dtype=float) * link_stiffness(model, params)
     return CubicLinks(
@@ -130,7 +134,7 @@ def cubic_links(model: Model, params: Params, kappa: Real[ArrayLike, ""]) -> Cub
         phi=phi,
         weight=k[:, None] * wk[None, :],
         n_fd=model.n_fd,
-        n_border=model.n_border,
+        n_border=model.n_border + n_extra,
     )
 
 

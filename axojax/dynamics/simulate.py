@@ -14,7 +14,8 @@ import numpy as np
 
 from .. import _io, results
 from ..assembly import assemble
-from ..eigen.mode import CLASSES, dominant_mode
+from ..assembly.motor_kinetics import check_tau_m
+from ..eigen.mode import CLASSES, classify, dominant_mode
 from ..models.section import Model
 from ..params import DEFAULT_CUBIC, Params
 from ..results import RESULTS
@@ -25,6 +26,7 @@ from ..waveform.shapes import centreline
 from ..well_posed import require_passive_friction
 from .analysis import classify_trajectory
 from .integrate import integrate, result_message
+from .motors import dominant_eigenvalue, equilibrium
 
 MIN_SAMPLES_PER_S = 2000.0
 MAX_SAMPLES = 200_000
@@ -73,10 +75,12 @@ class Simulation:
             ``MEASURE_PERIODS`` whole periods at the ``n_points`` saved points:
             :func:`waveform_measures`); otherwise None.
         linear: dominant eigenvalue at the same parameters: ``frequency_hz``,
-            ``growth_rate_per_s``, ``classification``.
+            ``growth_rate_per_s``, ``classification`` (with motor kinetics: of the
+            augmented pencil).
         meta: parameters, cubic coefficient, units, model, solver statistics
             (``meta["solver"]``: steps, rejected steps, ``ok``, diffrax's ``result``
-            message, ``t_reached_s``).
+            message, ``t_reached_s``), ``motor_kinetics`` (``tau_m`` in tau and
+            ``tau_ms`` in ms, or None: :func:`simulate`'s ``tau_m``).
         result: :class:`axojax.results.RESULTS` item of the time integration (diffrax's
             code, promoted): ``successful``, or why the solver stopped
             (``max_steps_reached``, ``dt_min_reached``, ...; then ``state`` is
@@ -160,16 +164,17 @@ class Simulation:
             **self.meta["solver"],
             "reason": self.reason if self.state == "solver_failed" else None,
         }
-        return results.jsonable(
-            {
-                "state": self.state,
-                "reason": self.reason,
-                "limit_cycle": lc,
-                "linear": dict(self.linear),
-                "waveform": self.limit_cycle,
-                "solver": solver,
-            }
-        )
+        doc = {
+            "state": self.state,
+            "reason": self.reason,
+            "limit_cycle": lc,
+            "linear": dict(self.linear),
+            "waveform": self.limit_cycle,
+            "solver": solver,
+        }
+        if self.meta.get("motor_kinetics") is not None:  # {"tau_m", "tau_ms"}: the motor time used
+            doc["motor_kinetics"] = dict(self.meta["motor_kinetics"])
+        return results.jsonable(doc)
 
     def save(self, path: str | pathlib.Path) -> None:
         """Write the simulation to ``path`` (``.npz``, any case; written whole, see
@@ -332,10 +337,19 @@ def simulate(
     max_steps: int | None = None,
     progress: bool = False,
     throw: bool = False,
+    tau_m: float | None = None,
 ) -> Simulation:
     """Integrate ``C dq/dt = -A q - f_nl(q) + b`` from a small perturbation of the straight
     state (the static deflection of every filament under a tip force in y, see
     :func:`tip_deflection`), then analyse the beat.
+
+    A regulated mechanism (``params.chi_*``, ``beta_*``) with an active friction (chi'' or
+    beta'' < 0) is refused (:func:`axojax.well_posed.require_passive_friction`) unless
+    ``tau_m`` gives it motor kinetics: the state then grows by the motors' filtered copy y
+    (``tau_m dy/dt = -y + q``, started at y = 0: the motors have not yet responded to the
+    initial bend) and the integrated system is the augmented one of
+    :func:`~axojax.assembly.motor_kinetics.assemble_motor` with the cubic links on q
+    (:mod:`axojax.dynamics.motors`), well posed whatever the signs of chi'' and beta''.
 
     Args:
         model: e.g. ``ax.models.seven()``, on any base (a base that moves: the tip in
@@ -359,12 +373,20 @@ def simulate(
             the time integration fails; default False, as everywhere
             (:mod:`axojax.results`): the result has ``state = "solver_failed"`` and
             ``result`` says why.
+        tau_m: the motors' relaxation time, dimensionless (seconds / ``units.tau_s``),
+            in [1e-9, 1e9]; None (default): no motor kinetics (today's friction form).
+            With it ``linear`` is the augmented pencil's rightmost eigenvalue (dense), and
+            ``meta["motor_kinetics"]`` holds ``tau_m`` and ``tau_ms`` (milliseconds).
 
     Returns:
         :class:`Simulation`.
     """
     params = params.validate()
-    require_passive_friction(model, params, "simulate")
+    if tau_m is None:
+        require_passive_friction(model, params, "simulate")
+    else:
+        check_tau_m(params, tau_m)  # one line naming the value
+        tau_m = float(tau_m)
     t_end_s, cubic, perturbation_um, rtol = check_inputs(
         model, t_end_s, cubic, perturbation_um, rtol
     )
@@ -378,12 +400,7 @@ def simulate(
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
             raise ValueError(f"{name} must be an integer >= {low}, got {value!r}")
     tau = units.tau_s
-    mode = dominant_mode(model, params)
-    linear = {
-        "frequency_hz": float(mode.frequency_hz(units)),
-        "growth_rate_per_s": float(mode.growth_rate_per_s(units)),
-        "classification": CLASSES[int(mode.classification)],
-    }
+    linear = _linear(model, params, units, tau_m)
     t_end = t_end_s / tau
     per_second = max(samples_per_period * linear["frequency_hz"], MIN_SAMPLES_PER_S)
     n_save = int(min(MAX_SAMPLES, max(200, math.ceil(t_end_s * per_second) + 1)))
@@ -396,6 +413,8 @@ def simulate(
     q0 = (perturbation_um / units.length_um) * np.concatenate(
         [tip_deflection(model), np.zeros(model.n_border)]
     )
+    if tau_m is not None:
+        q0 = np.concatenate([q0, np.zeros(model.n_unknowns)])  # the motors' copy y(0) = 0
 
     traj = _integrate_jit(
         model,
@@ -407,8 +426,9 @@ def simulate(
         atol=atol,
         max_steps=max_steps,
         progress=progress,
+        tau_m=None if tau_m is None else jnp.asarray(tau_m),
     )
-    q = np.asarray(traj.q)
+    q = np.asarray(traj.q)[:, : model.n_unknowns]  # without the motors' copy y
     ok = bool(traj.ok)
     t_reached = float(traj.t_reached)
     if not ok:
@@ -421,13 +441,7 @@ def simulate(
     tip_t = centreline(model, q, np.ones(1), body=True)[:, :, 0]
     angle = _beat_angle(tip_t)
 
-    s = assemble(model, params)
-    q_eq = np.zeros(model.n_unknowns)
-    if np.any(np.asarray(s.b)):
-        # on a base that moves, A is singular (rigid motions): the least-norm equilibrium,
-        # the same shape in the body frame
-        A_, b_ = np.asarray(s.A), np.asarray(s.b)
-        q_eq = np.linalg.lstsq(A_, b_, rcond=None)[0] if model.n_border else np.linalg.solve(A_, b_)
+    q_eq = _equilibrium(model, params, tau_m)
     tip_eq = centreline(model, q_eq, np.ones(1), body=True)[:, 0]
     y_eq = float(along(tip_eq, angle, axis=-1))
     y = along(tip_t, angle, axis=-1)
@@ -465,6 +479,7 @@ def simulate(
         "params": {k: float(v) for k, v in params.as_dict().items()},
         "imbalance_kind": model.imbalance_kind,
         "cubic": cubic,
+        "motor_kinetics": None if tau_m is None else {"tau_m": tau_m, "tau_ms": tau_m * tau * 1e3},
         "t_end_s": t_end_s,
         "perturbation_um": perturbation_um,
         "units": {
@@ -502,6 +517,38 @@ def simulate(
     if throw and not results.is_successful(sim.result):
         raise ValueError(sim.reason)
     return sim
+
+
+def _linear(model: Model, params: Params, units: Units, tau_m: float | None) -> dict[str, Any]:
+    """The dominant eigenvalue at ``params`` as ``frequency_hz``, ``growth_rate_per_s`` and
+    ``classification``: :func:`~axojax.eigen.mode.dominant_mode`'s, or with ``tau_m`` the
+    augmented pencil's (:func:`axojax.dynamics.motors.dominant_eigenvalue`)."""
+    if tau_m is None:
+        mode = dominant_mode(model, params)
+        return {
+            "frequency_hz": float(mode.frequency_hz(units)),
+            "growth_rate_per_s": float(mode.growth_rate_per_s(units)),
+            "classification": CLASSES[int(mode.classification)],
+        }
+    lam = dominant_eigenvalue(model, params, tau_m)
+    return {
+        "frequency_hz": abs(lam.imag) / (2 * math.pi * units.tau_s),
+        "growth_rate_per_s": lam.real / units.tau_s,
+        "classification": CLASSES[int(classify(jnp.asarray(lam)))],
+    }
+
+
+def _equilibrium(model: Model, params: Params, tau_m: float | None) -> np.ndarray:
+    """(N,) the static state (zero without a static load b)."""
+    if tau_m is not None:
+        return equilibrium(model, params, tau_m)
+    s = assemble(model, params)
+    if not np.any(np.asarray(s.b)):
+        return np.zeros(model.n_unknowns)
+    # on a base that moves, A is singular (rigid motions): the least-norm equilibrium,
+    # the same shape in the body frame
+    A_, b_ = np.asarray(s.A), np.asarray(s.b)
+    return np.linalg.lstsq(A_, b_, rcond=None)[0] if model.n_border else np.linalg.solve(A_, b_)
 
 
 def tip_deflection(model: Model) -> np.ndarray:
