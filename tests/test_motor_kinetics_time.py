@@ -10,6 +10,7 @@ chi = c_inf (real) and M = c_1 dA/dchi' + d_1 dA/dbeta' as the difference of two
 from :mod:`axojax.assembly.motor_kinetics`.
 """
 
+import json
 import math
 import sys
 from pathlib import Path
@@ -268,3 +269,58 @@ def test_a_bad_motor_time_is_one_line_naming_it(bad):
         ax.simulate(model, params, 0.01, tau_m=bad)
     message = str(err.value)
     assert "\n" not in message and "tau_m" in message and repr(bad) in message
+
+
+def _argv(units=ax.Units()):
+    params = _sliding_row()
+    chi = complex(params.chi_re, params.chi_im) * units.ei_pn_um2 / units.length_um**4  # pN/um^2
+    hz = float(params.omega0) / (2 * math.pi * units.tau_s)
+    argv = ["simulate", "--model", "two", "--elements", "8", "--p", "0", "--mechanism", "sliding"]
+    return argv + [f"--chi={chi.real!r},{chi.imag!r}", "--omega0-hz", repr(hz), "--t-end", "0.02"]
+
+
+@pytest.mark.parametrize("value", ["0", "-3", "1e300"])
+def test_cli_refuses_a_bad_motor_time_on_one_line(capsys, value):
+    """(c) on the command line: one line on stderr naming the flag and the value, exit 2."""
+    from axojax.cli.main import main
+
+    code = main([*_argv(), f"--motor-tau-ms={value}", "--json"])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1 and "Traceback" not in err
+    assert err.startswith("axojax: error: --motor-tau-ms: ") and f"{float(value):g}" in err
+
+
+def test_cli_motor_time_needs_a_regulated_beat(capsys):
+    from axojax.cli.main import main
+
+    code = main(
+        ["simulate", "--model", "two", "--elements", "4", "--t-end", "0.01", "--motor-tau-ms", "5"]
+    )
+    err = capsys.readouterr().err
+    assert (
+        code == 2 and err.count("\n") == 1 and "--motor-tau-ms: needs a regulated mechanism" in err
+    )
+
+
+def test_cli_simulates_an_active_sliding_row_with_motor_kinetics(capsys, tmp_path):
+    """``axojax simulate --mechanism sliding --chi ... --motor-tau-ms 5``: refused without
+    the motors (--chi, one line), runs with them; the JSON says which tau_m it used and
+    its linear eigenvalue is scipy's Hopf point of the augmented pencil."""
+    from axojax.cli.main import main
+
+    code = main([*_argv(), "--json"])
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith("axojax: error: --chi: simulate") and err.count("\n") == 1
+    out = tmp_path / "beat.npz"
+    assert main([*_argv(), "--motor-tau-ms", str(TAU_MS), "--out", str(out), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    units = ax.Units()
+    tau_m = _tau_m(units)
+    assert doc["motor_kinetics"] == {"tau_m": pytest.approx(tau_m), "tau_ms": TAU_MS}
+    assert doc["solver"]["ok"] and doc["state"] != "solver_failed"
+    lam = _dominant(*_augmented(ax.models.two(n_elements=8), _sliding_row(), tau_m)[:2])
+    hz = abs(lam.imag) / (2 * math.pi * units.tau_s)
+    assert doc["linear"]["frequency_hz"] == pytest.approx(hz, rel=1e-6)  # CLI units: 1e-6 of Hz
+    assert ax.Simulation.load(out).meta["motor_kinetics"]["tau_ms"] == TAU_MS
+    assert main([*_argv(), "--motor-tau-ms", str(TAU_MS)]) == 0
+    assert f"motor kinetics: tau_m = {TAU_MS:g} ms" in capsys.readouterr().out

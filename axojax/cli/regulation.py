@@ -1,7 +1,8 @@
 """The flags of regulated dynein and base conditions (docs/model.md section 8) as model
 and parameter values: ``--mechanism``/``--chi``/``--beta``/``--omega0-hz``, ``--base``,
-``--basal-compliance``, ``--head-um``/``--head-drag``/``--viscosity-pa-s``; and the refusal
-of an active friction where the time domain is needed."""
+``--basal-compliance``, ``--head-um``/``--head-drag``/``--viscosity-pa-s``; motor kinetics
+``--motor-tau-ms``; and the refusal of an active friction where the time domain is needed
+(without motor kinetics)."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ import argparse
 
 from ..models import Base, Model
 from ..params import Params
-from ._values import CLIError, _complex_pair, _pair, units_from_args
+from ._values import CLIError, _complex_pair, _pair, finite_float, units_from_args
 
 MECHANISMS = ("steady", "sliding", "curvature", "sliding+curvature")
 """``--mechanism`` choices (docs/model.md section 8)."""
@@ -139,3 +140,41 @@ def mechanism_values(args: argparse.Namespace) -> dict[str, float]:
             raise CLIError(f"--omega0-hz: must be > 0, got {hz:g}")
         values["omega0"] = float(units.omega0_from_hz(hz))
     return values
+
+
+def add_motor_tau_flag(parser: argparse.ArgumentParser, what: str) -> None:
+    """``--motor-tau-ms MS`` (docs/model.md section 8, motor kinetics); ``what`` ends its
+    help (what the command does with it)."""
+    parser.add_argument(
+        "--motor-tau-ms",
+        type=finite_float,
+        default=None,
+        metavar="MS",
+        help="motor kinetics of relaxation time MS (ms) for a regulated mechanism (docs/model.md "
+        f"section 8): the same beat at omega0, well posed even with an active friction; {what}",
+    )
+
+
+def motor_tau_from_args(args: argparse.Namespace, params: Params) -> float | None:
+    """The dimensionless motor time tau_m (``--motor-tau-ms`` ms over the unit flags' tau),
+    or None without the flag. One-line :class:`CLIError` naming ``--motor-tau-ms`` for a
+    value not > 0, outside :func:`~axojax.assembly.motor_kinetics.check_tau_m`'s range, or
+    without a regulated mechanism at a beat frequency (``--omega0-hz``)."""
+    from ..assembly.motor_kinetics import check_tau_m
+
+    tau_ms = getattr(args, "motor_tau_ms", None)
+    if tau_ms is None:
+        return None
+    if not tau_ms > 0:
+        raise CLIError(f"--motor-tau-ms: must be > 0 ms, got {tau_ms:g}")
+    if not float(params.omega0) > 0:
+        raise CLIError(
+            "--motor-tau-ms: needs a regulated mechanism at a beat frequency (--mechanism, --chi "
+            "or --beta, --omega0-hz)"
+        )
+    tau_m = tau_ms * 1e-3 / units_from_args(args).tau_s
+    try:
+        check_tau_m(params, tau_m)
+    except ValueError as err:
+        raise CLIError(f"--motor-tau-ms: {tau_ms:g} ms: {err}") from None
+    return tau_m

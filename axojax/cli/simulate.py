@@ -12,6 +12,7 @@ from ..dynamics.simulate import MIN_STEPS, STEPS_PER_PERIOD, check_inputs
 from ..params import DEFAULT_CUBIC
 from ..waveform.measures import sensitive_note, wavelength_text
 from . import common
+from .regulation import add_motor_tau_flag, motor_tau_from_args
 
 MAX_STEPS = 100_000_000
 """Largest solver step budget (given or implied by ``--t-end``): beyond it a run would
@@ -66,6 +67,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="solver step budget (default: 10000 + 2000 per period of the linear frequency, "
         "rounded up to a multiple of 10000); running out ends in state solver_failed",
     )
+    add_motor_tau_flag(
+        parser, "the state grows by the motors' filtered copy of it (2N unknowns, dense matrices)"
+    )
     parser.add_argument(
         "--out", default=None, metavar="FILE.npz", help="write the time series here"
     )
@@ -80,7 +84,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> dict:
     model = common.model_from_args(args)
     params = common.params_from_args(args)
-    common.require_passive_friction(model, params, "simulate", held=False)
+    tau_m = motor_tau_from_args(args, params)
+    if tau_m is None:  # motor kinetics makes an active friction well posed
+        common.require_passive_friction(model, params, "simulate", held=False)
     units = common.units_from_args(args)
     cubic = DEFAULT_CUBIC if args.cubic is None else args.cubic
     if model.link_B.shape[0] == 0 and args.cubic is None:
@@ -106,13 +112,10 @@ def run(args: argparse.Namespace) -> dict:
         )
     common.check_output("--out", args.out, (".npz",))
     common.check_output("--gif", args.gif, (".gif",))
-    common.check_memory(
-        96.0 * model.n_dof**2,
-        "--elements",
-        f"a simulation of {model.n_dof} unknowns (dense matrices)",
-    )
+    n = model.n_dof * (1 if tau_m is None else 2)  # with motor kinetics, and its copy y
+    common.check_memory(96.0 * n**2, "--elements", f"a simulation of {n} unknowns (dense matrices)")
     if args.max_steps is None:
-        _check_duration(model, params, units, args.t_end)
+        _check_duration(model, params, units, args.t_end, tau_m)
     sim = simulate(
         model,
         params,
@@ -124,6 +127,7 @@ def run(args: argparse.Namespace) -> dict:
         atol=args.rtol * 1e-3,
         max_steps=args.max_steps,
         progress=not args.json and sys.stderr.isatty(),
+        tau_m=tau_m,
     )
     if args.out is not None:
         sim.save(args.out)  # written whole (axojax._io)
@@ -140,12 +144,19 @@ def run(args: argparse.Namespace) -> dict:
     return sim.to_json()
 
 
-def _check_duration(model, params, units, t_end_s: float) -> None:
+def _check_duration(model, params, units, t_end_s: float, tau_m: float | None = None) -> None:
     """Refuse a ``--t-end`` whose default step budget (as :func:`axojax.simulate` sets it)
-    exceeds :data:`MAX_STEPS`."""
+    exceeds :data:`MAX_STEPS` (the linear frequency: with motor kinetics ``tau_m``, the
+    augmented pencil's)."""
+    from ..dynamics.motors import dominant_eigenvalue
     from ..eigen.mode import dominant_mode
 
-    frequency = float(dominant_mode(model, params).frequency_hz(units))
+    if tau_m is None:
+        frequency = float(dominant_mode(model, params).frequency_hz(units))
+    else:
+        frequency = abs(dominant_eigenvalue(model, params, tau_m).imag) / (
+            2 * math.pi * units.tau_s
+        )
     steps = MIN_STEPS + STEPS_PER_PERIOD * t_end_s * max(frequency, 20.0)
     if not math.isfinite(steps) or steps > MAX_STEPS:
         raise common.CLIError(
@@ -163,6 +174,10 @@ def render(doc: dict) -> str:
         f"linear (dominant eigenvalue): {lin['classification']}, {lin['frequency_hz']:.3f} Hz, "
         f"growth {lin['growth_rate_per_s']:.3f} /s",
     ]
+    if doc.get("motor_kinetics") is not None:
+        lines.append(
+            f"motor kinetics: tau_m = {doc['motor_kinetics']['tau_ms']:g} ms (linear: the augmented pencil)"
+        )
     lc = doc["limit_cycle"]
     if lc is not None:
         w = doc["waveform"]
