@@ -80,7 +80,7 @@ def dominant_eigenvalue(model: Model, params: Params, tau_m: float) -> complex:
     A, C = np.asarray(s.A), np.asarray(s.C)
     Z = rigid_motions(model)
     if Z.shape[1]:
-        shift = float(scale_of(np.max(np.abs(A)), np.max(np.abs(C))))
+        shift = float(scale_of(jnp.asarray(np.max(np.abs(A))), jnp.asarray(np.max(np.abs(C)))))
         Yt = np.linalg.solve(Z.T @ C @ Z, Z.T @ C)
         A = A + shift * (C @ Z) @ Yt
     lam = sl.eigvals(-A, C)
