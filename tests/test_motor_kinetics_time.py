@@ -1,6 +1,7 @@
 """Regulated beats in time with motor kinetics (issue 47 items 1 and 3): ``ax.simulate`` /
 ``axojax simulate --motor-tau-ms`` integrate the augmented system of
-:mod:`axojax.dynamics.motors`, where without motor kinetics an active friction is refused.
+:mod:`axojax.dynamics.motors`, where without motor kinetics an active friction is refused;
+and saturating motors (item 2, :mod:`axojax.dynamics.saturation`, ``--motor-saturation``).
 
 Every reference is built here from :func:`ax.assemble` alone (the friction-form assembly,
 verified against continuum solutions elsewhere) and solved by scipy: the augmented pencil
@@ -158,7 +159,12 @@ def test_an_active_sliding_row_runs_in_time_with_motor_kinetics(tmp_path):
         abs(lam.imag) / (2 * math.pi * units.tau_s), rel=1e-8
     )
     doc = sim.to_json()
-    assert doc["motor_kinetics"] == {"tau_m": pytest.approx(tau_m), "tau_ms": pytest.approx(TAU_MS)}
+    assert doc["motor_kinetics"] == {
+        "tau_m": pytest.approx(tau_m),
+        "tau_ms": pytest.approx(TAU_MS),
+        "f_sat": None,
+        "f_sat_pn_per_um": None,
+    }
     path = tmp_path / "beat.npz"
     sim.save(path)
     assert ax.Simulation.load(path).meta["motor_kinetics"]["tau_ms"] == pytest.approx(TAU_MS)
@@ -326,7 +332,10 @@ def test_cli_simulates_an_active_sliding_row_with_motor_kinetics(capsys, tmp_pat
     doc = json.loads(capsys.readouterr().out)
     units = ax.Units()
     tau_m = _tau_m(units)
-    assert doc["motor_kinetics"] == {"tau_m": pytest.approx(tau_m), "tau_ms": TAU_MS}
+    assert (
+        doc["motor_kinetics"]["tau_m"] == pytest.approx(tau_m)
+        and doc["motor_kinetics"]["tau_ms"] == TAU_MS
+    )
     assert doc["solver"]["ok"] and doc["state"] != "solver_failed"
     lam = _dominant(*_augmented(ax.models.two(n_elements=8), _sliding_row(), tau_m)[:2])
     hz = abs(lam.imag) / (2 * math.pi * units.tau_s)
@@ -334,3 +343,130 @@ def test_cli_simulates_an_active_sliding_row_with_motor_kinetics(capsys, tmp_pat
     assert ax.Simulation.load(out).meta["motor_kinetics"]["tau_ms"] == TAU_MS
     assert main([*_argv(), "--motor-tau-ms", str(TAU_MS)]) == 0
     assert f"motor kinetics: tau_m = {TAU_MS:g} ms" in capsys.readouterr().out
+
+
+# -- saturating motors (issue 47 item 2) ------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "base", [Base("clamped"), COMPLIANT, SARTORI_BASE, Base("head", False, 1.0, 0.2)]
+)
+def test_the_pairs_rows_at_the_gauss_points_give_the_assembled_mechanism(base):
+    """Delta_a and kappa_a tabulated at the Gauss points (the saturating force's
+    quadrature): sum_q w_q Delta^T Delta and sum_q w_q Delta^T kappa are the assembled
+    dA/dchi' and dA/dbeta' (differences of ax.assemble), border included."""
+    from axojax.dynamics.saturation import pair_rows
+
+    params = _sliding_row().replace(kb=50.0, xib=0.5)
+    for model in (ax.models.two(n_elements=6, base=base), ax.models.seven(n_elements=3, base=base)):
+        slope, basal, curvature, w = pair_rows(model)
+        delta = float(params.a0) * slope + basal[:, None, :]
+        zero = params.replace(chi_re=0.0, chi_im=0.0, beta_re=0.0, beta_im=0.0)
+        A0 = np.asarray(ax.assemble(model, zero).A)
+        for field, rows in (("chi_re", delta), ("beta_re", curvature)):
+            ref = (np.asarray(ax.assemble(model, zero.replace(**{field: 1e3})).A) - A0) / 1e3
+            ours = np.einsum("q,pqn,pqm->nm", w, delta, rows)
+            assert np.abs(ours - ref).max() <= 1e-9 * np.abs(ref).max(), (model.name, field)
+
+
+def _saturated_field(model, params, tau_m, f_sat):
+    """The dense vector field with saturating motors, from the test's augmented matrices
+    and the Gauss-point rows: C'^-1 (b' - A' X - sum_a int (f_sat tanh(f/f_sat) - f)
+    delta Delta_a), f = c_inf Delta[q] + d_inf kappa[q] + c_1 Delta[y] + d_1 kappa[y]."""
+    from axojax.dynamics.saturation import pair_rows
+
+    A, C, b = _augmented(model, params, tau_m)
+    slope, basal, curvature, w = pair_rows(model)
+    delta = float(params.a0) * slope + basal[:, None, :]
+    wt, n = float(params.omega0) * tau_m, model.n_unknowns
+    c = {}
+    for field in ("chi", "beta"):
+        re, im = float(getattr(params, f"{field}_re")), float(getattr(params, f"{field}_im"))
+        c[field] = (re + im / wt, -im * (1 + wt**2) / wt)
+    on_q = c["chi"][0] * delta + c["beta"][0] * curvature
+    on_y = c["chi"][1] * delta + c["beta"][1] * curvature
+
+    def rhs(_, X):
+        f = on_q @ X[:n] + on_y @ X[n:]
+        g = f_sat * np.tanh(f / f_sat) - f
+        force = np.concatenate([np.einsum("q,pq,pqn->n", w, g, delta), np.zeros(n)])
+        return np.linalg.solve(C, b - A @ X - force)
+
+    return rhs
+
+
+def test_saturating_motors_match_radau():
+    """Saturating motors (cubic links off): the chord's saturation tangent in the motor
+    blocks against scipy's Radau on the dense vector field built here; the saturation
+    acts (against the unsaturated solution)."""
+    model, params, units = _curvature_compliant()
+    tau_m, f_sat = _tau_m(units), 30.0
+    rng = np.random.default_rng(5)
+    n = model.n_unknowns
+    X0 = np.concatenate([tip_deflection(model), np.zeros(model.n_border), np.zeros(n)]) * 0.3
+    X0 = X0 + 0.02 * rng.normal(size=2 * n)
+    t = np.linspace(0.0, 3e-3, 4)
+    solve = lambda f: scipy.integrate.solve_ivp(
+        f, (0, t[-1]), X0, "Radau", t_eval=t, rtol=1e-10, atol=1e-13
+    )
+    ref = solve(_saturated_field(model, params, tau_m, f_sat))
+    linear = solve(_saturated_field(model, params, tau_m, 1e12))
+    traj = integrate(
+        model,
+        params,
+        0.0,
+        jnp.asarray(X0),
+        jnp.asarray(t),
+        rtol=1e-10,
+        atol=1e-13,
+        tau_m=tau_m,
+        f_sat=f_sat,
+    )
+    assert bool(traj.ok) and ref.success and linear.success
+    err = np.linalg.norm(np.asarray(traj.q) - ref.y.T, axis=1)
+    assert np.all(err <= 1e-6 * np.linalg.norm(ref.y, axis=0)), err
+    moved = np.linalg.norm(ref.y[:, -1] - linear.y[:, -1])
+    assert moved > 1e-2 * np.linalg.norm(ref.y[:, -1]), moved  # the saturation matters
+
+
+def test_the_saturation_tangent_is_the_exact_jacobian():
+    from axojax.dynamics.saturation import motor_saturation
+
+    model = ax.models.seven(n_elements=3, base=COMPLIANT)
+    params = sartori_params().replace(beta_re=-100.0)
+    sat = motor_saturation(model, params, 0.02, 5.0)
+    X = jnp.asarray(np.random.default_rng(6).normal(size=2 * model.n_unknowns)) * 0.05
+    ours, ref = np.asarray(sat.tangent(X)), np.asarray(jax.jacfwd(sat.force)(X))
+    assert np.abs(ours).max() > 0 and np.abs(ours - ref).max() <= 1e-10 * np.abs(ref).max()
+    blocks = np.asarray(sat.tangent_blocks(X).to_dense())
+    assert np.array_equal(blocks, ours[np.asarray(sat.perm)][:, np.asarray(sat.perm)])
+
+
+def test_saturating_motors_set_the_amplitude_of_a_regulated_beat():
+    """Past its Hopf point a regulated beat grows until its motors saturate: a limit cycle
+    whose amplitude is proportional to f_sat (cubic links off, the equations are then
+    homogeneous in (X, f_sat): the cycle scales, its frequency stays)."""
+    model, params, units = _curvature_compliant()
+    cycles = []
+    for f_sat in (10.0, 20.0):
+        sim = ax.simulate(
+            model, params, 0.6, units=units, tau_m=_tau_m(units), f_sat=f_sat, cubic=0.0
+        )
+        assert sim.state == "limit_cycle", (f_sat, sim.state)
+        cycles.append(sim.limit_cycle)
+        assert sim.meta["motor_kinetics"]["f_sat_pn_per_um"] == pytest.approx(
+            float(units.p_to_pn_per_um(f_sat))
+        )
+    ratio = cycles[1]["tip_amplitude_um"] / cycles[0]["tip_amplitude_um"]
+    assert ratio == pytest.approx(2.0, rel=1e-2)
+    assert cycles[1]["frequency_hz"] == pytest.approx(cycles[0]["frequency_hz"], rel=1e-3)
+
+
+def test_a_bad_saturation_is_one_line():
+    model, params = ax.models.two(n_elements=4), _sliding_row()
+    for bad in (0.0, -1.0, float("inf")):
+        with pytest.raises(ValueError, match="f_sat") as err:
+            ax.simulate(model, params, 0.01, tau_m=0.01, f_sat=bad)
+        assert "\n" not in str(err.value) and repr(bad) in str(err.value)
+    with pytest.raises(ValueError, match="needs motor kinetics"):
+        ax.simulate(model, params, 0.01, f_sat=1.0)

@@ -61,6 +61,7 @@ from ..linalg import (
     lu_factor,
 )
 from .nonlinear import CubicLinks
+from .saturation import MotorSaturation
 
 
 class MassSystem(eqx.Module):
@@ -79,6 +80,8 @@ class MassSystem(eqx.Module):
             not clamped: its unknowns after the nodes').
         C_lu: block LU of ``C`` in node-major order (the ``a_ii = 0`` Jacobian).
         links: the cubic link force ``f_nl`` and its tangent ``d f_nl / dq``.
+        saturation: saturating motors' force and tangent (motor kinetics only,
+            :mod:`axojax.dynamics.saturation`), part of ``f_nl``; None: none.
     """
 
     C: Float[Array, "n n"]
@@ -92,6 +95,12 @@ class MassSystem(eqx.Module):
     A_blocks: BlockTridiagonal | Bordered
     C_lu: BlockLU | BorderedLU
     links: CubicLinks
+    saturation: MotorSaturation | None = None
+
+    def nonlinear_force(self, q: Float[Array, " n"]) -> Float[Array, " n"]:
+        """f_nl(q): the cubic links' force, plus the saturating motors' where there are."""
+        f = self.links.force(q)
+        return f if self.saturation is None else f + self.saturation.force(q)
 
     def solve(self, lu: BlockLU | BorderedLU, rhs: Float[Array, " n"]) -> Float[Array, " n"]:
         """``M^{-1} rhs`` for filament-major vectors, ``lu`` a node-major factor of M."""
@@ -101,7 +110,8 @@ class MassSystem(eqx.Module):
         """The block LU of ``C + c K(q)``, ``K = A + d f_nl / dq`` (node-major). Where C's
         node blocks are larger than the links' (motor kinetics: each node block holds the
         node's q then its motor copy y, :mod:`axojax.dynamics.motors`) the link tangent's
-        blocks are padded with zeros: the links do not act on y."""
+        blocks are padded with zeros: the links do not act on y. Saturating motors add
+        their tangent, already in those blocks."""
         K = self.links.tangent_blocks(q)
         tri = self.C_blocks.tri if isinstance(self.C_blocks, Bordered) else self.C_blocks
         extra = tri.block_size - K.block_size
@@ -112,13 +122,17 @@ class MassSystem(eqx.Module):
             m = self.C_blocks.m
             zero = jnp.zeros((K.shape[0], m), K.diag.dtype)
             K = bordered(K, zero, zero.T, jnp.zeros((m, m), K.diag.dtype))
+            if self.saturation is not None:
+                K = K + self.saturation.tangent_blocks(q)
             return bordered_lu(self.C_blocks + (self.A_blocks + K).scale(c))
+        if self.saturation is not None:
+            K = K + self.saturation.tangent_blocks(q)
         return lu_factor(self.C_blocks + (self.A_blocks + K).scale(c))
 
 
 def mass_vector_field(t, q, system: MassSystem):
     """diffrax vector field ``dq/dt = C^{-1} (b - A q - f_nl(q))``."""
-    return system.C_inv_b - system.C_inv_A @ q - system.C_inv @ system.links.force(q)
+    return system.C_inv_b - system.C_inv_A @ q - system.C_inv @ system.nonlinear_force(q)
 
 
 class _State(eqx.Module):
@@ -162,7 +176,7 @@ class MassChord(optx.AbstractRootFinder):
     def step(self, fn, y, args, options, state: _State, tags):
         c, q, system = _stage(y, args)
         diff = system.solve(
-            state.lu, system.C @ y - system.b + system.A @ q + system.links.force(q)
+            state.lu, system.C @ y - system.b + system.A @ q + system.nonlinear_force(q)
         )
         new_y = y - diff
         diffsize = self.norm(diff / (self.atol + self.rtol * jnp.abs(new_y)))

@@ -44,6 +44,7 @@ from ..results import RESULTS, message
 from .chord import MassChord, MassSystem, mass_vector_field
 from .motors import motor_blocks, motor_order
 from .nonlinear import cubic_links
+from .saturation import motor_saturation
 
 
 class Trajectory(eqx.Module):
@@ -103,13 +104,17 @@ def mass_system(
     params: Params,
     kappa: Real[ArrayLike, ""],
     tau_m: Real[ArrayLike, ""] | None = None,
+    f_sat: Real[ArrayLike, ""] | None = None,
 ) -> MassSystem:
     """The ODE ``C dq/dt = b - A q - f_nl(q)`` at ``params`` as a :class:`MassSystem`
     (``C^{-1} A``, ``C^{-1} b`` and the block LU of ``C`` formed once). With ``tau_m``
     (dimensionless, > 0): the augmented system of motor kinetics, state X = (q, y) of
-    2 N unknowns (:mod:`axojax.dynamics.motors`)."""
+    2 N unknowns (:mod:`axojax.dynamics.motors`), and with ``f_sat`` (EI / L^3, > 0)
+    saturating motors (:mod:`axojax.dynamics.saturation`; needs ``tau_m``)."""
     if tau_m is not None:
-        return _motor_mass_system(model, params, kappa, tau_m)
+        return _motor_mass_system(model, params, kappa, tau_m, f_sat)
+    if f_sat is not None:
+        raise ValueError("a motor saturation f_sat needs motor kinetics (tau_m)")
     s = assemble(model, params)
     blocks = assemble_blocks(model, params)
     C_inv = _inverse(s.C)
@@ -136,7 +141,11 @@ def mass_system(
 
 
 def _motor_mass_system(
-    model: Model, params: Params, kappa: Real[ArrayLike, ""], tau_m: Real[ArrayLike, ""]
+    model: Model,
+    params: Params,
+    kappa: Real[ArrayLike, ""],
+    tau_m: Real[ArrayLike, ""],
+    f_sat: Real[ArrayLike, ""] | None,
 ) -> MassSystem:
     """:func:`mass_system` of the augmented system ``C' dX/dt = b' - A' X - f_nl(X)``
     (:func:`~axojax.assembly.motor_kinetics.assemble_motor`), blocks in
@@ -157,6 +166,7 @@ def _motor_mass_system(
         A_blocks=A_blocks,
         C_lu=C_lu,
         links=cubic_links(model, params, kappa, n_extra=model.n_unknowns),
+        saturation=None if f_sat is None else motor_saturation(model, params, tau_m, f_sat),
     )
 
 
@@ -165,10 +175,11 @@ def vector_field(
     params: Params,
     kappa: Real[ArrayLike, ""],
     tau_m: Real[ArrayLike, ""] | None = None,
+    f_sat: Real[ArrayLike, ""] | None = None,
 ):
     """dq/dt (with ``tau_m``: dX/dt of the augmented state) as a diffrax-style
     ``f(t, q, args)`` (``args`` unused)."""
-    system = mass_system(model, params, kappa, tau_m)
+    system = mass_system(model, params, kappa, tau_m, f_sat)
     return lambda t, q, args: mass_vector_field(t, q, system)
 
 
@@ -192,6 +203,7 @@ def integrate(
     max_steps: int = 200_000,
     progress: bool = False,
     tau_m: Real[ArrayLike, ""] | None = None,
+    f_sat: Real[ArrayLike, ""] | None = None,
 ) -> Trajectory:
     """Integrate from ``q0`` at ``t[0]`` and save at the (increasing) times ``t``.
 
@@ -210,6 +222,8 @@ def integrate(
         tau_m: motor kinetics of this relaxation time (tau, > 0; may be traced): the
             state is X = (q, y), 2 N unknowns, ``q0`` and the trajectory's ``q`` too
             (:mod:`axojax.dynamics.motors`). None (default): today's system.
+        f_sat: with ``tau_m``, saturating motors: the regulated force through
+            ``f_sat tanh(f / f_sat)`` (EI / L^3, > 0; :mod:`axojax.dynamics.saturation`).
     """
     sol = diffrax.diffeqsolve(
         diffrax.ODETerm(mass_vector_field),
@@ -218,7 +232,7 @@ def integrate(
         t1=t[-1],
         dt0=None,
         y0=q0,
-        args=mass_system(model, params, kappa, tau_m),
+        args=mass_system(model, params, kappa, tau_m, f_sat),
         saveat=diffrax.SaveAt(
             subs=[diffrax.SubSaveAt(ts=t), diffrax.SubSaveAt(t1=True)]
         ),  # t1: where it stopped

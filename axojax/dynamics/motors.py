@@ -24,17 +24,22 @@ padded (:meth:`axojax.dynamics.chord.MassSystem.stage_factor`).
 
 from __future__ import annotations
 
+import math
+from typing import Any
+
 import jax.numpy as jnp
 import numpy as np
 import scipy.linalg as sl
-from jaxtyping import Array, Float
+from jaxtyping import Array, ArrayLike, Float
 
 from ..assembly import node_major
 from ..assembly.motor_kinetics import assemble_motor
 from ..eigen.deflation import scale_of
+from ..eigen.mode import CLASSES, classify
 from ..linalg import BlockTridiagonal, Bordered, bordered
 from ..models.section import Model
 from ..params import Params
+from ..units import Units
 
 
 def motor_order(model: Model) -> np.ndarray:
@@ -53,14 +58,22 @@ def motor_blocks(model: Model, M: Float[Array, "M M"]) -> BlockTridiagonal | Bor
     2 m border unknowns where the model has a border (else a plain
     :class:`~axojax.linalg.BlockTridiagonal`). Entries outside the band are dropped (there
     are none for the augmented A' and C')."""
-    perm = jnp.asarray(motor_order(model))
+    return blocks_of(M, motor_order(model), model.n_elements, 4 * model.n_fd, 2 * model.n_border)
+
+
+def blocks_of(
+    M: Float[Array, "M M"], perm: ArrayLike, n_blocks: int, block_size: int, m: int
+) -> BlockTridiagonal | Bordered:
+    """:func:`motor_blocks` from the order ``perm`` and the sizes (``n_blocks`` node
+    blocks of ``block_size``, then a border of ``m``; m = 0: a plain block-tridiagonal
+    matrix)."""
+    perm = jnp.asarray(perm)
     P = M[perm][:, perm]
-    N, b = model.n_elements, 4 * model.n_fd
-    nn = N * b
-    T = P[:nn, :nn].reshape(N, b, N, b)
-    k = np.arange(N)
+    nn = n_blocks * block_size
+    T = P[:nn, :nn].reshape(n_blocks, block_size, n_blocks, block_size)
+    k = np.arange(n_blocks)
     tri = BlockTridiagonal(T[k[1:], :, k[:-1], :], T[k, :, k, :], T[k[:-1], :, k[1:], :])
-    if model.n_border == 0:
+    if m == 0:
         return tri
     return bordered(tri, P[:nn, nn:], P[nn:, :nn], P[nn:, nn:])
 
@@ -98,3 +111,26 @@ def equilibrium(model: Model, params: Params, tau_m: float) -> np.ndarray:
     A = np.asarray(s.A)
     X = np.linalg.lstsq(A, b, rcond=None)[0] if model.n_border else np.linalg.solve(A, b)
     return X[: model.n_unknowns]
+
+
+def motor_linear(model: Model, params: Params, tau_m: float, units: Units) -> dict[str, Any]:
+    """:func:`dominant_eigenvalue` as ``simulate``'s ``linear``: ``frequency_hz``,
+    ``growth_rate_per_s`` and ``classification`` (:data:`axojax.eigen.mode.CLASSES`)."""
+    lam = dominant_eigenvalue(model, params, tau_m)
+    return {
+        "frequency_hz": abs(lam.imag) / (2 * math.pi * units.tau_s),
+        "growth_rate_per_s": lam.real / units.tau_s,
+        "classification": CLASSES[int(classify(jnp.asarray(lam)))],
+    }
+
+
+def motor_meta(tau_m: float, f_sat: float | None, units: Units) -> dict[str, Any]:
+    """``simulate``'s ``meta["motor_kinetics"]``: the motor time ``tau_m`` (tau) and
+    ``tau_ms``, the saturation ``f_sat`` (EI / L^3) and ``f_sat_pn_per_um`` (None
+    without one)."""
+    return {
+        "tau_m": tau_m,
+        "tau_ms": tau_m * units.tau_s * 1e3,
+        "f_sat": f_sat,
+        "f_sat_pn_per_um": None if f_sat is None else float(units.p_to_pn_per_um(f_sat)),
+    }

@@ -15,7 +15,7 @@ import numpy as np
 from .. import _io, results
 from ..assembly import assemble
 from ..assembly.motor_kinetics import check_tau_m
-from ..eigen.mode import CLASSES, classify, dominant_mode
+from ..eigen.mode import CLASSES, dominant_mode
 from ..models.section import Model
 from ..params import DEFAULT_CUBIC, Params
 from ..results import RESULTS
@@ -26,7 +26,8 @@ from ..waveform.shapes import centreline
 from ..well_posed import require_passive_friction
 from .analysis import classify_trajectory
 from .integrate import integrate, result_message
-from .motors import dominant_eigenvalue, equilibrium
+from .motors import equilibrium, motor_linear, motor_meta
+from .saturation import check_saturation
 
 MIN_SAMPLES_PER_S = 2000.0
 MAX_SAMPLES = 200_000
@@ -338,6 +339,7 @@ def simulate(
     progress: bool = False,
     throw: bool = False,
     tau_m: float | None = None,
+    f_sat: float | None = None,
 ) -> Simulation:
     """Integrate ``C dq/dt = -A q - f_nl(q) + b`` from a small perturbation of the straight
     state (the static deflection of every filament under a tip force in y, see
@@ -377,11 +379,18 @@ def simulate(
             in [1e-9, 1e9]; None (default): no motor kinetics (today's friction form).
             With it ``linear`` is the augmented pencil's rightmost eigenvalue (dense), and
             ``meta["motor_kinetics"]`` holds ``tau_m`` and ``tau_ms`` (milliseconds).
+        f_sat: with ``tau_m``, saturating motors: the regulated force through
+            ``f_sat tanh(f / f_sat)`` (:mod:`axojax.dynamics.saturation`), f_sat
+            dimensionless (``units.p_from_pn_per_um``), > 0; None (default): linear motors.
 
     Returns:
         :class:`Simulation`.
     """
     params = params.validate()
+    if f_sat is not None:
+        if tau_m is None:
+            raise ValueError("a motor saturation f_sat needs motor kinetics (tau_m)")
+        f_sat = check_saturation(f_sat)
     if tau_m is None:
         require_passive_friction(model, params, "simulate")
     else:
@@ -427,6 +436,7 @@ def simulate(
         max_steps=max_steps,
         progress=progress,
         tau_m=None if tau_m is None else jnp.asarray(tau_m),
+        f_sat=None if f_sat is None else jnp.asarray(f_sat),
     )
     q = np.asarray(traj.q)[:, : model.n_unknowns]  # without the motors' copy y
     ok = bool(traj.ok)
@@ -479,7 +489,7 @@ def simulate(
         "params": {k: float(v) for k, v in params.as_dict().items()},
         "imbalance_kind": model.imbalance_kind,
         "cubic": cubic,
-        "motor_kinetics": None if tau_m is None else {"tau_m": tau_m, "tau_ms": tau_m * tau * 1e3},
+        "motor_kinetics": None if tau_m is None else motor_meta(tau_m, f_sat, units),
         "t_end_s": t_end_s,
         "perturbation_um": perturbation_um,
         "units": {
@@ -522,19 +532,14 @@ def simulate(
 def _linear(model: Model, params: Params, units: Units, tau_m: float | None) -> dict[str, Any]:
     """The dominant eigenvalue at ``params`` as ``frequency_hz``, ``growth_rate_per_s`` and
     ``classification``: :func:`~axojax.eigen.mode.dominant_mode`'s, or with ``tau_m`` the
-    augmented pencil's (:func:`axojax.dynamics.motors.dominant_eigenvalue`)."""
-    if tau_m is None:
-        mode = dominant_mode(model, params)
-        return {
-            "frequency_hz": float(mode.frequency_hz(units)),
-            "growth_rate_per_s": float(mode.growth_rate_per_s(units)),
-            "classification": CLASSES[int(mode.classification)],
-        }
-    lam = dominant_eigenvalue(model, params, tau_m)
+    augmented pencil's (:func:`axojax.dynamics.motors.motor_linear`)."""
+    if tau_m is not None:
+        return motor_linear(model, params, tau_m, units)
+    mode = dominant_mode(model, params)
     return {
-        "frequency_hz": abs(lam.imag) / (2 * math.pi * units.tau_s),
-        "growth_rate_per_s": lam.real / units.tau_s,
-        "classification": CLASSES[int(classify(jnp.asarray(lam)))],
+        "frequency_hz": float(mode.frequency_hz(units)),
+        "growth_rate_per_s": float(mode.growth_rate_per_s(units)),
+        "classification": CLASSES[int(mode.classification)],
     }
 
 
