@@ -470,3 +470,25 @@ def test_a_bad_saturation_is_one_line():
         assert "\n" not in str(err.value) and repr(bad) in str(err.value)
     with pytest.raises(ValueError, match="needs motor kinetics"):
         ax.simulate(model, params, 0.01, f_sat=1.0)
+
+
+def test_cli_motor_saturation(capsys):
+    """``--motor-saturation PN_PER_UM``: needs --motor-tau-ms, > 0, one line; with it the
+    JSON reports the saturation in pN/um and in EI/L^3."""
+    from axojax.cli.main import main
+
+    for extra, needle in (([], "needs motor kinetics"), (["--motor-tau-ms", "5"], "must be > 0")):
+        value = "2" if not extra else "-2"
+        code = main([*_argv(), f"--motor-saturation={value}", *extra, "--json"])
+        err = capsys.readouterr().err
+        assert (
+            code == 2
+            and err.count("\n") == 1
+            and err.startswith("axojax: error: --motor-saturation: ")
+        )
+        assert needle in err
+    assert main([*_argv(), "--motor-tau-ms", "5", "--motor-saturation", "2", "--json"]) == 0
+    m = json.loads(capsys.readouterr().out)["motor_kinetics"]
+    assert m["f_sat_pn_per_um"] == pytest.approx(2.0) and m["f_sat"] == pytest.approx(
+        float(ax.Units().p_from_pn_per_um(2.0))
+    )

@@ -1,7 +1,7 @@
 """The flags of regulated dynein and base conditions (docs/model.md section 8) as model
 and parameter values: ``--mechanism``/``--chi``/``--beta``/``--omega0-hz``, ``--base``,
 ``--basal-compliance``, ``--head-um``/``--head-drag``/``--viscosity-pa-s``; motor kinetics
-``--motor-tau-ms``; and the refusal of an active friction where the time domain is needed
+``--motor-tau-ms`` and ``--motor-saturation``; and the refusal of an active friction where the time domain is needed
 (without motor kinetics)."""
 
 from __future__ import annotations
@@ -178,3 +178,35 @@ def motor_tau_from_args(args: argparse.Namespace, params: Params) -> float | Non
     except ValueError as err:
         raise CLIError(f"--motor-tau-ms: {tau_ms:g} ms: {err}") from None
     return tau_m
+
+
+def add_motor_saturation_flag(parser: argparse.ArgumentParser) -> None:
+    """``--motor-saturation PN_PER_UM`` (docs/model.md section 8, saturating motors)."""
+    parser.add_argument(
+        "--motor-saturation",
+        type=finite_float,
+        default=None,
+        metavar="PN_PER_UM",
+        help="saturating motors: the regulated force per length passes through "
+        "F tanh(f / F), F in pN/um (with --motor-tau-ms; docs/model.md section 8)",
+    )
+
+
+def motor_saturation_from_args(args: argparse.Namespace, tau_m: float | None) -> float | None:
+    """The dimensionless saturation f_sat (``--motor-saturation`` pN/um scaled as ``p``:
+    L^3 / EI), or None without the flag. One-line :class:`CLIError` naming the flag for a
+    value not > 0 or beyond the library's range, or without ``--motor-tau-ms``
+    (``tau_m`` None)."""
+    from ..dynamics.saturation import check_saturation
+
+    value = getattr(args, "motor_saturation", None)
+    if value is None:
+        return None
+    if not value > 0:
+        raise CLIError(f"--motor-saturation: must be > 0 pN/um, got {value:g}")
+    if tau_m is None:
+        raise CLIError("--motor-saturation: needs motor kinetics (--motor-tau-ms)")
+    try:
+        return check_saturation(units_from_args(args).p_from_pn_per_um(value))
+    except ValueError as err:
+        raise CLIError(f"--motor-saturation: {value:g} pN/um: {err}") from None

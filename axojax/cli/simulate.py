@@ -12,7 +12,12 @@ from ..dynamics.simulate import MIN_STEPS, STEPS_PER_PERIOD, check_inputs
 from ..params import DEFAULT_CUBIC
 from ..waveform.measures import sensitive_note, wavelength_text
 from . import common
-from .regulation import add_motor_tau_flag, motor_tau_from_args
+from .regulation import (
+    add_motor_saturation_flag,
+    add_motor_tau_flag,
+    motor_saturation_from_args,
+    motor_tau_from_args,
+)
 
 MAX_STEPS = 100_000_000
 """Largest solver step budget (given or implied by ``--t-end``): beyond it a run would
@@ -70,6 +75,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_motor_tau_flag(
         parser, "the state grows by the motors' filtered copy of it (2N unknowns, dense matrices)"
     )
+    add_motor_saturation_flag(parser)
     parser.add_argument(
         "--out", default=None, metavar="FILE.npz", help="write the time series here"
     )
@@ -85,6 +91,7 @@ def run(args: argparse.Namespace) -> dict:
     model = common.model_from_args(args)
     params = common.params_from_args(args)
     tau_m = motor_tau_from_args(args, params)
+    f_sat = motor_saturation_from_args(args, tau_m)
     if tau_m is None:  # motor kinetics makes an active friction well posed
         common.require_passive_friction(model, params, "simulate", held=False)
     units = common.units_from_args(args)
@@ -128,6 +135,7 @@ def run(args: argparse.Namespace) -> dict:
         max_steps=args.max_steps,
         progress=not args.json and sys.stderr.isatty(),
         tau_m=tau_m,
+        f_sat=f_sat,
     )
     if args.out is not None:
         sim.save(args.out)  # written whole (axojax._io)
@@ -174,9 +182,12 @@ def render(doc: dict) -> str:
         f"linear (dominant eigenvalue): {lin['classification']}, {lin['frequency_hz']:.3f} Hz, "
         f"growth {lin['growth_rate_per_s']:.3f} /s",
     ]
-    if doc.get("motor_kinetics") is not None:
+    motors = doc.get("motor_kinetics")
+    if motors is not None:
+        sat = motors.get("f_sat_pn_per_um")
         lines.append(
-            f"motor kinetics: tau_m = {doc['motor_kinetics']['tau_ms']:g} ms (linear: the augmented pencil)"
+            f"motor kinetics: tau_m = {motors['tau_ms']:g} ms (linear: the augmented pencil)"
+            + ("" if sat is None else f", saturating at {sat:g} pN/um")
         )
     lc = doc["limit_cycle"]
     if lc is not None:
