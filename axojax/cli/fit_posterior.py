@@ -2,7 +2,8 @@
 (``--posterior``, ``--chains``, ``--warmup``, ``--along``, ``--sampler``), their checks,
 and the run of :func:`axojax.inverse.posterior`: NUTS from the fit's optimum (with the
 warm-state cache when the compilation cache is on, the Laplace approximation printed
-first), or ``--sampler smc``: independent SMC runs from the prior."""
+first), ``--sampler smc``: independent SMC runs from the prior, or ``--sampler modes``:
+independence Metropolis-Hastings chains from a mixture fitted to every mode."""
 
 from __future__ import annotations
 
@@ -12,7 +13,7 @@ import warnings
 
 from .._progress import stage
 from ..cache import WARM_SUBDIR, compilation_cache_dir
-from ..inverse import SMC, ProfileTransport, posterior, suggest_transport
+from ..inverse import SMC, ModeMixture, ProfileTransport, posterior, suggest_transport
 from . import common
 from .fit_text import render_laplace
 
@@ -62,10 +63,10 @@ def check_arguments(args: argparse.Namespace) -> None:
         if args.sampler != "nuts":
             raise common.CLIError("--sampler: applies to the posterior; add --posterior DRAWS")
         return
-    if args.sampler == "smc":
+    if args.sampler != "nuts":
         for flag, value in (("--warmup", args.warmup), ("--along", args.along)):
             if value is not None:
-                raise common.CLIError(f"{flag}: applies to NUTS, not to --sampler smc")
+                raise common.CLIError(f"{flag}: applies to NUTS, not to --sampler {args.sampler}")
     if args.warmup is not None and not MIN_WARMUP <= args.warmup <= MAX_DRAWS:
         raise common.CLIError(
             f"--warmup: steps per chain must be in {MIN_WARMUP}..{MAX_DRAWS}, got {args.warmup}"
@@ -122,9 +123,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--sampler",
-        choices=("nuts", "smc"),
+        choices=("nuts", "smc", "modes"),
         default="nuts",
-        help="with --posterior: 'nuts' (default): NUTS chains from the optimum; 'smc': adaptive "
+        help="with --posterior: 'nuts' (default): NUTS chains from the optimum; 'modes': "
+        "independence Metropolis-Hastings chains from a Student-t mixture fitted to every mode by "
+        "tempered importance sampling from the prior, the fit's optima seeded "
+        "(axojax.inverse.ModeMixture): for up to about three free parameters with several modes, "
+        "cliffs where the dominant eigenmode changes (the report names the switch lines met) or "
+        "a long curved ridge; no gradients; 'smc': adaptive "
         "tempered sequential Monte Carlo from the prior (axojax.inverse.SMC), --chains independent "
         "runs of DRAWS particles each, for posteriors with several modes (as many targets as free "
         "parameters) or cliffs where the dominant eigenmode changes; no gradients, several times "
@@ -162,8 +168,8 @@ def sample(
     """The posterior of ``problem`` from the fit ``result``'s optimum (``--posterior``),
     along ``transport`` (:func:`transport_of`; :data:`AUTO`: :func:`suggest_transport` of
     the fit); its warnings (R-hat, ESS, divergences) one line each on stderr."""
-    if args.sampler == "smc":
-        return _sample_smc(args, problem, progress)
+    if args.sampler != "nuts":
+        return _sample_gradient_free(args, problem, result, progress)
     if transport == AUTO:
         with stage("posterior coordinates (profiles)", enable=progress):
             transport = suggest_transport(problem, result)
@@ -190,14 +196,22 @@ def sample(
     return post
 
 
-def _sample_smc(args: argparse.Namespace, problem, progress: bool):
+def _sample_gradient_free(args: argparse.Namespace, problem, result, progress: bool):
     """``--sampler smc``: ``--chains`` SMC runs of ``--posterior`` particles each, from the
-    prior; the warnings one line each on stderr."""
+    prior; ``--sampler modes``: ``--chains`` chains of ``--posterior`` draws from a mixture
+    fitted to every mode, the fit ``result``'s optima seeded. The warnings one line each on
+    stderr."""
+    sampler, init = (SMC(), None) if args.sampler == "smc" else (ModeMixture(), result)
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             post = posterior(
-                problem, draws=args.posterior, chains=args.chains, sampler=SMC(), progress=progress
+                problem,
+                draws=args.posterior,
+                chains=args.chains,
+                sampler=sampler,
+                init=init,
+                progress=progress,
             )
     except ValueError as err:
         raise common.CLIError(f"--posterior: {err}") from None

@@ -99,6 +99,8 @@ def _render_posterior(post: dict | None) -> list[str]:
             f"{', '.join(map(str, post['tempering_stages']))}; {post['gradients']} log-density "
             f"evaluations ({post['gradients_per_ess']:.1f} per effective draw)"
         )
+    elif post.get("sampler") == "modes":
+        lines += _render_modes(post)
     elif post.get("gradients_per_draw") is not None:
         lines.append(
             f"NUTS: mean tree depth {post['tree_depth']:.2f} (limit {post['max_num_doublings']}, "
@@ -118,6 +120,31 @@ def _render_posterior(post: dict | None) -> list[str]:
         )
     if post.get("file"):
         lines.append(f"wrote {post['file']} (axojax plot it for a corner plot)")
+    return lines
+
+
+def _render_modes(post: dict) -> list[str]:
+    """``--sampler modes``: the cost, each mode's centre and mass, the switch lines met."""
+    lines = [
+        f"modes: {post['chains']} independence Metropolis-Hastings chains from a mixture fitted in "
+        f"{post['tempering_stages'][0]} stages; acceptance {post['acceptance']:.2f}; "
+        f"{post['gradients']} log-density evaluations ({post['gradients_per_ess']:.1f} per effective draw)"
+    ]
+    for i, mode in enumerate(post.get("modes") or []):
+        centre = mode.get("centre") or {}
+        where = ", ".join(f"{k} {v:.4g}" for k, v in centre.items())
+        lines.append(
+            f"  mode {i + 1}: {where}: mass {mode['mass']:.3f} of the draws "
+            f"({mode['mass_importance']:.3f} by importance weights)"
+        )
+    for line in post.get("switches") or []:
+        where = ", ".join(
+            f"{k} {lo:.4g}" if abs(hi - lo) <= 1e-3 * abs(hi) else f"{k} {lo:.4g}-{hi:.4g}"
+            for k, (lo, hi) in line["range"].items()
+        )
+        lines.append(
+            f"  the dominant eigenmode switches at {where} (the residuals jump by {line['jump']:.3g} sigma)"
+        )
     return lines
 
 

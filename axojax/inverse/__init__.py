@@ -44,6 +44,7 @@ from .sampling._densities import InverseProblem, NormalPrior, ScaledSigmas, norm
 from .sampling._nuts import NUTS
 from .sampling._posterior_result import Posterior, load_truth
 from .sampling._smc import SMC
+from .sampling.modes import ModeMixture
 from .sampling.posterior import posterior
 from .sampling.transport import ProfileTransport
 from .sampling.transport_choice import suggest_transport
@@ -79,6 +80,7 @@ __all__ = [
     "Problem",
     "ScaledSigmas",
     "SMC",
+    "ModeMixture",
     "WarmSolution",
     "build_report",
     "checks",

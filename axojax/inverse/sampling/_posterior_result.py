@@ -78,12 +78,22 @@ class Posterior:
             seconds_compile_draws`` after the start, plus its own steps).
         transport: the parameter whose profile straightened the sampled coordinates
             (``posterior(transport=ProfileTransport(...))``), or None.
-        sampler: "nuts", or "smc" (``posterior(sampler=SMC(...))``: the chains are
+        sampler: "nuts", "smc" (``posterior(sampler=SMC(...))``: the chains are
             independent runs, the draws their particles; no divergences, step sizes,
-            warm-up, start or Laplace approximation; ``gradients`` counts values).
+            warm-up, start or Laplace approximation; ``gradients`` counts values) or
+            "modes" (``posterior(sampler=ModeMixture(...))``: independence
+            Metropolis-Hastings chains; ``warmup`` is the burn-in, ``gradients`` counts
+            values).
         tempering_stages: per SMC run, its tempering stages (empty for NUTS).
         log_evidence: per SMC run, the log of the posterior's normalising constant over
             the uniform reference in u (runs that agree to ~0.1 saw the same modes).
+        modes: per mode found (``sampler="modes"``), heaviest first: ``centre`` (the
+            values of its best draw), ``log_density`` there, ``mass`` (its share of the
+            draws), ``mass_importance`` (its share by importance weights) and
+            ``components`` (:func:`~axojax.inverse.sampling.mode_report.mode_masses`).
+        switches: the lines where the dominant eigenmode switches that the sampler met
+            (``sampler="modes"``): ``points`` (values), ``range`` ({name: [min, max]}),
+            ``jump`` (residuals, sigmas) (:func:`~axojax.inverse.sampling.switches.find_switches`).
     """
 
     names: tuple[str, ...]
@@ -133,6 +143,8 @@ class Posterior:
     sampler: str = "nuts"
     tempering_stages: tuple[int, ...] = ()
     log_evidence: tuple[float, ...] = ()
+    modes: tuple[dict, ...] = ()
+    switches: tuple[dict, ...] = ()
 
     @property
     def chains(self) -> int:
@@ -165,7 +177,7 @@ class Posterior:
     def to_json(self) -> dict[str, Any]:
         """The ``"posterior"`` block of ``axojax fit --posterior --json`` (docs/interface.md):
         ``draws`` (per chain), ``chains``, ``mean``, ``sd``, ``q05``, ``q95``, ``rhat``,
-        ``ess`` (bulk), ``seconds``; also ``q50``, ``ess_tail``, ``divergences``,
+        ``ess`` (bulk), ``seconds``; also ``q50``, ``ess_tail``, ``divergences``, ``acceptance``,
         ``warmup``, ``seconds_compile``, ``seconds_start``, ``seconds_warmup``,
         ``seconds_sampling``, ``seconds_per_gradient``, ``seconds_per_ess``, ``message``, ``result``
         (the name of :attr:`result`), ``laplace`` (:meth:`Laplace.to_json`, or None),
@@ -176,8 +188,9 @@ class Posterior:
         sampled coordinates were straightened, or None), ``gradients`` (every log-density
         evaluation of the chains, warm-up included: :attr:`gradients`) and
         ``gradients_per_ess`` (``gradients`` over the smallest bulk ESS: the cost of one
-        effective draw of the worst-sampled parameter), ``sampler`` ("nuts" or "smc"),
-        ``tempering_stages`` and ``log_evidence`` (per SMC run; empty for NUTS)."""
+        effective draw of the worst-sampled parameter), ``sampler`` ("nuts", "smc" or
+        "modes"), ``tempering_stages`` and ``log_evidence`` (per SMC run; empty for NUTS),
+        ``modes`` and ``switches`` (``sampler="modes"``; empty otherwise)."""
         return {
             "draws": self.draws,
             "chains": self.chains,
@@ -190,6 +203,7 @@ class Posterior:
             "ess": dict(self.ess),
             "ess_tail": dict(self.ess_tail),
             "divergences": self.divergences,
+            "acceptance": self.acceptance,
             "warmup": self.warmup,
             "seconds": self.seconds,
             "seconds_compile": self.seconds_compile,
@@ -215,6 +229,8 @@ class Posterior:
             "sampler": self.sampler,
             "tempering_stages": list(self.tempering_stages),
             "log_evidence": list(self.log_evidence),
+            "modes": list(self.modes),
+            "switches": list(self.switches),
         }
 
     def save(self, path, *, truth: Mapping[str, float] | None = None) -> None:
@@ -256,7 +272,7 @@ class Posterior:
             arrays = {name: np.asarray(f[name]) for name in _ARRAY_FIELDS}
         scalars = {k: meta[k] for k in _SCALAR_FIELDS if k in meta}  # older files: fewer
         laplace = meta.get("laplace")
-        for name in ("tempering_stages", "log_evidence"):  # JSON lists
+        for name in ("tempering_stages", "log_evidence", "modes", "switches"):  # JSON lists
             if name in scalars:
                 scalars[name] = tuple(scalars[name])
         return cls(
@@ -315,6 +331,8 @@ _SCALAR_FIELDS = (
     "sampler",
     "tempering_stages",
     "log_evidence",
+    "modes",
+    "switches",
 )
 
 

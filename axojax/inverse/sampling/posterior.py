@@ -54,9 +54,11 @@ from ...results import RESULTS, message
 from . import _nuts, _warm_cache, diagnostics
 from ._densities import InverseProblem, _Target, _Whitened, normal_prior
 from ._laplace import Laplace, _starts, laplace_of
-from ._nuts import DEFAULT_NUTS, NUTS, _compiled, _init_states, _sample, _to_u, _values, _warmup
+from ._nuts import DEFAULT_NUTS, NUTS, _init_states, _sample, _to_u, _warmup
 from ._posterior_result import Posterior
 from ._smc import SMC
+from ._summaries import _Clock, _statistics, _value_draws
+from .modes import ModeMixture, mode_posterior
 from .smc import smc_posterior
 from .transport import PROFILE_DROP, ProfileMap, ProfileTransport, build_map, profile_ends
 
@@ -76,7 +78,7 @@ def posterior(
     seed: int = 0,
     init: Any = None,
     prior: Callable[[Array], Array] | Mapping[str, tuple[float, float]] | None = None,
-    sampler: NUTS | SMC = DEFAULT_NUTS,
+    sampler: NUTS | SMC | ModeMixture = DEFAULT_NUTS,
     vectorize: bool = True,
     progress: bool = False,
     on_laplace: Callable[[Laplace], None] | None = None,
@@ -103,7 +105,9 @@ def posterior(
         sampler: :class:`NUTS` settings, or :class:`SMC`: ``chains`` independent runs of
             adaptive tempered SMC from the prior (:mod:`.smc`; for several modes or cliffs;
             ``init``, ``warmup``, ``vectorize``, ``on_laplace`` and ``cache`` then do not
-            apply, a ``transport`` is refused).
+            apply, a ``transport`` is refused); or :class:`ModeMixture`: independence
+            Metropolis-Hastings chains from a mixture fitted to every mode (:mod:`.modes`;
+            ``init`` seeds the fit's optima; a ``transport`` is refused).
         vectorize: run the chains vmapped (they step together, each NUTS step costing
             the longest of the chains' trajectories; batched model evaluations), or,
             ``False``, one after another inside the same compiled program (each chain
@@ -142,6 +146,10 @@ def posterior(
     names, lower, upper, prior = _check(problem, draws, chains, warmup, sampler, prior)
     if isinstance(sampler, SMC):  # independent runs from the prior: .smc
         return smc_posterior(problem, sampler, (draws, chains, seed), prior, progress, transport)
+    if isinstance(sampler, ModeMixture):  # a mixture proposal fitted to every mode: .modes
+        if transport is not None:
+            raise ValueError("transport: applies to NUTS; ModeMixture samples z as it is")
+        return mode_posterior(problem, sampler, (draws, chains, seed), prior, progress, init)
     along = _check_transport(transport, names)
     directory = posterior_cache_dir(cache)
     target = _Target(problem, prior)
@@ -358,28 +366,6 @@ def _summarise(
     )
 
 
-def _statistics(names, summ, flat_u) -> dict[str, dict[str, float]]:
-    """Per parameter, by name: mean, sd, 5/50/95 % quantiles, R-hat and bulk/tail ESS of
-    its values (``summ``: :func:`.diagnostics.summary`), and the mean and sd of its
-    draws in u (``flat_u``: (chains * draws, k)), as :class:`Posterior` names them."""
-
-    def per(key):
-        return {n: float(summ[key][i]) for i, n in enumerate(names)}
-
-    return {
-        "mean": per("mean"),
-        "sd": per("sd"),
-        "q05": per("q05"),
-        "q50": per("q50"),
-        "q95": per("q95"),
-        "mean_u": {n: float(v) for n, v in zip(names, flat_u.mean(axis=0))},
-        "sd_u": {n: float(v) for n, v in zip(names, flat_u.std(axis=0, ddof=1))},
-        "rhat": per("rhat"),
-        "ess": per("ess_bulk"),
-        "ess_tail": per("ess_tail"),
-    }
-
-
 def _cliff_note(profile, problem, along: str, laplace: Laplace) -> str:
     """Where the transport's profile ends (a cliff of the log density that trajectories
     reaching it diverge at), for the divergence warning."""
@@ -406,18 +392,6 @@ def _saturation_note(saturated: float, sampler: NUTS, n_steps: np.ndarray) -> st
     )
 
 
-class _Clock:
-    """Runs compiled pieces (:func:`._nuts._compiled`) and adds up their compilation."""
-
-    def __init__(self):
-        self.seconds = 0.0
-
-    def call(self, fn, static, *dynamic):
-        out, seconds = _compiled(fn, static, dynamic)
-        self.seconds += seconds
-        return out
-
-
 def _check(problem, draws, chains, warmup, sampler, prior):
     """The problem's names and bounds in u, and the prior as a callable (or None), after
     checking every argument (one-line ``ValueError`` / ``TypeError``)."""
@@ -437,9 +411,9 @@ def _check(problem, draws, chains, warmup, sampler, prior):
         raise ValueError(f"draws must be >= 4 (R-hat splits each chain), got {draws}")
     if not (isinstance(warmup, (int, np.integer)) and warmup >= 0):
         raise ValueError(f"warmup must be an integer >= 0, got {warmup!r}")
-    if not isinstance(sampler, (NUTS, SMC)):
+    if not isinstance(sampler, (NUTS, SMC, ModeMixture)):
         raise TypeError(
-            f"sampler must be an axojax.inverse.NUTS or SMC, got {type(sampler).__name__}"
+            f"sampler must be an axojax.inverse.NUTS, SMC or ModeMixture, got {type(sampler).__name__}"
         )
     if isinstance(prior, Mapping):
         prior = normal_prior(names, prior)
@@ -572,25 +546,3 @@ def _draw(sampled, sampler, states, step_size, imm, draws, vectorize, key, progr
             bar.update(chains * min(SAMPLE_CHUNK, draws - i * SAMPLE_CHUNK))
     spent = int(sum(np.sum(o[3]) for o in outs))
     return (*(np.concatenate([o[j] for o in outs], axis=1)[:, :draws] for j in range(6)), spent)
-
-
-def _value_draws(problem, names, u, call):
-    """The draws u (chains, draws, k) as parameter values: their names (the free
-    parameters first, then what else ``problem.values`` reports), the values (chains,
-    draws, n) and per free parameter whether u is the log of its value."""
-    chains, draws, k = u.shape
-    by_name = _values(problem, u.reshape(-1, k), call)
-    value_names = tuple(names) + tuple(n for n in by_name if n not in names)
-    cols = [
-        np.asarray(by_name[n], dtype=float).reshape(chains, draws) if n in by_name else u[..., i]
-        for i, n in enumerate(value_names)
-    ]
-    values = np.stack(cols, axis=-1)
-    log_coordinate = {
-        n: bool(
-            np.all(values[..., i] > 0)
-            and np.allclose(np.log(values[..., i]), u[..., i], rtol=1e-9, atol=1e-9)
-        )
-        for i, n in enumerate(names)
-    }
-    return value_names, values, log_coordinate

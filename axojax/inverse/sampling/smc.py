@@ -31,6 +31,7 @@ from ._densities import InverseProblem, _Target
 from ._nuts import _to_u
 from ._posterior_result import Posterior
 from ._smc import SMC, _run
+from ._summaries import _Clock, _statistics, _value_draws
 
 
 def smc_posterior(
@@ -61,8 +62,6 @@ def smc_posterior(
         and ``log_evidence`` per run; warnings as ``posterior``'s (R-hat, ESS), and when a
         run stopped at ``max_stages`` before beta reached 1.
     """
-    from .posterior import _Clock, _statistics, _value_draws  # posterior imports this module
-
     t_start = time.perf_counter()
     draws, chains, seed = shape
     if transport is not None:

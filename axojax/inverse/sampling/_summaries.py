@@ -1,0 +1,65 @@
+"""Summaries shared by the samplers (:mod:`.posterior`, :mod:`.smc`, :mod:`.modes`):
+the clock of compiled pieces, draws as parameter values and their per-parameter
+statistics."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._nuts import _compiled, _values
+
+
+class _Clock:
+    """Runs compiled pieces (:func:`._nuts._compiled`) and adds up their compilation."""
+
+    def __init__(self):
+        self.seconds = 0.0
+
+    def call(self, fn, static, *dynamic):
+        out, seconds = _compiled(fn, static, dynamic)
+        self.seconds += seconds
+        return out
+
+
+def _value_draws(problem, names, u, call):
+    """The draws u (chains, draws, k) as parameter values: their names (the free
+    parameters first, then what else ``problem.values`` reports), the values (chains,
+    draws, n) and per free parameter whether u is the log of its value."""
+    chains, draws, k = u.shape
+    by_name = _values(problem, u.reshape(-1, k), call)
+    value_names = tuple(names) + tuple(n for n in by_name if n not in names)
+    cols = [
+        np.asarray(by_name[n], dtype=float).reshape(chains, draws) if n in by_name else u[..., i]
+        for i, n in enumerate(value_names)
+    ]
+    values = np.stack(cols, axis=-1)
+    log_coordinate = {
+        n: bool(
+            np.all(values[..., i] > 0)
+            and np.allclose(np.log(values[..., i]), u[..., i], rtol=1e-9, atol=1e-9)
+        )
+        for i, n in enumerate(names)
+    }
+    return value_names, values, log_coordinate
+
+
+def _statistics(names, summ, flat_u) -> dict[str, dict[str, float]]:
+    """Per parameter, by name: mean, sd, 5/50/95 % quantiles, R-hat and bulk/tail ESS of
+    its values (``summ``: :func:`.diagnostics.summary`), and the mean and sd of its
+    draws in u (``flat_u``: (chains * draws, k)), as :class:`Posterior` names them."""
+
+    def per(key):
+        return {n: float(summ[key][i]) for i, n in enumerate(names)}
+
+    return {
+        "mean": per("mean"),
+        "sd": per("sd"),
+        "q05": per("q05"),
+        "q50": per("q50"),
+        "q95": per("q95"),
+        "mean_u": {n: float(v) for n, v in zip(names, flat_u.mean(axis=0))},
+        "sd_u": {n: float(v) for n, v in zip(names, flat_u.std(axis=0, ddof=1))},
+        "rhat": per("rhat"),
+        "ess": per("ess_bulk"),
+        "ess_tail": per("ess_tail"),
+    }
