@@ -11,6 +11,7 @@ from ..eigen.mode import DEFAULT_SOLVER, dominant_mode, spectrum
 from ..units import Units
 from ..waveform.measures import sensitive_note, wavelength_text
 from . import common
+from .regulation import add_motor_tau_flag, motor_tau_from_args
 
 METRICS = ("growth_rate_per_s", "frequency_hz", "wavelength_um")
 
@@ -27,42 +28,26 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="comma-separated parameters to differentiate by, e.g. p,ks",
     )
     common.add_solver_flag(parser)
-    parser.add_argument(
-        "--motor-tau-ms",
-        type=common.finite_float,
-        default=None,
-        metavar="MS",
-        help="motor kinetics of relaxation time MS (ms) for a regulated mechanism (docs/model.md "
-        "section 8): the same beat at omega0, a spectrum bounded as the mesh is refined even with "
-        "an active friction (dense solve; issue 47's first step)",
+    add_motor_tau_flag(
+        parser,
+        "a spectrum bounded as the mesh is refined even with an active friction (dense solve)",
     )
 
 
-def motor_kinetics(model, params, units: Units, tau_ms: float) -> dict:
+def motor_kinetics(model, params, units: Units, tau_m: float, tau_ms: float) -> dict:
     """``axojax modes --motor-tau-ms``: the augmented pencil's largest growth rate (dense
     eigenvalues, 1/s) and the beat, the eigenvalue nearest i omega0, with motor kinetics of
-    relaxation time ``tau_ms`` (ms); one-line ``CLIError`` for a bad value."""
+    relaxation time ``tau_m`` (dimensionless, checked by
+    :func:`~axojax.cli.regulation.motor_tau_from_args`; ``tau_ms`` the flag's value)."""
     import scipy.linalg as sl
 
     from ..assembly.motor_kinetics import assemble_motor
     from ..eigen import Dense, nearest_mode
 
-    if not tau_ms > 0:
-        raise common.CLIError(f"--motor-tau-ms: must be > 0 ms, got {tau_ms:g}")
-    omega0 = float(params.omega0)
-    if not omega0 > 0:
-        raise common.CLIError(
-            "--motor-tau-ms: needs a regulated mechanism at a beat frequency (--mechanism, --chi "
-            "or --beta, --omega0-hz)"
-        )
-    tau_m = tau_ms * 1e-3 / units.tau_s
-    try:
-        system = assemble_motor(model, params, tau_m)
-    except ValueError as err:
-        raise common.CLIError(f"--motor-tau-ms: {err}") from None
+    system = assemble_motor(model, params, tau_m)
     lam = sl.eigvals(-np.asarray(system.A), np.asarray(system.C))
     lam = lam[np.isfinite(lam)]
-    beat = nearest_mode(model, params, 1j * omega0, Dense(), tau_m=tau_m)
+    beat = nearest_mode(model, params, 1j * float(params.omega0), Dense(), tau_m=tau_m)
     return {
         "tau_ms": float(tau_ms),
         "tau_m": float(tau_m),
@@ -96,6 +81,7 @@ def run(args: argparse.Namespace) -> dict:
     if args.top < 1:
         raise common.CLIError(f"--top: expected an integer >= 1, got {args.top}")
     names = common.parse_names(args.grad, "--grad") if args.grad is not None else []
+    tau_m = motor_tau_from_args(args, params)  # one line naming --motor-tau-ms, before the solves
     # the spectrum is the dense pencil's, whatever --solver finds the dominant mode with
     # (its memory was checked with the model's, before the model was built)
     lam = np.asarray(spectrum(model, params, min(args.top, model.n_unknowns)))
@@ -120,8 +106,8 @@ def run(args: argparse.Namespace) -> dict:
             "omega0_hz": float(params.omega0) / (2 * np.pi * units.tau_s),
             "active_friction": friction_margin(model, params) < -TOLERANCE,
         }
-    if args.motor_tau_ms is not None:
-        doc["motor_kinetics"] = motor_kinetics(model, params, units, args.motor_tau_ms)
+    if tau_m is not None:
+        doc["motor_kinetics"] = motor_kinetics(model, params, units, tau_m, args.motor_tau_ms)
     if names:
         doc["gradients"] = metric_gradients(
             model, params, names, common.kl_ratio(args), units, solver
