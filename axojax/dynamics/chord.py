@@ -61,7 +61,7 @@ from ..linalg import (
     lu_factor,
 )
 from .nonlinear import CubicLinks
-from .saturation import MotorSaturation
+from .saturation import MotorSaturation, nonlinear_force
 
 
 class MassSystem(eqx.Module):
@@ -99,8 +99,7 @@ class MassSystem(eqx.Module):
 
     def nonlinear_force(self, q: Float[Array, " n"]) -> Float[Array, " n"]:
         """f_nl(q): the cubic links' force, plus the saturating motors' where there are."""
-        f = self.links.force(q)
-        return f if self.saturation is None else f + self.saturation.force(q)
+        return nonlinear_force(self.links, self.saturation, q)
 
     def solve(self, lu: BlockLU | BorderedLU, rhs: Float[Array, " n"]) -> Float[Array, " n"]:
         """``M^{-1} rhs`` for filament-major vectors, ``lu`` a node-major factor of M."""

@@ -44,7 +44,7 @@ from ..results import RESULTS, message
 from .chord import MassChord, MassSystem, mass_vector_field
 from .motors import motor_blocks, motor_order
 from .nonlinear import cubic_links
-from .saturation import motor_saturation
+from .saturation import motor_forces
 
 
 class Trajectory(eqx.Module):
@@ -151,6 +151,7 @@ def _motor_mass_system(
     (:func:`~axojax.assembly.motor_kinetics.assemble_motor`), blocks in
     :func:`~axojax.dynamics.motors.motor_order`; the links act on q only."""
     s = assemble_motor(model, params, tau_m)
+    links, saturation = motor_forces(model, params, kappa, tau_m, f_sat)
     C_inv = _inverse(s.C)
     A_blocks, C_blocks = motor_blocks(model, s.A), motor_blocks(model, s.C)
     C_lu = bordered_lu(C_blocks) if model.n_border else lu_factor(C_blocks)
@@ -165,8 +166,8 @@ def _motor_mass_system(
         C_blocks=C_blocks,
         A_blocks=A_blocks,
         C_lu=C_lu,
-        links=cubic_links(model, params, kappa, n_extra=model.n_unknowns),
-        saturation=None if f_sat is None else motor_saturation(model, params, tau_m, f_sat),
+        links=links,
+        saturation=saturation,
     )
 
 

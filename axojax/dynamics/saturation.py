@@ -41,7 +41,7 @@ from ..linalg import BlockTridiagonal, Bordered
 from ..models.section import Model
 from ..params import MAX_MAGNITUDE, Params
 from .motors import blocks_of, motor_order
-from .nonlinear import POINTS_PER_ELEMENT
+from .nonlinear import POINTS_PER_ELEMENT, CubicLinks, cubic_links
 
 
 @functools.lru_cache(maxsize=32)
@@ -166,3 +166,34 @@ def motor_saturation(
         block_size=4 * model.n_fd,
         n_border=2 * model.n_border,
     )
+
+
+def motor_forces(
+    model: Model, params: Params, kappa: ArrayLike, tau_m: ArrayLike, f_sat: ArrayLike | None
+) -> tuple[CubicLinks, MotorSaturation | None]:
+    """The nonlinear forces on the augmented state X = (q, y) of motor kinetics: the cubic
+    links (stiffening ``kappa``, 1/L^2) on q only, and the saturating motors where
+    ``f_sat`` is given (EI / L^3; None: linear motors). What the time integration
+    (:func:`axojax.dynamics.integrate.mass_system`) and the periodic orbit
+    (:mod:`axojax.orbits.fourier`) both add to ``A' X``; all values may be traced."""
+    links = cubic_links(model, params, kappa, n_extra=model.n_unknowns)
+    saturation = None if f_sat is None else motor_saturation(model, params, tau_m, f_sat)
+    return links, saturation
+
+
+def nonlinear_force(
+    links: CubicLinks, saturation: MotorSaturation | None, X: Inexact[Array, " M"]
+) -> Inexact[Array, " M"]:
+    """f_nl(X) (M,): the links' cubic force plus the saturating motors' where there are
+    (dimensionless, EI / L^3 per unit length, as ``A X``)."""
+    f = links.force(X)
+    return f if saturation is None else f + saturation.force(X)
+
+
+def nonlinear_tangent(
+    links: CubicLinks, saturation: MotorSaturation | None, X: Inexact[Array, " M"]
+) -> Inexact[Array, "M M"]:
+    """d f_nl / dX (M, M), dense and exact: :meth:`CubicLinks.tangent` plus
+    :meth:`MotorSaturation.tangent`."""
+    K = links.tangent(X)
+    return K if saturation is None else K + saturation.tangent(X)
