@@ -14,7 +14,11 @@ spurious modes. So:
   and is what a regulated mechanism predicts;
 - the *dominant* mode, a time integration or a limit cycle of such a model is the
   spurious short wave, mesh-dependent and meaningless: :func:`require_passive_friction`
-  refuses them with one line.
+  refuses them with one line;
+- with motor kinetics (a relaxation time tau_m, :mod:`axojax.assembly.motor_kinetics`)
+  the response is bounded at large |lambda| and the time domain well posed:
+  ``ax.simulate`` and ``ax.limit_cycle`` take the same row with ``tau_m=``
+  (``--motor-tau-ms`` on the command line).
 
 A passive or absent friction (symmetric part of C positive semi-definite) is well posed.
 """
@@ -57,5 +61,6 @@ def require_passive_friction(model: Model, params: Params, what: str) -> None:
     raise ValueError(
         f"{what}: {', '.join(active)} < 0 is an active friction (docs/model.md section 8): its "
         f"short waves grow without bound as the mesh is refined, so the time domain is ill posed; "
-        f"study the beat at i omega0 with ax.nearest_mode or a mechanism fit instead"
+        f"give the motors a relaxation time (tau_m=, --motor-tau-ms) to run it in time or as an "
+        f"orbit, or study the beat at i omega0 with ax.nearest_mode or a mechanism fit"
     )

@@ -2,7 +2,10 @@
 point (harmonic balance, Newton, Floquet multipliers; :mod:`axojax.orbits`). Each orbit's
 report adds ``amplitude_dip`` and ``wavelength_sensitive`` of its psi_1
 (:meth:`axojax.orbits.CycleMeasures.scalars`, at the 41 points of its other measures); the
-text notes a sensitive wavelength at the end of its row."""
+text notes a sensitive wavelength at the end of its row. A regulated row with motor
+kinetics (``--motor-tau-ms``, and saturating motors ``--motor-saturation``) has its orbit
+of the state and the motors' copy y (:mod:`axojax.orbits.motors`; one orbit, no branch in
+p); the JSON's ``motor_kinetics`` says which motors."""
 
 from __future__ import annotations
 
@@ -16,6 +19,12 @@ from .. import _io
 from ..params import DEFAULT_CUBIC, Params
 from ..waveform.measures import sensitive_note, wavelength_text
 from . import common
+from .regulation import (
+    add_motor_saturation_flag,
+    add_motor_tau_flag,
+    motor_saturation_from_args,
+    motor_tau_from_args,
+)
 from .simulate import MAX_CUBIC
 
 MAX_HARMONICS = 100
@@ -35,6 +44,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--harmonics", default=10, metavar="H", help="harmonics of the orbit (default 10)"
     )
+    add_motor_tau_flag(
+        parser, "the orbit of the state and the motors' filtered copy of it (2N unknowns)"
+    )
+    add_motor_saturation_flag(parser)
     parser.add_argument(
         "--out", default=None, metavar="FILE.npz", help="write the orbits (the branch) here"
     )
@@ -74,18 +87,29 @@ def run(args: argparse.Namespace) -> dict:
     common.check_params(Params().with_values(fixed))
     params = Params().with_values(fixed, ratio)
     common.check_params(params, "--kl-ratio")
-    common.require_passive_friction(model, params, "orbit")
+    tau_m = motor_tau_from_args(args, params)
+    f_sat = motor_saturation_from_args(args, tau_m)
+    # motor kinetics makes an active friction well posed; the base must still hold the axoneme
+    common.require_passive_friction(model, params, "orbit", motors=tau_m is not None)
+    if tau_m is not None and axes:
+        raise common.CLIError(
+            "--p: a branch in p is not built with motor kinetics (--motor-tau-ms); give one value"
+        )
     for value in axes.get("p", []):
         common.check_params(params.replace(p=float(value)))
-    if not (args.cubic > 0):
-        raise common.CLIError(
-            f"--cubic: must be > 0 (the stiffening that bounds the beat), got {args.cubic:g}"
+    saturating = f_sat is not None  # then the saturation bounds the beat: --cubic 0 allowed
+    if not (args.cubic > 0 or (saturating and args.cubic == 0)):
+        bound = (
+            ">= 0 with --motor-saturation"
+            if saturating
+            else "> 0 (the stiffening that bounds the beat)"
         )
+        raise common.CLIError(f"--cubic: must be {bound}, got {args.cubic:g}")
     if args.cubic > MAX_CUBIC:
         raise common.CLIError(
             f"--cubic: expected at most {MAX_CUBIC:g} (1/L^2; default {DEFAULT_CUBIC:g}), got {args.cubic:g}"
         )
-    if model.link_B.shape[0] == 0:
+    if model.link_B.shape[0] == 0 and not saturating:
         raise common.CLIError(
             f"--model: {model.name!r} has no links, so the cubic link force cannot bound a beat; use a model with links"
         )
@@ -100,18 +124,24 @@ def run(args: argparse.Namespace) -> dict:
     common.check_output("--out", args.out, (".npz",))
     common.check_output("--plot", args.plot, common.FIGURE_SUFFIXES)
     # the Newton system: (2H + 1) n unknowns, a dense LU (and its complex Floquet twin)
+    n = model.n_dof * (1 if tau_m is None else 2)  # with motor kinetics, and its copy y
     common.check_memory(
-        32.0 * ((2 * H + 1) * model.n_dof) ** 2,
-        "--harmonics",
-        f"an orbit of {H} harmonics on {model.n_dof} unknowns",
+        32.0 * ((2 * H + 1) * n) ** 2, "--harmonics", f"an orbit of {H} harmonics on {n} unknowns"
     )
     solver = HarmonicBalance(harmonics=H)
+    motors = {}
+    if tau_m is not None:  # {"tau_m", "tau_ms", "f_sat", "f_sat_pn_per_um"}: as simulate's JSON
+        from ..dynamics.motors import motor_meta
+
+        motors = {"motor_kinetics": motor_meta(tau_m, f_sat, units)}
 
     if "p" not in axes:
         try:
-            cycle = limit_cycle(model, params, args.cubic, solver=solver, throw=True)
+            cycle = limit_cycle(
+                model, params, args.cubic, solver=solver, throw=True, tau_m=tau_m, f_sat=f_sat
+            )
         except ValueError as err:
-            raise common.CLIError(f"--p: {err}") from None
+            raise common.CLIError(f"{'--p' if tau_m is None else '--mechanism'}: {err}") from None
         report = {"p": float(params.p), **cycle.to_json(units), **_sensitivity(cycle, units)}
         if args.out is not None:
             Branch(
@@ -119,14 +149,19 @@ def run(args: argparse.Namespace) -> dict:
                 [report],
                 math.nan,
                 math.nan,
-                {"model": model.name, "n_elements": model.n_elements, "cubic": args.cubic},
+                {
+                    "model": model.name,
+                    "n_elements": model.n_elements,
+                    "cubic": args.cubic,
+                    **motors,
+                },
             ).save(args.out)  # written whole (axojax._io)
         if args.plot is not None:
             from ..plotting.orbits import plot_orbit, save
 
             with _io.atomic_path(args.plot) as tmp:
                 save(plot_orbit(cycle, units), tmp)
-        return {"orbits": [report]}
+        return {"orbits": [report], **motors}
 
     p_values = axes["p"]
     if np.any(p_values <= 0):
@@ -184,6 +219,13 @@ def run(args: argparse.Namespace) -> dict:
 
 def render(doc: dict) -> str:
     lines = []
+    motors = doc.get("motor_kinetics")
+    if motors is not None:
+        sat = motors.get("f_sat_pn_per_um")
+        lines.append(
+            f"motor kinetics: tau_m = {motors['tau_ms']:g} ms (the orbit of the state and its motors' copy)"
+            + ("" if sat is None else f", saturating at {sat:g} pN/um")
+        )
     if "hopf" in doc:
         h = doc["hopf"]
         lines.append(f"Hopf point of the equilibrium: p = {h['p']:.6g}, {h['frequency_hz']:.3f} Hz")

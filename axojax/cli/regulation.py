@@ -28,9 +28,12 @@ DEFAULT_VISCOSITY_PA_S = 1e-3
 """``--viscosity-pa-s`` default (water): the fluid of a head given by ``--head-um``."""
 
 
-def require_passive_friction(model: Model, params: Params, what: str, held: bool = True) -> None:
+def require_passive_friction(
+    model: Model, params: Params, what: str, held: bool = True, motors: bool = False
+) -> None:
     """The time domain's conditions as CLI errors: a base that holds the axoneme
-    (``--base``; where ``held``: limit cycles) and no active friction
+    (``--base``; where ``held``: limit cycles) and, unless ``motors`` (motor kinetics,
+    ``--motor-tau-ms``, makes any friction well posed), no active friction
     (:func:`axojax.well_posed.require_passive_friction`, naming ``--beta`` or ``--chi``)."""
     from ..well_posed import require_passive_friction as check
 
@@ -39,6 +42,8 @@ def require_passive_friction(model: Model, params: Params, what: str, held: bool
             model.require_held(what)
     except ValueError as err:
         raise CLIError(f"--base: {err}") from None
+    if motors:
+        return
     try:
         check(model, params, what)
     except ValueError as err:

@@ -1,5 +1,6 @@
 """Limit cycles as first-class objects: periodic orbits of the nonlinear beat computed
-directly (harmonic balance and Newton), their Floquet multipliers, derivatives by the
+directly (harmonic balance and Newton; regulated rows with motor kinetics and saturating
+motors too, :mod:`axojax.orbits.motors`), their Floquet multipliers, derivatives by the
 implicit function theorem, their branch in p from the Hopf point, their waveform
 measures (:mod:`axojax.orbits.measures`) and waveform targets for fits
 (:mod:`axojax.inverse.cycle_targets`)."""
@@ -8,6 +9,7 @@ from ._solve import solve_jit
 from .cycle import LimitCycle
 from .limit_cycle import limit_cycle
 from .measures import CycleMeasures, cycle_measures
+from .motors import Motors
 from .solvers import AbstractOrbitSolver, HarmonicBalance, OrbitSolver, Recording, WarmStart
 
 __all__ = [
@@ -15,6 +17,7 @@ __all__ = [
     "CycleMeasures",
     "HarmonicBalance",
     "LimitCycle",
+    "Motors",
     "OrbitSolver",
     "Recording",
     "WarmStart",

@@ -8,6 +8,7 @@ import jax
 from ..models.section import Model
 from ..params import Params
 from .cycle import LimitCycle
+from .motors import Motors
 from .solvers import AbstractOrbitSolver
 
 
@@ -17,10 +18,11 @@ def _solve(
     kappa,
     solver: AbstractOrbitSolver,
     start: LimitCycle | None = None,
+    motors: Motors | None = None,
 ) -> LimitCycle:
-    return solver.solve(model, params, kappa, start)
+    return solver.solve(model, params, kappa, start, motors)
 
 
 solve_jit = jax.jit(_solve, static_argnums=(0, 3))
-"""``solve_jit(model, params, kappa, solver, start)``: ``solver.solve`` compiled, model and
-solver static."""
+"""``solve_jit(model, params, kappa, solver, start, motors)``: ``solver.solve`` compiled,
+model and solver static (``motors``: :class:`~axojax.orbits.motors.Motors` or None)."""

@@ -30,7 +30,9 @@ class LimitCycle(eqx.Module):
 
     Attributes:
         model: the model (static).
-        coefficients: (2H+1, n) ``[c_0, a_1..a_H, b_1..b_H]``.
+        coefficients: (2H+1, n) ``[c_0, a_1..a_H, b_1..b_H]``; n = N (``model.n_unknowns``),
+            or with motor kinetics 2 N: the state X = (q, y) (:mod:`axojax.orbits.motors`;
+            :attr:`q_coefficients` holds q's).
         omega: angular frequency (rad per tau).
         amplitude: half peak-to-peak tip displacement along the beat direction (L).
         beat_angle: beat direction (radians from y towards z; 0 in planar models).
@@ -46,7 +48,8 @@ class LimitCycle(eqx.Module):
         steps: Newton iterations (last stage).
         correction: last scaled Newton correction.
         linear_eigenvalue: dominant eigenvalue of the equilibrium the orbit surrounds (bent
-            by the static moment b where b != 0) at these parameters.
+            by the static moment b where b != 0) at these parameters (with motor kinetics:
+            of the augmented pencil).
         phase_ref: (n,) the phase condition ``phase_ref . b_1 = 0``.
         result: :class:`axojax.results.RESULTS` item: ``successful``, ``no_start``
             (no start: ``started`` False) or ``nonlinear_max_steps_reached`` (Newton did
@@ -73,6 +76,12 @@ class LimitCycle(eqx.Module):
     def period(self) -> Float[Array, ""]:
         """Period (tau)."""
         return 2 * jnp.pi / self.omega
+
+    @property
+    def q_coefficients(self) -> Float[Array, "m N"]:
+        """(2H+1, N) the coefficients of the model's state q (without the motors' copy y
+        of motor kinetics): what the waveform is read from."""
+        return self.coefficients[..., : self.model.n_unknowns]
 
     @property
     def harmonics(self) -> int:
@@ -111,9 +120,10 @@ class LimitCycle(eqx.Module):
 
     # -- the waveform -----------------------------------------------------------------
     def states(self, n_frames: int = 64) -> tuple[np.ndarray, np.ndarray]:
-        """(t (T,) in tau over one period, q (T, n)) at ``n_frames`` equal phase steps."""
+        """(t (T,) in tau over one period, q (T, N)) at ``n_frames`` equal phase steps
+        (q only: without the motors' copy y)."""
         theta = 2 * np.pi * np.arange(n_frames) / n_frames
-        q = evaluate(self.coefficients, jnp.asarray(theta))
+        q = evaluate(self.q_coefficients, jnp.asarray(theta))
         return theta / float(self.omega), np.asarray(q)
 
     def centreline_beat(
@@ -133,7 +143,7 @@ class LimitCycle(eqx.Module):
         orbit's harmonics 0 and 1 of the tangent angle along its beat direction,
         psi = psi_0 + Re(psi_1 e^{i theta}) + higher harmonics, theta = omega t (the
         orbit's phase: theta = 0 where its phase condition holds). Differentiable."""
-        X, H = self.coefficients, self.harmonics
+        X, H = self.q_coefficients, self.harmonics
         slope = centreline(self.model, jnp.stack([X[0], X[1], X[H + 1]]), np.asarray(x), 1)
         psi = wm.along(slope, self.beat_angle)  # (3, S)
         return psi[0], psi[1] - 1j * psi[2]

@@ -14,7 +14,10 @@ and the residual is the Galerkin projection of the equation onto the same harmon
 harmonics (alternating frequency-time, AFT). f_nl is cubic in q, so f_nl(q(theta)) is a
 trigonometric polynomial of degree 3H and ``N_t >= 4H + 1`` samples project it exactly
 (no aliasing): the discrete problem is then the exact Galerkin problem, and it keeps
-the continuous problem's phase-shift symmetry exactly (the Floquet exponent 0).
+the continuous problem's phase-shift symmetry exactly (the Floquet exponent 0). With
+motor kinetics the unknowns are the doubled state X = (q, y) and saturating motors add a
+tanh to f_nl, which no finite sampling projects exactly: :mod:`axojax.orbits.motors`
+samples it more finely (its aliasing decays geometrically).
 
 Stiffness costs nothing here: the fast link-relaxation modes enter only through the
 well-conditioned blocks ``A + i k omega C``.
@@ -38,7 +41,10 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from ..assembly import System, assemble_blocks, node_major
-from ..dynamics.nonlinear import cubic_link_force, cubic_link_tangent
+from ..assembly.motor_kinetics import MotorSystem
+from ..dynamics.motors import motor_order
+from ..dynamics.nonlinear import cubic_links
+from ..dynamics.saturation import MotorSaturation, nonlinear_force, nonlinear_tangent
 from ..linalg import BlockTridiagonal
 from ..models.section import Model
 from ..params import Params
@@ -81,32 +87,55 @@ def pad(X: Float[Array, "m n"], harmonics: int) -> Float[Array, "m2 n"]:
 class Problem:
     """The harmonic-balance equations at fixed (model, system, kappa): residual and
     exact Jacobian in the flat unknown ``x = [X.ravel(), omega]``, with the phase
-    condition ``ref . b_1 = 0`` as the last equation."""
+    condition ``ref . b_1 = 0`` as the last equation.
+
+    ``system`` is the model's :class:`~axojax.assembly.System` (n = N unknowns q), or with
+    motor kinetics the augmented :class:`~axojax.assembly.motor_kinetics.MotorSystem`
+    (n = 2 N unknowns X = (q, y), :mod:`axojax.dynamics.motors`): the orbit of the
+    equations :func:`axojax.simulate` integrates, with the cubic links on q and
+    ``saturation`` (saturating motors, :mod:`axojax.dynamics.saturation`; None: none)
+    from the same pieces as the integrator (:func:`~axojax.dynamics.saturation.motor_forces`).
+    Without a border the augmented unknowns are laid out node by node as the integrator's
+    (:func:`~axojax.dynamics.motors.motor_order`: each node's q then its y)."""
 
     def __init__(
-        self, model: Model, params: Params, system: System, kappa, harmonics: int, samples: int
+        self,
+        model: Model,
+        params: Params,
+        system: System | MotorSystem,
+        kappa,
+        harmonics: int,
+        samples: int,
+        saturation: MotorSaturation | None = None,
     ):
         self.model, self.params, self.s, self.kappa = model, params, system, kappa
         self.H, self.N = harmonics, samples
         E, P, D = basis(harmonics, samples)
         self.E, self.P, self.D = jnp.asarray(E), jnp.asarray(P), jnp.asarray(D)
-        self.n = model.n_unknowns
+        self.n = system.A.shape[0]
+        self.motors = isinstance(system, MotorSystem)
+        self.links = cubic_links(model, params, kappa, n_extra=self.n - model.n_unknowns)
+        self.saturation = saturation
         self.m = 2 * harmonics + 1
         self.bordered = bool(model.n_border)
         if self.bordered:  # one dense block, harmonic-major (module docstring)
             self.n_blocks, self.block = 1, self.n
             self.perm = np.arange(self.n)
+        elif self.motors:
+            self.n_blocks, self.block = model.n_elements, 4 * model.n_fd
+            self.perm = motor_order(model)
         else:
             self.n_blocks, self.block = model.n_elements, 2 * model.n_fd
             self.perm = node_major(model)
         self.inverse_perm = np.argsort(self.perm)
 
     def f_nl(self, q):
-        return cubic_link_force(self.model, self.params, self.kappa, q)
+        """f_nl(q) (n,): the cubic links' force (and the saturating motors')."""
+        return nonlinear_force(self.links, self.saturation, q)
 
     def f_nl_tangent(self, q):
-        """d f_nl / dq, exact (the rank-one sum, not autodiff)."""
-        return cubic_link_tangent(self.model, self.params, self.kappa, q)
+        """d f_nl / dq, exact (the rank-one sums, not autodiff)."""
+        return nonlinear_tangent(self.links, self.saturation, q)
 
     def split(self, x):
         return jnp.reshape(x[:-1], (self.m, self.n)), x[-1]
@@ -172,7 +201,7 @@ class Problem:
         m, b = self.m, self.block
         if self.bordered:
             return _one_block(self.harmonic_jacobian(X, omega))
-        sb = assemble_blocks(self.model, self.params)
+        C_blocks, A_blocks = self._pencil_blocks()
         Df = jax.vmap(self.f_nl_tangent)(self.E @ X)  # (N_t, n, n)
         W = jnp.einsum("mj,jl->jml", self.P, self.E)  # (N_t, m, m)
         Dm, I = jnp.asarray(self.D), jnp.eye(m)
@@ -188,21 +217,27 @@ class Problem:
 
         dl, dd, du = self._node_blocks(Df)  # each (K, N_t, b, b)
         return BlockTridiagonal(
-            combine(sb.C.lower, sb.A.lower, dl),
-            combine(sb.C.diag, sb.A.diag, dd),
-            combine(sb.C.upper, sb.A.upper, du),
+            *(combine(c, a, d) for c, a, d in zip(C_blocks, A_blocks, (dl, dd, du)))
         )
+
+    def _pencil_blocks(self):
+        """((lower, diag, upper) of C, the same of A) in the node layout: the model's
+        assembled blocks, or with motor kinetics those of the augmented matrices."""
+        if self.motors:
+            return self._node_blocks(self.s.C), self._node_blocks(self.s.A)
+        sb = assemble_blocks(self.model, self.params)
+        return (sb.C.lower, sb.C.diag, sb.C.upper), (sb.A.lower, sb.A.diag, sb.A.upper)
 
     def mass_blocks(self) -> BlockTridiagonal:
         """I_m (x) C in the node layout."""
         m, b = self.m, self.block
         if self.bordered:
             return _one_block(jnp.kron(jnp.eye(m), self.s.C))
-        C = assemble_blocks(self.model, self.params).C
+        C_blocks, _ = self._pencil_blocks()
         widen = lambda c: jnp.reshape(
             jnp.einsum("ml,kab->kmalb", jnp.eye(m), c), (-1, m * b, m * b)
         )
-        return BlockTridiagonal(widen(C.lower), widen(C.diag), widen(C.upper))
+        return BlockTridiagonal(*(widen(c) for c in C_blocks))
 
 
 def _one_block(M: Float[Array, "k k"]) -> BlockTridiagonal:

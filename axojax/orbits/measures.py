@@ -60,7 +60,7 @@ def tip_trace_axes(cycle: LimitCycle) -> Float[Array, ""]:
     model = cycle.model
     if model.n_dirs == 1:
         return jnp.zeros(())
-    tip = centreline(model, cycle.coefficients, np.array([1.0]), body=True)[..., 0]
+    tip = centreline(model, cycle.q_coefficients, np.array([1.0]), body=True)[..., 0]
     osc = tip[1:]
     R = osc.T @ osc / 2
     half_tr = 0.5 * (R[0, 0] + R[1, 1])

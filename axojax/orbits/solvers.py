@@ -26,33 +26,46 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 
-from ..assembly import assemble
 from ..models.section import Model
 from ..params import Params
 from ..results import RESULTS
 from .cycle import LimitCycle, measures
 from .floquet import floquet_multipliers
-from .fourier import Problem, pad
+from .fourier import pad
 from .guess import hopf_guess
 from .linear import BorderedSolver
+from .motors import Motors, default_samples, orbit_problem
 from .newton import Restart, implicit_solve
 
 
 class AbstractOrbitSolver(eqx.Module):
-    """Finds the periodic orbit of ``C dq/dt = -A q - f_nl(q) + b``."""
+    """Finds the periodic orbit of ``C dq/dt = -A q - f_nl(q) + b`` (with ``motors``: of
+    the augmented state X = (q, y) of motor kinetics, :mod:`axojax.orbits.motors`)."""
 
     @abc.abstractmethod
     def solve(
-        self, model: Model, params: Params, kappa, start: LimitCycle | None = None
+        self,
+        model: Model,
+        params: Params,
+        kappa,
+        start: LimitCycle | None = None,
+        motors: Motors | None = None,
     ) -> LimitCycle:
         """The orbit, started from the Hopf normal form (``start=None``, or a ``start``
         that did not converge, or parameters before the Hopf point) or from a nearby orbit
         (continuation; where Newton fails from it, the returned stand-in is the start
-        itself). Differentiable in ``params``
-        and ``kappa``; the start is data, never differentiated."""
+        itself). ``motors``: motor kinetics and saturating motors
+        (:class:`~axojax.orbits.motors.Motors`; None: the friction form). Differentiable in
+        ``params``, ``kappa`` and ``motors``; the start is data, never differentiated."""
 
     def solve_from(
-        self, model: Model, params: Params, kappa, start: LimitCycle, warm_steps: int
+        self,
+        model: Model,
+        params: Params,
+        kappa,
+        start: LimitCycle,
+        warm_steps: int,
+        motors: Motors | None = None,
     ) -> LimitCycle:
         """The orbit from ``start`` within ``warm_steps`` Newton iterations; where that
         fails, :meth:`solve` from the Hopf normal form with the full budget (``steps``
@@ -61,10 +74,10 @@ class AbstractOrbitSolver(eqx.Module):
         capped = self
         if hasattr(self, "max_steps"):
             capped = dataclasses.replace(self, max_steps=min(int(self.max_steps), int(warm_steps)))
-        warm = capped.solve(model, params, kappa, start)
+        warm = capped.solve(model, params, kappa, start, motors)
 
         def cold():
-            cycle = self.solve(model, params, kappa)
+            cycle = self.solve(model, params, kappa, None, motors)
             return eqx.tree_at(lambda c: c.steps, cycle, cycle.steps + warm.steps)
 
         # (an unconverged start is no start: the warm attempt then began at the Hopf
@@ -102,27 +115,28 @@ class HarmonicBalance(AbstractOrbitSolver):
                 f"samples must be >= 2 harmonics + 1 = {2 * int(self.harmonics) + 1}, got {self.samples!r}"
             )
 
-    def _problem(self, model: Model, H: int):
-        samples = self.samples if (self.samples is not None and H == self.harmonics) else 4 * H + 2
+    def _problem(self, model: Model, H: int, motors: Motors | None):
+        given = self.samples is not None and H == self.harmonics
+        samples = self.samples if given else default_samples(H, motors)
 
         def make(theta):
-            params, kappa = theta
-            return Problem(model, params, assemble(model, params), kappa, H, samples)
+            params, kappa, motors = theta
+            return orbit_problem(model, params, kappa, H, samples, motors)
 
         return make
 
-    def solve(self, model, params, kappa, start=None):
-        return self._solve(model, params, kappa, start, None)
+    def solve(self, model, params, kappa, start=None, motors=None):
+        return self._solve(model, params, kappa, start, None, motors)
 
-    def solve_from(self, model, params, kappa, start, warm_steps):
+    def solve_from(self, model, params, kappa, start, warm_steps, motors=None):
         """As :meth:`AbstractOrbitSolver.solve_from`, in one Newton loop
         (:class:`~axojax.orbits.newton.Restart`): one traced iteration, not two."""
-        return self._solve(model, params, kappa, start, int(warm_steps))
+        return self._solve(model, params, kappa, start, int(warm_steps), motors)
 
-    def _solve(self, model, params, kappa, start, warm_steps):
+    def _solve(self, model, params, kappa, start, warm_steps, motors=None):
         H = int(self.harmonics)
-        theta = (params, jnp.asarray(kappa, dtype=float))
-        make = self._problem(model, H)
+        theta = (params, jnp.asarray(kappa, dtype=float), motors)
+        make = self._problem(model, H, motors)
         prob = make(theta)
         fixed = make(
             jax.lax.stop_gradient(theta)
@@ -159,7 +173,7 @@ class HarmonicBalance(AbstractOrbitSolver):
         # Newton may also land on the equilibrium (zero amplitude, any omega): not an orbit.
         info = info.at[0].set(jnp.where(_nontrivial(X), info[0], 0.0))
         started = jnp.where(info[3] > 0.5, jnp.all(jnp.isfinite(x_hopf)), jnp.all(jnp.isfinite(x0)))
-        amplitude, angle, k = measures(model, X)
+        amplitude, angle, k = measures(model, X[:, : model.n_unknowns])  # q, without y
         if self.floquet > 0:
             rho = floquet_multipliers(
                 fixed,
@@ -220,11 +234,11 @@ class WarmStart(AbstractOrbitSolver):
     solver: AbstractOrbitSolver = HarmonicBalance(floquet=0)
     warm_steps: int = 10
 
-    def solve(self, model, params, kappa, start=None):
+    def solve(self, model, params, kappa, start=None, motors=None):
         if start is None:
-            return self.solver.solve(model, params, kappa)
+            return self.solver.solve(model, params, kappa, None, motors)
         return self.solver.solve_from(
-            model, params, kappa, jax.lax.stop_gradient(start), int(self.warm_steps)
+            model, params, kappa, jax.lax.stop_gradient(start), int(self.warm_steps), motors
         )
 
 
@@ -249,11 +263,11 @@ class Recording(AbstractOrbitSolver):
     solver: AbstractOrbitSolver
     callback: Callable = eqx.field(static=True)
 
-    def solve(self, model, params, kappa, start=None):
-        return self._record(self.solver.solve(model, params, kappa, start))
+    def solve(self, model, params, kappa, start=None, motors=None):
+        return self._record(self.solver.solve(model, params, kappa, start, motors))
 
-    def solve_from(self, model, params, kappa, start, warm_steps):
-        return self._record(self.solver.solve_from(model, params, kappa, start, warm_steps))
+    def solve_from(self, model, params, kappa, start, warm_steps, motors=None):
+        return self._record(self.solver.solve_from(model, params, kappa, start, warm_steps, motors))
 
     def _record(self, cycle: LimitCycle) -> LimitCycle:
         jax.debug.callback(self.callback, cycle.steps)
