@@ -334,3 +334,38 @@ def test_cli_orbit_with_motor_kinetics(capsys):
     assert main(argv) == 0
     text = capsys.readouterr().out
     assert "motor kinetics: tau_m = 5 ms" in text and "saturating at 40 pN/um" in text
+
+
+def test_warm_starts_take_the_motors_and_older_solvers_still_work():
+    """WarmStart passes the motors on (from the regulated orbit itself: one Newton step,
+    the same orbit); a solver written before motor kinetics (``solve`` without ``motors``)
+    still serves the friction form, through limit_cycle and WarmStart."""
+    import jax
+
+    from axojax.orbits import AbstractOrbitSolver, Motors, WarmStart
+
+    model, params, units, f_sat, cubic = _row("curvature-clamped+compliance", 0.05)
+    solver = HarmonicBalance(harmonics=6, floquet=0)
+    motors = Motors(tau_m=jnp.asarray(_tau_m(units)), f_sat=jnp.asarray(f_sat))
+    cold = ax.limit_cycle(model, params, cubic, tau_m=_tau_m(units), f_sat=f_sat, solver=solver)
+    warm = jax.jit(
+        lambda p, start: WarmStart(solver, warm_steps=2).solve(
+            model, p, jnp.asarray(cubic), start, motors
+        )
+    )(params, cold)
+    assert bool(warm.converged) and int(warm.steps) == 1
+    assert float(warm.omega) == pytest.approx(float(cold.omega), rel=1e-10)
+
+    class Legacy(AbstractOrbitSolver):
+        inner: HarmonicBalance
+
+        def solve(self, model, params, kappa, start=None):
+            return self.inner.solve(model, params, kappa, start)
+
+    two, steady = ax.models.two(n_elements=4), ax.Params(p=160.0)
+    ref = ax.limit_cycle(two, steady, 10.0, solver=solver)
+    legacy = ax.limit_cycle(two, steady, 10.0, solver=Legacy(solver))
+    again = WarmStart(Legacy(solver), warm_steps=2).solve(two, steady, jnp.asarray(10.0), legacy)
+    for cycle in (legacy, again):
+        assert bool(cycle.converged)
+        assert float(cycle.omega) == pytest.approx(float(ref.omega), rel=1e-10)

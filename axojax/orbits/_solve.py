@@ -9,7 +9,7 @@ from ..models.section import Model
 from ..params import Params
 from .cycle import LimitCycle
 from .motors import Motors
-from .solvers import AbstractOrbitSolver
+from .solvers import AbstractOrbitSolver, call_solve
 
 
 def _solve(
@@ -20,7 +20,7 @@ def _solve(
     start: LimitCycle | None = None,
     motors: Motors | None = None,
 ) -> LimitCycle:
-    return solver.solve(model, params, kappa, start, motors)
+    return call_solve(solver, model, params, kappa, start, motors)
 
 
 solve_jit = jax.jit(_solve, static_argnums=(0, 3))

@@ -74,10 +74,10 @@ class AbstractOrbitSolver(eqx.Module):
         capped = self
         if hasattr(self, "max_steps"):
             capped = dataclasses.replace(self, max_steps=min(int(self.max_steps), int(warm_steps)))
-        warm = capped.solve(model, params, kappa, start, motors)
+        warm = call_solve(capped, model, params, kappa, start, motors)
 
         def cold():
-            cycle = self.solve(model, params, kappa, None, motors)
+            cycle = call_solve(self, model, params, kappa, None, motors)
             return eqx.tree_at(lambda c: c.steps, cycle, cycle.steps + warm.steps)
 
         # (an unconverged start is no start: the warm attempt then began at the Hopf
@@ -236,10 +236,11 @@ class WarmStart(AbstractOrbitSolver):
 
     def solve(self, model, params, kappa, start=None, motors=None):
         if start is None:
-            return self.solver.solve(model, params, kappa, None, motors)
-        return self.solver.solve_from(
-            model, params, kappa, jax.lax.stop_gradient(start), int(self.warm_steps), motors
-        )
+            return call_solve(self.solver, model, params, kappa, None, motors)
+        start = jax.lax.stop_gradient(start)
+        if motors is None:
+            return self.solver.solve_from(model, params, kappa, start, int(self.warm_steps))
+        return self.solver.solve_from(model, params, kappa, start, int(self.warm_steps), motors)
 
 
 class Recording(AbstractOrbitSolver):
@@ -264,14 +265,31 @@ class Recording(AbstractOrbitSolver):
     callback: Callable = eqx.field(static=True)
 
     def solve(self, model, params, kappa, start=None, motors=None):
-        return self._record(self.solver.solve(model, params, kappa, start, motors))
+        return self._record(call_solve(self.solver, model, params, kappa, start, motors))
 
     def solve_from(self, model, params, kappa, start, warm_steps, motors=None):
-        return self._record(self.solver.solve_from(model, params, kappa, start, warm_steps, motors))
+        extra = () if motors is None else (motors,)
+        return self._record(self.solver.solve_from(model, params, kappa, start, warm_steps, *extra))
 
     def _record(self, cycle: LimitCycle) -> LimitCycle:
         jax.debug.callback(self.callback, cycle.steps)
         return cycle
+
+
+def call_solve(
+    solver: AbstractOrbitSolver,
+    model: Model,
+    params: Params,
+    kappa,
+    start: LimitCycle | None,
+    motors: Motors | None,
+) -> LimitCycle:
+    """``solver.solve``, passing ``motors`` only where there are some: a solver written
+    before motor kinetics (``solve(model, params, kappa, start)``) still serves the
+    friction form."""
+    if motors is None:
+        return solver.solve(model, params, kappa, start)
+    return solver.solve(model, params, kappa, start, motors)
 
 
 def resize(X, harmonics: int):
