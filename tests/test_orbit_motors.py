@@ -370,3 +370,32 @@ def test_warm_starts_take_the_motors_and_older_solvers_still_work():
     for cycle in (legacy, again):
         assert bool(cycle.converged)
         assert float(cycle.omega) == pytest.approx(float(ref.omega), rel=1e-10)
+
+
+def test_the_augmented_harmonic_balance_jacobian_is_exact_in_the_node_layout():
+    """The Newton matrix of the doubled state, block-tridiagonal in the integrator's node
+    order (each node's q then its y) on a clamped base and one dense block with basal
+    compliance, equals forward-mode autodiff of the harmonic-balance residual (1e-10), and
+    the mass blocks are I (x) C' (the Floquet pencil)."""
+    import jax
+
+    from axojax.orbits.motors import Motors, orbit_problem
+
+    rng = np.random.default_rng(7)
+    for base in (ax.models.Base("clamped"), COMPLIANT):
+        model = ax.models.seven(n_elements=3, base=base)
+        params = sartori_params().replace(chi_re=-50.0, chi_im=-80.0, kb=20.0, xib=0.3)
+        motors = Motors(tau_m=jnp.asarray(0.02), f_sat=jnp.asarray(3.0))
+        prob = orbit_problem(model, params, 10.0, 3, 26, motors)
+        assert prob.n == 2 * model.n_unknowns and prob.bordered == bool(model.n_border)
+        X = jnp.asarray(0.05 * rng.normal(size=(prob.m, prob.n)))
+        ref = jax.jacfwd(lambda Y: jnp.ravel(prob.harmonic_residual(Y, 3.0)))(X).reshape(
+            prob.m * prob.n, -1
+        )
+        perm = np.asarray(prob.to_nodes(jnp.arange(prob.m * prob.n, dtype=float))).astype(int)
+        blocks = np.asarray(prob.jacobian_blocks(X, 3.0).to_dense())
+        ref_nodes = np.asarray(ref)[perm][:, perm]
+        assert np.abs(blocks - ref_nodes).max() <= 1e-10 * np.abs(ref_nodes).max()
+        mass = np.asarray(prob.mass_blocks().to_dense())
+        C = np.kron(np.eye(prob.m), np.asarray(prob.s.C))[perm][:, perm]
+        assert np.array_equal(mass, C)
