@@ -106,6 +106,29 @@ def test_the_orbit_is_the_long_simulation(name):
     assert lc["tip_amplitude_um"] > 0.1  # a beat the saturation bounds, well above the start's
 
 
+@pytest.mark.slow
+def test_the_orbit_is_the_long_simulation_on_a_pivot():
+    """A pivot on a rotational spring (the other held base: the basal slope in the border)
+    with sliding control 10 % past its Hopf point there: the orbit is the simulation's
+    cycle (frequency 1e-3, tip amplitude in the body frame 1e-2; measured 4e-5, 2.4e-4)."""
+    model = ax.models.two(
+        n_elements=8, base=ax.models.Base("pivot", rotational_stiffness=50.0, rotational_drag=0.1)
+    )
+    _, _, units, field, parts, f_sat, cubic = _sliding()
+    params = _hopf(model, _sliding_row(), "chi", -1.3e5 - 1.8e5j)
+    params = _scaled(params, field, 1.1, parts)
+    tau_m = _tau_m(units)
+    sim = ax.simulate(
+        model, params, 0.25, units=units, tau_m=tau_m, f_sat=f_sat, cubic=cubic,
+        samples_per_period=256, rtol=1e-8, atol=1e-11,
+    )  # fmt: skip
+    assert sim.state == "limit_cycle", sim.state
+    cycle = ax.limit_cycle(model, params, cubic, tau_m=tau_m, f_sat=f_sat, throw=True)
+    lc = sim.limit_cycle
+    assert float(cycle.frequency_hz(units)) == pytest.approx(lc["frequency_hz"], rel=1e-3)
+    assert float(cycle.amplitude_um(units)) == pytest.approx(lc["tip_amplitude_um"], rel=1e-2)
+
+
 @pytest.mark.parametrize("name", list(ROWS))
 def test_the_orbit_solves_the_simulated_equations(name):
     """The harmonic balance's X(theta) satisfies the augmented equations built here
