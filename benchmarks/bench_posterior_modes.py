@@ -1,5 +1,6 @@
-"""Posteriors with several modes and cliffs (issue 48): adaptive tempered SMC
-(``axojax.inverse.SMC``) against a grid quadrature of the same 2-parameter posterior.
+"""Posteriors with several modes and cliffs (issue 48): ``axojax.inverse.ModeMixture``
+(default) or adaptive tempered SMC (``--sampler smc``) against a grid quadrature of the
+same 2-parameter posterior (``--grid 0``: no quadrature).
 
 The case: the seven-filament model (``ax.models.seven``), truth p 300, ks 1e5,
 kl = ks / 1000, cl 0.005; targets its dominant mode's frequency (sigma 2 %) and
@@ -14,8 +15,9 @@ narrower than a coarse cell is not lost; each region is integrated again on a fi
 grid of its box. The draws are assigned to the region whose fine grid holds them above
 the threshold. Printed: each mode's mass by quadrature and by the draws, R-hat, bulk ESS,
 every log-density evaluation and evaluations per effective draw, wall time, the 90 %
-intervals and whether they hold the truth. One run, no assertions (timings are the
-machine's): ``python benchmarks/bench_posterior_modes.py --elements 4``.
+intervals and whether they hold the truth; for ModeMixture also its modes and the
+switch lines it met. One run, no assertions (timings are the machine's):
+``python benchmarks/bench_posterior_modes.py --elements 10 --grid 0``.
 """
 
 from __future__ import annotations
@@ -33,7 +35,7 @@ import scipy.special
 
 import axojax as ax
 from axojax.beats import Target
-from axojax.inverse import SMC, build_problem, least_squares, posterior
+from axojax.inverse import SMC, ModeMixture, build_problem, least_squares, posterior
 
 TRUTH = {"p": 300.0, "ks": 1e5, "cl": 0.005}
 KL_RATIO = 1000.0
@@ -121,8 +123,14 @@ def assign(modes, u, top: float) -> np.ndarray:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--elements", type=int, default=10, help="elements of the model (10)")
-    parser.add_argument("--particles", type=int, default=1000, help="particles per run")
-    parser.add_argument("--runs", type=int, default=4, help="independent SMC runs")
+    parser.add_argument("--sampler", choices=("modes", "smc"), default="modes")
+    parser.add_argument(
+        "--particles", type=int, default=None, help="particles (per run, or per stage)"
+    )
+    parser.add_argument(
+        "--draws", type=int, default=1000, help="ModeMixture: draws per chain (1000)"
+    )
+    parser.add_argument("--runs", type=int, default=4, help="independent SMC runs, or chains")
     parser.add_argument("--mutation-steps", type=int, default=8)
     parser.add_argument("--grid", type=int, default=160, help="points per side of each grid")
     parser.add_argument("--starts", type=int, default=16, help="least-squares starts")
@@ -149,43 +157,66 @@ def main() -> None:
     for key, logp in sorted(distinct.items(), key=lambda x: -x[1]):
         print(f"  p {math.exp(key[0]):9.4g}  ks {math.exp(key[1]):9.4g}  {logp:.3g}")
 
-    t0 = time.perf_counter()
-    modes = quadrature(problem, args.grid, optima)
-    top = max(m["best"][2] for m in modes)
-    print(f"quadrature: {len(modes)} region(s), {time.perf_counter() - t0:.1f} s")
+    modes, top = [], 0.0
+    if args.grid > 0:
+        t0 = time.perf_counter()
+        modes = quadrature(problem, args.grid, optima)
+        top = max(m["best"][2] for m in modes)
+        print(f"quadrature: {len(modes)} region(s), {time.perf_counter() - t0:.1f} s")
 
     t0 = time.perf_counter()
-    sampler = SMC(particles=args.particles, mutation_steps=args.mutation_steps)
+    if args.sampler == "smc":
+        sampler = SMC(particles=args.particles or 1000, mutation_steps=args.mutation_steps)
+        kwargs = {}
+    else:
+        sampler = ModeMixture(particles=args.particles or 1000)
+        kwargs = {"draws": args.draws, "init": fit}
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        post = posterior(problem, chains=args.runs, seed=0, sampler=sampler)
+        post = posterior(problem, chains=args.runs, seed=0, sampler=sampler, **kwargs)
     wall = time.perf_counter() - t0
     for w in caught:
         print(f"  warning: {w.message}")
-    u = post.u.reshape(-1, 2)
-    where = assign(modes, u, top)
-    print(
-        "modes: p, ks at the best grid point, log density there; mass by quadrature / by the draws (per run)"
-    )
-    for index, m in enumerate(modes):
-        p, ks, best = m["best"]
-        runs = [np.mean(assign(modes, post.u[r], top) == index) for r in range(post.chains)]
+    if modes:
+        u = post.u.reshape(-1, 2)
+        where = assign(modes, u, top)
         print(
-            f"  {index}: p {p:9.4g} ks {ks:9.4g} logp {best:8.3f}  mass {m['mass']:.4f} / "
-            f"{np.mean(where == index):.4f} ({', '.join(f'{x:.3f}' for x in runs)})"
+            "modes: p, ks at the best grid point, log density there; mass by quadrature / by the draws (per chain)"
         )
-    print(f"  outside every region: {np.mean(where < 0):.4f} of the draws")
+        for index, m in enumerate(modes):
+            p, ks, best = m["best"]
+            runs = [np.mean(assign(modes, post.u[r], top) == index) for r in range(post.chains)]
+            print(
+                f"  {index}: p {p:9.4g} ks {ks:9.4g} logp {best:8.3f}  mass {m['mass']:.4f} / "
+                f"{np.mean(where == index):.4f} ({', '.join(f'{x:.3f}' for x in runs)})"
+            )
+        print(f"  outside every region: {np.mean(where < 0):.4f} of the draws")
     ess = min(post.ess.values())
-    print(
-        f"SMC: {post.chains} runs x {post.draws} particles, {args.mutation_steps} mutation steps, "
-        f"stages {post.tempering_stages}, acceptance {post.acceptance:.3f}, log evidence "
-        f"{', '.join(f'{x:.3f}' for x in post.log_evidence)}"
-    )
+    if args.sampler == "smc":
+        print(
+            f"SMC: {post.chains} runs x {post.draws} particles, {args.mutation_steps} mutation steps, "
+            f"stages {post.tempering_stages}, acceptance {post.acceptance:.3f}, log evidence "
+            f"{', '.join(f'{x:.3f}' for x in post.log_evidence)}"
+        )
+    else:
+        print(
+            f"ModeMixture: {post.chains} chains x {post.draws} draws, {post.tempering_stages[0]} stages of "
+            f"{sampler.particles} points, acceptance {post.acceptance:.3f}; adaptation "
+            f"{post.seconds_warmup:.1f} s, chains {post.seconds_sampling:.1f} s"
+        )
+        for m in post.modes:
+            print(
+                f"  mode {m['centre']}: mass {m['mass']:.4f} (importance {m['mass_importance']:.4f})"
+            )
+        for line in post.switches:
+            print(
+                f"  switch line {line['range']}: jump {line['jump']:.3g} sigma, {len(line['points'])} points"
+            )
     print(
         f"  R-hat p {post.rhat['p']:.4f} ks {post.rhat['ks']:.4f}; ESS p {post.ess['p']:.0f} "
-        f"ks {post.ess['ks']:.0f}; evaluations {post.gradients} ({post.gradients / ess:.1f} per "
-        f"effective draw); wall {wall:.1f} s (compile {post.seconds_compile:.1f} s, "
-        f"{1e3 * post.seconds_per_gradient:.2f} ms per evaluation)"
+        f"ks {post.ess['ks']:.0f} (tail {min(post.ess_tail.values()):.0f}); evaluations {post.gradients} "
+        f"({post.gradients / ess:.1f} per effective draw); wall {wall:.1f} s + fit (compile "
+        f"{post.seconds_compile:.1f} s, {1e3 * post.seconds_per_gradient:.2f} ms per evaluation)"
     )
     for name, value in (("p", truth["p"]), ("ks", truth["ks"])):
         inside = post.q05[name] <= value <= post.q95[name]

@@ -164,6 +164,31 @@ def fit_mixture(
     return mean, cov, share
 
 
+def split_to(
+    mean: Float[np.ndarray, "K k"],
+    cov: Float[np.ndarray, "K k k"],
+    share: Float[np.ndarray, " K"],
+    count: int,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Split components until there are ``count``: each time the one of largest share x
+    sd along its principal axis, into two at mean +- sd/2 along that axis, each with half
+    the share and a quarter less variance along it (the pair keeps its mean and
+    covariance). EM merges or drops components as the density narrows; splitting them
+    back along their longest axis is what lets a few components tile a long curved
+    ridge."""
+    mean, cov, share = (np.array(a, dtype=float) for a in (mean, cov, share))
+    while len(share) < count:
+        lam, vec = np.linalg.eigh(cov)
+        sd = np.sqrt(np.maximum(lam[:, -1], 0.0))
+        j = int(np.argmax(share * sd))
+        step = 0.5 * sd[j] * vec[j][:, -1]
+        child = cov[j] - np.outer(step, step)
+        mean = np.concatenate([np.delete(mean, j, 0), [mean[j] - step, mean[j] + step]])
+        cov = np.concatenate([np.delete(cov, j, 0), [child, child]])
+        share = np.concatenate([np.delete(share, j), [share[j] / 2, share[j] / 2]])
+    return mean, cov, share
+
+
 def mixture_of(
     mean: np.ndarray, cov: np.ndarray, share: np.ndarray, df: float, defensive: float, lower, upper
 ) -> TMixture:

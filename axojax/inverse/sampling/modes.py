@@ -48,7 +48,7 @@ from ...results import RESULTS, message
 from . import diagnostics
 from ._densities import InverseProblem, _Target
 from ._laplace import _covariance, _fitted_u
-from ._mixture import TMixture, fit_mixture, mixture_of
+from ._mixture import TMixture, fit_mixture, mixture_of, split_to
 from ._posterior_result import Posterior
 from ._summaries import _Clock, _statistics, _value_draws
 from .mode_report import mode_masses
@@ -69,7 +69,10 @@ class ModeMixture(eqx.Module):
 
     Attributes:
         particles: points per adaptive stage (more: a finer fit, more evaluations).
-        components: the mixture's starting components (``None``: 8 per free parameter).
+        components: the mixture's components (``None``: 12 per free parameter): EM merges
+            or drops some as the density narrows, and the heaviest are split along their
+            longest axis back to this count before every fit
+            (:func:`._mixture.split_to`), so that they tile a long curved ridge.
         target_ess: share of the weights' effective sample size each tempering stage keeps.
         efficiency: stop adapting at beta = 1 when the weights' ESS over the points
             reaches this (a proposal that close makes chains that accept about as often).
@@ -84,13 +87,13 @@ class ModeMixture(eqx.Module):
         burn: steps of each chain dropped before its draws.
     """
 
-    particles: int = 1000
+    particles: int = 500
     components: int | None = None
     target_ess: float = 0.5
-    efficiency: float = 0.5
-    rounds: int = 3
+    efficiency: float = 0.8
+    rounds: int = 4
     max_stages: int = 40
-    df: float = 5.0
+    df: float = 3.0
     defensive: float = 0.05
     burn: int = 50
 
@@ -221,6 +224,24 @@ def _next_beta(beta: float, ll: np.ndarray, log_base: np.ndarray, share: float) 
     return lo
 
 
+def _recycled(history: list[tuple[np.ndarray, np.ndarray]]) -> tuple[np.ndarray, np.ndarray]:
+    """Every stage's points with log weights for the posterior: each stage's (z, log w)
+    normalised within the stage and scaled by its effective sample size (the usual
+    combination of independent importance samples: a stage drawn at a small beta adds
+    the tails with little weight, the last ones the bulk)."""
+    zs, logs = [], []
+    for z, log_w in history:
+        ess = _ess(log_w)
+        finite = np.isfinite(log_w)
+        if ess <= 0.0 or not np.any(finite):
+            continue
+        top = np.max(log_w[finite])
+        norm = top + np.log(np.sum(np.exp(log_w[finite] - top)))
+        zs.append(z)
+        logs.append(log_w - norm + np.log(ess))
+    return np.concatenate(zs), np.concatenate(logs)
+
+
 def _systematic(key: PRNGKeyArray, log_w: np.ndarray, n: int) -> np.ndarray:
     """n indices resampled systematically from weights given as logs."""
     w = np.exp(log_w - np.max(log_w))
@@ -313,27 +334,29 @@ def _adapt(sampler: ModeMixture, target, init, key, clock, progress: bool) -> _A
     log_q = log_ref - log_box
     seen = [(z, r, ll)]
     beta, stages, components, mix = 0.0, 0, None, None
-    pool = []  # the points drawn at beta = 1 and their log weights: the EM's data there
+    history = []  # every stage's points and log(reference / proposal): the EM's data at beta = 1
+    rounds = 0
     with progress_bar(total=None, desc="posterior stages", unit="stage", enable=progress) as bar:
         while stages < sampler.max_stages:
             log_base = log_ref - log_q
+            history.append((z, log_base + ll))
             if beta >= 1.0:
-                pool.append((z, log_base + ll))
-                if _ess(log_base + ll) >= sampler.efficiency * n or len(pool) > sampler.rounds:
+                rounds += 1
+                if _ess(log_base + ll) >= sampler.efficiency * n or rounds > sampler.rounds:
                     break
             bridge = _bridge(ll)
             beta = _next_beta(beta, bridge, log_base, sampler.target_ess)
             key, key_init, key_draw = jax.random.split(key, 3)
-            if pool:
-                data_z = np.concatenate([p[0] for p in pool])
-                log_w = np.concatenate([p[1] - np.max(p[1]) for p in pool])
+            if beta >= 1.0:
+                data_z, log_w = _recycled(history)
             else:
                 data_z, log_w = z, log_base + beta * bridge
             if components is None:
                 components = _initial_components(
-                    key_init, data_z, log_w, sampler.components or 8 * k
+                    key_init, data_z, log_w, sampler.components or 12 * k
                 )
             w = np.exp(log_w - np.max(log_w[np.isfinite(log_w)]))
+            components = split_to(*components, sampler.components or 12 * k)
             components = fit_mixture(data_z, np.where(np.isfinite(w), w, 0.0), *components)
             mix = mixture_of(
                 *_with_seeds(*components, seeds), sampler.df, sampler.defensive, lower, upper
