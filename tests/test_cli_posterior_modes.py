@@ -51,3 +51,24 @@ def test_nuts_flags_refused_in_one_line(extra, flag, capsys):
     rc = main([*FIT, "--target-frequency", "30", *extra])
     err = capsys.readouterr().err.strip().splitlines()
     assert rc == 2 and len(err) == 1 and flag in err[0], err
+
+
+def test_a_nuts_run_that_warns_suggests_the_modes_sampler(capsys):
+    argv = [
+        *FIT,
+        "--target-frequency",
+        "30",
+        "--posterior",
+        "20",
+        "--chains",
+        "2",
+        "--warmup",
+        "150",
+    ]
+    assert main([*argv, "--json"]) == 0
+    err = capsys.readouterr().err.splitlines()
+    assert any(
+        "R-hat" in line or "effective sample size" in line for line in err
+    )  # 2 x 20 draws warn
+    hint = [line for line in err if "--sampler modes" in line]
+    assert len(hint) == 1 and hint[0].startswith("axojax: fit: posterior: ")

@@ -138,6 +138,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
+MODES_HINT_MAX = 3
+"""Free parameters up to which a NUTS run that warns suggests ``--sampler modes``."""
+
 AUTO = "auto"
 """What :func:`transport_of` returns without ``--along``: :func:`sample` chooses from the fit."""
 
@@ -193,6 +196,13 @@ def sample(
         raise common.CLIError(f"--posterior: {err}") from None
     for w in caught:  # R-hat, ESS and divergence warnings: one line each on stderr
         print(f"axojax: fit: posterior: {w.message}", file=sys.stderr)
+    if (caught or post.divergences) and len(post.names) <= MODES_HINT_MAX:
+        print(
+            "axojax: fit: posterior: NUTS's draws are not to be trusted here (above); with up to three "
+            "free parameters --sampler modes samples without gradients, finds every mode and crosses "
+            "cliffs (docs/fitting.md)",
+            file=sys.stderr,
+        )
     return post
 
 

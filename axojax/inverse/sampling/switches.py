@@ -3,12 +3,13 @@ locates the switch lines among the points a sampler evaluated.
 
 A switch is a discontinuity of the residuals: across it another eigenmode is the
 dominant one and the predicted frequency (or wavelength) jumps. Candidates are pairs of
-near neighbours (in coordinates whitened by the posterior's covariance) among the
-evaluated points within :data:`REACH` of the best log density, whose residuals differ by
-more than :data:`JUMP` (in sigmas). Each candidate segment is bisected
-:data:`LEVELS` times, keeping the half whose ends differ most: a discontinuity keeps its
-jump while the segment shrinks 2^LEVELS-fold, a smooth but steep change loses it (halved
-at every level). Confirmed points are grouped into lines (single linkage within
+near neighbours (in coordinates whitened by the posterior's covariance), one of them
+within :data:`REACH` of the best log density (the other may be beyond the cliff), whose
+residuals differ by more than :data:`JUMP` (in sigmas). Each candidate segment is bisected
+:data:`LEVELS` times, keeping the half whose ends differ most (residuals on a log scale,
+so that a failed prediction's erratic residuals count as one side): a discontinuity keeps
+its jump while the segment shrinks 2^LEVELS-fold, a smooth but steep change loses it
+(halved at every level). Confirmed points are grouped into lines (single linkage within
 :data:`LINE_GAP` whitened units); each line is reported with the range of every
 parameter along it, its points, and the jump.
 """
@@ -26,14 +27,25 @@ JUMP = 5.0
 """A jump of the residuals (largest component, in sigmas) that a switch must keep."""
 LEVELS = 12
 """Bisection levels per candidate (the segment shrinks 4096-fold)."""
-MAX_CANDIDATES = 32
+MAX_CANDIDATES = 48
 """Candidate segments bisected, the steepest first."""
-NEIGHBOURS = 3
+NEIGHBOURS = 8
 """Nearest neighbours of each point paired with it."""
-MAX_POINTS = 3000
-"""Points searched (the highest log densities)."""
+MAX_POINTS = 6000
+"""Points searched (the highest log densities): those within :data:`REACH` of the best
+and, as their neighbours, the rest."""
+KEPT = 1.0
+"""A switch keeps at least this jump of the log-scaled residuals (``sign(r) log(1 + |r|)``)
+over the final segment (4096 times shorter than the first): a smooth change keeps about
+1/4096 of its jump."""
 LINE_GAP = 2.0
 """Confirmed switch points closer than this (whitened units) are one line."""
+
+
+def _g(r):
+    """Residuals on a log scale, sign kept: a failed prediction's erratic 1e5-sigma
+    residuals are close to each other there and far from a beat's few sigma."""
+    return jnp.sign(r) * jnp.log1p(jnp.abs(r))
 
 
 def _bisect(_, target, a: Float[Array, "c k"], b: Float[Array, "c k"]):
@@ -51,7 +63,9 @@ def _bisect(_, target, a: Float[Array, "c k"], b: Float[Array, "c k"]):
             a, b, ra, rb = carry
             m = 0.5 * (a + b)
             rm = r(m)
-            left = jnp.max(jnp.abs(rm - ra)) >= jnp.max(jnp.abs(rm - rb))  # the jump is in (a, m)
+            left = jnp.max(jnp.abs(_g(rm) - _g(ra))) >= jnp.max(
+                jnp.abs(_g(rm) - _g(rb))
+            )  # jump in (a, m)
             return (
                 jnp.where(left, a, m),
                 jnp.where(left, m, b),
@@ -64,17 +78,19 @@ def _bisect(_, target, a: Float[Array, "c k"], b: Float[Array, "c k"]):
     return jax.vmap(one)(a, b)
 
 
-def _candidates(w: np.ndarray, r: np.ndarray) -> list[tuple[int, int, float]]:
-    """Pairs (i, j, jump) of near neighbours whose residuals jump by over :data:`JUMP`,
-    steepest (jump over distance) first, at most :data:`MAX_CANDIDATES`."""
-    n = len(w)
+def _candidates(w: np.ndarray, r: np.ndarray, near: np.ndarray) -> list[tuple[int, int, float]]:
+    """Pairs (i, j, jump) of a point i within reach (``near``: their indices) and one of
+    its :data:`NEIGHBOURS` nearest among all points (the far side of a cliff is often
+    out of reach), whose residuals jump by over :data:`JUMP`; steepest (jump over
+    distance) first, at most :data:`MAX_CANDIDATES`."""
     pairs = {}
-    for start in range(0, n, 500):
-        d2 = np.sum((w[start : start + 500, None, :] - w[None, :, :]) ** 2, axis=-1)
-        d2[np.arange(d2.shape[0]), start + np.arange(d2.shape[0])] = np.inf
-        near = np.argsort(d2, axis=1)[:, :NEIGHBOURS]
-        for row, js in enumerate(near):
-            i = start + row
+    for start in range(0, len(near), 500):
+        rows = near[start : start + 500]
+        d2 = np.sum((w[rows, None, :] - w[None, :, :]) ** 2, axis=-1)
+        d2[np.arange(len(rows)), rows] = np.inf
+        nearest = np.argsort(d2, axis=1)[:, :NEIGHBOURS]
+        for row, js in enumerate(nearest):
+            i = int(rows[row])
             for j in js:
                 key = (min(i, int(j)), max(i, int(j)))
                 if key in pairs:
@@ -119,18 +135,21 @@ def find_switches(problem, target, seen, centre, chol, values_of, call) -> tuple
     finite = np.isfinite(ll)
     if not np.any(finite):
         return [], 0
-    keep = np.nonzero(finite & (ll >= np.max(ll[finite]) - REACH))[0]
-    keep = keep[np.argsort(-ll[keep])][:MAX_POINTS]
-    w = np.linalg.solve(chol, (z[keep] - centre).T).T
-    cands = _candidates(w, r[keep])
+    order = np.nonzero(finite)[0]
+    order = order[np.argsort(-ll[order])][:MAX_POINTS]  # the best points, any log density
+    z, r, ll = z[order], r[order], ll[order]
+    near = np.nonzero(ll >= ll[0] - REACH)[0]
+    w = np.linalg.solve(chol, (z - centre).T).T
+    cands = _candidates(w, r, near)
     if not cands:
         return [], 0
-    a = jnp.asarray(z[keep][[c[0] for c in cands]])
-    b = jnp.asarray(z[keep][[c[1] for c in cands]])
+    a = jnp.asarray(z[[c[0] for c in cands]])
+    b = jnp.asarray(z[[c[1] for c in cands]])
     a_end, b_end, ra, rb = (np.asarray(x) for x in call(_bisect, None, target, a, b))
     evaluations = len(cands) * (LEVELS + 2)
     final = np.max(np.abs(ra - rb), axis=1)
-    confirmed = [i for i, c in enumerate(cands) if final[i] >= max(JUMP, 0.5 * c[2])]
+    kept = np.max(np.abs(np.asarray(_g(ra)) - np.asarray(_g(rb))), axis=1)
+    confirmed = [i for i in range(len(cands)) if final[i] >= JUMP and kept[i] >= KEPT]
     if not confirmed:
         return [], evaluations
     mid = 0.5 * (a_end[confirmed] + b_end[confirmed])
