@@ -172,3 +172,19 @@ def test_two_exact_solutions_of_a_small_model_weighed_as_the_quadrature():
     assert len(post.modes) == 2
     assert abs(post.modes[0]["mass"] - low) < 0.05 and post.modes[0]["centre"]["p"] < 200
     assert post.gradients_per_ess < 50
+
+
+def test_points_in_u_seed_the_mixture_and_bad_ones_are_refused():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        post = posterior(
+            two_modes(),
+            draws=200,
+            chains=2,
+            seed=3,
+            init=np.array([[1.0, 0.8], [-1.0, -0.2]]),
+            sampler=ModeMixture(particles=200),
+        )
+    assert abs(float((post.u[..., 0] > 0).mean()) - quadrature(two_modes())[0]) < 0.1
+    with pytest.raises(ValueError, match="init"):
+        posterior(two_modes(), init=np.array([5.0, 0.0]), sampler=ModeMixture())

@@ -26,8 +26,9 @@ sampling.
    switch lines the points met (:mod:`.switches`).
 
 Every log-density evaluation is counted (``Posterior.gradients``, none of them a
-gradient): the stages' points, the chains' proposals (burn-in included) and the
-switches' bisections.
+gradient): the stages' points, the chains' starts and proposals (burn-in included), the
+mode grouping's and the switches' bisections; not the Laplace approximations at the
+seeded optima (as NUTS's count leaves out its start), nor the fit.
 """
 
 from __future__ import annotations
@@ -47,13 +48,15 @@ from ..._progress import progress as progress_bar
 from ...results import RESULTS, message
 from . import diagnostics
 from ._densities import InverseProblem, _Target
-from ._laplace import _covariance, _fitted_u
+from ._laplace import _centre, _covariance, _fitted_u
 from ._mixture import TMixture, fit_mixture, mixture_of, split_to
 from ._posterior_result import Posterior
 from ._summaries import _Clock, _statistics, _value_draws
 from .mode_report import mode_masses
 from .switches import find_switches
 
+EVALUATION_BATCH = 128
+"""Points evaluated together (vmapped) at a time: bounds the memory of a stage."""
 BRIDGE_FLOOR = 1000.0
 """The tempering's bridge floors the log likelihood this far below its best (:func:`_bridge`)."""
 SEED_SHARE = 0.05
@@ -145,7 +148,7 @@ def _evaluate(_, target, z: Float[Array, "n k"]):
         ll = jnp.where(jnp.isfinite(ll), ll, -jnp.inf)
         return ll, log_ref, r
 
-    return jax.vmap(one)(z)
+    return jax.lax.map(one, z, batch_size=EVALUATION_BATCH)
 
 
 def _draw(n_draws: int, target, mix: TMixture, key: PRNGKeyArray):
@@ -266,16 +269,21 @@ def _initial_components(key, z: np.ndarray, log_w: np.ndarray, count: int):
 
 
 def _seeds(problem, target, init, call) -> tuple[np.ndarray, np.ndarray]:
-    """Components at the fit's distinct optima (``init``: a ``FitResult``; its ``optima``
-    at finite loss, else its optimum), each with its Laplace covariance in z; empty when
-    ``init`` is None."""
-    from ._laplace import _centre
-
+    """Components at the fit's distinct optima (``init``: a ``FitResult``: its optimum and
+    its ``optima`` at finite loss; or points in u, (k,) or (c, k)), each with its Laplace
+    covariance in z; empty when ``init`` is None."""
     k = len(problem.names)
     if init is None:
         return np.zeros((0, k)), np.zeros((0, k, k))
     lower, upper = np.asarray(problem.lower, dtype=float), np.asarray(problem.upper, dtype=float)
-    points = [_fitted_u(init, problem.names, lower, upper)]
+    if not hasattr(init, "params"):  # points in u: (k,) or (c, k)
+        points = list(np.atleast_2d(np.asarray(init, dtype=float)))
+        if any(p.shape != (k,) or not np.all((p > lower) & (p < upper)) for p in points):
+            raise ValueError(
+                f"init: points in u of shape (k={k},) or (c, {k}) strictly inside the bounds"
+            )
+    else:
+        points = [_fitted_u(init, problem.names, lower, upper)]
     for values, loss in getattr(init, "optima", ()) or ():
         if math.isfinite(loss) and all(n in values for n in problem.names):
             fake = type("Optimum", (), {"params": values, "coordinate": init.coordinate})
@@ -287,7 +295,10 @@ def _seeds(problem, target, init, call) -> tuple[np.ndarray, np.ndarray]:
     means, covs = [], []
     for u in distinct:
         z = jnp.asarray(problem.to_z(jnp.asarray(u)))
-        _, precision, _ = call(_centre, (False, True), target, z)
+        try:
+            _, precision, _ = call(_centre, (False, True), target, z)
+        except TypeError:  # residuals with a reverse-only (custom_vjp) derivative
+            _, precision, _ = call(_centre, (False, False), target, z)
         means.append(np.asarray(z))
         covs.append(np.asarray(_covariance(np.asarray(precision, dtype=float))))
     return np.stack(means), np.stack(covs)
