@@ -169,7 +169,7 @@ def main() -> None:
         sampler = SMC(particles=args.particles or 1000, mutation_steps=args.mutation_steps)
         kwargs = {}
     else:
-        sampler = ModeMixture(particles=args.particles or 1000)
+        sampler = ModeMixture() if args.particles is None else ModeMixture(particles=args.particles)
         kwargs = {"draws": args.draws, "init": fit}
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")

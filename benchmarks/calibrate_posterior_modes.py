@@ -2,8 +2,8 @@
 on issue 48's problem class (issue 48's calibration item).
 
 The model: seven filaments (``--elements``, default 4), kl = ks / 1000, cl 0.005, free p and
-ks. The prior: uniform in (log p, log ks) on the box P_BOX x KS_BOX (the problem's bounds,
-so the sampler's prior is the one the truths are drawn from). Each truth: its dominant
+ks. The prior: uniform in (log p, log ks) on a box (``--box``: BOXES; the problem's
+bounds, so the sampler's prior is the one the truths are drawn from). Each truth: its dominant
 mode's frequency and wavelength; the data are those plus normal noise of fixed sd
 (SIGMA_HZ, SIGMA_UM: the likelihood the sampler assumes, the same for every truth). A
 truth whose prediction fails (no beating mode) is redrawn: the prior is then conditioned
@@ -39,9 +39,14 @@ import scipy.stats
 import axojax as ax
 from axojax.beats import Target
 from axojax.inverse import ModeMixture, build_problem, least_squares, posterior
+from axojax.results import name as result_name
 
-P_BOX = (150.0, 600.0)
-KS_BOX = (1e4, 1e6)
+BOXES = {
+    "ridge": ((150.0, 600.0), (1e4, 1e6)),
+    "wide": ((150.0, 1000.0), (1e4, 5e7)),
+}
+"""The priors (p, ks boxes): ``ridge`` the beating ridge, ``wide`` beyond the line where a
+non-oscillating mode becomes dominant (issue 48's switch line, p 720-910, ks 2e7-4e7)."""
 SIGMA_HZ = 3.0
 SIGMA_UM = 0.6
 KL_RATIO = 1000.0
@@ -57,6 +62,7 @@ def predictions(model, p: float, ks: float) -> tuple[float, float]:
 
 def one_truth(model, index: int, args) -> dict:
     """Draw truth ``index`` (its own seed), its data, fit, posterior; the record."""
+    P_BOX, KS_BOX = BOXES[args.box]
     rng = np.random.default_rng(1000 + index)
     while True:
         p, ks = (float(np.exp(rng.uniform(np.log(a), np.log(b)))) for a, b in (P_BOX, KS_BOX))
@@ -101,7 +107,7 @@ def one_truth(model, index: int, args) -> dict:
     record["rhat"] = max(post.rhat.values())
     record["ess"] = min(post.ess.values())
     record["evaluations_per_ess"] = post.gradients_per_ess
-    record["result"] = str(post.result)
+    record["result"] = result_name(post.result)
     return record
 
 
@@ -142,6 +148,9 @@ def summary(path: str) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--truths", type=int, default=100)
+    parser.add_argument(
+        "--box", choices=sorted(BOXES), default="ridge", help="the prior box (ridge)"
+    )
     parser.add_argument("--elements", type=int, default=4)
     parser.add_argument("--draws", type=int, default=500, help="draws per chain (500)")
     parser.add_argument("--chains", type=int, default=4)
