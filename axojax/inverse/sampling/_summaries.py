@@ -1,12 +1,18 @@
 """Summaries shared by the samplers (:mod:`.posterior`, :mod:`.smc`, :mod:`.modes`):
-the clock of compiled pieces, draws as parameter values and their per-parameter
-statistics."""
+the clock of compiled pieces, draws as parameter values, their per-parameter statistics,
+and the result of a sampler without gradients."""
 
 from __future__ import annotations
 
+import math
+import time
+import warnings
+
 import numpy as np
 
+from ...results import RESULTS, message
 from ._nuts import _compiled, _values
+from ._posterior_result import Posterior
 
 
 class _Clock:
@@ -63,3 +69,56 @@ def _statistics(names, summ, flat_u) -> dict[str, dict[str, float]]:
         "ess": per("ess_bulk"),
         "ess_tail": per("ess_tail"),
     }
+
+
+def gradient_free_posterior(
+    *,
+    names,
+    u,
+    draws_info: tuple,
+    bounds: tuple,
+    summ,
+    notes: list[str],
+    evaluations: int,
+    clock: _Clock,
+    t_start: float,
+    **fields,
+):
+    """The :class:`~._posterior_result.Posterior` of a sampler without gradients (:mod:`.smc`, :mod:`.modes`):
+    its notes warned (one line each, for ``posterior``'s caller) and folded into
+    ``message`` and ``result``; no divergences, step sizes or start. ``draws_info`` =
+    (value_names, values, log_coordinate, log_density); ``bounds`` = (lower, upper);
+    ``fields``: the sampler's own (``acceptance``, ``warmup``, ``seconds_warmup``,
+    ``seconds_sampling``, ``sampler``, ...)."""
+    for note in notes:
+        warnings.warn(note, stacklevel=4)
+    chains, draws, k = u.shape
+    value_names, values, log_coordinate, log_density = draws_info
+    total = time.perf_counter() - t_start
+    ess_min = float(np.min(summ["ess_bulk"]))
+    result = RESULTS.successful if not notes else RESULTS.chains_not_converged
+    return Posterior(
+        names=names,
+        u=u,
+        value_names=value_names,
+        values=values,
+        log_density=log_density,
+        divergent=np.zeros(u.shape[:2], dtype=bool),
+        lower=bounds[0],
+        upper=bounds[1],
+        log_coordinate=log_coordinate,
+        **_statistics(names, summ, u.reshape(-1, k)),
+        divergences=0,
+        step_size=np.full(chains, math.nan),
+        gradients=int(evaluations),
+        seconds=total,
+        seconds_compile=clock.seconds,
+        seconds_start=0.0,
+        seconds_per_gradient=(total - clock.seconds) / max(evaluations, 1),
+        seconds_per_ess=total / ess_min if ess_min > 0 else math.inf,
+        start_u=np.full(k, math.nan),
+        message="; ".join(notes) or message(result),
+        result=result,
+        gradients_per_draw=evaluations / (chains * draws),
+        **fields,
+    )

@@ -35,7 +35,6 @@ from __future__ import annotations
 
 import math
 import time
-import warnings
 
 import blackjax
 import equinox as eqx
@@ -45,13 +44,12 @@ import numpy as np
 from jaxtyping import Array, Float, PRNGKeyArray
 
 from ..._progress import progress as progress_bar
-from ...results import RESULTS, message
 from . import diagnostics
 from ._densities import InverseProblem, _Target
 from ._laplace import _centre, _covariance, _fitted_u
 from ._mixture import TMixture, fit_mixture, mixture_of, split_to
 from ._posterior_result import Posterior
-from ._summaries import _Clock, _statistics, _value_draws
+from ._summaries import _Clock, _value_draws, gradient_free_posterior
 from .mode_report import mode_masses
 from .switches import find_switches
 
@@ -451,7 +449,6 @@ def mode_posterior(
         problem, target, adapted.seen, centre, chol, values_of, clock.call
     )
     summ = diagnostics.summary(values[..., :k])
-    stats = _statistics(names, summ, u.reshape(-1, k))
     evaluations = adapted.evaluations + chains * (steps + 1) + bisected + grouped  # +1: each start
     notes = diagnostics.sampler_notes(names, summ, chains, chains * draws, 0)
     if adapted.beta < 1.0:
@@ -459,38 +456,20 @@ def mode_posterior(
             f"ModeMixture: the tempering stopped at beta={adapted.beta:.3g} after max_stages="
             f"{sampler.max_stages} (raise max_stages or particles)"
         )
-    for note in notes:
-        warnings.warn(note, stacklevel=3)
-    total = time.perf_counter() - t_start
-    ess_min = float(np.min(summ["ess_bulk"]))
-    result = RESULTS.successful if not notes else RESULTS.chains_not_converged
-    return Posterior(
+    return gradient_free_posterior(
         names=names,
         u=u,
-        value_names=value_names,
-        values=values,
-        log_density=logd,
-        divergent=np.zeros(u.shape[:2], dtype=bool),
-        lower=lower,
-        upper=upper,
-        log_coordinate=log_coordinate,
-        **stats,
-        divergences=0,
-        step_size=np.full(chains, math.nan),
+        draws_info=(value_names, values, log_coordinate, logd),
+        bounds=(lower, upper),
+        summ=summ,
+        notes=notes,
+        evaluations=evaluations,
+        clock=clock,
+        t_start=t_start,
         acceptance=float(np.mean(accept)),
         warmup=int(sampler.burn),
-        gradients=int(evaluations),
-        seconds=total,
-        seconds_compile=clock.seconds,
-        seconds_start=0.0,
         seconds_warmup=seconds_warmup,
         seconds_sampling=seconds_sampling,
-        seconds_per_gradient=(total - clock.seconds) / max(evaluations, 1),
-        seconds_per_ess=total / ess_min if ess_min > 0 else math.inf,
-        start_u=np.full(k, math.nan),
-        message="; ".join(notes) or message(result),
-        result=result,
-        gradients_per_draw=evaluations / (chains * draws),
         sampler="modes",
         tempering_stages=(adapted.stages,),
         modes=tuple(modes),

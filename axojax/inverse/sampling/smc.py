@@ -16,22 +16,19 @@ and one per particle for the draws' log densities.
 
 from __future__ import annotations
 
-import math
 import time
-import warnings
 
 import jax
 import jax.numpy as jnp
 import numpy as np
 
 from ..._progress import progress as progress_bar
-from ...results import RESULTS, message
 from . import diagnostics
 from ._densities import InverseProblem, _Target
 from ._nuts import _to_u
 from ._posterior_result import Posterior
 from ._smc import SMC, _run
-from ._summaries import _Clock, _statistics, _value_draws
+from ._summaries import _Clock, _value_draws, gradient_free_posterior
 
 
 def smc_posterior(
@@ -92,7 +89,6 @@ def smc_posterior(
     u = np.asarray(clock.call(_to_u, None, target, jnp.asarray(z)))
     value_names, values, log_coordinate = _value_draws(problem, names, u, clock.call)
     summ = diagnostics.summary(values[..., :k])
-    stats = _statistics(names, summ, u.reshape(-1, k))
     evaluations = sum(sampler.evaluations_per_stage(n) * s + n for s in stages)
     notes = diagnostics.sampler_notes(names, summ, chains, chains * n, 0)
     short = [i for i, s in enumerate(stages) if s >= sampler.max_stages]
@@ -101,38 +97,20 @@ def smc_posterior(
             f"SMC: runs {', '.join(map(str, short))} stopped at max_stages={sampler.max_stages} "
             "before the tempering reached the posterior (raise max_stages or target_ess)"
         )
-    for note in notes:
-        warnings.warn(note, stacklevel=3)
-    total = time.perf_counter() - t_start
-    ess_min = float(np.min(summ["ess_bulk"]))
-    result = RESULTS.successful if not notes else RESULTS.chains_not_converged
-    return Posterior(
+    return gradient_free_posterior(
         names=names,
         u=u,
-        value_names=value_names,
-        values=values,
-        log_density=log_density,
-        divergent=np.zeros(u.shape[:2], dtype=bool),
-        lower=lower,
-        upper=upper,
-        log_coordinate=log_coordinate,
-        **stats,
-        divergences=0,
-        step_size=np.full(chains, math.nan),
+        draws_info=(value_names, values, log_coordinate, log_density),
+        bounds=(lower, upper),
+        summ=summ,
+        notes=notes,
+        evaluations=evaluations,
+        clock=clock,
+        t_start=t_start,
         acceptance=accept,
         warmup=0,
-        gradients=int(evaluations),
-        seconds=total,
-        seconds_compile=clock.seconds,
-        seconds_start=0.0,
         seconds_warmup=0.0,
-        seconds_sampling=total,
-        seconds_per_gradient=(total - clock.seconds) / max(evaluations, 1),
-        seconds_per_ess=total / ess_min if ess_min > 0 else math.inf,
-        start_u=np.full(k, math.nan),
-        message="; ".join(notes) or message(result),
-        result=result,
-        gradients_per_draw=evaluations / (chains * n),
+        seconds_sampling=time.perf_counter() - t_start,
         sampler="smc",
         tempering_stages=stages,
         log_evidence=log_evidence,
