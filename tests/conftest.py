@@ -127,3 +127,14 @@ def pytest_collection_modifyitems(config, items):
                 pytest.mark.xdist_group(item.nodeid if notebook(item) else item.module.__name__)
             )
     items.sort(key=lambda item: not notebook(item))  # stable: modules stay contiguous
+
+
+@pytest.fixture(autouse=True, scope="module")
+def _free_compiled_programs():
+    """Drop jax's in-memory compiled programs after each test module. A worker runs
+    hundreds of modules and kept every program it compiled: 7-8 GB per worker by the
+    end of the suite, two workers of the 24 GB machine CI has, and XLA aborted while
+    compiling at that size (twice on 2026-12-06, in different modules). A program needed
+    again comes back from the persistent cache on disk (``pytest_configure``)."""
+    yield
+    jax.clear_caches()
