@@ -6,7 +6,6 @@ evaluation count against a host callback inside the residuals, and the JSON and 
 round trip."""
 
 import json
-import threading
 import warnings
 
 import jax
@@ -15,7 +14,7 @@ import numpy as np
 import pytest
 import scipy.special
 from test_posterior import LinearGaussian
-from test_posterior_smc import quadrature, two_modes
+from test_posterior_smc import COUNT, _bump, quadrature, two_modes
 
 from axojax.inverse import ModeMixture, Posterior, posterior
 from axojax.results import RESULTS
@@ -97,15 +96,6 @@ def test_the_switch_line_is_found_where_it_was_put():
         assert line["jump"] > 5.0
     spans = [np.log(line["range"]["b"]) for line in post.switches]
     assert max(hi - lo for lo, hi in spans) > 0.3  # a line along b, not one point
-
-
-COUNT = [0]
-LOCK = threading.Lock()  # XLA may run the callbacks on several threads
-
-
-def _bump(u):
-    with LOCK:
-        COUNT[0] += int(np.asarray(u).size // np.shape(u)[-1])
 
 
 class CountedCliff(Cliff):

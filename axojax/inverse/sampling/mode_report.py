@@ -17,6 +17,7 @@ import math
 
 import jax.numpy as jnp
 import numpy as np
+import scipy.special
 
 from ._mixture import TMixture
 
@@ -88,9 +89,7 @@ def mode_masses(
 
     drawn = which(draws_z)
     z_last, log_w = last
-    w = np.exp(log_w - np.max(log_w[np.isfinite(log_w)]))
-    w = np.where(np.isfinite(w), w, 0.0)
-    w /= np.sum(w)
+    w = scipy.special.softmax(log_w)
     weighed = which(z_last)
     out = []
     for m in range(count):

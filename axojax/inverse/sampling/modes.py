@@ -41,6 +41,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+import scipy.special
 from jaxtyping import Array, Float, PRNGKeyArray
 
 from ..._progress import progress as progress_bar
@@ -49,6 +50,7 @@ from ._densities import InverseProblem, _Target
 from ._laplace import _centre, _covariance, _fitted_u
 from ._mixture import TMixture, fit_mixture, mixture_of, split_to
 from ._posterior_result import Posterior
+from ._smc import _reference
 from ._summaries import _Clock, _value_draws, gradient_free_posterior
 from .mode_report import mode_masses
 from .switches import find_switches
@@ -129,8 +131,9 @@ class ModeMixture(eqx.Module):
 
 
 def _log_ref(problem, z: Float[Array, " k"]) -> Float[Array, ""]:
-    """log|du/dz|: the uniform prior in u, as a density in z (up to the box's volume)."""
-    return jnp.linalg.slogdet(jax.jacfwd(problem.to_u)(z))[1]
+    """log|du/dz|: the uniform prior in u, as a density in z (up to the box's volume):
+    SMC's reference density (:func:`._smc._reference`)."""
+    return _reference(problem)(z)
 
 
 def _evaluate(_, target, z: Float[Array, "n k"]):
@@ -189,12 +192,10 @@ def _chains(shape, target, mix: TMixture, key: PRNGKeyArray, z0: Float[Array, "c
 
 
 def _ess(log_w: np.ndarray) -> float:
-    """Effective sample size of importance weights given as logs (-inf: weight 0)."""
-    finite = np.isfinite(log_w)
-    if not np.any(finite):
-        return 0.0
-    w = np.exp(log_w[finite] - np.max(log_w[finite]))
-    return float(np.sum(w) ** 2 / np.sum(w**2))
+    """Effective sample size of importance weights given as logs (-inf: weight 0; none
+    finite: 0), by blackjax's ``smc.ess``."""
+    ess = float(blackjax.smc.ess.ess(jnp.asarray(log_w)))
+    return ess if math.isfinite(ess) else 0.0
 
 
 def _bridge(ll: np.ndarray) -> np.ndarray:
@@ -233,23 +234,17 @@ def _recycled(history: list[tuple[np.ndarray, np.ndarray]]) -> tuple[np.ndarray,
     zs, logs = [], []
     for z, log_w in history:
         ess = _ess(log_w)
-        finite = np.isfinite(log_w)
-        if ess <= 0.0 or not np.any(finite):
+        if ess <= 0.0:
             continue
-        top = np.max(log_w[finite])
-        norm = top + np.log(np.sum(np.exp(log_w[finite] - top)))
         zs.append(z)
-        logs.append(log_w - norm + np.log(ess))
+        logs.append(log_w - scipy.special.logsumexp(log_w) + np.log(ess))
     return np.concatenate(zs), np.concatenate(logs)
 
 
 def _systematic(key: PRNGKeyArray, log_w: np.ndarray, n: int) -> np.ndarray:
-    """n indices resampled systematically from weights given as logs."""
-    w = np.exp(log_w - np.max(log_w))
-    w = np.where(np.isfinite(w), w, 0.0)
-    c = np.cumsum(w / np.sum(w))
-    u0 = float(jax.random.uniform(key))
-    return np.minimum(np.searchsorted(c, (u0 + np.arange(n)) / n), len(w) - 1)
+    """n indices resampled systematically (blackjax) from weights given as logs."""
+    w = jnp.asarray(scipy.special.softmax(log_w))
+    return np.asarray(blackjax.smc.resampling.systematic(key, w, n))
 
 
 def _initial_components(key, z: np.ndarray, log_w: np.ndarray, count: int):
@@ -257,9 +252,7 @@ def _initial_components(key, z: np.ndarray, log_w: np.ndarray, count: int):
     covariance of all points shrunk by count^(2/k): a start that spans the weighted cloud."""
     k = z.shape[1]
     idx = np.unique(_systematic(key, log_w, count))
-    w = np.exp(log_w - np.max(log_w))
-    w = np.where(np.isfinite(w), w, 0.0)
-    w /= np.sum(w)
+    w = scipy.special.softmax(log_w)
     m = w @ z
     cov = ((z - m) * w[:, None]).T @ (z - m) + 1e-12 * np.eye(k)
     cov = cov * len(idx) ** (-2.0 / k)
@@ -364,9 +357,8 @@ def _adapt(sampler: ModeMixture, target, init, key, clock, progress: bool) -> _A
                 components = _initial_components(
                     key_init, data_z, log_w, sampler.components or 12 * k
                 )
-            w = np.exp(log_w - np.max(log_w[np.isfinite(log_w)]))
             components = split_to(*components, sampler.components or 12 * k)
-            components = fit_mixture(data_z, np.where(np.isfinite(w), w, 0.0), *components)
+            components = fit_mixture(data_z, scipy.special.softmax(log_w), *components)
             mix = mixture_of(
                 *_with_seeds(*components, seeds), sampler.df, sampler.defensive, lower, upper
             )
