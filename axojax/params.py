@@ -50,6 +50,7 @@ PARAM_NAMES = (
     "omega0",
     "kb",
     "xib",
+    "m0",
 )
 BASAL_NAMES = ("kb", "xib")
 """The basal compliance (docs/model.md section 8, bases): used only by a model whose
@@ -147,6 +148,13 @@ class Params(eqx.Module):
             (:meth:`axojax.Units.kb_from_pn_per_um`, :meth:`axojax.Units.xib_from_pn_s_per_um`).
             Used only when the model's base has ``compliance=True``; then xib must be
             > 0 (:func:`axojax.assembly.check_base_params`; defaults 0).
+        m0: static dynein moment per length (docs/model.md section 8, static moment): a
+            constant net couple m0 on the cross-section, along the beat direction of
+            active group 0 (the direction of the couple p a0 (1 - 1/R) of an imbalance
+            R > 1), in the static load b; dimensionless m0_dim L^2 / EI with m0_dim in pN
+            (pN um per um; :meth:`axojax.Units.moment_from_pn`). The static bend of an
+            asymmetric regulated beat (p = 0, where the imbalance has nothing to act
+            on). Either sign; 0 (default): none. A model without active pairs ignores it.
         ei_knots, drag_knots, p_knots: non-uniform bending stiffness EI(x), fluid drag
             c(x) and dynein force p(x) (docs/model.md section 8), each as relative values
             (1 = uniform; dimensionless multipliers of the filaments' EI, of their drag and
@@ -175,6 +183,7 @@ class Params(eqx.Module):
     omega0: ArrayLike = 0.0
     kb: ArrayLike = 0.0
     xib: ArrayLike = 0.0
+    m0: ArrayLike = 0.0
     ei_knots: ArrayLike | None = None
     drag_knots: ArrayLike | None = None
     p_knots: ArrayLike | None = None

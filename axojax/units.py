@@ -117,6 +117,14 @@ class Units:
     def beta_to_pn(self, beta: ArrayLike) -> ArrayLike:
         return beta * self.ei_pn_um2 / self.length_um**2
 
+    def moment_from_pn(self, m0_pn: ArrayLike) -> ArrayLike:
+        """Static dynein moment per length m0 (pN um per um = pN) to m0_dim L^2 / EI
+        (:attr:`axojax.Params.m0`)."""
+        return m0_pn * self.length_um**2 / self.ei_pn_um2
+
+    def moment_to_pn(self, m0: ArrayLike) -> ArrayLike:
+        return m0 * self.ei_pn_um2 / self.length_um**2
+
     def omega0_from_hz(self, frequency_hz: ArrayLike) -> ArrayLike:
         """Beat frequency (Hz) to the dimensionless angular frequency omega0 = 2 pi f tau."""
         return 2 * jnp.pi * frequency_hz * self.tau_s

@@ -40,10 +40,25 @@ def static_couple(model: Model, params: Params) -> Float[Array, " n_fd"]:
     """The constant dynein couple per unit length on each (filament, direction),
     ``a0 sum_a p_a w_a`` with the R : 1 forces of :func:`imbalanced_forces` (both readings):
     zero for balanced presets at R = 1; at R != 1 the net couple p a0 (1 - 1/R) of group 0's
-    pairs (docs/model.md section 3, asymmetric beats)."""
-    return params.a0 * jnp.einsum(
+    pairs (docs/model.md section 3, asymmetric beats); plus the static moment ``m0``
+    (:func:`static_moment_direction`)."""
+    couple = params.a0 * jnp.einsum(
         "a,ai->i", imbalanced_forces(model, params), jnp.asarray(model.pair_w)
     )
+    return couple + jnp.asarray(params.m0, dtype=float) * static_moment_direction(model)
+
+
+def static_moment_direction(model: Model) -> np.ndarray:
+    """(n_fd,) the couple per unit of ``Params.m0`` on each (filament, direction): active
+    group 0's pairs' ``sum_a w_a``, scaled so that the net couple on the cross-section
+    (summed over filaments) has magnitude 1. So m0 is the net static moment per length,
+    in the direction of an imbalance R > 1's couple p a0 (1 - 1/R); zeros for a model
+    without active pairs. Static (numpy)."""
+    w = np.asarray(model.pair_w, dtype=float)
+    group0 = w[np.asarray(model.pair_group) == 0].sum(axis=0) if w.size else np.zeros(w.shape[-1])
+    net = group0.reshape(-1, model.n_dirs).sum(axis=0)
+    norm = float(np.linalg.norm(net))
+    return group0 / norm if norm > 0 else np.zeros_like(group0)
 
 
 def link_stiffness(model: Model, params: Params) -> Float[Array, " E"]:

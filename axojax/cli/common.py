@@ -146,6 +146,14 @@ def add_model_flags(
         help="beat frequency at which --chi and --beta hold (needed when an IM part is non-zero)",
     )
     g.add_argument(
+        "--static-moment-pn",
+        type=finite_float,
+        default=None,
+        metavar="PN",
+        help="static dynein moment per length m0 (pN um per um = pN; either sign): the static bend "
+        "of an asymmetric beat, with any mechanism (docs/model.md section 8)",
+    )
+    g.add_argument(
         "--base",
         choices=BASE_KINDS,
         default="clamped",

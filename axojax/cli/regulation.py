@@ -117,7 +117,8 @@ def basal_values(args: argparse.Namespace) -> dict[str, float]:
 
 
 def mechanism_values(args: argparse.Namespace) -> dict[str, float]:
-    """The regulated-dynein flags as dimensionless Params fields (docs/model.md section 8).
+    """The regulated-dynein flags (and ``--static-moment-pn``) as dimensionless Params
+    fields (docs/model.md section 8).
     A coefficient without its mechanism, or a mechanism without its coefficient, is
     refused in one line naming the flag."""
     mechanism = getattr(args, "mechanism", "steady") or "steady"
@@ -144,6 +145,9 @@ def mechanism_values(args: argparse.Namespace) -> dict[str, float]:
         if hz <= 0:
             raise CLIError(f"--omega0-hz: must be > 0, got {hz:g}")
         values["omega0"] = float(units.omega0_from_hz(hz))
+    m0 = getattr(args, "static_moment_pn", None)
+    if m0 is not None:
+        values["m0"] = float(units.moment_from_pn(m0))
     return values
 
 
