@@ -126,8 +126,8 @@ def regime(
 
 
 def refined(problem: Problem, factor: int = MESH_FACTOR) -> Problem:
-    """``problem`` on models with ``factor`` times the elements (same sections, profiles
-    and imbalance reading; everything else as given: conditions' fixed values, targets,
+    """``problem`` on models with ``factor`` times the elements (same sections, profiles,
+    bases and imbalance reading; everything else as given: conditions' fixed values, targets,
     free parameters, bounds, tie, units, solvers, floor, exclusion, prior). A finer model
     too large for this machine's memory is a one-line ``ValueError`` before it is built."""
     if not (isinstance(factor, int) and factor >= 1):
@@ -137,7 +137,9 @@ def refined(problem: Problem, factor: int = MESH_FACTOR) -> Problem:
     def finer(m: Model) -> Model:
         if m not in fine:
             check_model_size(m.section, factor * m.n_elements)
-            fine[m] = build_model(m.section, factor * m.n_elements, m.profiles, m.imbalance_kind)
+            fine[m] = build_model(
+                m.section, factor * m.n_elements, m.profiles, m.imbalance_kind, m.base
+            )
         return fine[m]
 
     conditions = [
@@ -156,9 +158,14 @@ def refined(problem: Problem, factor: int = MESH_FACTOR) -> Problem:
         solver=problem.solver,
         cubic=problem.cubic,
         orbit_solver=problem.orbit_solver,
+        tau_m=problem.orbit.tau_m,
+        f_sat=problem.orbit.f_sat,
         shape_floor=problem.shape_floor,
         exclude_base_um=problem.exclude_base_um,
         prior=problem.prior,
+        shift=problem.shift,
+        mechanism=problem.mechanism,
+        base=problem.base_name,
     )
 
 

@@ -58,6 +58,8 @@ def fit(
     solver: AbstractEigenSolver | LeastSquaresSolver = DEFAULT_SOLVER,
     cubic: float = DEFAULT_CUBIC,
     orbit_solver: AbstractOrbitSolver = HarmonicBalance(),  # noqa: B008
+    tau_m: float | None = None,
+    f_sat: float | None = None,
     per_condition: Sequence[str] = (),
     shape_floor: float = SHAPE_FLOOR,
     exclude_base_um: float = 0.0,
@@ -90,6 +92,9 @@ def fit(
             ``source="limit_cycle"`` (differentiable by the implicit function theorem).
             Where no orbit is found such a target's residual is ``CYCLE_FAILED``.
         orbit_solver: the periodic-orbit solver (:mod:`axojax.orbits.solvers`).
+        tau_m, f_sat: motor kinetics and saturating motors of a regulated mechanism's
+            limit cycle (dimensionless, as :func:`axojax.limit_cycle` takes them; None:
+            none); the starts of ``"tau_m"`` and ``"f_sat"`` when they are free.
         per_condition: parameters fitted separately in each condition (``"p@<label>"``).
         shape_floor: model-discrepancy floor of psi_1 (rad), added in quadrature to the
             shape's sigma (default 0.05 rad, see :mod:`axojax.inverse.problem`).
@@ -120,6 +125,8 @@ def fit(
         solver=solver,
         cubic=cubic,
         orbit_solver=orbit_solver,
+        tau_m=tau_m,
+        f_sat=f_sat,
         per_condition=per_condition,
         shape_floor=shape_floor,
         exclude_base_um=exclude_base_um,
@@ -158,6 +165,8 @@ def build_problem(
     solver: AbstractEigenSolver = DEFAULT_SOLVER,
     cubic: float = DEFAULT_CUBIC,
     orbit_solver: AbstractOrbitSolver = HarmonicBalance(),
+    tau_m: float | None = None,
+    f_sat: float | None = None,
     per_condition: Sequence[str] = (),
     shape_floor: float = SHAPE_FLOOR,
     exclude_base_um: float = 0.0,
@@ -195,6 +204,8 @@ def build_problem(
         solver=solver,
         cubic=cubic,
         orbit_solver=orbit_solver,
+        tau_m=tau_m,
+        f_sat=f_sat,
         shape_floor=shape_floor,
         exclude_base_um=exclude_base_um,
         prior=prior,

@@ -31,19 +31,24 @@ DEFAULT_BOUNDS = {
     "imbalance": (0.1, 10.0),
     "a0": (1e-4, 1.0),
     "cubic": (1e-3, 1e4),
+    "tau_m": (1e-7, 1e3),
+    "f_sat": (1e-3, 1e7),
+    "m0": (-1e4, 1e4),
     "ei_knots": (0.01, 100.0),
     "drag_knots": (0.01, 100.0),
     "p_knots": (1e-3, 100.0),
 }
 """Value bounds by name; a knot value (``"ei_knots[2]"``) takes its profile's bounds
 (relative values, 1 = uniform) unless given by its own name."""
-ORBIT_FIELDS = frozenset({"cubic"})
+ORBIT_FIELDS = frozenset({"cubic", "tau_m", "f_sat"})
 """Free parameters that are not :class:`~axojax.Params` fields but options of the limit
-cycle: ``cubic``, the link stiffening kappa (1/L^2) of ``C dq/dt = -A q - f_nl(q) + b``
-(only limit-cycle targets depend on it)."""
-LINEAR = frozenset({"gamma", "cb"})
-"""Fitted linearly: the signed gain gamma, and the basal compliance cb, whose range starts
-at 0 (a rigid base, the base without compliance)."""
+cycle (only limit-cycle targets depend on them): ``cubic``, the link stiffening kappa
+(1/L^2) of ``C dq/dt = -A q - f_nl(q) + b``; ``tau_m`` and ``f_sat``, the motor kinetics'
+relaxation time and the motors' saturation of a regulated mechanism (dimensionless, as
+:func:`axojax.limit_cycle` takes them)."""
+LINEAR = frozenset({"gamma", "cb", "m0"})
+"""Fitted linearly: the signed gain gamma, the signed static moment m0, and the basal
+compliance cb, whose range starts at 0 (a rigid base, the base without compliance)."""
 
 
 @dataclasses.dataclass(frozen=True)

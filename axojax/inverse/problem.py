@@ -31,7 +31,6 @@ optimum with the complex scale fitted to the kept points, is reported separately
 from __future__ import annotations
 
 import dataclasses
-import math
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -47,20 +46,21 @@ from ..eigen.solvers import AbstractEigenSolver
 from ..models.section import Model
 from ..orbits.cycle import LimitCycle
 from ..orbits.measures import cycle_measures
-from ..orbits.solvers import AbstractOrbitSolver, HarmonicBalance, WarmStart
+from ..orbits.solvers import AbstractOrbitSolver, HarmonicBalance
 from ..params import DEFAULT_CUBIC, Params
 from ..units import Units
 from ._arguments import _check, _coordinate_bounds
 from .conditions import Condition
+from .cycle_targets import CYCLE_TARGETS as CYCLE_MEASURES
 from .cycle_targets import aligned_psi1
 from .cycle_targets import shape_residuals as cycle_shape_residuals
+from .orbit_setup import WARM_STEPS, OrbitSetup, without_floquet  # noqa: F401
 from .parameters import DEFAULT_BOUNDS, ORBIT_FIELDS, FreeParameter
 from .predictions import cycle_value, scalar_value, shape_fit
 
 SHAPE_FLOOR = 0.05  # rad: model-discrepancy floor of psi_1 (module docstring)
 CYCLE_FAILED = 1e3  # normalised residual of a limit-cycle target where no orbit is found
 EDGE = 1e-9  # starts are kept this fraction of the range inside the bounds
-WARM_STEPS = 10  # Newton iterations a warm-started orbit gets before the Hopf guess takes over
 
 
 def _stack(params: Sequence[Params]) -> Params:
@@ -77,25 +77,16 @@ class _Layout:
     n_shape: int
 
 
-def _without_floquet(solver: AbstractOrbitSolver) -> AbstractOrbitSolver:
-    """``solver`` with its Floquet multipliers switched off, also inside wrappers that hold
-    another solver (``WarmStart``, ``Recording``: their ``solver`` field)."""
-    if getattr(solver, "floquet", 0):
-        return dataclasses.replace(solver, floquet=0)
-    inner = getattr(solver, "solver", None)
-    if isinstance(inner, AbstractOrbitSolver):
-        return dataclasses.replace(solver, solver=_without_floquet(inner))
-    return solver
-
-
 class Problem:
     """An inverse problem over one or several conditions.
 
     Args:
         model: the model (a condition may carry its own, ``Condition.model``).
         conditions: a sequence of :class:`~axojax.inverse.Condition`.
-        free: parameters shared by all conditions (``Params`` fields, and ``"cubic"``,
-            the limit cycle's link stiffening, when limit-cycle targets are given).
+        free: parameters shared by all conditions (``Params`` fields, and the limit
+            cycle's options when limit-cycle targets are given:
+            :data:`~axojax.inverse.parameters.ORBIT_FIELDS`, ``"cubic"``, ``"tau_m"``,
+            ``"f_sat"``).
         per_condition: parameters fitted separately in every condition (named
             ``"<field>@<label>"``).
         params: base values of every parameter (each condition's ``params`` override
@@ -106,6 +97,9 @@ class Problem:
         solver: dominant-eigenpair solver.
         cubic, orbit_solver: limit-cycle setup for targets with ``source="limit_cycle"``
             (``cubic``: kappa, 1/L^2; the start when it is free).
+        tau_m, f_sat: the limit cycle's motor kinetics and saturation
+            (:class:`~axojax.inverse.orbit_setup.OrbitSetup`; dimensionless; the starts
+            when free). None (default): none, the friction form.
         shape_floor: model-discrepancy floor (rad) added in quadrature to psi_1's sigma.
         exclude_base_um: drop observed shape points with s < this (um).
         prior: optional ``log_prior(u) -> scalar``; default 0 (uniform in u).
@@ -132,6 +126,8 @@ class Problem:
         solver: AbstractEigenSolver = DEFAULT_SOLVER,
         cubic: float = DEFAULT_CUBIC,
         orbit_solver: AbstractOrbitSolver = HarmonicBalance(),  # noqa: B008
+        tau_m: float | None = None,
+        f_sat: float | None = None,
         shape_floor: float = SHAPE_FLOOR,
         exclude_base_um: float = 0.0,
         prior: Callable[[Array], Array] | None = None,
@@ -160,20 +156,23 @@ class Problem:
         self.base = [params.with_values(c.params).validate() for c in conditions]
         self.models = [c.model if c.model is not None else model for c in conditions]
 
-        self._set_parameters(params, free, per_condition, cubic)
-        self._set_targets(cubic, orbit_solver, set(free + per_condition))
+        orbit = OrbitSetup(orbit_solver, float(cubic), tau_m, f_sat)
+        self._set_parameters(params, free, per_condition, orbit)
+        self._set_targets(orbit, set(free + per_condition))
         self._set_layout()
         self._set_groups(solver)
         self._jit_residuals = jax.jit(self.residuals)
         self._jit_jacobian = jax.jit(jax.jacfwd(self.residuals))
         self._jit_evaluate = None
 
-    def _set_parameters(self, params: Params, free: list, per_condition: list, cubic) -> None:
+    def _set_parameters(
+        self, params: Params, free: list, per_condition: list, orbit: OrbitSetup
+    ) -> None:
         """The free parameters (shared, then per condition), their bounds in u and the
-        start ``u0`` (a free ``cubic`` starts at ``cubic``)."""
+        start ``u0`` (a free orbit option starts at its given value)."""
         labels = self.labels
         start_of = lambda prm, name: (
-            float(cubic) if name in ORBIT_FIELDS else float(prm.value_of(name))
+            orbit.start(name) if name in ORBIT_FIELDS else float(prm.value_of(name))
         )  # noqa: E731
         out, u0 = [], []
         for name in free:
@@ -194,7 +193,7 @@ class Problem:
         span = self.upper - self.lower
         self.u0 = np.clip(u0, self.lower + EDGE * span, self.upper - EDGE * span)
 
-    def _set_targets(self, cubic, orbit_solver, fitted: set) -> None:
+    def _set_targets(self, orbit: OrbitSetup, fitted: set) -> None:
         """Shapes trimmed to s >= exclude (and the excluded part, for the report), scalar
         targets, and which conditions need the linear mode and which the limit cycle."""
         conditions = self.conditions
@@ -217,23 +216,8 @@ class Problem:
             any(t.source == "limit_cycle" for t in c.targets) or cs
             for c, cs in zip(conditions, cycle_shape)
         ]
-        if any(self.needs_cycle):
-            if not (math.isfinite(cubic) and cubic > 0):
-                raise ValueError(
-                    f"cubic must be a finite number > 0 for limit-cycle targets, got {cubic!r}"
-                )
-            for m, need in zip(self.models, self.needs_cycle):
-                if need and m.link_B.shape[0] == 0:
-                    raise ValueError(
-                        f"limit-cycle targets need a model with links; {m.name!r} has none"
-                    )
-            orbit_solver = _without_floquet(orbit_solver)  # stability is not fitted: skip it
-        elif fitted & ORBIT_FIELDS:
-            raise ValueError(
-                "free: cubic is the limit cycle's stiffening; only limit-cycle targets "
-                "(source='limit_cycle') depend on it"
-            )
-        self.cubic, self.orbit_solver = cubic, orbit_solver
+        self.orbit = orbit.check(self.models, self.needs_cycle, fitted)
+        self.cubic, self.orbit_solver = self.orbit.cubic, self.orbit.solver
 
     def _set_layout(self) -> None:
         """Where each condition's scalar and shape residuals lie in the residual vector."""
@@ -404,10 +388,8 @@ class Problem:
         ]
 
     def _cycle(self, i: int, u, start: LimitCycle | None) -> LimitCycle:
-        prm, kappa = self.condition_params(u, i), self.condition_cubic(u, i)
-        if start is None:
-            return self.orbit_solver.solve(self.models[i], prm, kappa)
-        return WarmStart(self.orbit_solver, WARM_STEPS).solve(self.models[i], prm, kappa, start)
+        prm, fitted = self.condition_params(u, i), self._fitted_values(u, i)
+        return self.orbit.solve(self.models[i], prm, fitted, start)
 
     def residuals(
         self, u: Float[Array | np.ndarray, " k"], starts: Sequence[LimitCycle | None] | None = None
@@ -503,7 +485,7 @@ class Problem:
             if cycles[i] is not None:
                 d["cycle"] = {
                     k: cycle_value(cycles[i], k, self.units)
-                    for k in ("frequency_hz", "amplitude_um", "wavelength_um")
+                    for k in ("frequency_hz", "amplitude_um", "wavelength_um", *CYCLE_MEASURES)
                 }
                 d["cycle_converged"] = cycles[i].converged
                 shape = self.conditions[i].shape

@@ -445,11 +445,7 @@ def _condition_entry(problem: Problem, u, i: int, cond, pred) -> dict[str, Any]:
     achieved observables (the limit cycle's, NaN where no orbit was found)."""
     full = problem.condition_params(u, i)
     achieved = condition_achieved(pred)
-    cubic = (
-        {"cubic": float(np.asarray(problem.condition_cubic(u, i)))}
-        if problem.needs_cycle[i]
-        else {}
-    )
+    cubic = problem.orbit.values(problem._fitted_values(u, i)) if problem.needs_cycle[i] else {}
     return {
         "label": problem.labels[i],
         "params": _condition_params(full) | cubic,
