@@ -29,10 +29,11 @@ from ..inverse.checks import fit_checks
 from ..inverse.comparison.compare import default_units
 from ..params import DEFAULT_CUBIC
 from ..units import Units
-from . import common, fit_posterior
+from . import common, fit_posterior, fit_whole_beat
 from .fit_text import (
     render,  # noqa: F401  (the command's text output: main calls fit.render)
 )
+from .regulation import add_motor_tau_flag
 
 METHODS = ("lm", "lbfgs", "adam")
 MAX_STARTS = 10_000
@@ -48,6 +49,11 @@ and others): 4 starts miss it, 16 find it."""
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     common.add_model_flags(parser)
+    add_motor_tau_flag(
+        parser,
+        "with --target limit-cycle --mechanism M (default: the fastest motors that leave the "
+        "fitted beat the onset mode)",
+    )
     parser.add_argument(
         "--free",
         default=None,
@@ -363,6 +369,12 @@ def _run_fit(args, problem, options: dict, flag: str):
 def run(args: argparse.Namespace) -> dict:
     common.check_output("--out", args.out, (".json",))  # before any work, as every command
     fit_posterior.check_arguments(args)
+    if args.target == "limit-cycle" and args.mechanism != "steady":
+        return fit_whole_beat.run(args)
+    if getattr(args, "motor_tau_ms", None) is not None:
+        raise common.CLIError(
+            "--motor-tau-ms: a fit takes motor kinetics with --target limit-cycle --mechanism M"
+        )
     if args.spec is not None:
         return _run_spec(args)
     if args.free is None:

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from ..inverse.checks import render_checks
 from ..waveform.measures import sensitive_note
+from .fit_whole_beat import render as render_whole_beat
 
 
 def render(doc: dict) -> str:
@@ -59,6 +60,7 @@ def render(doc: dict) -> str:
         if c.get("shape_rms") is not None:
             lines.append(f"{head}  mode shape rms residual {c['shape_rms']:.2f} sigma")
     lines.extend(render_checks(doc))  # regime, mesh_check
+    lines.extend(render_whole_beat(doc))
     chi2 = doc.get("chi2_per_dof")
     lines.append(
         f"loss {doc['loss']:.4g}; chi2/dof {chi2:.3g}"

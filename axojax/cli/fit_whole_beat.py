@@ -1,0 +1,110 @@
+"""``axojax fit --target limit-cycle --data FILE --mechanism M``: the whole beat of a
+regulated mechanism (issue 47 item 4; :mod:`axojax.inverse.whole_beat`).
+
+The row is :func:`axojax.compare`'s (``--model``, default ``two``; ``--elements``;
+``--base`` held: clamped or pivot), fitted first as the linear comparison fits it, then
+its limit cycle with motor kinetics (``--motor-tau-ms``, default
+:func:`~axojax.inverse.whole_beat.motor_time`), saturating motors and a static dynein
+moment against the data's frequency, psi_0 and psi_1 in absolute amplitude.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+from ..inverse.comparison.mechanisms import build_model, row
+from ..inverse.whole_beat import fit_whole_beat, linear_hopf
+from . import common
+from .regulation import motor_tau_from_args
+
+DEFAULT_MODEL = "two"
+
+
+def check(args: argparse.Namespace) -> None:
+    """Flags a whole-beat fit does not take, refused in one line."""
+    for flag, value in (
+        ("--free", args.free),
+        ("--spec", args.spec),
+        ("--chi", args.chi),
+        ("--beta", args.beta),
+        ("--posterior", args.posterior),
+        ("--observation", args.observation),
+        ("--motor-saturation", getattr(args, "motor_saturation", None)),
+    ):
+        if value is not None:
+            raise common.CLIError(
+                f"{flag}: a whole-beat fit (--target limit-cycle --mechanism "
+                f"{args.mechanism}) fits the mechanism's coefficients, the motors' saturation "
+                "and the static moment from the data; leave it out"
+            )
+    if args.data is None:
+        raise common.CLIError(
+            f"--mechanism {args.mechanism}: a whole-beat fit needs the beat (--data FILE)"
+        )
+
+
+def run(args: argparse.Namespace) -> dict:
+    """The whole-beat fit's report (the fit's JSON document plus ``"whole_beat"``)."""
+    from .fit import _data, _finish, _given
+
+    check(args)
+    preset = args.model or DEFAULT_MODEL
+    if args.model_file is not None:
+        raise common.CLIError("--model-file: a whole-beat fit takes a preset (--model)")
+    units = common.units_from_args(args)
+    probe = common.model_from_args(argparse.Namespace(**{**vars(args), "model": preset}))
+    source = "given" if _given(args, "--ei", "--cn") else "axojax's default units"
+    args.target = "limit-cycle"
+    targets, shape, units, summary, source = _data(args, units, source, probe)
+    if shape is None or shape.psi0 is None:
+        raise common.CLIError(f"--data: {args.data} gives no psi_0 and psi_1 to fit")
+    frequency = next((t for t in targets if t.name == "frequency_hz"), None)
+    if frequency is None:
+        raise common.CLIError(f"--data: {args.data} gives no beat frequency")
+    try:
+        elements = int(args.elements)
+        model = build_model(preset, elements, args.base, units)
+        spec = row(args.mechanism, args.base, model, units, frequency.value)
+        hopf, linear = linear_hopf(spec, shape, units)
+        tau_m = None
+        if getattr(args, "motor_tau_ms", None) is not None:
+            tau_m = motor_tau_from_args(args, hopf)
+        out = fit_whole_beat(spec, hopf, shape, frequency, units, tau_m=tau_m)
+    except ValueError as err:
+        raise common.CLIError(f"--mechanism {args.mechanism}: {err}") from None
+    extra = {
+        "data": summary,
+        "units": {
+            "length_um": units.length_um,
+            "ei_pn_um2": units.ei_pn_um2,
+            "cn_pn_s_um2": units.cn_pn_s_um2,
+            "source": source,
+        },
+        "whole_beat": {
+            "mechanism": args.mechanism,
+            "base": args.base,
+            "model": preset,
+            "elements": elements,
+            "r2_psi1_with_amplitude": out.r2,
+            "motor_tau_ms": out.tau_m * units.tau_s * 1e3,
+            "motor_saturation_pn_per_um": float(units.p_to_pn_per_um(out.f_sat)),
+            "static_moment_pn": float(units.moment_to_pn(out.params.m0)),
+            "linear_r2": linear.r2,
+            "linear_status": linear.status,
+        },
+    }
+    return _finish(args, out.fit, extra)
+
+
+def render(doc: dict) -> list[str]:
+    """The whole-beat lines of ``axojax fit``'s text (after the fit's own)."""
+    w = doc.get("whole_beat")
+    if not w:
+        return []
+    return [
+        f"whole beat: {w['mechanism']} on a {w['base']} base ({w['model']}, {w['elements']} "
+        f"elements): motor time {w['motor_tau_ms']:.4g} ms, saturation "
+        f"{w['motor_saturation_pn_per_um']:.4g} pN/um, static moment {w['static_moment_pn']:.4g} pN",
+        f"R^2 of psi_1 with its amplitude {w['r2_psi1_with_amplitude']:.3f} (the linear row's, "
+        f"amplitude free: {w['linear_r2']:.3f})",
+    ]

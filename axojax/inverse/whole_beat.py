@@ -1,0 +1,300 @@
+"""Fits of the whole beat of a regulated mechanism (issue 47 item 4; docs/fitting.md,
+"The whole beat of a regulated mechanism").
+
+The linear comparison fits psi_1's shape with a free complex amplitude at a Hopf point.
+The whole-beat fit drops the free amplitude: the limit cycle of the mechanism with motor
+kinetics (``tau_m``), saturating motors (``f_sat``) and a static dynein moment (``m0``)
+must reproduce the observed frequency, psi_0 (its slope is the static curvature) and
+psi_1 in absolute amplitude (rad), every residual through the periodic orbit
+(:class:`~axojax.inverse.orbit_setup.OrbitSetup`, gradients by the implicit function
+theorem through the harmonic balance).
+
+Free by default: the mechanism's coefficients (those of
+:data:`~axojax.inverse.comparison.mechanisms.FREE`), ``f_sat`` and ``m0``; ``tau_m`` given
+(:func:`motor_time`) or fitted (``fit_tau_m``). The cubic link stiffening is fixed
+(``cubic``, default 0: the saturation bounds the beat) and a0 is fixed (it is not
+separable from chi, beta and f_sat).
+
+Starts, in order (each orbit solved from the Hopf normal form):
+
+1. the linear row's fit (:func:`axojax.inverse.comparison.compare`'s, pinned at the
+   observed frequency): a Hopf point at the observed beat;
+2. the mechanism's coefficients scaled by ``past`` (1.1: 10 % past the Hopf point);
+3. ``m0`` from the static curvature of the equilibrium at a probe moment (linear in m0
+   while the motors are far from saturation);
+4. ``f_sat`` from a ladder (:data:`SATURATION_LADDER` decades around the static force
+   m0 / a0), the value whose orbit's dynamic amplitude is nearest the observed one; then
+   ``m0`` corrected once by the ratio of static curvatures.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import warnings
+
+import numpy as np
+import scipy.linalg as sl
+
+from ..assembly.motor_kinetics import assemble_motor
+from ..beats.targets import ShapeTarget, Target
+from ..models.section import Model
+from ..orbits import cycle_measures
+from ..orbits.limit_cycle import limit_cycle
+from ..params import Params
+from ..units import Units
+from .comparison.mechanisms import FREE, Row
+from .fit import build_problem
+from .least_squares import least_squares
+from .parameters import DEFAULT_BOUNDS
+from .report import FitResult
+
+MOTOR_TIMES = (1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0)
+"""omega0 tau_m tried by :func:`motor_time`, fastest first."""
+PAST = 1.1
+"""Start 10 % past the linear fit's Hopf point (the mechanism's coefficients scaled)."""
+SATURATION_LADDER = np.geomspace(0.3, 300.0, 13)
+"""f_sat tried for the start, in units of the static force |m0| / a0 (or of 1 / a0^2 ...
+see :func:`_saturation_scale`)."""
+PROBE = 1e-3
+"""The probe moment of the m0 start, relative to the scale of :func:`_saturation_scale`."""
+FREQUENCY_SIGMA = 0.01
+"""Relative sigma of the frequency target when the data give none."""
+
+
+def motor_time(model: Model, params: Params, times=MOTOR_TIMES) -> float:
+    """The default motor relaxation time of a regulated row at its Hopf point (``params``:
+    the linear fit's; dimensionless): the fastest ``omega0 tau_m`` of ``times`` at which
+    the beat is the *dominant* mode of the augmented pencil (every other eigenvalue decays).
+
+    Why: motor kinetics leave the beat at i omega0 unchanged for every tau_m, but the rest
+    of the spectrum is not: too fast motors (small omega0 tau_m) turn the active friction
+    into a large negative instantaneous stiffness (a static or fast instability that
+    outgrows the beat), and slower ones stiffen the static response (beta' - beta''
+    omega0 tau_m). The fastest motors that leave the observed beat as the onset mode are
+    the least committal choice that makes the fitted row a genuine Hopf point; a fit can
+    free ``tau_m`` from there. One-line ``ValueError`` when none does."""
+    w0 = float(params.omega0)
+    for wt in times:
+        s = assemble_motor(model, params, wt / w0)
+        ev = sl.eigvals(-np.asarray(s.A), np.asarray(s.C))
+        ev = ev[np.isfinite(ev)]
+        others = ev[np.abs(np.abs(ev.imag) - w0) > 1e-3 * w0]
+        others = np.concatenate([others, ev[np.abs(ev.real) > 1e-3 * w0]])
+        if others.size == 0 or float(np.max(others.real)) < 0:
+            return wt / w0
+    raise ValueError(
+        f"no motor time omega0 tau_m in {times} makes the fitted beat the dominant mode: "
+        "another mode outgrows it; give tau_m"
+    )
+
+
+def _scaled_past(params: Params, mechanism: str, past: float) -> Params:
+    """The mechanism's coefficients scaled by ``past`` (past the Hopf point)."""
+    names = [n for n in FREE[mechanism] if float(getattr(params, n)) != 0.0]
+    return params.replace(**{n: past * float(getattr(params, n)) for n in names})
+
+
+def _saturation_scale(params: Params) -> float:
+    """A force per length to measure f_sat in: 1 / a0^2 (the dimensionless chi scale
+    times a sliding of a0), so that the ladder spans the regulated forces of a bend of
+    order one radian."""
+    return 1.0 / float(params.a0) ** 2
+
+
+def _measures(model, params, cubic, tau_m, f_sat, units, s_um):
+    cycle = limit_cycle(model, params, cubic, tau_m=tau_m, f_sat=f_sat)
+    return bool(cycle.converged), cycle_measures(cycle, s_um, units)
+
+
+def start_values(
+    model: Model,
+    params: Params,
+    mechanism: str,
+    *,
+    tau_m: float,
+    static_curvature: float,
+    dynamic_amplitude: float,
+    units: Units,
+    cubic: float = 0.0,
+    past: float = PAST,
+) -> tuple[Params, float]:
+    """(params with the coefficients past the Hopf point and m0 set, f_sat): the start
+    of a whole-beat fit (module docstring, steps 2-4) from a Hopf point ``params``.
+    ``static_curvature`` (rad/um) and ``dynamic_amplitude`` (rad) are the observed ones."""
+    prm = _scaled_past(params, mechanism, past)
+    scale = _saturation_scale(prm)
+    big = 1e4 * scale  # the motors far from saturation: the static response is linear
+    probe = PROBE * scale * float(prm.a0)
+    _, m = _measures(model, prm.replace(m0=probe), cubic, tau_m, big, units, None)
+    per_m0 = float(m.static_curvature_rad_per_um) / probe
+    m0 = static_curvature / per_m0 if per_m0 != 0 and static_curvature != 0 else 0.0
+    prm = prm.replace(m0=m0)
+    force = max(abs(m0) / float(prm.a0), scale * 1e-2)
+    best = None
+    for f in SATURATION_LADDER * force:
+        ok, m = _measures(model, prm, cubic, tau_m, float(f), units, None)
+        amp = float(m.dynamic_amplitude_rad)
+        if not ok or not amp > 0:
+            continue
+        miss = abs(math.log(amp / dynamic_amplitude))
+        if best is None or miss < best[0]:
+            best = (miss, float(f), float(m.static_curvature_rad_per_um))
+    if best is None:
+        raise ValueError(
+            f"no limit cycle near the fitted {mechanism} row's Hopf point for any motor "
+            f"saturation tried ({SATURATION_LADDER[0] * force:.3g} to "
+            f"{SATURATION_LADDER[-1] * force:.3g}): the bifurcation may be subcritical there"
+        )
+    _, f_sat, kappa0 = best
+    if m0 != 0 and kappa0 != 0 and static_curvature / kappa0 > 0:
+        prm = prm.replace(m0=m0 * static_curvature / kappa0)
+    return prm, f_sat
+
+
+def linear_hopf(spec: Row, shape: ShapeTarget, units: Units, *, starts: int = 3, seed: int = 0):
+    """(complete params, the row's :class:`~axojax.inverse.comparison.compare.CompareRow`):
+    the linear fit of ``spec`` to psi_1's shape with a free complex amplitude, pinned at
+    the observed frequency (:func:`axojax.compare`'s fit of one row): a Hopf point at
+    the observed beat, the whole-beat fit's first start."""
+    from .comparison.compare import _fit_row
+    from .fit import solver_from_name
+    from .problem import SHAPE_FLOOR
+
+    f_obs = float(units.omega0_to_hz(float(spec.params.omega0)))
+    linear = dataclasses.replace(shape, source="linear")
+    r = _fit_row(spec, linear, units, solver_from_name("lm"), starts, seed, SHAPE_FLOOR, f_obs)
+    return r.fit.full_params, r
+
+
+@dataclasses.dataclass
+class WholeBeatFit:
+    """A whole-beat fit: the report, and what it started from.
+
+    Attributes:
+        fit: the :class:`~axojax.inverse.FitResult` (``achieved``: the limit cycle's
+            frequency, static curvature, dynamic amplitude... ``params``: the fitted
+            dimensionless values; ``conditions[0]["params"]`` also ``tau_m``, ``f_sat``).
+        r2: R^2 of psi_1 with its amplitude included (no free complex amplitude).
+        measures: the fitted orbit's scalar measures (physical units).
+        tau_m: the motors' time (dimensionless; fitted or given), ``f_sat`` and
+            ``params`` (complete :class:`~axojax.Params`) at the optimum.
+        start: the start's params and f_sat.
+        problem: the :class:`~axojax.inverse.Problem` fitted.
+    """
+
+    fit: FitResult
+    r2: float
+    measures: dict[str, float]
+    tau_m: float
+    f_sat: float
+    params: Params
+    start: tuple[Params, float]
+    problem: object
+
+
+def psi1_r2(observed, fitted) -> float:
+    """R^2 = 1 - sum |obs - fit|^2 / sum |obs - mean obs|^2 (Sartori's measure, with the
+    amplitude included: ``fitted`` is not rescaled)."""
+    obs, fit = np.asarray(observed, dtype=complex), np.asarray(fitted, dtype=complex)
+    return float(1.0 - np.sum(np.abs(obs - fit) ** 2) / np.sum(np.abs(obs - obs.mean()) ** 2))
+
+
+def fit_whole_beat(
+    spec: Row,
+    hopf: Params,
+    shape: ShapeTarget,
+    frequency: Target,
+    units: Units,
+    *,
+    tau_m: float | None = None,
+    fit_tau_m: bool = False,
+    cubic: float = 0.0,
+    past: float = PAST,
+    max_steps: int | None = None,
+) -> WholeBeatFit:
+    """Fit the limit cycle of the row ``spec`` (a regulated mechanism on a held base) to
+    a whole observed beat.
+
+    Args:
+        spec: the row (:func:`axojax.inverse.comparison.mechanisms.row`): model, fixed
+            values, the coefficients' bounds.
+        hopf: the row's linear fit (a Hopf point at the observed beat), complete params.
+        shape: observed psi_1 (rad, absolute amplitude) and psi_0 (rad) at ``s_um``.
+        frequency: the observed frequency target (Hz).
+        units: physical units.
+        tau_m: the motors' time (dimensionless); None: :func:`motor_time`.
+        fit_tau_m: fit tau_m too (from ``tau_m``).
+        cubic: the links' cubic stiffening (fixed).
+        past: how far past the Hopf point the start is (coefficients scaled).
+        max_steps: Levenberg-Marquardt iterations (default the solver's).
+
+    Returns:
+        :class:`WholeBeatFit`.
+    """
+    if spec.mechanism not in FREE:
+        raise ValueError(
+            f"mechanism: a whole-beat fit of a regulated row needs sliding, curvature or "
+            f"sliding+curvature, got {spec.mechanism!r} (the steady load: axojax fit "
+            "--target limit-cycle without --mechanism)"
+        )
+    if shape.psi0 is None:
+        raise ValueError("shape: a whole-beat fit needs the observed psi_0 (the static bend)")
+    spec.model.require_held("a whole-beat fit")
+    tau_m = motor_time(spec.model, hopf) if tau_m is None else float(tau_m)
+    s = np.asarray(shape.s_um, dtype=float)
+    static = float(np.polyfit(s, np.asarray(shape.psi0, dtype=float), 1)[0])
+    dynamic = float(np.mean(np.abs(np.asarray(shape.psi1))))
+    start, f_sat = start_values(
+        spec.model,
+        hopf,
+        spec.mechanism,
+        tau_m=tau_m,
+        static_curvature=static,
+        dynamic_amplitude=dynamic,
+        units=units,
+        cubic=cubic,
+        past=past,
+    )
+    free = [n for n in spec.free if n in FREE[spec.mechanism]] + ["m0", "f_sat"]
+    free += ["tau_m"] if fit_tau_m else []
+    bounds = {k: v for k, v in spec.bounds.items() if k in free}
+    coefficient = max(abs(float(start.m0)) * 10, DEFAULT_BOUNDS["m0"][1])
+    bounds.update({"m0": (-coefficient, coefficient), "f_sat": (f_sat * 1e-2, f_sat * 1e2)})
+    if fit_tau_m:
+        bounds["tau_m"] = (tau_m / 30.0, tau_m * 30.0)
+    cycle_shape = dataclasses.replace(shape, source="limit_cycle")
+    target = Target(frequency.name, frequency.value, frequency.sigma, source="limit_cycle")
+    problem = build_problem(
+        spec.model,
+        start,
+        [target],
+        free,
+        shape=cycle_shape,
+        bounds=bounds,
+        units=units,
+        cubic=cubic,
+        tau_m=tau_m,
+        f_sat=f_sat,
+        mechanism=spec.mechanism,
+        base=spec.base,
+    )
+    from .fit import solver_from_name
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = least_squares(problem, solver_from_name("lm", max_steps), starts=1)
+    entry = fit.conditions[0]
+    shape_out = entry["shape"]
+    fitted = np.asarray(shape_out["psi1_fit_re"]) + 1j * np.asarray(shape_out["psi1_fit_im"])
+    orbit = entry["params"]
+    return WholeBeatFit(
+        fit=fit,
+        r2=psi1_r2(shape.psi1, fitted),
+        measures={k: float(v) for k, v in fit.achieved.items()},
+        tau_m=float(orbit.get("tau_m", tau_m)),
+        f_sat=float(orbit.get("f_sat", f_sat)),
+        params=fit.full_params,
+        start=(start, f_sat),
+        problem=problem,
+    )
