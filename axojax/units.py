@@ -125,6 +125,13 @@ class Units:
     def moment_to_pn(self, m0: ArrayLike) -> ArrayLike:
         return m0 * self.ei_pn_um2 / self.length_um**2
 
+    def time_from_ms(self, t_ms: ArrayLike) -> ArrayLike:
+        """A time in ms (e.g. the motors' tau_m) to units of tau."""
+        return t_ms * 1e-3 / self.tau_s
+
+    def time_to_ms(self, t: ArrayLike) -> ArrayLike:
+        return t * self.tau_s * 1e3
+
     def omega0_from_hz(self, frequency_hz: ArrayLike) -> ArrayLike:
         """Beat frequency (Hz) to the dimensionless angular frequency omega0 = 2 pi f tau."""
         return 2 * jnp.pi * frequency_hz * self.tau_s

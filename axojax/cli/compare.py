@@ -217,6 +217,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="also print every row's fitted values in physical units (chi pN/um^2, beta pN, "
         "k_b pN/um, xi_b pN s/um, p pN/um, link stiffness and damping) with standard errors",
     )
+    parser.add_argument(
+        "--target",
+        choices=("linear", "limit-cycle"),
+        default="linear",
+        help="linear (default): psi_1's shape at a Hopf point, amplitude free; limit-cycle: the "
+        "whole beat (frequency, psi_0, psi_1 with its amplitude) by each regulated mechanism's "
+        "limit cycle with motor kinetics, saturating motors and a static moment (held bases)",
+    )
     parser.add_argument("--json", action="store_true", help="print one JSON document on stdout")
 
 
@@ -275,6 +283,8 @@ def run(args: argparse.Namespace) -> dict:
     except (ValueError, OSError) as err:
         raise common.CLIError(f"--data: {err}") from None
     units, organism, head = _units_and_head(args, beat, bases)
+    if args.target == "limit-cycle":
+        return _whole_beat(args, beat, units, organism)
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -311,6 +321,61 @@ def run(args: argparse.Namespace) -> dict:
         doc["out"] = str(args.out)
     if args.params and not args.json:
         doc["show_params"] = True  # read by render only (the terminal's second table)
+    return doc
+
+
+def _whole_beat(args: argparse.Namespace, beat, units, organism) -> dict:
+    """``--target limit-cycle``: :func:`~axojax.inverse.comparison.whole_beat.compare_whole_beat`."""
+    from ..inverse.comparison.whole_beat import DEFAULT_BASES as WHOLE_BASES
+    from ..inverse.comparison.whole_beat import MECHANISMS as WHOLE_MECHANISMS
+    from ..inverse.comparison.whole_beat import compare_whole_beat
+
+    for flag, value in (
+        ("--compliance", args.compliance),
+        ("--sperm-number", args.sperm_number),
+        ("--head-um", args.head_um),
+        ("--frame", None if args.frame == "lab" else args.frame),
+    ):
+        if value is not None:
+            raise common.CLIError(
+                f"{flag}: not with --target limit-cycle (held bases, the lab frame, the data's drag)"
+            )
+    mechanisms = _names(args.mechanisms, "--mechanisms") or WHOLE_MECHANISMS
+    bases = _names(args.bases, "--bases") or WHOLE_BASES
+    flag = "--mechanisms" if args.mechanisms else "--data"
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            result = compare_whole_beat(
+                beat,
+                mechanisms,
+                bases,
+                args.model,
+                n_elements=args.elements,
+                units=units,
+                organism=organism,
+                progress=progress_enabled(json_output=args.json),
+            )
+    except ValueError as err:
+        msg = str(err)
+        for name in ("bases", "mechanisms"):
+            if msg.startswith(f"{name}: "):
+                raise common.CLIError(f"--{msg}") from None
+        raise common.CLIError(f"{flag}: {msg}") from None
+    doc = result.to_json()
+    doc["data"]["file"] = str(args.data)
+    if args.out is not None:
+        import json
+
+        from .. import _io
+
+        try:
+            _io.write_text(args.out, json.dumps(doc, indent=1, allow_nan=False) + "\n")
+        except OSError as err:
+            raise common.CLIError(f"--out: cannot write {args.out!r} ({err})") from None
+        doc["out"] = str(args.out)
+    if args.params and not args.json:
+        doc["show_params"] = True
     return doc
 
 
@@ -390,6 +455,11 @@ def _units_and_head(args: argparse.Namespace, beat, bases):
 
 
 def render(doc: dict) -> str:
+    if doc.get("kind") == "whole_beat_comparison":
+        from ..inverse.comparison.whole_beat import render as render_whole
+
+        text = render_whole(doc, doc.pop("show_params", False))
+        return text + (f"\nsaved {doc['out']}" if "out" in doc else "")
     text = render_table(doc)
     if doc.pop("show_params", False):
         text += "\n\n" + render_params(doc)

@@ -21,12 +21,17 @@ PHYSICAL = {
     "ks": ("ks_pn_per_um2", "k_to_pn_per_um2"),
     "cl": ("cl_pn_s_per_um2", "c_to_pn_s_per_um2"),
     "gamma": ("gamma", None),
+    "m0": ("m0_pn", "moment_to_pn"),
+    "f_sat": ("f_sat_pn_per_um", "p_to_pn_per_um"),
+    "tau_m": ("tau_m_ms", "time_to_ms"),
 }
 """Each fitted value's physical name (its unit in the name) and the :class:`Units`
 conversion to it (docs/model.md section 1 and 8): chi in pN/um^2, beta in pN, the steady
 load p in pN/um, the basal spring k_b in pN/um (fitted as its compliance 1/k_b, um/pN: 0 is
 a rigid base) and friction xi_b in pN s/um, the links'
-stiffness (pN/um^2) and damping (pN s/um^2); the dynein moment gain gamma is a number."""
+stiffness (pN/um^2) and damping (pN s/um^2); the dynein moment gain gamma is a number; a
+whole beat's static moment m0 in pN, motor saturation f_sat in pN/um and motor time tau_m
+in ms."""
 
 
 def render_table(doc: dict[str, Any]) -> str:
@@ -101,6 +106,9 @@ PARAM_UNITS = {
     "ks_pn_per_um2": ("k_s", "pN/um^2"),
     "cl_pn_s_per_um2": ("c_l", "pN s/um^2"),
     "gamma": ("gamma", ""),
+    "m0_pn": ("m0", "pN"),
+    "f_sat_pn_per_um": ("f_sat", "pN/um"),
+    "tau_m_ms": ("tau_m", "ms"),
 }
 """How :func:`render_params` names each physical value, and its unit."""
 

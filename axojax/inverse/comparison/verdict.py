@@ -114,7 +114,8 @@ def verdict(doc: dict[str, Any]) -> dict[str, Any]:
     from scipy.stats import chi2 as chi2_dist
 
     rows = doc["rows"]
-    n = 2 * len(doc["data"].get("s_um", ())) + 2  # Re and Im of each point, and the two pins
+    # Re and Im of each point and the two pins (a whole-beat comparison says its own count)
+    n = doc.get("n_residuals") or 2 * len(doc["data"].get("s_um", ())) + 2
     rule = (
         f"a row fits when it is successful, R^2 >= {FIT_R2:g} and chi2/dof <= the "
         f"{100 * FIT_CHI2_QUANTILE:g} % point of chi^2/dof for its degrees of freedom"

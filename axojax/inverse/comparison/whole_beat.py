@@ -1,0 +1,340 @@
+"""``axojax compare --target limit-cycle``: the regulated mechanisms ranked on the whole
+beat (issue 47 item 5; docs/mechanisms.md, "The whole beat").
+
+Each row is a mechanism on a held base, fitted as :func:`axojax.compare` fits it (the
+linear row: psi_1's shape with a free amplitude, pinned at the observed frequency) and
+then as a whole (:func:`axojax.inverse.whole_beat.fit_whole_beat`: the limit cycle with
+motor kinetics, saturating motors and a static moment against the frequency, psi_0 and
+psi_1 in absolute amplitude). Rows are ranked as the linear comparison ranks them
+(:func:`~axojax.inverse.comparison.verdict.rank`: successful rows first, by BIC, BIC
+weights among them) and judged by the same verdict
+(:func:`~axojax.inverse.comparison.verdict.verdict`), on the whole beat's residuals
+(3 S + 1: psi_0, Re and Im of psi_1 at S points, the frequency).
+
+A row's status: ``successful`` (converged, its orbit within 2 % of the observed
+frequency), the solver's code, ``missed_beat`` (no orbit at the optimum, or off the
+observed frequency), or ``not_applicable`` (no start: no motor time makes the fitted beat
+the onset mode, or no orbit near its Hopf point for any saturation tried: e.g. a
+subcritical bifurcation), with its reason.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from typing import Any
+
+import numpy as np
+from tqdm.auto import tqdm
+
+from ...beats.data import BeatData
+from ...models.presets import preset_section
+from ...results import jsonable
+from ...results import name as result_name
+from ...units import Units
+from ..whole_beat import WholeBeatFit, fit_whole_beat, linear_hopf
+from .compare import _beat, default_units, organism_of
+from .mechanisms import DEFAULT_PRESET, FREE, build_model, check_names, parse_base, row
+from .table import PHYSICAL, physical_text
+from .verdict import FREQUENCY_MATCH, mark, rank, verdict
+
+MECHANISMS = tuple(FREE)
+"""The regulated mechanisms (the steady load's whole beat: ``axojax fit --target
+limit-cycle`` without ``--mechanism``)."""
+DEFAULT_BASES = ("clamped",)
+HELD = ("clamped", "pivot")
+"""Bases whose orbits are built (a free or head base leaves a rigid motion to gauge)."""
+DEFAULT_ELEMENTS = 10
+
+
+@dataclasses.dataclass
+class WholeBeatRow:
+    """One mechanism on one base, fitted to the whole beat.
+
+    Attributes:
+        mechanism, base: the hypothesis.
+        status, reason: as :class:`~axojax.inverse.comparison.compare.CompareRow`'s
+            (module docstring).
+        free: fitted names; params: their dimensionless values; physical and
+            physical_stderr: the same in physical units (:data:`PHYSICAL`).
+        motor_tau_ms: the motors' time (given: :func:`~axojax.inverse.whole_beat.motor_time`).
+        r2: R^2 of psi_1 with its amplitude; linear_r2: the linear row's (amplitude free).
+        frequency_hz, static_curvature_rad_per_um, dynamic_amplitude_rad: the fitted
+            orbit's (None where none).
+        chi2_per_dof, aic, bic, n_free, at_bound: the fit's.
+        delta_bic, weight: set by the ranking.
+        whole: the :class:`~axojax.inverse.whole_beat.WholeBeatFit` (not in the JSON).
+    """
+
+    mechanism: str
+    base: str
+    status: str
+    reason: str | None = None
+    free: tuple[str, ...] = ()
+    params: dict[str, float] = dataclasses.field(default_factory=dict)
+    physical: dict[str, float] = dataclasses.field(default_factory=dict)
+    physical_stderr: dict[str, float | None] = dataclasses.field(default_factory=dict)
+    motor_tau_ms: float | None = None
+    r2: float | None = None
+    linear_r2: float | None = None
+    frequency_hz: float | None = None
+    static_curvature_rad_per_um: float | None = None
+    dynamic_amplitude_rad: float | None = None
+    chi2_per_dof: float | None = None
+    aic: float | None = None
+    bic: float | None = None
+    n_free: int = 0
+    at_bound: list[str] = dataclasses.field(default_factory=list)
+    delta_bic: float | None = None
+    weight: float | None = None
+    wall_s: float = 0.0
+    whole: WholeBeatFit | None = dataclasses.field(default=None, repr=False)
+
+    @property
+    def successful(self) -> bool:
+        return self.status == "successful"
+
+    def to_json(self) -> dict[str, Any]:
+        out = {f.name: getattr(self, f.name) for f in dataclasses.fields(self) if f.name != "whole"}
+        out["free"] = list(self.free)
+        return jsonable(out)
+
+
+def _physical(fit: WholeBeatFit, units: Units) -> tuple[dict, dict]:
+    values = {**fit.fit.params, "f_sat": fit.f_sat}
+    phys, se = {}, {}
+    for name, v in values.items():
+        if name not in PHYSICAL:
+            continue
+        key, conv = PHYSICAL[name]
+        phys[key] = float(getattr(units, conv)(v)) if conv else float(v)
+        s = fit.fit.stderr.get(name)
+        se[key] = None if s is None else abs(float(getattr(units, conv)(s))) if conv else abs(s)
+    return phys, se
+
+
+def fit_row(spec, shape, frequency, units: Units) -> WholeBeatRow:
+    """The whole-beat row of ``spec`` (a :func:`~axojax.inverse.comparison.mechanisms.row`)."""
+    t0 = time.perf_counter()
+    try:
+        hopf, linear = linear_hopf(spec, shape, units)
+        fit = fit_whole_beat(spec, hopf, shape, frequency, units)
+    except ValueError as err:
+        out = WholeBeatRow(spec.mechanism, spec.base, "not_applicable", str(err))
+        out.wall_s = time.perf_counter() - t0
+        return out
+    got = fit.measures
+    f = got.get("limit_cycle_frequency_hz")
+    f = None if f is None or not math.isfinite(f) else float(f)
+    code = result_name(fit.fit.result)
+    if code != "successful":
+        status, reason = code, f"the least-squares solver stopped before converging ({code})"
+    elif f is None:
+        status, reason = "missed_beat", "no limit cycle at the optimum"
+    elif abs(f - frequency.value) > FREQUENCY_MATCH * frequency.value:
+        status = "missed_beat"
+        reason = f"its orbit beats at {f:.4g} Hz, off the observed {frequency.value:.4g} Hz"
+    else:
+        status, reason = "successful", None
+    phys, se = _physical(fit, units)
+    r = fit.fit
+    out = WholeBeatRow(
+        spec.mechanism,
+        spec.base,
+        status,
+        reason,
+        free=tuple(r.names),
+        params=dict(r.params),
+        physical=phys,
+        physical_stderr=se,
+        motor_tau_ms=float(units.time_to_ms(fit.tau_m)),
+        r2=fit.r2,
+        linear_r2=linear.r2,
+        frequency_hz=f,
+        static_curvature_rad_per_um=got.get("limit_cycle_static_curvature_rad_per_um"),
+        dynamic_amplitude_rad=got.get("limit_cycle_dynamic_amplitude_rad"),
+        chi2_per_dof=r.chi2_per_dof,
+        aic=r.aic,
+        bic=r.bic,
+        n_free=r.n_free,
+        at_bound=list(r.at_bound),
+        whole=fit,
+    )
+    out.wall_s = time.perf_counter() - t0
+    return out
+
+
+@dataclasses.dataclass
+class WholeBeatComparison:
+    """The rows of :func:`compare_whole_beat`, best first, and the observed beat."""
+
+    data: dict[str, Any]
+    s_um: np.ndarray
+    frequency_hz: float
+    model: str
+    n_elements: int
+    units: Units
+    units_source: str
+    rows: list[WholeBeatRow]
+    wall_s: float
+
+    @property
+    def best(self) -> WholeBeatRow:
+        return self.rows[0]
+
+    def to_json(self) -> dict[str, Any]:
+        """The ``axojax compare --target limit-cycle --json`` document."""
+        data = dict(self.data, s_um=np.asarray(self.s_um, dtype=float).tolist())
+        doc = jsonable(
+            {
+                "kind": "whole_beat_comparison",
+                "data": data,
+                "model": {
+                    "preset": self.model,
+                    "elements": self.n_elements,
+                    "length_um": self.units.length_um,
+                    "ei_pn_um2": self.units.ei_pn_um2,
+                    "cn_pn_s_um2": self.units.cn_pn_s_um2,
+                    "sperm_number": float(self.units.omega0_from_hz(self.frequency_hz)),
+                    "units_source": self.units_source,
+                },
+                "n_residuals": 3 * len(self.s_um) + 1,
+                "rows": [r.to_json() for r in self.rows],
+                "wall_s": self.wall_s,
+            }
+        )
+        doc["verdict"] = jsonable(verdict(doc))
+        return doc
+
+    def table(self, params: bool = False) -> str:
+        return render(self.to_json(), params)
+
+
+def render(doc: dict[str, Any], params: bool = False) -> str:
+    """A whole-beat comparison document as text: the ranked rows (status marks as
+    compare's), the verdict, each row's values in physical units."""
+
+    def num(x, fmt):
+        width = "".join(c for c in fmt.split(".")[0] if c.isdigit()) or "0"
+        return f"{'-':>{width}}" if x is None else format(x, fmt)
+
+    lines = [
+        f"{'rank':>4}{'':4} {'mechanism':<18} {'base':<8} {'R^2':>7} {'f (Hz)':>8} "
+        f"{'psi0_s (rad/um)':>15} {'|psi1| (rad)':>12} {'chi2/dof':>9} {'BIC':>9} {'dBIC':>8} "
+        f"{'weight':>6}"
+    ]
+    for i, r in enumerate(doc["rows"], 1):
+        lines.append(
+            f"{i:>4}{mark(r):<4} {r['mechanism']:<18} {r['base']:<8} {num(r['r2'], '7.3f')} "
+            f"{num(r['frequency_hz'], '8.3f')} {num(r['static_curvature_rad_per_um'], '15.4f')} "
+            f"{num(r['dynamic_amplitude_rad'], '12.3f')} {num(r['chi2_per_dof'], '9.3g')} "
+            f"{num(r['bic'], '9.1f')} {num(r['delta_bic'], '8.1f')} {num(r.get('weight'), '6.2f')}"
+        )
+    for i, r in enumerate(doc["rows"], 1):
+        if mark(r):
+            lines.append(f"{mark(r)} {i:>2} {r['mechanism']} on {r['base']}: {r['reason']}")
+    d = doc["data"]
+    lines.append(
+        f"observed: {d['frequency_hz']:.4g} Hz, static curvature "
+        f"{d['static_curvature_rad_per_um']:.4f} rad/um, dynamic amplitude "
+        f"{d['dynamic_amplitude_rad']:.3f} rad"
+    )
+    v = doc["verdict"]
+    lines += [f"verdict: {v['text']}", f"  ({v['rule']}; R^2 with psi_1's amplitude included)"]
+    if params:
+        lines.append("fitted values (physical units) +- standard error:")
+        lines += [
+            f"{i:>4}{mark(r):<4} {r['mechanism']} on {r['base']}: "
+            + physical_text(r)
+            + ("" if r["motor_tau_ms"] is None else f"; tau_m {r['motor_tau_ms']:.3g} ms (given)")
+            for i, r in enumerate(doc["rows"], 1)
+        ]
+    m = doc["model"]
+    lines.append(
+        f"model {m['preset']} ({m['elements']} elements); units: EI {m['ei_pn_um2']:.4g} pN um^2 "
+        f"and c_n {m['cn_pn_s_um2']:.3g} pN s/um^2 per filament, L {m['length_um']:.4g} um "
+        f"({m['units_source']})"
+    )
+    return "\n".join(lines)
+
+
+def compare_whole_beat(
+    data,
+    mechanisms=None,
+    bases=None,
+    model: str = DEFAULT_PRESET,
+    *,
+    n_elements: int = DEFAULT_ELEMENTS,
+    units: Units | None = None,
+    organism=None,
+    progress: bool = False,
+) -> WholeBeatComparison:
+    """Fit every regulated mechanism x held base to the whole of one beat and rank them.
+
+    Args:
+        data: a :class:`~axojax.beats.BeatData`, a beat file or a bundled name; it must
+            give psi_0, psi_1 and the frequency.
+        mechanisms: names of :data:`MECHANISMS` (default all three).
+        bases: held bases (:data:`HELD`; default clamped).
+        model: the preset (default two filaments); n_elements: elements per filament.
+        units: EI and c_n per filament (the beat's length is the data's); organism: an
+            organism preset's instead; default: the data set's flagellum or axojax's.
+        progress: a progress bar over rows.
+
+    Returns:
+        :class:`WholeBeatComparison`, rows best first.
+    """
+    mechanisms = tuple(MECHANISMS if mechanisms is None else mechanisms)
+    bases = tuple(DEFAULT_BASES if bases is None else bases)
+    check_names(mechanisms, bases)
+    for m in mechanisms:
+        if m not in MECHANISMS:
+            raise ValueError(
+                f"mechanisms: the whole beat compares regulated mechanisms ({', '.join(MECHANISMS)}); "
+                f"got {m!r}"
+            )
+    for b in bases:
+        if parse_base(b)[0] not in HELD:
+            raise ValueError(
+                f"bases: the whole beat's orbits need a held base ({', '.join(HELD)}); got {b!r}"
+            )
+    beat: BeatData = _beat(data)
+    targets, shape = beat.targets()
+    if shape is None or shape.psi0 is None or not targets:
+        raise ValueError("data: the whole beat needs psi_0, psi_1 and the beat frequency")
+    frequency = targets[0]
+    org = organism_of(organism)
+    if units is not None:
+        units, source = Units(beat.length_um, units.ei_pn_um2, units.cn_pn_s_um2), "given"
+    elif org is not None:
+        units = org.flagellum.units(beat.length_um, preset_section(model).n_filaments)
+        source = f"the {org.name} preset"
+    else:
+        units, source = default_units(beat, model)
+    t0 = time.perf_counter()
+    rows = []
+    combos = [(m, b) for b in bases for m in mechanisms]
+    for mech, base in tqdm(combos, desc="whole-beat rows", unit="row", disable=not progress):
+        the_model = build_model(model, n_elements, base, units)
+        spec = row(mech, base, the_model, units, frequency.value)
+        rows.append(fit_row(spec, shape, frequency, units))
+    rank(rows)
+    s = np.asarray(shape.s_um, dtype=float)
+    summary = dict(
+        beat.summary(),
+        frequency_hz=frequency.value,
+        static_curvature_rad_per_um=float(np.polyfit(s, np.asarray(shape.psi0), 1)[0]),
+        dynamic_amplitude_rad=float(np.mean(np.abs(np.asarray(shape.psi1)))),
+    )
+    return WholeBeatComparison(
+        summary,
+        s,
+        frequency.value,
+        model,
+        int(n_elements),
+        units,
+        source,
+        rows,
+        time.perf_counter() - t0,
+    )
