@@ -586,11 +586,11 @@ def _at_bound(name: str, p, u: float) -> str:
 
 def _condition_params(full: Params) -> dict[str, float]:
     """Every parameter of a condition, without the regulated-dynein coefficients when they
-    are all 0 (the steady load) and without the basal compliance when it is all 0 (no
-    compliance): its report stays as it was, and each name it lists is a command-line
-    flag, e.g. for ``axojax modes``."""
+    are all 0 (the steady load), without the basal compliance when it is all 0 (no
+    compliance) and without the static moment m0 when 0: its report stays as it was, and
+    each name it lists is a command-line flag, e.g. for ``axojax modes``."""
     values = {f: float(np.asarray(getattr(full, f))) for f in PARAM_NAMES}
-    for group in (MECHANISM_NAMES, BASAL_NAMES):
+    for group in (MECHANISM_NAMES, BASAL_NAMES, ("m0",)):
         if not any(values[f] for f in group):
             values = {f: v for f, v in values.items() if f not in group}
     return values

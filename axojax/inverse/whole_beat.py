@@ -58,8 +58,10 @@ SATURATION_LADDER = np.geomspace(0.3, 300.0, 13)
 see :func:`_saturation_scale`)."""
 PROBE = 1e-3
 """The probe moment of the m0 start, relative to the scale of :func:`_saturation_scale`."""
-FREQUENCY_SIGMA = 0.01
-"""Relative sigma of the frequency target when the data give none."""
+MAX_STEPS = 40
+"""Levenberg-Marquardt iterations of a whole-beat fit (the synthetic beat of
+tests/test_whole_beat.py converges in 15; a row whose orbit is lost pays a full Newton
+budget at every step, so a failing row stops early)."""
 
 
 def motor_time(model: Model, params: Params, times=MOTOR_TIMES) -> float:
@@ -211,7 +213,7 @@ def fit_whole_beat(
     fit_tau_m: bool = False,
     cubic: float = 0.0,
     past: float = PAST,
-    max_steps: int | None = None,
+    max_steps: int = MAX_STEPS,
 ) -> WholeBeatFit:
     """Fit the limit cycle of the row ``spec`` (a regulated mechanism on a held base) to
     a whole observed beat.
@@ -227,7 +229,7 @@ def fit_whole_beat(
         fit_tau_m: fit tau_m too (from ``tau_m``).
         cubic: the links' cubic stiffening (fixed).
         past: how far past the Hopf point the start is (coefficients scaled).
-        max_steps: Levenberg-Marquardt iterations (default the solver's).
+        max_steps: Levenberg-Marquardt iterations (:data:`MAX_STEPS`).
 
     Returns:
         :class:`WholeBeatFit`.
