@@ -69,6 +69,26 @@ def _observed(truth, spec, noise=0.0, seed=1):
     )
 
 
+def beat_file(tmp_path):
+    """The synthetic beat (noise 0.02 rad) as a Fourier-mode .npz: s_um, psi0_rad,
+    psi1_re_rad, psi1_im_rad, psi1_sigma_rad, length_um, frequency_hz, frequency_sigma_hz."""
+    spec, _, truth = _truth()
+    shape, freq, _ = _observed(truth, spec, noise=0.02)
+    path = tmp_path / "beat.npz"
+    np.savez(
+        path,
+        s_um=S_UM,
+        psi0_rad=shape.psi0,
+        psi1_re_rad=shape.psi1.real,
+        psi1_im_rad=shape.psi1.imag,
+        psi1_sigma_rad=np.full(len(S_UM), 0.02),
+        length_um=12.0,
+        frequency_hz=freq.value,
+        frequency_sigma_hz=freq.sigma,
+    )
+    return path
+
+
 @pytest.mark.parametrize("preset", ["two", "four", "seven", "nine"])
 def test_the_static_moment_is_a_net_couple_along_the_imbalance(preset):
     """m0 is the net couple per length on the cross-section (its sum over filaments has
@@ -183,19 +203,7 @@ def test_the_fitted_beat_is_what_a_simulation_from_a_small_bend_settles_on(tmp_p
     from axojax.cli.main import main
 
     spec, hopf, truth = _truth()
-    shape, freq, m = _observed(truth, spec, noise=0.02)
-    path = tmp_path / "beat.npz"
-    np.savez(
-        path,
-        s_um=S_UM,
-        psi0_rad=shape.psi0,
-        psi1_re_rad=shape.psi1.real,
-        psi1_im_rad=shape.psi1.imag,
-        psi1_sigma_rad=np.full(len(S_UM), 0.02),
-        length_um=12.0,
-        frequency_hz=freq.value,
-        frequency_sigma_hz=freq.sigma,
-    )
+    path = beat_file(tmp_path)
     out = tmp_path / "fit.json"
     argv = ["fit", "--target", "limit-cycle", "--mechanism", "curvature", "--data", str(path)]
     argv += ["--ei", str(UNITS.ei_pn_um2), "--cn", str(UNITS.cn_pn_s_um2), "--out", str(out)]

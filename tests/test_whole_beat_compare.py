@@ -9,7 +9,6 @@ import json
 import sys
 from pathlib import Path
 
-import numpy as np
 import pytest
 from scipy.stats import chi2
 
@@ -17,29 +16,9 @@ from axojax.cli.main import main
 from axojax.inverse.comparison.verdict import verdict
 
 sys.path.insert(0, str(Path(__file__).parent))
-from test_whole_beat import S_UM, UNITS, _observed, _truth  # noqa: E402
+from test_whole_beat import UNITS, beat_file  # noqa: E402
 
 UNIT_FLAGS = ["--ei", str(UNITS.ei_pn_um2), "--cn", str(UNITS.cn_pn_s_um2)]
-
-
-def _beat_file(tmp_path):
-    """The synthetic beat as a Fourier-mode .npz (s_um, psi0_rad, psi1 re/im, sigma,
-    length, frequency)."""
-    spec, _, truth = _truth()
-    shape, freq, _ = _observed(truth, spec, noise=0.02)
-    path = tmp_path / "beat.npz"
-    arrays = dict(
-        s_um=S_UM,
-        psi1_re_rad=shape.psi1.real,
-        psi1_im_rad=shape.psi1.imag,
-        psi1_sigma_rad=np.full(len(S_UM), 0.02),
-        length_um=12.0,
-        frequency_hz=freq.value,
-        frequency_sigma_hz=freq.sigma,
-    )
-    arrays["psi0_rad"] = shape.psi0
-    np.savez(path, **arrays)
-    return path
 
 
 @pytest.mark.parametrize(
@@ -55,7 +34,7 @@ def test_bad_whole_beat_comparisons_are_one_line(tmp_path, capsys, extra, flag):
     """A base that moves (its orbit has no gauge), the steady load (its whole beat is
     ``axojax fit --target limit-cycle``), and flags of the linear comparison only: one line
     naming the flag, exit 2, before any fit."""
-    path = _beat_file(tmp_path)
+    path = beat_file(tmp_path)
     argv = ["compare", "--target", "limit-cycle", "--data", str(path), *UNIT_FLAGS, *extra]
     assert main(argv) == 2
     err = capsys.readouterr().err.strip()
@@ -89,7 +68,7 @@ def test_curvature_control_wins_its_own_beat(tmp_path, capsys):
     verdict says it fits (R^2 with the amplitude about 0.997); sliding on clamped, which
     cannot reach that beat as a stable orbit, is ranked below with its reason. The JSON
     has every row's values in physical units and the measures of its orbit."""
-    path = _beat_file(tmp_path)
+    path = beat_file(tmp_path)
     out = tmp_path / "cmp.json"
     argv = ["compare", "--target", "limit-cycle", "--data", str(path), *UNIT_FLAGS]
     argv += ["--mechanisms", "curvature,sliding", "--elements", "10", "--params"]

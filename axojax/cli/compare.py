@@ -307,6 +307,11 @@ def run(args: argparse.Namespace) -> dict:
             )
     except ValueError as err:
         raise common.CLIError(f"--data: {err}") from None
+    return _document(args, result)
+
+
+def _document(args: argparse.Namespace, result) -> dict:
+    """The comparison's JSON document, the data file named, written to ``--out``."""
     doc = result.to_json()
     doc["data"]["file"] = str(args.data)
     if args.out is not None:
@@ -362,21 +367,7 @@ def _whole_beat(args: argparse.Namespace, beat, units, organism) -> dict:
             if msg.startswith(f"{name}: "):
                 raise common.CLIError(f"--{msg}") from None
         raise common.CLIError(f"{flag}: {msg}") from None
-    doc = result.to_json()
-    doc["data"]["file"] = str(args.data)
-    if args.out is not None:
-        import json
-
-        from .. import _io
-
-        try:
-            _io.write_text(args.out, json.dumps(doc, indent=1, allow_nan=False) + "\n")
-        except OSError as err:
-            raise common.CLIError(f"--out: cannot write {args.out!r} ({err})") from None
-        doc["out"] = str(args.out)
-    if args.params and not args.json:
-        doc["show_params"] = True
-    return doc
+    return _document(args, result)
 
 
 def _units_and_head(args: argparse.Namespace, beat, bases):

@@ -236,15 +236,9 @@ class Comparison:
             {
                 "kind": "comparison",
                 "data": data,
-                "model": {
-                    "preset": self.model,
-                    "elements": self.n_elements,
-                    "length_um": self.units.length_um,
-                    "ei_pn_um2": self.units.ei_pn_um2,
-                    "cn_pn_s_um2": self.units.cn_pn_s_um2,
-                    "sperm_number": float(self.units.omega0_from_hz(self.frequency_hz)),
-                    "units_source": self.units_source,
-                },
+                "model": model_json(
+                    self.model, self.n_elements, self.units, self.frequency_hz, self.units_source
+                ),
                 "pin_tolerance": self.pin_tolerance,
                 "shape_floor_rad": self.shape_floor,
                 "rows": [r.to_json() for r in self.rows],
@@ -279,6 +273,19 @@ class Comparison:
         errors as a second table (:func:`axojax.inverse.comparison.table.render_params`)."""
         doc = self.to_json()
         return render_table(doc) + ("\n\n" + render_params(doc) if params else "")
+
+
+def model_json(preset: str, elements: int, units: Units, frequency_hz: float, source: str):
+    """A comparison document's ``"model"``: the preset, mesh, units and sperm number."""
+    return {
+        "preset": preset,
+        "elements": elements,
+        "length_um": units.length_um,
+        "ei_pn_um2": units.ei_pn_um2,
+        "cn_pn_s_um2": units.cn_pn_s_um2,
+        "sperm_number": float(units.omega0_from_hz(frequency_hz)),
+        "units_source": source,
+    }
 
 
 def _physical(values: dict[str, float], units: Units) -> dict[str, float]:

@@ -34,7 +34,7 @@ from ...results import jsonable
 from ...results import name as result_name
 from ...units import Units
 from ..whole_beat import WholeBeatFit, fit_whole_beat, linear_hopf
-from .compare import _beat, default_units, organism_of
+from .compare import _beat, default_units, model_json, organism_of
 from .mechanisms import DEFAULT_PRESET, FREE, build_model, check_names, parse_base, row
 from .table import PHYSICAL, physical_text
 from .verdict import FREQUENCY_MATCH, mark, rank, verdict
@@ -190,15 +190,9 @@ class WholeBeatComparison:
             {
                 "kind": "whole_beat_comparison",
                 "data": data,
-                "model": {
-                    "preset": self.model,
-                    "elements": self.n_elements,
-                    "length_um": self.units.length_um,
-                    "ei_pn_um2": self.units.ei_pn_um2,
-                    "cn_pn_s_um2": self.units.cn_pn_s_um2,
-                    "sperm_number": float(self.units.omega0_from_hz(self.frequency_hz)),
-                    "units_source": self.units_source,
-                },
+                "model": model_json(
+                    self.model, self.n_elements, self.units, self.frequency_hz, self.units_source
+                ),
                 "n_residuals": 3 * len(self.s_um) + 1,
                 "rows": [r.to_json() for r in self.rows],
                 "wall_s": self.wall_s,
