@@ -21,7 +21,13 @@ import axojax as ax
 from axojax.assembly.terms import static_couple
 from axojax.beats.targets import ShapeTarget, Target
 from axojax.inverse.comparison.mechanisms import build_model, row
-from axojax.inverse.whole_beat import fit_whole_beat, linear_hopf, motor_time, psi1_r2
+from axojax.inverse.whole_beat import (
+    fit_whole_beat,
+    linear_hopf,
+    motor_time,
+    psi1_r2,
+    start_values,
+)
 from axojax.orbits import cycle_measures
 from axojax.units import ORGANISMS
 from axojax.waveform.shapes import centreline
@@ -135,9 +141,11 @@ def test_the_static_moment_is_a_flag_in_pn():
 
 
 def test_the_default_motor_time_makes_the_beat_the_onset_mode():
-    """motor_time picks the fastest omega0 tau_m of its ladder at which every eigenvalue
-    of the augmented pencil but the beat's decays: for clamped two-filament sliding control
-    at 50 Hz (chi'' < 0) omega0 tau_m = 1 leaves a 100 Hz mode growing and 1.5 does not
+    """motor_time picks the fastest omega0 tau_m of its ladder at which the beat is the
+    onset mode: every other eigenvalue of the augmented pencil decays at the Hopf point,
+    and 10 % past it the beat grows fastest. For clamped two-filament sliding control at
+    50 Hz (chi'' < 0): at omega0 tau_m = 1 a 100 Hz mode grows at the Hopf point; at 1.5 a
+    115 Hz mode decays there but outgrows the beat past it; 2 is the first that passes
     (scipy on the augmented matrices of tests/test_motor_kinetics_time.py)."""
     import sys
     from pathlib import Path
@@ -147,16 +155,47 @@ def test_the_default_motor_time_makes_the_beat_the_onset_mode():
 
     model = ax.models.two(n_elements=10)
     params = _hopf(model, ax.Params(p=0.0, omega0=W0), "chi")
+    past = params.replace(chi_re=1.1 * params.chi_re, chi_im=1.1 * params.chi_im)
 
-    def others(tau_m):
-        A, C, _ = _augmented(model, params, tau_m)
+    def split(prm, tau_m):
+        """(the beat's growth rate, the largest of the others')"""
+        A, C, _ = _augmented(model, prm, tau_m)
         ev = sl.eigvals(-A, C)
         ev = ev[np.isfinite(ev)]
-        return ev[np.abs(np.abs(ev) - W0) > 1e-4 * W0].real.max()
+        beat = np.abs(np.abs(ev.imag) - W0) < 0.2 * W0
+        beat &= np.abs(ev.real) < 0.2 * W0
+        return ev[beat].real.max(), ev[~beat].real.max()
 
     tau_m = motor_time(model, params)
-    assert tau_m * W0 == pytest.approx(1.5)
-    assert others(tau_m) < 0 < others(1.0 / W0)
+    assert tau_m * W0 == pytest.approx(2.0)
+    assert split(params, 1.0 / W0)[1] > 0  # a faster mode grows at the Hopf point
+    assert split(params, 1.5 / W0)[1] < 0  # none grows there
+    lead, rest = split(past, 1.5 / W0)
+    assert rest > lead  # but one outgrows the beat past it
+    assert split(params, tau_m)[1] < 0
+    lead, rest = split(past, tau_m)
+    assert lead > rest
+
+
+def test_a_subcritical_row_has_no_start_and_says_why():
+    """Clamped two-filament sliding control at 50 Hz with omega0 tau_m = 2 (motor_time's
+    choice): the normal form past its Hopf point has no small orbit (first Lyapunov
+    coefficient Re g21 = +0.44 > 0: subcritical; a simulation 5 % past onset leaves a 0.1
+    um bend for a cycle of 0.88 rad, docs/model.md section 8), so the whole-beat start
+    is refused in one line naming why."""
+    model = ax.models.two(n_elements=10)
+    hopf = _hopf(model, ax.Params(p=0.0, omega0=W0), "chi")
+    with pytest.raises(ValueError, match="subcritical") as info:
+        start_values(
+            model,
+            hopf,
+            "sliding",
+            tau_m=2.0 / W0,
+            static_curvature=-0.1,
+            dynamic_amplitude=0.5,
+            units=UNITS,
+        )
+    assert "\n" not in str(info.value)
 
 
 def test_the_whole_beat_fit_recovers_the_beat_from_the_linear_fit():
@@ -241,3 +280,38 @@ def test_the_fitted_beat_is_what_a_simulation_from_a_small_bend_settles_on(tmp_p
         a["limit_cycle_static_curvature_rad_per_um"], rel=0.02
     )
     assert math.isfinite(w["static_moment_pn"]) and w["static_moment_pn"] < 0
+
+
+@pytest.mark.slow
+def test_the_subcritical_row_beats_below_its_hopf_point():
+    """Hysteresis, the independent mark of a subcritical Hopf bifurcation: clamped sliding
+    control at omega0 tau_m = 2, 0.5 % below its Hopf point (coefficients x 0.995), where
+    the straight state is linearly stable (scipy: every eigenvalue of the augmented pencil
+    decays), still beats when started from a large bend (8 um at the tip): a stable
+    large cycle (measured 0.53 rad, 47 Hz) beside the stable rest state."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from test_motor_kinetics_time import _augmented
+
+    model = ax.models.two(n_elements=10)
+    hopf = _hopf(model, ax.Params(p=0.0, omega0=W0), "chi")
+    below = hopf.replace(chi_re=0.995 * hopf.chi_re, chi_im=0.995 * hopf.chi_im)
+    A, C, _ = _augmented(model, below, 2.0 / W0)
+    ev = sl.eigvals(-A, C)
+    assert ev[np.isfinite(ev)].real.max() < 0
+    f_sat = float(UNITS.p_from_pn_per_um(300.0))
+    sim = ax.simulate(
+        model,
+        below,
+        4.0,
+        units=UNITS,
+        tau_m=2.0 / W0,
+        f_sat=f_sat,
+        cubic=0.0,
+        samples_per_period=32,
+        perturbation_um=8.0,
+    )
+    assert sim.state == "limit_cycle", sim.state
+    assert sim.limit_cycle["dynamic_amplitude_rad"] > 0.3

@@ -43,6 +43,7 @@ from ..orbits import cycle_measures
 from ..orbits.limit_cycle import limit_cycle
 from ..params import Params
 from ..units import Units
+from ._arguments import SIGNED
 from .comparison.mechanisms import FREE, Row
 from .fit import build_problem
 from .least_squares import least_squares
@@ -64,29 +65,42 @@ tests/test_whole_beat.py converges in 15; a row whose orbit is lost pays a full 
 budget at every step, so a failing row stops early)."""
 
 
-def motor_time(model: Model, params: Params, times=MOTOR_TIMES) -> float:
+def motor_time(model: Model, params: Params, times=MOTOR_TIMES, past: float = PAST) -> float:
     """The default motor relaxation time of a regulated row at its Hopf point (``params``:
     the linear fit's; dimensionless): the fastest ``omega0 tau_m`` of ``times`` at which
-    the beat is the *dominant* mode of the augmented pencil (every other eigenvalue decays).
+    the beat is the onset mode of the augmented pencil: at the Hopf point every other
+    eigenvalue decays, and ``past`` it (the coefficients scaled, where the whole-beat fit
+    starts) the beat still grows fastest.
 
-    Why: motor kinetics leave the beat at i omega0 unchanged for every tau_m, but the rest
-    of the spectrum is not: too fast motors (small omega0 tau_m) turn the active friction
-    into a large negative instantaneous stiffness (a static or fast instability that
-    outgrows the beat), and slower ones stiffen the static response (beta' - beta''
-    omega0 tau_m). The fastest motors that leave the observed beat as the onset mode are
-    the least committal choice that makes the fitted row a genuine Hopf point; a fit can
-    free ``tau_m`` from there. One-line ``ValueError`` when none does."""
+    Why: motor kinetics leave the beat at i omega0 unchanged for every tau_m, but not the
+    rest of the spectrum: too fast motors (small omega0 tau_m) turn an active friction into
+    a large negative instantaneous stiffness, whose mode outgrows the beat (clamped
+    two-filament sliding control at 50 Hz: at omega0 tau_m = 1 a 100 Hz mode grows at the
+    Hopf point; at 1.5 a 115 Hz mode decays there but grows 30 times faster than the beat
+    1 % past it), and slower ones stiffen the static response (chi' - chi'' omega0 tau_m).
+    The fastest motors that keep the observed beat the onset mode are the least committal
+    choice that makes the fitted row a genuine Hopf point; a fit can free ``tau_m`` from
+    there. One-line ``ValueError`` when none does."""
     w0 = float(params.omega0)
-    for wt in times:
-        s = assemble_motor(model, params, wt / w0)
+    beyond = params.replace(
+        **{n: past * float(getattr(params, n)) for n in SIGNED if float(getattr(params, n))}
+    )
+
+    def split(prm, wt):
+        s = assemble_motor(model, prm, wt / w0)
         ev = sl.eigvals(-np.asarray(s.A), np.asarray(s.C))
         ev = ev[np.isfinite(ev)]
-        others = ev[np.abs(np.abs(ev.imag) - w0) > 1e-3 * w0]
-        others = np.concatenate([others, ev[np.abs(ev.real) > 1e-3 * w0]])
-        if others.size == 0 or float(np.max(others.real)) < 0:
+        near = ev[np.argmin(np.abs(ev - 1j * w0))]  # the beat, and its conjugate
+        beat = (np.abs(ev - near) <= 1e-9 * w0) | (np.abs(ev - np.conj(near)) <= 1e-9 * w0)
+        return near.real, (ev[~beat].real.max() if (~beat).any() else -np.inf)
+
+    for wt in times:
+        _, others = split(params, wt)
+        lead, rest = split(beyond, wt)
+        if others < 0 and lead > rest:
             return wt / w0
     raise ValueError(
-        f"no motor time omega0 tau_m in {times} makes the fitted beat the dominant mode: "
+        f"no motor time omega0 tau_m in {times} makes the fitted beat the onset mode: "
         "another mode outgrows it; give tau_m"
     )
 
@@ -109,6 +123,20 @@ def _measures(model, params, cubic, tau_m, f_sat, units, s_um):
     return bool(cycle.converged), cycle_measures(cycle, s_um, units)
 
 
+def _require_supercritical(model, params, mechanism, cubic, tau_m, f_sat) -> None:
+    """One-line ``ValueError`` when the Hopf bifurcation past which ``params`` lie is
+    subcritical (the normal form has no small orbit: a small bend grows onto a distant
+    cycle, or diverges), so no start near the Hopf point exists."""
+    cycle = limit_cycle(model, params, cubic, tau_m=tau_m, f_sat=f_sat)
+    lam = complex(cycle.linear_eigenvalue)
+    if not bool(cycle.started) and lam.real > 0 and lam.imag != 0:
+        raise ValueError(
+            f"the fitted {mechanism} row's Hopf bifurcation is subcritical at omega0 tau_m = "
+            f"{tau_m * float(params.omega0):.3g} (the normal form has no small orbit past "
+            "it): its beat is not reached from its Hopf point; give another tau_m (--motor-tau-ms)"
+        )
+
+
 def start_values(
     model: Model,
     params: Params,
@@ -127,6 +155,7 @@ def start_values(
     prm = _scaled_past(params, mechanism, past)
     scale = _saturation_scale(prm)
     big = 1e4 * scale  # the motors far from saturation: the static response is linear
+    _require_supercritical(model, prm, mechanism, cubic, tau_m, big)
     probe = PROBE * scale * float(prm.a0)
     _, m = _measures(model, prm.replace(m0=probe), cubic, tau_m, big, units, None)
     per_m0 = float(m.static_curvature_rad_per_um) / probe
