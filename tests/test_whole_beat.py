@@ -315,3 +315,24 @@ def test_the_subcritical_row_beats_below_its_hopf_point():
     )
     assert sim.state == "limit_cycle", sim.state
     assert sim.limit_cycle["dynamic_amplitude_rad"] > 0.3
+
+
+@pytest.mark.parametrize(
+    "extra, flag",
+    [
+        (["--base", "free"], "--base"),
+        (["--free", "beta_re"], "--free"),
+        (["--basal-compliance", "10,0.1"], "--basal-compliance"),
+        (["--beta", "1,2"], "--beta"),
+    ],
+)
+def test_bad_whole_beat_fits_are_one_line(tmp_path, capsys, extra, flag):
+    """What a whole-beat fit does not take is refused before any fit, in one line naming
+    the flag (exit 2); the valid file itself is fitted by the slow command-line test."""
+    from axojax.cli.main import main
+
+    path = beat_file(tmp_path)
+    argv = ["fit", "--target", "limit-cycle", "--mechanism", "curvature", "--data", str(path)]
+    assert main([*argv, *extra]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"axojax: error: {flag}") and "\n" not in err, err

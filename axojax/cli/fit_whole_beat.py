@@ -37,6 +37,15 @@ def check(args: argparse.Namespace) -> None:
                 f"{args.mechanism}) fits the mechanism's coefficients, the motors' saturation "
                 "and the static moment from the data; leave it out"
             )
+    if args.base not in ("clamped", "pivot"):
+        raise common.CLIError(
+            f"--base: a whole-beat fit needs a held base (clamped or pivot), got {args.base!r}: "
+            "on a free or head base the beat is a relative periodic orbit (docs/model.md section 8)"
+        )
+    if getattr(args, "basal_compliance", None) is not None:
+        raise common.CLIError(
+            "--basal-compliance: a whole-beat fit takes the base without compliance in this version"
+        )
     if args.data is None:
         raise common.CLIError(
             f"--mechanism {args.mechanism}: a whole-beat fit needs the beat (--data FILE)"
