@@ -336,3 +336,25 @@ def test_bad_whole_beat_fits_are_one_line(tmp_path, capsys, extra, flag):
     assert main([*argv, *extra]) == 2
     err = capsys.readouterr().err.strip()
     assert err.startswith(f"axojax: error: {flag}") and "\n" not in err, err
+
+
+def test_orbit_takes_the_static_moment_in_pn(capsys):
+    """axojax orbit --static-moment-pn (with the regulated row's flags in physical units,
+    --p 0) gives the library's asymmetric orbit: its static curvature and dynamic
+    amplitude equal ax.limit_cycle's at the same dimensionless values (1e-8)."""
+    from axojax.cli.main import main
+
+    spec, _, truth = _truth()
+    beta = (UNITS.beta_to_pn(truth.beta_re), UNITS.beta_to_pn(truth.beta_im))
+    argv = ["orbit", "--model", "two", "--elements", "10", "--p", "0", "--mechanism"]
+    argv += ["curvature", "--beta", f"{float(beta[0])!r},{float(beta[1])!r}", "--omega0-hz", "50"]
+    argv += ["--motor-tau-ms", repr(float(UNITS.time_to_ms(1.0 / W0))), "--motor-saturation"]
+    argv += ["1000", "--static-moment-pn", "-70", "--cubic", "0", "--json"]
+    argv += ["--ei", repr(UNITS.ei_pn_um2), "--cn", repr(UNITS.cn_pn_s_um2)]
+    assert main(argv) == 0
+    orbit = json.loads(capsys.readouterr().out)["orbits"][0]
+    cycle = ax.limit_cycle(spec.model, truth, 0.0, tau_m=1.0 / W0, f_sat=F_SAT, throw=True)
+    m = cycle_measures(cycle, None, UNITS)
+    assert orbit["static_curvature_rad_per_um"] < -0.1
+    for name in ("static_curvature_rad_per_um", "dynamic_amplitude_rad"):
+        assert orbit[name] == pytest.approx(float(getattr(m, name)), rel=1e-8)
