@@ -322,6 +322,7 @@ def test_the_subcritical_row_beats_below_its_hopf_point():
     [
         (["--base", "free"], "--base"),
         (["--free", "beta_re"], "--free"),
+        (["--free", "tau_m,a0"], "--free"),
         (["--basal-compliance", "10,0.1"], "--basal-compliance"),
         (["--beta", "1,2"], "--beta"),
     ],
@@ -358,3 +359,22 @@ def test_orbit_takes_the_static_moment_in_pn(capsys):
     assert orbit["static_curvature_rad_per_um"] < -0.1
     for name in ("static_curvature_rad_per_um", "dynamic_amplitude_rad"):
         assert orbit[name] == pytest.approx(float(getattr(m, name)), rel=1e-8)
+
+
+@pytest.mark.slow
+def test_the_motor_time_can_be_fitted(tmp_path):
+    """--free tau_m adds the motor time to a whole-beat fit's free values: it is fitted
+    from its default start (measured 2.99 ms, standard error x/ 1.31, against the truth's
+    3.18 ms) and the beat is still reproduced (R^2 with the amplitude 0.997)."""
+    from axojax.cli.main import main
+
+    out = tmp_path / "fit.json"
+    argv = ["fit", "--target", "limit-cycle", "--mechanism", "curvature", "--data"]
+    argv += [str(beat_file(tmp_path)), "--free", "tau_m", "--out", str(out)]
+    argv += ["--ei", repr(UNITS.ei_pn_um2), "--cn", repr(UNITS.cn_pn_s_um2)]
+    assert main(argv) == 0
+    doc = json.loads(out.read_text())
+    assert "tau_m" in doc["fitted"]
+    truth_ms = float(UNITS.time_to_ms(1.0 / W0))
+    assert doc["whole_beat"]["motor_tau_ms"] == pytest.approx(truth_ms, rel=0.2)
+    assert doc["whole_beat"]["r2_psi1_with_amplitude"] > 0.99

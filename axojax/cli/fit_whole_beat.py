@@ -18,12 +18,20 @@ from . import common
 from .regulation import motor_tau_from_args
 
 DEFAULT_MODEL = "two"
+EXTRA_FREE = ("tau_m", "cubic")
+"""What ``--free`` may add to a whole-beat fit's own free values (the motor time from
+``--motor-tau-ms`` or its default, the cubic link stiffening from 0)."""
 
 
 def check(args: argparse.Namespace) -> None:
     """Flags a whole-beat fit does not take, refused in one line."""
+    extra = set() if args.free is None else {n.strip() for n in args.free.split(",")}
+    if extra - set(EXTRA_FREE):
+        raise common.CLIError(
+            f"--free: a whole-beat fit frees the mechanism's coefficients, f_sat and m0 itself; "
+            f"--free adds only {' or '.join(EXTRA_FREE)}, got {args.free!r}"
+        )
     for flag, value in (
-        ("--free", args.free),
         ("--spec", args.spec),
         ("--chi", args.chi),
         ("--beta", args.beta),
@@ -78,7 +86,17 @@ def run(args: argparse.Namespace) -> dict:
         tau_m = None
         if getattr(args, "motor_tau_ms", None) is not None:
             tau_m = motor_tau_from_args(args, hopf)
-        out = fit_whole_beat(spec, hopf, shape, frequency, units, tau_m=tau_m)
+        extra = set() if args.free is None else {n.strip() for n in args.free.split(",")}
+        out = fit_whole_beat(
+            spec,
+            hopf,
+            shape,
+            frequency,
+            units,
+            tau_m=tau_m,
+            fit_tau_m="tau_m" in extra,
+            fit_cubic="cubic" in extra,
+        )
     except ValueError as err:
         raise common.CLIError(f"--mechanism {args.mechanism}: {err}") from None
     extra = {

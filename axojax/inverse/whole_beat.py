@@ -241,6 +241,7 @@ def fit_whole_beat(
     tau_m: float | None = None,
     fit_tau_m: bool = False,
     cubic: float = 0.0,
+    fit_cubic: bool = False,
     past: float = PAST,
     max_steps: int = MAX_STEPS,
 ) -> WholeBeatFit:
@@ -256,7 +257,9 @@ def fit_whole_beat(
         units: physical units.
         tau_m: the motors' time (dimensionless); None: :func:`motor_time`.
         fit_tau_m: fit tau_m too (from ``tau_m``).
-        cubic: the links' cubic stiffening (fixed).
+        cubic: the links' cubic stiffening (1/L^2; fixed, or the start with ``fit_cubic``:
+            0 starts at the low end of its range).
+        fit_cubic: fit the cubic stiffening too.
         past: how far past the Hopf point the start is (coefficients scaled).
         max_steps: Levenberg-Marquardt iterations (:data:`MAX_STEPS`).
 
@@ -289,6 +292,7 @@ def fit_whole_beat(
     )
     free = [n for n in spec.free if n in FREE[spec.mechanism]] + ["m0", "f_sat"]
     free += ["tau_m"] if fit_tau_m else []
+    free += ["cubic"] if fit_cubic else []
     bounds = {k: v for k, v in spec.bounds.items() if k in free}
     coefficient = max(abs(float(start.m0)) * 10, DEFAULT_BOUNDS["m0"][1])
     bounds.update({"m0": (-coefficient, coefficient), "f_sat": (f_sat * 1e-2, f_sat * 1e2)})
