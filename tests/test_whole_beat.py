@@ -219,6 +219,7 @@ def test_the_whole_beat_fit_recovers_the_beat_from_the_linear_fit():
         truth_value = float(getattr(m, name))
         assert got[f"limit_cycle_{name}"] == pytest.approx(truth_value, rel=rel)
     assert out.r2 >= 0.8
+    assert got["r2_psi1_with_amplitude"] == out.r2  # the report's achieved has it too
     fitted = out.params
     for name in ("beta_re", "beta_im", "m0"):
         assert float(getattr(fitted, name)) == pytest.approx(float(getattr(truth, name)), rel=0.05)

@@ -204,7 +204,8 @@ class WholeBeatFit:
 
     Attributes:
         fit: the :class:`~axojax.inverse.FitResult` (``achieved``: the limit cycle's
-            frequency, static curvature, dynamic amplitude... ``params``: the fitted
+            frequency, static curvature, dynamic amplitude... and
+            ``r2_psi1_with_amplitude``; ``params``: the fitted
             dimensionless values; ``conditions[0]["params"]`` also ``tau_m``, ``f_sat``).
         r2: R^2 of psi_1 with its amplitude included (no free complex amplitude).
         measures: the fitted orbit's scalar measures (physical units).
@@ -323,9 +324,11 @@ def fit_whole_beat(
     shape_out = entry["shape"]
     fitted = np.asarray(shape_out["psi1_fit_re"]) + 1j * np.asarray(shape_out["psi1_fit_im"])
     orbit = entry["params"]
+    r2 = psi1_r2(shape.psi1, fitted)
+    fit.achieved["r2_psi1_with_amplitude"] = r2  # beside the orbit's measures
     return WholeBeatFit(
         fit=fit,
-        r2=psi1_r2(shape.psi1, fitted),
+        r2=r2,
         measures={k: float(v) for k, v in fit.achieved.items()},
         tau_m=float(orbit.get("tau_m", tau_m)),
         f_sat=float(orbit.get("f_sat", f_sat)),
