@@ -17,6 +17,7 @@ import math
 
 import jax.numpy as jnp
 import numpy as np
+import scipy.sparse.csgraph
 import scipy.special
 
 from ._mixture import TMixture
@@ -47,24 +48,16 @@ def group_components(mix: TMixture, log_density) -> tuple[np.ndarray, int]:
         if pairs
         else []
     )
-    parent = list(range(K))
-
-    def root(i):
-        while parent[i] != i:
-            parent[i] = parent[parent[i]]
-            i = parent[i]
-        return i
-
+    linked = np.zeros((K, K), dtype=bool)
     for (i, j), m in zip(pairs, mid):
-        if np.isfinite(m) and m >= min(at[i], at[j]) - VALLEY:
-            parent[root(i)] = root(j)
+        linked[i, j] = np.isfinite(m) and m >= min(at[i], at[j]) - VALLEY
     cores = np.nonzero(core)[0]
     for i in np.nonzero(~core)[0]:  # a tail or valley component: its nearest core's mode
         d = [np.sum(np.linalg.solve(chol[c], mean[i] - mean[c]) ** 2) for c in cores]
-        parent[i] = root(int(cores[int(np.argmin(d))]))
-    roots = [root(i) for i in range(K)]
-    order = {r: n for n, r in enumerate(dict.fromkeys(roots))}
-    return np.array([order[r] for r in roots], dtype=int), K + len(pairs)
+        linked[i, cores[int(np.argmin(d))]] = True
+    mode = scipy.sparse.csgraph.connected_components(linked, directed=False)[1]
+    _, first, inverse = np.unique(mode, return_index=True, return_inverse=True)
+    return np.argsort(np.argsort(first))[inverse].astype(int), K + len(pairs)
 
 
 def mode_masses(

@@ -19,6 +19,7 @@ from __future__ import annotations
 import jax
 import jax.numpy as jnp
 import numpy as np
+import scipy.sparse.csgraph
 from jaxtyping import Array, Float
 
 REACH = 25.0
@@ -103,24 +104,12 @@ def _candidates(w: np.ndarray, r: np.ndarray, near: np.ndarray) -> list[tuple[in
 
 
 def _lines(points_w: np.ndarray) -> np.ndarray:
-    """Line index of each confirmed point (single linkage within :data:`LINE_GAP`)."""
-    n = len(points_w)
-    label = -np.ones(n, dtype=int)
-    count = 0
-    for i in range(n):
-        if label[i] >= 0:
-            continue
-        label[i] = count
-        stack = [i]
-        while stack:
-            j = stack.pop()
-            near = np.nonzero(
-                (label < 0) & (np.linalg.norm(points_w - points_w[j], axis=1) < LINE_GAP)
-            )[0]
-            label[near] = count
-            stack.extend(near.tolist())
-        count += 1
-    return label
+    """Line index of each confirmed point (single linkage within :data:`LINE_GAP`; lines
+    numbered in order of their first point)."""
+    near = np.linalg.norm(points_w[:, None] - points_w[None], axis=-1) < LINE_GAP
+    label = scipy.sparse.csgraph.connected_components(near, directed=False)[1]
+    _, first, inverse = np.unique(label, return_index=True, return_inverse=True)
+    return np.argsort(np.argsort(first))[inverse].astype(int)
 
 
 def find_switches(problem, target, seen, centre, chol, values_of, call) -> tuple[list[dict], int]:
