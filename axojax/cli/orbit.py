@@ -22,6 +22,7 @@ from . import common
 from .regulation import (
     add_motor_saturation_flag,
     add_motor_tau_flag,
+    motor_kinetics_lines,
     motor_saturation_from_args,
     motor_tau_from_args,
 )
@@ -218,14 +219,7 @@ def run(args: argparse.Namespace) -> dict:
 
 
 def render(doc: dict) -> str:
-    lines = []
-    motors = doc.get("motor_kinetics")
-    if motors is not None:
-        sat = motors.get("f_sat_pn_per_um")
-        lines.append(
-            f"motor kinetics: tau_m = {motors['tau_ms']:g} ms (the orbit of the state and its motors' copy)"
-            + ("" if sat is None else f", saturating at {sat:g} pN/um")
-        )
+    lines = motor_kinetics_lines(doc, "the orbit of the state and its motors' copy")
     if "hopf" in doc:
         h = doc["hopf"]
         lines.append(f"Hopf point of the equilibrium: p = {h['p']:.6g}, {h['frequency_hz']:.3f} Hz")

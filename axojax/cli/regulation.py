@@ -1,8 +1,8 @@
 """The flags of regulated dynein and base conditions (docs/model.md section 8) as model
 and parameter values: ``--mechanism``/``--chi``/``--beta``/``--omega0-hz``, ``--base``,
 ``--basal-compliance``, ``--head-um``/``--head-drag``/``--viscosity-pa-s``; motor kinetics
-``--motor-tau-ms`` and ``--motor-saturation``; and the refusal of an active friction where the time domain is needed
-(without motor kinetics)."""
+``--motor-tau-ms`` and ``--motor-saturation`` (and their line in a text report); and the
+refusal of an active friction where the time domain is needed (without motor kinetics)."""
 
 from __future__ import annotations
 
@@ -219,3 +219,17 @@ def motor_saturation_from_args(args: argparse.Namespace, tau_m: float | None) ->
         return check_saturation(units_from_args(args).p_from_pn_per_um(value))
     except ValueError as err:
         raise CLIError(f"--motor-saturation: {value:g} pN/um: {err}") from None
+
+
+def motor_kinetics_lines(doc: dict, what: str) -> list[str]:
+    """The text report's line of a result's ``motor_kinetics`` (``tau_ms``, and
+    ``f_sat_pn_per_um`` where the motors saturate), ``what`` in its parentheses (what the
+    command computed with them); no line without motor kinetics."""
+    motors = doc.get("motor_kinetics")
+    if motors is None:
+        return []
+    sat = motors.get("f_sat_pn_per_um")
+    return [
+        f"motor kinetics: tau_m = {motors['tau_ms']:g} ms ({what})"
+        + ("" if sat is None else f", saturating at {sat:g} pN/um")
+    ]

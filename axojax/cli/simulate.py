@@ -15,6 +15,7 @@ from . import common
 from .regulation import (
     add_motor_saturation_flag,
     add_motor_tau_flag,
+    motor_kinetics_lines,
     motor_saturation_from_args,
     motor_tau_from_args,
 )
@@ -182,13 +183,7 @@ def render(doc: dict) -> str:
         f"linear (dominant eigenvalue): {lin['classification']}, {lin['frequency_hz']:.3f} Hz, "
         f"growth {lin['growth_rate_per_s']:.3f} /s",
     ]
-    motors = doc.get("motor_kinetics")
-    if motors is not None:
-        sat = motors.get("f_sat_pn_per_um")
-        lines.append(
-            f"motor kinetics: tau_m = {motors['tau_ms']:g} ms (linear: the augmented pencil)"
-            + ("" if sat is None else f", saturating at {sat:g} pN/um")
-        )
+    lines += motor_kinetics_lines(doc, "linear: the augmented pencil")
     lc = doc["limit_cycle"]
     if lc is not None:
         w = doc["waveform"]

@@ -117,7 +117,6 @@ def mass_system(
         raise ValueError("a motor saturation f_sat needs motor kinetics (tau_m)")
     s = assemble(model, params)
     blocks = assemble_blocks(model, params)
-    C_inv = _inverse(s.C)
     perm = node_major(model)
     if model.n_border:  # a base that is not clamped: its unknowns border the node blocks
         A_blocks, C_blocks = pencil_of(blocks)
@@ -125,19 +124,7 @@ def mass_system(
         C_lu = bordered_lu(C_blocks)
     else:
         A_blocks, C_blocks, C_lu = blocks.A, blocks.C, lu_factor(blocks.C)
-    return MassSystem(
-        C=s.C,
-        A=s.A,
-        b=s.b,
-        C_inv=C_inv,
-        C_inv_A=C_inv @ s.A,
-        C_inv_b=C_inv @ s.b,
-        perm=jnp.asarray(perm),
-        C_blocks=C_blocks,
-        A_blocks=A_blocks,
-        C_lu=C_lu,
-        links=cubic_links(model, params, kappa),
-    )
+    return _system_of(s, perm, A_blocks, C_blocks, C_lu, cubic_links(model, params, kappa))
 
 
 def _motor_mass_system(
@@ -152,9 +139,16 @@ def _motor_mass_system(
     :func:`~axojax.dynamics.motors.motor_order`; the links act on q only."""
     s = assemble_motor(model, params, tau_m)
     links, saturation = motor_forces(model, params, kappa, tau_m, f_sat)
-    C_inv = _inverse(s.C)
     A_blocks, C_blocks = motor_blocks(model, s.A), motor_blocks(model, s.C)
     C_lu = bordered_lu(C_blocks) if model.n_border else lu_factor(C_blocks)
+    return _system_of(s, motor_order(model), A_blocks, C_blocks, C_lu, links, saturation)
+
+
+def _system_of(s, perm, A_blocks, C_blocks, C_lu, links, saturation=None) -> MassSystem:
+    """The :class:`MassSystem` of an assembled system ``s`` (its ``C``, ``A``, ``b``), with
+    ``C^{-1}``, ``C^{-1} A`` and ``C^{-1} b`` formed here: what :func:`mass_system` and
+    :func:`_motor_mass_system` share (``perm`` the blocks' order, numpy or jax)."""
+    C_inv = _inverse(s.C)
     return MassSystem(
         C=s.C,
         A=s.A,
@@ -162,7 +156,7 @@ def _motor_mass_system(
         C_inv=C_inv,
         C_inv_A=C_inv @ s.A,
         C_inv_b=C_inv @ s.b,
-        perm=jnp.asarray(motor_order(model)),
+        perm=jnp.asarray(perm),
         C_blocks=C_blocks,
         A_blocks=A_blocks,
         C_lu=C_lu,
