@@ -21,7 +21,8 @@ Starts, in order (each orbit solved from the Hopf normal form):
    observed frequency): a Hopf point at the observed beat;
 2. the mechanism's coefficients scaled by ``past`` (1.1: 10 % past the Hopf point);
 3. ``m0`` from the static curvature of the equilibrium at a probe moment (linear in m0
-   while the motors are far from saturation);
+   while the motors are far from saturation); a subcritical Hopf point (no small orbit
+   past it) is refused here, in one line;
 4. ``f_sat`` from a ladder (:data:`SATURATION_LADDER` decades around the static force
    m0 / a0), the value whose orbit's dynamic amplitude is nearest the observed one; then
    ``m0`` corrected once by the ratio of static curvatures.
@@ -55,10 +56,11 @@ MOTOR_TIMES = (1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0)
 PAST = 1.1
 """Start 10 % past the linear fit's Hopf point (the mechanism's coefficients scaled)."""
 SATURATION_LADDER = np.geomspace(0.3, 300.0, 13)
-"""f_sat tried for the start, in units of the static force |m0| / a0 (or of 1 / a0^2 ...
-see :func:`_saturation_scale`)."""
+"""f_sat tried for the start, in units of the motors' static force |m0| / a0 (at least
+1 % of :func:`_saturation_scale`'s, for a beat without a static bend): three decades."""
 PROBE = 1e-3
-"""The probe moment of the m0 start, relative to the scale of :func:`_saturation_scale`."""
+"""The probe moment of the m0 start, in units of a0 times :func:`_saturation_scale`'s
+force: small enough that the static response is linear."""
 MAX_STEPS = 40
 """Levenberg-Marquardt iterations of a whole-beat fit (the synthetic beat of
 tests/test_whole_beat.py converges in 15; a row whose orbit is lost pays a full Newton
