@@ -10,6 +10,7 @@ here with scipy (``_hopf``: the pencil is linear in beta' at lambda = i omega0),
 axojax's fit.
 """
 
+import functools
 import json
 import math
 
@@ -75,11 +76,19 @@ def _observed(truth, spec, noise=0.0, seed=1):
     )
 
 
+@functools.cache
+def _noisy_beat():
+    """(shape, frequency target) of the synthetic beat with 0.02 rad noise, solved once
+    per test process (every file test below writes the same beat)."""
+    spec, _, truth = _truth()
+    shape, freq, _ = _observed(truth, spec, noise=0.02)
+    return shape, freq
+
+
 def beat_file(tmp_path):
     """The synthetic beat (noise 0.02 rad) as a Fourier-mode .npz: s_um, psi0_rad,
     psi1_re_rad, psi1_im_rad, psi1_sigma_rad, length_um, frequency_hz, frequency_sigma_hz."""
-    spec, _, truth = _truth()
-    shape, freq, _ = _observed(truth, spec, noise=0.02)
+    shape, freq = _noisy_beat()
     path = tmp_path / "beat.npz"
     np.savez(
         path,
