@@ -149,6 +149,16 @@ def test_the_static_moment_is_a_flag_in_pn():
     assert float(params.m0) == pytest.approx(float(units_from_args(args).moment_from_pn(-12.5)))
 
 
+def test_a_static_moment_beyond_range_names_its_flag(capsys):
+    """--static-moment-pn 1e300 is refused in one line naming --static-moment-pn (the flag
+    the user gave, not the field m0)."""
+    from axojax.cli.main import main
+
+    assert main(["modes", "--model", "two", "--static-moment-pn", "1e300"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("axojax: error: --static-moment-pn: ") and "\n" not in err, err
+
+
 def test_the_default_motor_time_makes_the_beat_the_onset_mode():
     """motor_time picks the fastest omega0 tau_m of its ladder at which the beat is the
     onset mode: every other eigenvalue of the augmented pencil decays at the Hopf point,

@@ -20,8 +20,9 @@ MECHANISM_FLAGS = {
     "beta_re": "beta",
     "beta_im": "beta",
     "omega0": "omega0-hz",
+    "m0": "static-moment-pn",
 }
-"""Params fields of regulated dynein -> the flag that sets them."""
+"""Params fields of regulated dynein (and the static moment) -> the flag that sets them."""
 BASE_FLAGS = {"kb": "basal-compliance", "xib": "basal-compliance"}
 """Params fields of the basal compliance -> the flag that sets them."""
 DEFAULT_VISCOSITY_PA_S = 1e-3
