@@ -23,10 +23,14 @@ EXTRA_FREE = ("tau_m", "cubic")
 ``--motor-tau-ms`` or its default, the cubic link stiffening from 0)."""
 
 
+def _extra_free(args: argparse.Namespace) -> set[str]:
+    """The names ``--free`` adds to a whole-beat fit's own free values."""
+    return set() if args.free is None else {n.strip() for n in args.free.split(",")}
+
+
 def check(args: argparse.Namespace) -> None:
     """Flags a whole-beat fit does not take, refused in one line."""
-    extra = set() if args.free is None else {n.strip() for n in args.free.split(",")}
-    if extra - set(EXTRA_FREE):
+    if _extra_free(args) - set(EXTRA_FREE):
         raise common.CLIError(
             f"--free: a whole-beat fit frees the mechanism's coefficients, f_sat and m0 itself; "
             f"--free adds only {' or '.join(EXTRA_FREE)}, got {args.free!r}"
@@ -86,7 +90,7 @@ def run(args: argparse.Namespace) -> dict:
         tau_m = None
         if getattr(args, "motor_tau_ms", None) is not None:
             tau_m = motor_tau_from_args(args, hopf)
-        extra = set() if args.free is None else {n.strip() for n in args.free.split(",")}
+        extra = _extra_free(args)
         out = fit_whole_beat(
             spec,
             hopf,

@@ -117,10 +117,21 @@ def shape_residuals(
     return jnp.concatenate([jnp.real(r), jnp.imag(r)])
 
 
+def cycle_values(cycle, names, units: Units) -> dict[str, Float[Array, ""]]:
+    """Limit-cycle observables ``names`` in physical units, by name: each a name of
+    ``CYCLE_SCALARS`` or any scalar of :func:`axojax.orbits.cycle_measures` (the numbers
+    ``axojax orbit`` and the paper table print), the measures taken once for all; the
+    wavelength at most ``2 pi / K_FLOOR`` (finite for fits)."""
+    names = list(names)
+    out = {}
+    if any(n != "wavelength_um" for n in names):
+        measures = cycle_measures(cycle, None, units)
+        out = {n: getattr(measures, ALIASES.get(n, n)) for n in names if n != "wavelength_um"}
+    if "wavelength_um" in names:
+        out["wavelength_um"] = _finite_wavelength(cycle.wavenumber, units)
+    return {n: out[n] for n in names}
+
+
 def cycle_value(cycle, name: str, units: Units) -> Float[Array, ""]:
-    """Limit-cycle observable ``name`` in physical units: a name of ``CYCLE_SCALARS`` or
-    any scalar of :func:`axojax.orbits.cycle_measures` (the numbers ``axojax orbit`` and
-    the paper table print); the wavelength at most ``2 pi / K_FLOOR`` (finite for fits)."""
-    if name == "wavelength_um":
-        return _finite_wavelength(cycle.wavenumber, units)
-    return getattr(cycle_measures(cycle, None, units), ALIASES.get(name, name))
+    """One limit-cycle observable ``name`` (:func:`cycle_values`)."""
+    return cycle_values(cycle, [name], units)[name]

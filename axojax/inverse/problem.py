@@ -54,9 +54,9 @@ from .conditions import Condition
 from .cycle_targets import CYCLE_TARGETS as CYCLE_MEASURES
 from .cycle_targets import aligned_psi1
 from .cycle_targets import shape_residuals as cycle_shape_residuals
-from .orbit_setup import WARM_STEPS, OrbitSetup, without_floquet  # noqa: F401
+from .orbit_setup import WARM_STEPS, OrbitSetup  # noqa: F401  (WARM_STEPS: its docstrings)
 from .parameters import DEFAULT_BOUNDS, ORBIT_FIELDS, FreeParameter
-from .predictions import cycle_value, scalar_value, shape_fit
+from .predictions import cycle_values, scalar_value, shape_fit
 
 SHAPE_FLOOR = 0.05  # rad: model-discrepancy floor of psi_1 (module docstring)
 CYCLE_FAILED = 1e3  # normalised residual of a limit-cycle target where no orbit is found
@@ -217,7 +217,6 @@ class Problem:
             for c, cs in zip(conditions, cycle_shape)
         ]
         self.orbit = orbit.check(self.models, self.needs_cycle, fitted)
-        self.cubic, self.orbit_solver = self.orbit.cubic, self.orbit.solver
 
     def _set_layout(self) -> None:
         """Where each condition's scalar and shape residuals lie in the residual vector."""
@@ -325,6 +324,16 @@ class Problem:
         values = {f: v for f, v in self._fitted_values(u, i).items() if f not in ORBIT_FIELDS}
         return self.base[i].with_values(values, self.kl_ratio)
 
+    @property
+    def cubic(self) -> float:
+        """The limit cycle's fixed (or starting) link stiffening kappa, 1/L^2."""
+        return self.orbit.cubic
+
+    @property
+    def orbit_solver(self) -> AbstractOrbitSolver:
+        """The orbit solver (Floquet multipliers off when limit cycles are fitted)."""
+        return self.orbit.solver
+
     def condition_cubic(self, u, i: int):
         """The limit cycle's link stiffening kappa (1/L^2) in condition ``i`` at ``u``:
         fitted when ``"cubic"`` is free, else the problem's ``cubic`` (traceable)."""
@@ -409,9 +418,11 @@ class Problem:
         parts = []
         for i in range(self.n_conditions):
             mode, cycle = modes[i], cycles[i]
+            on_cycle = [t.name for t in self.scalar_targets[i] if t.source == "limit_cycle"]
+            measured = cycle_values(cycle, on_cycle, self.units) if on_cycle else {}
             for t in self.scalar_targets[i]:
                 if t.source == "limit_cycle":
-                    r = (cycle_value(cycle, t.name, self.units) - t.value) / t.sigma
+                    r = (measured[t.name] - t.value) / t.sigma
                     parts.append(jnp.where(cycle.converged, r, CYCLE_FAILED)[None])
                 else:
                     parts.append(
@@ -483,10 +494,11 @@ class Problem:
                     )
                     d["psi1_fit"], d["alpha"] = fitted, alpha
             if cycles[i] is not None:
-                d["cycle"] = {
-                    k: cycle_value(cycles[i], k, self.units)
-                    for k in ("frequency_hz", "amplitude_um", "wavelength_um", *CYCLE_MEASURES)
-                }
+                d["cycle"] = cycle_values(
+                    cycles[i],
+                    ("frequency_hz", "amplitude_um", "wavelength_um", *CYCLE_MEASURES),
+                    self.units,
+                )
                 d["cycle_converged"] = cycles[i].converged
                 shape = self.conditions[i].shape
                 if shape is not None and shape.source == "limit_cycle":

@@ -44,11 +44,14 @@ from ..orbits import cycle_measures
 from ..orbits.limit_cycle import limit_cycle
 from ..params import Params
 from ..units import Units
+from ..waveform import measures as wm
 from ._arguments import SIGNED
+from .comparison.compare import _fit_row
 from .comparison.mechanisms import FREE, Row
 from .fit import build_problem
-from .least_squares import least_squares
+from .least_squares import least_squares, solver_from_name
 from .parameters import DEFAULT_BOUNDS
+from .problem import SHAPE_FLOOR
 from .report import FitResult
 
 MOTOR_TIMES = (1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0)
@@ -190,14 +193,21 @@ def linear_hopf(spec: Row, shape: ShapeTarget, units: Units, *, starts: int = 3,
     the linear fit of ``spec`` to psi_1's shape with a free complex amplitude, pinned at
     the observed frequency (:func:`axojax.compare`'s fit of one row): a Hopf point at
     the observed beat, the whole-beat fit's first start."""
-    from .comparison.compare import _fit_row
-    from .fit import solver_from_name
-    from .problem import SHAPE_FLOOR
-
     f_obs = float(units.omega0_to_hz(float(spec.params.omega0)))
     linear = dataclasses.replace(shape, source="linear")
     r = _fit_row(spec, linear, units, solver_from_name("lm"), starts, seed, SHAPE_FLOOR, f_obs)
     return r.fit.full_params, r
+
+
+def observed_measures(shape: ShapeTarget) -> tuple[float, float]:
+    """(static curvature, rad/um; dynamic amplitude, rad) of an observed beat, as the
+    orbit's are measured (:mod:`axojax.waveform.measures`: the least-squares slope of
+    psi_0, the arc-length mean of |psi_1|)."""
+    s = np.asarray(shape.s_um, dtype=float)
+    return (
+        float(wm.static_curvature(s, np.asarray(shape.psi0, dtype=float))),
+        float(wm.dynamic_amplitude(s, np.asarray(shape.psi1, dtype=complex))),
+    )
 
 
 @dataclasses.dataclass
@@ -279,9 +289,7 @@ def fit_whole_beat(
         raise ValueError("shape: a whole-beat fit needs the observed psi_0 (the static bend)")
     spec.model.require_held("a whole-beat fit")
     tau_m = motor_time(spec.model, hopf) if tau_m is None else float(tau_m)
-    s = np.asarray(shape.s_um, dtype=float)
-    static = float(np.polyfit(s, np.asarray(shape.psi0, dtype=float), 1)[0])
-    dynamic = float(np.mean(np.abs(np.asarray(shape.psi1))))
+    static, dynamic = observed_measures(shape)
     start, f_sat = start_values(
         spec.model,
         hopf,
@@ -317,8 +325,6 @@ def fit_whole_beat(
         mechanism=spec.mechanism,
         base=spec.base,
     )
-    from .fit import solver_from_name
-
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         fit = least_squares(problem, solver_from_name("lm", max_steps), starts=1)

@@ -288,7 +288,7 @@ def model_json(preset: str, elements: int, units: Units, frequency_hz: float, so
     }
 
 
-def _physical(values: dict[str, float], units: Units) -> dict[str, float]:
+def physical_values(values: dict[str, float], units: Units) -> dict[str, float]:
     """Fitted values (dimensionless) in physical units (:data:`axojax.inverse.comparison.table.PHYSICAL`); the same
     linear conversion turns a standard error into its physical one."""
     out = {}
@@ -553,7 +553,7 @@ def _fit_row(
         base=spec.base,
         free=tuple(spec.free),
         params=values,
-        physical=_physical(values, units),
+        physical=physical_values(values, units),
         frequency_hz=frequency,
         growth_rate_per_s=growth,
         r2=fit.r2,

@@ -33,10 +33,10 @@ from ...models.presets import preset_section
 from ...results import jsonable
 from ...results import name as result_name
 from ...units import Units
-from ..whole_beat import WholeBeatFit, fit_whole_beat, linear_hopf
-from .compare import _beat, default_units, model_json, organism_of
+from ..whole_beat import WholeBeatFit, fit_whole_beat, linear_hopf, observed_measures
+from .compare import _beat, default_units, model_json, organism_of, physical_values
 from .mechanisms import DEFAULT_PRESET, FREE, build_model, check_names, parse_base, row
-from .table import PHYSICAL, physical_text
+from .table import physical_text
 from .verdict import FREQUENCY_MATCH, mark, rank, verdict
 
 MECHANISMS = tuple(FREE)
@@ -102,16 +102,13 @@ class WholeBeatRow:
 
 
 def _physical(fit: WholeBeatFit, units: Units) -> tuple[dict, dict]:
+    """The fitted values and their standard errors in physical units (compare's linear
+    conversion, :func:`~axojax.inverse.comparison.compare.physical_values`; None where a
+    value has no standard error)."""
     values = {**fit.fit.params, "f_sat": fit.f_sat}
-    phys, se = {}, {}
-    for name, v in values.items():
-        if name not in PHYSICAL:
-            continue
-        key, conv = PHYSICAL[name]
-        phys[key] = float(getattr(units, conv)(v)) if conv else float(v)
-        s = fit.fit.stderr.get(name)
-        se[key] = None if s is None else abs(float(getattr(units, conv)(s))) if conv else abs(s)
-    return phys, se
+    phys = physical_values(values, units)
+    se = physical_values({n: fit.fit.stderr.get(n) for n in values}, units)
+    return phys, {k: None if k not in se else abs(se[k]) for k in phys}
 
 
 def fit_row(spec, shape, frequency, units: Units) -> WholeBeatRow:
@@ -315,11 +312,12 @@ def compare_whole_beat(
         rows.append(fit_row(spec, shape, frequency, units))
     rank(rows)
     s = np.asarray(shape.s_um, dtype=float)
+    static, dynamic = observed_measures(shape)
     summary = dict(
         beat.summary(),
         frequency_hz=frequency.value,
-        static_curvature_rad_per_um=float(np.polyfit(s, np.asarray(shape.psi0), 1)[0]),
-        dynamic_amplitude_rad=float(np.mean(np.abs(np.asarray(shape.psi1)))),
+        static_curvature_rad_per_um=static,
+        dynamic_amplitude_rad=dynamic,
     )
     return WholeBeatComparison(
         summary,
