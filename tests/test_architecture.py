@@ -198,3 +198,135 @@ def test_inverse_reaches_the_model_only_through_its_public_packages():
 def test_no_module_is_over_max_lines(path):
     lines = len(path.read_text().splitlines())
     assert lines <= MAX_LINES, f"{path.relative_to(ROOT.parent)}: {lines} lines (split it)"
+
+
+# --- Inside a subpackage: module by module (issue 53) -------------------------------------
+
+NO_CIRCLE_INSIDE = ("inverse",)
+"""Subpackages whose modules import one another without a circle (an ``__init__`` that
+re-exports its children is the package's front door, not part of a circle: it is left
+out)."""
+
+INVERSE_LAYERS = {"fitting": 1, "sampling": 2, "comparison": 3, "whole_beat": 4}
+"""inverse/'s layers, bottom up (its own top-level modules, the problem core, are layer 0;
+its ``__init__`` sits on top): a module imports only its own layer and those below."""
+
+
+def _module_graph(package: str) -> dict[str, set[str]]:
+    """module -> the modules of the same subpackage it imports (``__init__`` files left
+    out; a ``from pkg import name`` of a package's ``__init__`` counts as that package)."""
+    graph = {}
+    for path in sorted((ROOT / package).rglob("*.py")):
+        if path.name == "__init__.py":
+            continue
+        name = _module_name(path)
+        graph[name] = {
+            m for m in _imported(path) if m.startswith(f"axojax.{package}.") and m != name
+        }
+    return graph
+
+
+def _inverse_layer(module: str) -> int:
+    parts = module.split(".")[2:]  # below axojax.inverse
+    if not parts:
+        return max(INVERSE_LAYERS.values()) + 1  # the package's front door
+    return INVERSE_LAYERS.get(parts[0], 0)
+
+
+def _is_package(module: str) -> bool:
+    return (ROOT.parent / pathlib.Path(*module.split(".")) / "__init__.py").is_file()
+
+
+@pytest.mark.parametrize("package", NO_CIRCLE_INSIDE)
+def test_no_import_circle_between_the_modules_of(package):
+    graph = _module_graph(package)
+    circles = set()
+
+    def visit(node, stack):
+        for nxt in sorted(graph.get(node, ())):
+            if nxt in stack:
+                loop = stack[stack.index(nxt) :]
+                first = loop.index(min(loop))
+                circles.add(" -> ".join(loop[first:] + loop[:first] + [min(loop)]))
+            elif nxt in graph:
+                visit(nxt, stack + [nxt])
+
+    for start in sorted(graph):
+        visit(start, [start])
+    assert not circles, "import circles:\n" + "\n".join(sorted(circles))
+
+
+def test_inverse_layers_import_only_downward():
+    """problem core <- fitting <- sampling <- comparison <- whole beat (inverse/__init__)."""
+    bad = []
+    for path in sorted((ROOT / "inverse").rglob("*.py")):
+        a = _module_name(path)
+        for b in _imported(path):
+            if b.startswith("axojax.inverse") and _inverse_layer(b) > _inverse_layer(a):
+                bad.append(
+                    f"{a} (layer {_inverse_layer(a)}) imports {b} (layer {_inverse_layer(b)})"
+                )
+    assert not bad, "\n".join(bad)
+
+
+def test_the_inverse_layers_are_the_folders():
+    """The rule above names every folder of inverse/ (a new one must be given a layer)."""
+    folders = {p.parent.name for p in (ROOT / "inverse").glob("*/__init__.py")}
+    assert folders == set(INVERSE_LAYERS)
+
+
+def _private_in(name: str, is_init: bool, source: str) -> list[str]:
+    """Every import, in module ``name``'s ``source``, of a private module or name from
+    outside the package that owns it: a private module ``a.b._c`` belongs to ``a.b``, a
+    private name of module ``a.b.c`` to ``a.b``; its owner's modules and those of the
+    packages inside it may import it."""
+    package = (name if is_init else name.rsplit(".", 1)[0]).split(".")
+    bad = []
+    for node in ast.walk(ast.parse(source)):
+        if not isinstance(node, ast.ImportFrom):
+            continue
+        if node.level:
+            mod = ".".join(package[: len(package) - (node.level - 1)] + [node.module or ""])
+        else:
+            mod = node.module or ""
+        mod = mod.rstrip(".")
+        if not (mod == "axojax" or mod.startswith("axojax.")):
+            continue
+        for alias in node.names:
+            full = f"{mod}.{alias.name}"
+            target = full if _exists(full) else mod
+            parts = target.split(".")
+            private = [i for i, p in enumerate(parts) if p.startswith("_")]
+            if private:
+                owner = parts[: private[0]]
+            elif alias.name.startswith("_"):
+                owner = parts if _is_package(target) else parts[:-1]
+            else:
+                continue
+            if package[: len(owner)] != owner:
+                bad.append(f"{name} imports {full} (private to {'.'.join(owner)})")
+    return bad
+
+
+def test_the_private_import_reader():
+    """The reader itself, on made-up lines: a private module or name of another
+    subpackage is seen; axojax's own private modules and a sibling's private name are
+    not."""
+    assert _private_in("axojax.inverse", True, "from .sampling._nuts import NUTS")
+    assert _private_in("axojax.dynamics.x", False, "from ..assembly.border import _vectors")
+    assert not _private_in("axojax.dynamics.x", False, "from ..assembly import border")
+    assert _private_in(
+        "axojax.inverse.whole_beat.fit", False, "from ..comparison.compare import _fit"
+    )
+    assert not _private_in("axojax.inverse.problem", False, "from .. import _io")
+    assert not _private_in("axojax.inverse.sampling.modes", False, "from ._laplace import _c")
+    assert not _private_in("axojax.cli.common", False, "from ._values import _pair")
+
+
+def test_no_private_name_is_imported_from_another_subpackage():
+    bad = [
+        line
+        for path in sorted(ROOT.rglob("*.py"))
+        for line in _private_in(_module_name(path), path.name == "__init__.py", path.read_text())
+    ]
+    assert not bad, "\n".join(bad)

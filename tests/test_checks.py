@@ -12,7 +12,7 @@ import pytest
 import axojax as ax
 from axojax.beats import Target
 from axojax.inverse import Condition, Problem, build_report
-from axojax.inverse.checks import (
+from axojax.inverse.fitting.checks import (
     DECAYING,
     FAR,
     MESH_TOLERANCE,
@@ -168,7 +168,7 @@ def test_far_past_onset_is_a_warning_line_and_json_is_plain(converged):
 
 
 def test_relative_change_from_zero_is_infinite_not_an_error():
-    from axojax.inverse.checks import _relative
+    from axojax.inverse.fitting.checks import _relative
 
     assert _relative(0.5, 0.0) == math.inf and _relative(-0.5, 0.0) == -math.inf
     assert _relative(0.0, 0.0) == 0.0 and math.isnan(_relative(1.0, math.nan))

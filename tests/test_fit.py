@@ -10,7 +10,7 @@ import pytest
 
 import axojax as ax
 from axojax.beats import Target, beat_from_kymograph, read_beat
-from axojax.inverse import fit
+from axojax.inverse.fitting import fit
 from axojax.inverse.predictions import model_psi1
 
 TRUE = dict(p=320.0, ks=1e5)
@@ -342,7 +342,7 @@ def test_achieved_wavelength_of_a_standing_mode_is_none_as_in_modes(capsys):
 
 
 def test_a_lone_best_start_is_noted():
-    from axojax.inverse.verdicts import start_notes as _start_notes
+    from axojax.inverse.fitting.identifiability import start_notes as _start_notes
 
     starts = [({"p": 1.0}, 225.0), ({"p": 2.0}, 181.8), ({"p": 3.0}, 260.9)]
     (note,) = _start_notes(starts, 181.8)

@@ -11,8 +11,8 @@ import axojax as ax
 from axojax import paper
 from axojax.beats.targets import Target
 from axojax.cli.main import main
+from axojax.inverse.fitting.report import build_report
 from axojax.inverse.predictions import cycle_value
-from axojax.inverse.report import build_report
 
 QUANTITIES = (
     "frequency_hz",

@@ -1,4 +1,4 @@
-"""One verdict per fitted value (issue 33): the rule of :mod:`axojax.inverse.verdicts` on
+"""One verdict per fitted value (issue 33): the rule of :mod:`axojax.inverse.fitting.identifiability` on
 covariances built here by hand (their standard errors, correlations and best-determined
 combinations are known in closed form), and the fit message's words: never "determined"
 and "only a combination is determined" for the same value, "unbounded" instead of a
@@ -11,8 +11,8 @@ import types
 import numpy as np
 import pytest
 
-from axojax.inverse.report import _notes
-from axojax.inverse.verdicts import strong_pairs, uncertainty, verdicts
+from axojax.inverse.fitting.identifiability import strong_pairs, uncertainty, verdicts
+from axojax.inverse.fitting.report import _notes
 
 SPAN = np.array([20.0, 20.0])  # log bounds spanning a factor e^20
 LOG = np.array([True, True])

@@ -22,7 +22,7 @@ import axojax as ax
 from axojax.assembly.terms import static_couple
 from axojax.beats.targets import ShapeTarget, Target
 from axojax.inverse.comparison.mechanisms import build_model, row
-from axojax.inverse.whole_beat import (
+from axojax.inverse.whole_beat.fit import (
     fit_whole_beat,
     linear_hopf,
     motor_time,

@@ -58,7 +58,7 @@ def _base_parts(model: Model, name: "MatrixName") -> tuple[np.ndarray, np.ndarra
 
 
 @functools.lru_cache(maxsize=64)
-def _base_vectors(model: Model) -> dict[str, np.ndarray]:
+def base_vectors(model: Model) -> dict[str, np.ndarray]:
     """Filament-level rows (length k + 2 N_e, base dofs first) of u'(0) (``d0``),
     int phi' = u(1) - u(0) (``g``) and int phi'' = u'(1) - u'(0) (``t``)."""
     rows = {(x, r): model.interpolation(np.array([x]), r)[0] for x in (0.0, 1.0) for r in (0, 1)}
@@ -76,7 +76,7 @@ def _per_filament(model: Model) -> int:
 
 
 @functools.lru_cache(maxsize=64)
-def _shared(model: Model) -> np.ndarray:
+def shared_node_map(model: Model) -> np.ndarray:
     """(per-filament border, border) matrix R: node 0's dof (f, a, j) of every filament f
     is the shared (a, j) (a rigid basal body); the basal slidings map to themselves."""
     k, F, d = len(model.base.dofs), model.n_filaments, model.n_dirs
@@ -90,7 +90,7 @@ def _shared(model: Model) -> np.ndarray:
     return R
 
 
-def _split(model: Model, w: np.ndarray, row: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def split_border(model: Model, w: np.ndarray, row: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The vector w (x) row (truss (n_fd,) times filament row (k + 2 N_e,)) as its node
     part (n,) and per-filament border part (basal sliding entries 0)."""
     k = len(model.base.dofs)
@@ -100,7 +100,7 @@ def _split(model: Model, w: np.ndarray, row: np.ndarray) -> tuple[np.ndarray, np
     return full[:, k:].ravel(), border
 
 
-def _sliding_unit(model: Model, a: int) -> np.ndarray:
+def sliding_unit(model: Model, a: int) -> np.ndarray:
     """Per-filament border vector of pair a's basal sliding Delta_b,a."""
     e = np.zeros(_per_filament(model))
     e[model.n_fd * len(model.base.dofs) + a] = 1.0
@@ -168,7 +168,7 @@ def border_terms(model: Model, params: Params, A_terms: list[Term], C_terms: lis
 
     # 2-3. regulated dynein's non-local parts and the basal sliding.
     if model.pair_B.shape[0] and model.section.load == "pairs":
-        vec = _base_vectors(model)
+        vec = base_vectors(model)
         a0 = jnp.asarray(params.a0, dtype=float)
         omega0 = jnp.asarray(params.omega0, dtype=float)
         coeffs = {
@@ -182,10 +182,10 @@ def border_terms(model: Model, params: Params, A_terms: list[Term], C_terms: lis
             ),
         }
         for a, w in enumerate(np.asarray(model.pair_w)):
-            Dn, Db = _split(model, w, vec["d0"])
-            Gn, Gb = _split(model, w, vec["g"])
-            Tn, Tb = _split(model, w, vec["t"])
-            e = _sliding_unit(model, a) if base.compliance else np.zeros(m)
+            Dn, Db = split_border(model, w, vec["d0"])
+            Gn, Gb = split_border(model, w, vec["g"])
+            Tn, Tb = split_border(model, w, vec["t"])
+            e = sliding_unit(model, a) if base.compliance else np.zeros(m)
             for which, (chi, beta) in coeffs.items():
                 # sliding: chi (a0^2 (D D^T - G D^T - D G^T) + a0 ((G - D) e^T + e (G - D)^T) + e e^T)
                 add(
@@ -210,7 +210,7 @@ def border_terms(model: Model, params: Params, A_terms: list[Term], C_terms: lis
                 add("C", bb=jnp.asarray(params.xib, dtype=float) * np.outer(e, e))
 
     # node 0 shared by every filament: R^T (.) R.
-    R = jnp.asarray(_shared(model))
+    R = jnp.asarray(shared_node_map(model))
     for which in ("A", "C"):
         nb, bn, bb = fa[which]
         fa[which] = [nb @ R, R.T @ bn, R.T @ bb @ R]

@@ -330,10 +330,10 @@ def _document(args: argparse.Namespace, result) -> dict:
 
 
 def _whole_beat(args: argparse.Namespace, beat, units, organism) -> dict:
-    """``--target limit-cycle``: :func:`~axojax.inverse.comparison.whole_beat.compare_whole_beat`."""
-    from ..inverse.comparison.whole_beat import DEFAULT_BASES as WHOLE_BASES
-    from ..inverse.comparison.whole_beat import MECHANISMS as WHOLE_MECHANISMS
-    from ..inverse.comparison.whole_beat import compare_whole_beat
+    """``--target limit-cycle``: :func:`~axojax.inverse.whole_beat.compare.compare_whole_beat`."""
+    from ..inverse.whole_beat.compare import DEFAULT_BASES as WHOLE_BASES
+    from ..inverse.whole_beat.compare import MECHANISMS as WHOLE_MECHANISMS
+    from ..inverse.whole_beat.compare import compare_whole_beat
 
     for flag, value in (
         ("--compliance", args.compliance),
@@ -447,7 +447,7 @@ def _units_and_head(args: argparse.Namespace, beat, bases):
 
 def render(doc: dict) -> str:
     if doc.get("kind") == "whole_beat_comparison":
-        from ..inverse.comparison.whole_beat import render as render_whole
+        from ..inverse.whole_beat.compare import render as render_whole
 
         text = render_whole(doc, doc.pop("show_params", False))
         return text + (f"\nsaved {doc['out']}" if "out" in doc else "")

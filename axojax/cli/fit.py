@@ -25,8 +25,8 @@ from ..inverse import (
     read_spec,
     solver_from_name,
 )
-from ..inverse.checks import fit_checks
 from ..inverse.comparison.compare import default_units
+from ..inverse.fitting.checks import fit_checks
 from ..params import DEFAULT_CUBIC
 from ..units import Units
 from . import common, fit_posterior, fit_whole_beat

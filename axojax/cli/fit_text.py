@@ -4,7 +4,7 @@ the regime and mesh check, the loss, and the posterior's summary."""
 
 from __future__ import annotations
 
-from ..inverse.checks import render_checks
+from ..inverse.fitting.checks import render_checks
 from ..waveform.measures import sensitive_note
 from .fit_whole_beat import render as render_whole_beat
 

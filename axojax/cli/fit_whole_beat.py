@@ -1,10 +1,10 @@
 """``axojax fit --target limit-cycle --data FILE --mechanism M``: the whole beat of a
-regulated mechanism (issue 47 item 4; :mod:`axojax.inverse.whole_beat`).
+regulated mechanism (issue 47 item 4; :mod:`axojax.inverse.whole_beat.fit`).
 
 The row is :func:`axojax.compare`'s (``--model``, default ``two``; ``--elements``;
 ``--base`` held: clamped or pivot), fitted first as the linear comparison fits it, then
 its limit cycle with motor kinetics (``--motor-tau-ms``, default
-:func:`~axojax.inverse.whole_beat.motor_time`), saturating motors and a static dynein
+:func:`~axojax.inverse.whole_beat.fit.motor_time`), saturating motors and a static dynein
 moment against the data's frequency, psi_0 and psi_1 in absolute amplitude.
 """
 
@@ -13,7 +13,7 @@ from __future__ import annotations
 import argparse
 
 from ..inverse.comparison.mechanisms import build_model, row
-from ..inverse.whole_beat import fit_whole_beat, linear_hopf
+from ..inverse.whole_beat.fit import fit_whole_beat, linear_hopf
 from . import common
 from .regulation import motor_tau_from_args
 

@@ -34,7 +34,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, ArrayLike, Float, Inexact, Int
 
-from ..assembly.border import _base_vectors, _shared, _sliding_unit, _split
+from ..assembly.border import base_vectors, shared_node_map, sliding_unit, split_border
 from ..assembly.motor_kinetics import motor_coefficients
 from ..fem import make_mesh
 from ..linalg import BlockTridiagonal, Bordered
@@ -53,8 +53,8 @@ def pair_rows(model: Model) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndar
     basal compliance)."""
     mesh = make_mesh(model.n_elements, POINTS_PER_ELEMENT)
     k, n = len(model.base.dofs), model.n_dof
-    R = _shared(model) if model.n_border else np.zeros((0, 0))
-    d0 = _base_vectors(model)["d0"] if k else 0.0  # u'(0): zero on a clamped base
+    R = shared_node_map(model) if model.n_border else np.zeros((0, 0))
+    d0 = base_vectors(model)["d0"] if k else 0.0  # u'(0): zero on a clamped base
     slope_rows = model.interpolation(mesh.x, 1) - d0
     curvature_rows = model.interpolation(mesh.x, 2)
     w = np.asarray(model.pair_w, dtype=float)
@@ -64,7 +64,7 @@ def pair_rows(model: Model) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndar
         out = np.zeros((P, Q, model.n_unknowns))
         for a in range(P):
             for q in range(Q):
-                node, border = _split(model, w[a], filament_rows[q])
+                node, border = split_border(model, w[a], filament_rows[q])
                 out[a, q, :n] = node
                 if model.n_border:
                     out[a, q, n:] = border @ R
@@ -73,7 +73,7 @@ def pair_rows(model: Model) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndar
     basal = np.zeros((P, model.n_unknowns))
     if model.base.compliance:
         for a in range(P):
-            basal[a, n:] = _sliding_unit(model, a) @ R
+            basal[a, n:] = sliding_unit(model, a) @ R
     return rows(slope_rows), basal, rows(curvature_rows), np.asarray(mesh.weights, dtype=float)
 
 

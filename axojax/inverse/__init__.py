@@ -7,47 +7,64 @@
 
 The same problem from a file: ``ax.inverse.load_spec("FIT.toml")`` (:mod:`.spec`).
 
-Three jobs, three rooms: this folder fits (the problem, its conditions and parameters,
-the least-squares solvers, the report and its checks); :mod:`.sampling` samples
-posteriors (``posterior``; ``transport`` and ``transport_choice`` straighten a curved
-ridge for the sampler; private: ``_densities`` what a sampler needs of a problem and the
-priors, ``_laplace`` where chains start, ``_nuts`` the sampler's compiled programs,
-``_posterior_result`` :class:`Posterior`, ``_warm_cache``; ``diagnostics``);
-:mod:`.comparison` ranks the dynein mechanisms on a beat (``mechanisms``, ``compare``).
-Layers, no circle: the rooms import the fit layer (comparison also the Laplace
-approximation of sampling; Problem.fingerprint calls the warm cache when asked), never
-this package.
+The house, by job, each layer importing only the layers below it (tests/test_architecture.py
+keeps it so; docs/internals.md draws it):
+
+1. the problem core, this folder's own modules: :mod:`.problem` (:class:`Problem`, its
+   residuals and coordinates), :mod:`.parameters`, :mod:`.conditions`,
+   :mod:`.predictions`, :mod:`.cycle_targets`, :mod:`.orbit_setup`, :mod:`.fingerprint`,
+   :mod:`.spec` (a problem from a file);
+2. :mod:`.fitting`: least-squares solvers, :func:`fit`, the report, identifiability, checks;
+3. :mod:`.sampling`: posteriors, one sampler object each (:class:`NUTS`, :class:`SMC`,
+   :class:`ModeMixture`), run by :func:`posterior`;
+4. :mod:`.comparison`: the dynein mechanisms fitted to one beat and ranked (it takes the
+   Laplace approximation from sampling);
+5. :mod:`.whole_beat`: a regulated mechanism fitted to the whole limit cycle, and the
+   mechanisms ranked on it (it imports the comparison; nothing imports it).
+
+Outside this package, a subpackage is reached through its ``__init__`` or its public
+modules, never a private (``_name``) one.
 """
 
-from . import checks
+from . import whole_beat
 from .comparison.compare import CompareRow, Comparison, compare
 from .comparison.mechanisms import AVAILABLE_BASES, BASES, MECHANISMS
 from .conditions import Condition
-from .fit import build_problem, fit
-from .least_squares import (
+from .fitting import (
     LBFGS,
     METHODS,
     Adam,
+    FitResult,
     LeastSquaresSolver,
     LevenbergMarquardt,
     WarmSolution,
+    build_problem,
+    build_report,
+    checks,
+    fit,
+    information_criteria,
     least_squares,
+    r2,
     solver_from_name,
     warm_least_squares,
 )
 from .parameters import DEFAULT_BOUNDS, LINEAR, FreeParameter
 from .problem import SHAPE_FLOOR, Problem
-from .quality import information_criteria, r2
-from .report import FitResult, build_report
-from .sampling import diagnostics
-from .sampling._densities import InverseProblem, NormalPrior, ScaledSigmas, normal_prior
-from .sampling._nuts import NUTS
-from .sampling._posterior_result import Posterior, load_truth
-from .sampling._smc import SMC
-from .sampling.modes import ModeMixture
-from .sampling.posterior import posterior
-from .sampling.transport import ProfileTransport
-from .sampling.transport_choice import suggest_transport
+from .sampling import (
+    NUTS,
+    SMC,
+    InverseProblem,
+    ModeMixture,
+    NormalPrior,
+    Posterior,
+    ProfileTransport,
+    ScaledSigmas,
+    diagnostics,
+    load_truth,
+    normal_prior,
+    posterior,
+    suggest_transport,
+)
 from .spec import FitSpec, load_spec, read_spec
 
 __all__ = [
@@ -95,4 +112,5 @@ __all__ = [
     "read_spec",
     "solver_from_name",
     "warm_least_squares",
+    "whole_beat",
 ]

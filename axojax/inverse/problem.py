@@ -54,6 +54,7 @@ from .conditions import Condition
 from .cycle_targets import CYCLE_TARGETS as CYCLE_MEASURES
 from .cycle_targets import aligned_psi1
 from .cycle_targets import shape_residuals as cycle_shape_residuals
+from .fingerprint import problem_fingerprint
 from .orbit_setup import WARM_STEPS, OrbitSetup  # noqa: F401  (WARM_STEPS: its docstrings)
 from .parameters import DEFAULT_BOUNDS, ORBIT_FIELDS, FreeParameter
 from .predictions import cycle_values, scalar_value, shape_fit
@@ -273,9 +274,7 @@ class Problem:
     def fingerprint(self) -> str:
         """sha256 (hex) of everything that determines the residuals, bounds, start and
         prior: the key of a posterior's warm-state cache (``TypeError`` with a callable
-        prior: :func:`axojax.inverse.sampling._warm_cache.problem_fingerprint`)."""
-        from .sampling._warm_cache import problem_fingerprint
-
+        prior: :func:`axojax.inverse.fingerprint.problem_fingerprint`)."""
         return problem_fingerprint(self)
 
     @property

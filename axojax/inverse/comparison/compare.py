@@ -3,7 +3,7 @@
 Each row is built by :func:`axojax.inverse.comparison.mechanisms.row` (the one place that sets its
 model, fixed values, free values, bounds and beat selection), fitted by least squares
 (Levenberg-Marquardt by default) from ``starts`` starts, and reported with Sartori's R^2
-of psi_1, chi^2/dof, AIC and BIC (:mod:`axojax.inverse.quality`). Rows are ordered by
+of psi_1, chi^2/dof, AIC and BIC (:mod:`axojax.inverse.fitting.quality`). Rows are ordered by
 BIC; ``delta_bic`` is each row's BIC minus the best's.
 
 Starts. A regulated row's pins hold exactly on a discrete set of coefficients (its Hopf
@@ -35,11 +35,11 @@ from ...models.presets import preset_section
 from ...results import jsonable
 from ...results import name as result_name
 from ...units import ORGANISMS, Organism, Units
-from ..fit import build_problem
-from ..least_squares import least_squares, solver_from_name
+from ..fitting.fit import build_problem
+from ..fitting.identifiability import distinct_optima
+from ..fitting.least_squares import least_squares, solver_from_name
+from ..fitting.report import FitResult
 from ..problem import SHAPE_FLOOR, Problem
-from ..report import FitResult
-from ..verdicts import distinct_optima
 from .mechanisms import (
     DEFAULT_ELEMENTS,
     DEFAULT_PRESET,
@@ -87,11 +87,11 @@ class CompareRow:
         weight: the row's BIC weight exp(-dBIC/2) / sum, over the successful rows (None
             for the others): the probability of the row among them.
         frequency_hz, growth_rate_per_s: the beat's (the pins' achieved values).
-        r2, chi2_per_dof, aic, bic, n_free: :mod:`axojax.inverse.quality`.
+        r2, chi2_per_dof, aic, bic, n_free: :mod:`axojax.inverse.fitting.quality`.
         delta_bic: BIC minus the best row's.
         at_bound: fitted values at a bound.
         optima (JSON only): the distinct points its starts stopped at, best first, with
-            their losses (:func:`axojax.inverse.verdicts.distinct_optima`).
+            their losses (:func:`axojax.inverse.fitting.identifiability.distinct_optima`).
         contains: the rows this one contains ("mechanism/base",
             :func:`~axojax.inverse.comparison.mechanisms.contained`): it started from
             their optima too, so it fits at least as well as each (they are fitted
@@ -134,13 +134,13 @@ class CompareRow:
         """The Laplace approximation of the row's posterior at its optimum: normal in the
         fitted coordinate u (log for positive values, linear for chi and beta) with
         covariance (J^T J)^-1, J the Jacobian of the normalised residuals (shape points
-        and pins) in u, uniform prior (:class:`axojax.inverse.sampling._laplace.Laplace`: its
+        and pins) in u, uniform prior (:class:`axojax.inverse.sampling.Laplace`: its
         ``quantiles``, ``sd`` and ``to_json`` with the correlations). J^T J is inverted
         after scaling its diagonal to 1 (a linear chi of 1e5 and a log kb differ by
         1e10 in scale, which alone would pass for an unconstrained direction). k model
         derivatives: seconds, where sampling (:func:`axojax.posterior`) takes minutes.
         ``jacobian``: J at the optimum when already known (the fit's report has it)."""
-        from ..sampling._laplace import Laplace, laplace_of
+        from ..sampling import Laplace, laplace_of
 
         if self.problem is None:
             raise ValueError("laplace: this row has no problem (rows read from JSON do not)")
@@ -335,7 +335,9 @@ def organism_of(organism) -> Organism | None:
     return ORGANISMS[key]
 
 
-def _beat(data) -> BeatData:
+def as_beat(data) -> BeatData:
+    """``data`` as a :class:`~axojax.beats.BeatData`: itself, or read from a file or a
+    bundled name (:func:`~axojax.beats.read_beat`)."""
     if isinstance(data, BeatData):
         return data
     if isinstance(data, (str, pathlib.Path)):
@@ -422,7 +424,7 @@ def compare(
     optimiser = solver_from_name(method)
     if frame not in FRAMES:
         raise ValueError(f"frame: expected one of {', '.join(FRAMES)}, got {frame!r}")
-    beat = _beat(data)
+    beat = as_beat(data)
     if frame == "basal":
         beat = in_basal_frame(beat)
     targets, shape = beat.targets()
@@ -465,7 +467,7 @@ def compare(
         the_model = build_model(model, n_elements, base, units, head, profiles)
         spec = row(mech, base, the_model, units, f_obs, pin_tolerance=pin_tolerance)
         inner = [fitted[c] for c in contained(mech, base) if c in fitted]
-        r = _fit_row(
+        r = fit_row(
             spec, shape, units, optimiser, starts, seed, shape_floor, f_obs, pin_tolerance, inner
         )
         fitted[(mech, base)] = r
@@ -513,7 +515,7 @@ def row_problem(spec, shape, units: Units, shape_floor: float = SHAPE_FLOOR) -> 
     )
 
 
-def _fit_row(
+def fit_row(
     spec,
     shape,
     units,
@@ -525,6 +527,9 @@ def _fit_row(
     pin_tolerance=PIN_TOLERANCE,
     inner: list[CompareRow] = (),
 ) -> CompareRow:
+    """One row (``spec``) fitted to the observed psi_1 ``shape`` and frequency ``f_obs``
+    (Hz): Hopf-point and screened starts (and the optima of the rows it contains,
+    ``inner``), then ``optimiser``; its statistics, status and reason."""
     t0 = time.perf_counter()
     problem = row_problem(spec, shape, units, shape_floor)
     candidates = np.vstack(

@@ -122,7 +122,7 @@ class ScaledSigmas(eqx.Module):
     def fingerprint(self) -> str:
         """The wrapped problem's fingerprint with the factor (``TypeError`` when the
         problem has none: :mod:`axojax.inverse.sampling._warm_cache`)."""
-        from ._warm_cache import digest
+        from ..fingerprint import digest
 
         inner = getattr(self.problem, "fingerprint", None)
         if not callable(inner):

@@ -41,7 +41,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..verdicts import NEAR_LOSS
+from ..fitting.identifiability import NEAR_LOSS
 from ._densities import _Target
 from ._laplace import _centre, _covariance, _fitted_u
 from ._nuts import _compiled

@@ -37,20 +37,20 @@ from typing import Any
 
 import numpy as np
 
-from .. import _io
-from ..params import BASAL_NAMES, MECHANISM_NAMES, PARAM_NAMES, Params
-from ..results import RESULTS, jsonable, message
-from ..results import name as result_name
-from ._arguments import SIGNED
-from .problem import CYCLE_FAILED, Problem
-from .quality import information_criteria
-from .quality import r2 as r2_of
-from .verdicts import (
+from ... import _io
+from ...params import BASAL_NAMES, MECHANISM_NAMES, PARAM_NAMES, Params
+from ...results import RESULTS, jsonable, message
+from ...results import name as result_name
+from .._arguments import SIGNED
+from ..problem import CYCLE_FAILED, Problem
+from .identifiability import (
     start_notes,
     strong_pairs,
     uncertainty,
     verdicts,
 )
+from .quality import information_criteria
+from .quality import r2 as r2_of
 
 AT_BOUND_FRACTION = 0.01
 SHAPE_RMS_OK = 2.0

@@ -37,22 +37,22 @@ import warnings
 import numpy as np
 import scipy.linalg as sl
 
-from ..assembly.motor_kinetics import assemble_motor
-from ..beats.targets import ShapeTarget, Target
-from ..models.section import Model
-from ..orbits import cycle_measures
-from ..orbits.limit_cycle import limit_cycle
-from ..params import Params
-from ..units import Units
-from ..waveform import measures as wm
-from ._arguments import SIGNED
-from .comparison.compare import _fit_row
-from .comparison.mechanisms import FREE, Row
-from .fit import build_problem
-from .least_squares import least_squares, solver_from_name
-from .parameters import DEFAULT_BOUNDS
-from .problem import SHAPE_FLOOR
-from .report import FitResult
+from ...assembly.motor_kinetics import assemble_motor
+from ...beats.targets import ShapeTarget, Target
+from ...models.section import Model
+from ...orbits import cycle_measures
+from ...orbits.limit_cycle import limit_cycle
+from ...params import Params
+from ...units import Units
+from ...waveform import measures as wm
+from .._arguments import SIGNED
+from ..comparison.compare import fit_row
+from ..comparison.mechanisms import FREE, Row
+from ..fitting.fit import build_problem
+from ..fitting.least_squares import least_squares, solver_from_name
+from ..fitting.report import FitResult
+from ..parameters import DEFAULT_BOUNDS
+from ..problem import SHAPE_FLOOR
 
 MOTOR_TIMES = (1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0)
 """omega0 tau_m tried by :func:`motor_time`, fastest first."""
@@ -195,7 +195,7 @@ def linear_hopf(spec: Row, shape: ShapeTarget, units: Units, *, starts: int = 3,
     the observed beat, the whole-beat fit's first start."""
     f_obs = float(units.omega0_to_hz(float(spec.params.omega0)))
     linear = dataclasses.replace(shape, source="linear")
-    r = _fit_row(spec, linear, units, solver_from_name("lm"), starts, seed, SHAPE_FLOOR, f_obs)
+    r = fit_row(spec, linear, units, solver_from_name("lm"), starts, seed, SHAPE_FLOOR, f_obs)
     return r.fit.full_params, r
 
 

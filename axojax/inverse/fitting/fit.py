@@ -14,19 +14,19 @@ from __future__ import annotations
 import warnings
 from collections.abc import Sequence
 
-from ..beats.targets import ShapeTarget, Target
-from ..eigen.mode import DEFAULT_SOLVER
-from ..eigen.solvers import AbstractEigenSolver
-from ..models.section import Model
-from ..orbits.solvers import AbstractOrbitSolver, HarmonicBalance
-from ..params import DEFAULT_CUBIC, Params
-from ..units import Units
-from .conditions import Condition
+from ...beats.targets import ShapeTarget, Target
+from ...eigen.mode import DEFAULT_SOLVER
+from ...eigen.solvers import AbstractEigenSolver
+from ...models.section import Model
+from ...orbits.solvers import AbstractOrbitSolver, HarmonicBalance
+from ...params import DEFAULT_CUBIC, Params
+from ...units import Units
+from ..conditions import Condition
+from ..parameters import DEFAULT_BOUNDS, LINEAR
+from ..problem import CYCLE_FAILED, SHAPE_FLOOR, Problem
+from .identifiability import IDENTIFIABLE_MAX_LOG_SE
 from .least_squares import LeastSquaresSolver, least_squares, solver_from_name
-from .parameters import DEFAULT_BOUNDS, LINEAR
-from .problem import CYCLE_FAILED, SHAPE_FLOOR, Problem
 from .report import SHAPE_RMS_OK, FitResult
-from .verdicts import IDENTIFIABLE_MAX_LOG_SE
 
 __all__ = [
     "CYCLE_FAILED",

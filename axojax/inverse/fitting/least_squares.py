@@ -35,9 +35,9 @@ import optax
 import optimistix as optx
 from jaxtyping import Array, PyTree
 
-from .._progress import progress as progress_bar
-from ..results import RESULTS
-from .problem import Problem
+from ..._progress import progress as progress_bar
+from ...results import RESULTS
+from ..problem import Problem
 from .report import FitResult, build_report
 
 

@@ -3,7 +3,7 @@ beat (issue 47 item 5; docs/mechanisms.md, "The whole beat").
 
 Each row is a mechanism on a held base, fitted as :func:`axojax.compare` fits it (the
 linear row: psi_1's shape with a free amplitude, pinned at the observed frequency) and
-then as a whole (:func:`axojax.inverse.whole_beat.fit_whole_beat`: the limit cycle with
+then as a whole (:func:`axojax.inverse.whole_beat.fit.fit_whole_beat`: the limit cycle with
 motor kinetics, saturating motors and a static moment against the frequency, psi_0 and
 psi_1 in absolute amplitude). Rows are ranked as the linear comparison ranks them
 (:func:`~axojax.inverse.comparison.verdict.rank`: successful rows first, by BIC, BIC
@@ -33,11 +33,11 @@ from ...models.presets import preset_section
 from ...results import jsonable
 from ...results import name as result_name
 from ...units import Units
-from ..whole_beat import WholeBeatFit, fit_whole_beat, linear_hopf, observed_measures
-from .compare import _beat, default_units, model_json, organism_of, physical_values
-from .mechanisms import DEFAULT_PRESET, FREE, build_model, check_names, parse_base, row
-from .table import physical_text
-from .verdict import FREQUENCY_MATCH, mark, rank, verdict
+from ..comparison.compare import as_beat, default_units, model_json, organism_of, physical_values
+from ..comparison.mechanisms import DEFAULT_PRESET, FREE, build_model, check_names, parse_base, row
+from ..comparison.table import physical_text
+from ..comparison.verdict import FREQUENCY_MATCH, mark, rank, verdict
+from .fit import WholeBeatFit, fit_whole_beat, linear_hopf, observed_measures
 
 MECHANISMS = tuple(FREE)
 """The regulated mechanisms (the steady load's whole beat: ``axojax fit --target
@@ -58,13 +58,13 @@ class WholeBeatRow:
             (module docstring).
         free: fitted names; params: their dimensionless values; physical and
             physical_stderr: the same in physical units (:data:`PHYSICAL`).
-        motor_tau_ms: the motors' time (given: :func:`~axojax.inverse.whole_beat.motor_time`).
+        motor_tau_ms: the motors' time (given: :func:`~axojax.inverse.whole_beat.fit.motor_time`).
         r2: R^2 of psi_1 with its amplitude; linear_r2: the linear row's (amplitude free).
         frequency_hz, static_curvature_rad_per_um, dynamic_amplitude_rad: the fitted
             orbit's (None where none).
         chi2_per_dof, aic, bic, n_free, at_bound: the fit's.
         delta_bic, weight: set by the ranking.
-        whole: the :class:`~axojax.inverse.whole_beat.WholeBeatFit` (not in the JSON).
+        whole: the :class:`~axojax.inverse.whole_beat.fit.WholeBeatFit` (not in the JSON).
     """
 
     mechanism: str
@@ -111,7 +111,7 @@ def _physical(fit: WholeBeatFit, units: Units) -> tuple[dict, dict]:
     return phys, {k: None if k not in se else abs(se[k]) for k in phys}
 
 
-def fit_row(spec, shape, frequency, units: Units) -> WholeBeatRow:
+def fit_whole_row(spec, shape, frequency, units: Units) -> WholeBeatRow:
     """The whole-beat row of ``spec`` (a :func:`~axojax.inverse.comparison.mechanisms.row`)."""
     t0 = time.perf_counter()
     try:
@@ -290,7 +290,7 @@ def compare_whole_beat(
             raise ValueError(
                 f"bases: the whole beat's orbits need a held base ({', '.join(HELD)}); got {b!r}"
             )
-    beat: BeatData = _beat(data)
+    beat: BeatData = as_beat(data)
     targets, shape = beat.targets()
     if shape is None or shape.psi0 is None or not targets:
         raise ValueError("data: the whole beat needs psi_0, psi_1 and the beat frequency")
@@ -309,7 +309,7 @@ def compare_whole_beat(
     for mech, base in tqdm(combos, desc="whole-beat rows", unit="row", disable=not progress):
         the_model = build_model(model, n_elements, base, units)
         spec = row(mech, base, the_model, units, frequency.value)
-        rows.append(fit_row(spec, shape, frequency, units))
+        rows.append(fit_whole_row(spec, shape, frequency, units))
     rank(rows)
     s = np.asarray(shape.s_um, dtype=float)
     static, dynamic = observed_measures(shape)

@@ -47,12 +47,12 @@ from typing import Any
 import jax.numpy as jnp
 import numpy as np
 
-from .._memory import check_model_size
-from ..eigen.mode import IMAG_RTOL, dominant_mode
-from ..models.section import Model, build_model
-from ..results import jsonable
+from ..._memory import check_model_size
+from ...eigen.mode import IMAG_RTOL, dominant_mode
+from ...models.section import Model, build_model
+from ...results import jsonable
+from ..problem import EDGE, Problem
 from .least_squares import LevenbergMarquardt
-from .problem import EDGE, Problem
 from .report import FitResult, condition_achieved, shape_residuals
 
 NEAR_ONSET = 0.1
