@@ -29,7 +29,7 @@
    emitters spend most of their compilation on them: the 64-point seven-filament Arnoldi
    program compiles ~1.7x faster without them, its gradient too, running as fast
    (``benchmarks/bench_compile.py`` compares the two in alternating fresh processes).
-   Same results to the last bits (tests/test_compile_flags.py compares a process
+   Same results to the last bits (tests/house/test_compile_flags.py compares a process
    without these settings). Other versions are left alone: XLA aborts on a flag it does
    not know.
 """

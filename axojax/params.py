@@ -19,7 +19,7 @@ from jaxtyping import ArrayLike
 
 MAX_MAGNITUDE = 1e9
 """Largest accepted |value| of every parameter. Beyond it float64 eigenvalues lose their
-digits (tests/test_hardening.py: ks or kl = 1e10 already moves the seven-filament dominant
+digits (tests/house/test_hostile_input.py: ks or kl = 1e10 already moves the seven-filament dominant
 eigenvalue by 1e-8 relative to scipy's, cl = 1e12 gives NaN; p, gamma = 1e300 overflow),
 so larger values are refused instead of answered wrongly."""
 MIN_RATIO = 1e-9
@@ -30,7 +30,7 @@ DEFAULT_CUBIC = 10.0
 """Default cubic stiffening kappa of the links (1/L^2; the nonlinear beat's only extra
 constant, used by the time integrator, the limit cycles and their fits): at p = 1.04 p_c
 of the seven-filament preset it saturates the beat at a tip amplitude of about 3 um (a
-quarter of L; see tests/test_simulate.py)."""
+quarter of L; see tests/dynamics/test_simulate.py)."""
 
 PARAM_NAMES = (
     "p",
@@ -63,7 +63,7 @@ DERIVED_NAMES = ("cb",)
 (dimensionless EI / (k_b L^3)), sets ``kb = 1 / (cb + CB_FLOOR)``. ``cb = 0`` is a rigid
 base: the base without compliance, inside a fit's range (issue 45's nested hypotheses;
 the spring of 1e9 moves the eigenvalues by about 1e-9 of chi / kb's scale, far below any
-fit's tolerance: tests/test_compare_nested.py)."""
+fit's tolerance: tests/comparison/test_nested.py)."""
 MECHANISM_NAMES = ("chi_re", "chi_im", "beta_re", "beta_im", "omega0")
 """The regulated-dynein coefficients (docs/model.md section 8); all 0 is the steady load."""
 KNOT_NAMES = ("ei_knots", "drag_knots", "p_knots")

@@ -6,7 +6,7 @@ response is *active* (chi'' < 0, every sliding-control beat; beta'' < 0, e.g. Sa
 al.'s wild-type curvature control) its symmetric part indefinite: some motions then gain
 energy from friction. In the finite-element pencil those are short-wavelength modes whose
 growth rates increase without bound under mesh refinement (two filaments, p = 0:
-chi''-active grows like N_e^2, beta''-active like N_e^1.5; tests/test_well_posed.py):
+chi''-active grows like N_e^2, beta''-active like N_e^1.5; tests/regulation/test_well_posed.py):
 the friction form holds chi and beta exactly at lambda = i omega0, and nowhere near the
 spurious modes. So:
 

@@ -11,7 +11,7 @@
 3. Warm against cold starts of limit-cycle waveform fits (issue 20): the default
    Levenberg-Marquardt starts each evaluation's orbit from the last accepted iterate's
    (``LevenbergMarquardt(warm_start=True)``), the cold one from the Hopf normal form.
-   (a) The two-filament fit of tests/test_inverse_waveform.py (noise-free); (b) the
+   (a) The two-filament fit of tests/inverse/test_whole_beat_targets.py (noise-free); (b) the
    orbit of the inferred fig. 12 parameters (seven filaments, 10 elements, 5:1 moment
    imbalance, ``--harmonics``) observed as psi_0, psi_1 on 13 points and its
    frequency, free p, a0, cl from 3 % off. Prints, for each, LM steps, orbits solved,
@@ -167,7 +167,7 @@ def _warm_cold(problem: Problem, truth: ax.Params, label: str, repeats: int = 3)
 
 
 def cycle_fit(harmonics: int) -> None:
-    # 1. Two filaments, 4 elements (the fit of tests/test_inverse_waveform.py, noise-free).
+    # 1. Two filaments, 4 elements (the fit of tests/inverse/test_whole_beat_targets.py, noise-free).
     model = ax.models.two(n_elements=4)
     base = ax.Params(p=160.0)
     truth = base.replace(p=1.06 * float(ax.critical_force(model, base).p), a0=0.3 / 12)

@@ -1,7 +1,7 @@
 """Cost of a whole-beat fit's value and gradient through a regulated orbit against the
 orbit alone (issue 47's acceptance: "at most 3x the cost of the orbit alone").
 
-The row of tests/test_orbit_motors_gradient.py: two-filament sliding control (chi'' < 0)
+The row of tests/orbits/test_orbit_motors_gradient.py: two-filament sliding control (chi'' < 0)
 on a clamped base, 10 % past its Hopf point (chi scaled by 1.1), motor kinetics
 (tau_m = 5 ms), saturating motors (40 pN/um), cubic links 10, harmonic balance with the
 solver a fit uses (``HarmonicBalance(floquet=0)``), started from the Hopf normal form
@@ -44,7 +44,7 @@ TARGET_RAD = 0.12
 
 def sliding_row(model, past: float = 0.1) -> ax.Params:
     """Sliding control at the Hopf point nearest chi = -1.3e5 - 1.8e5 i (a0 = 0.2 / 12,
-    omega0 = 1000: tests/test_motor_kinetics.py's row), chi then scaled by 1 + ``past``.
+    omega0 = 1000: tests/regulation/test_motor_kinetics.py's row), chi then scaled by 1 + ``past``.
     The Hopf point: i omega0 an eigenvalue of the pencil, A linear in chi (scipy)."""
     params = ax.Params(p=0.0, a0=0.2 / 12, omega0=1000.0)
     s0 = ax.assemble(model, params)

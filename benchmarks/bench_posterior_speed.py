@@ -46,7 +46,7 @@ trees). The 90 % intervals, p 148-282 and ks 31-7.1e5, do not contain the truth 
 1e6): this posterior puts most of its mass down the ridge, towards small ks, where the
 frequency and wavelength fit as well (the quadrature of
 ``scripts/check_synthetic_posterior.py`` gives the same quantiles). The small noisy
-run of ``tests/test_posterior_laplace.py`` shows the same at 4 elements (converged: p
+run of ``tests/sampling/test_laplace.py`` shows the same at 4 elements (converged: p
 160-281, ks 1.8e3-7.1e5, truth outside); it checks that the truth lies in the sampled
 90 % highest-density region, as it does. A second,
 separate mode (p ~ 280, ks < 1e3: another eigenmode matching the targets; about 13 % of

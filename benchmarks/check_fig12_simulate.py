@@ -1,7 +1,7 @@
 """Does ``ax.simulate`` from its default start (the 0.1 um tip bend) reach the limit cycle
 of the inferred figure 12 parameters (``axojax.paper.INFERRED["fig12"]``) within 25
 periods plus 8 e-foldings of the linear growth rate (the default ``--t-end``)? A check too
-slow for the test suite (tests/test_one_wavelength.py runs it in the slow set).
+slow for the test suite (tests/waveform/test_one_wavelength.py runs it in the slow set).
 
 The orbit (``ax.limit_cycle``, harmonic balance) and the time-domain run (diffrax, from
 the tip deflection of :func:`axojax.dynamics.simulate.tip_deflection`) are independent

@@ -9,7 +9,7 @@ points per row, 252 in all). Measured 2026-12-05 (about 2 min on 2 cores): 249 p
 certified with the right disc, 231 with the pole's disc alone; every certified eigenvalue
 within 4.1e-11 (relative) of the dense one. At 20 elements (``--elements 20``, ~6 min):
 249 against 219, within 5.1e-10 (the steady load's rows too: the dense solver's own
-error at that size; tests/test_solvers.py).
+error at that size; tests/eigen/test_solvers.py).
 
     python scripts/check_certificate_grid.py [--elements 10]
 """

@@ -1,4 +1,4 @@
-"""The converged posterior of tests/test_posterior_laplace.py's small synthetic problem
+"""The converged posterior of tests/sampling/test_laplace.py's small synthetic problem
 (p and ks of the seven-filament model at 4 elements, kl = ks / 1000, a frequency and a
 wavelength made at p 300, ks 1e6 with 2 % and 5 % noise, rng seed 1), to show where its
 mass lies: 4 chains x 1000 draws along ks (what ``axojax fit --posterior`` picks).

@@ -19,7 +19,7 @@ from axojax.cache import CACHE_ENV, WARM_SUBDIR
 # emitters where that pays, axojax/_runtime.py; the suite keeps that choice.) The level
 # changes how the machine code is optimised, so results can differ in the last bits (an
 # iterative solve may stop one step apart), not in what is computed:
-# tests/test_compile_flags.py checks eigenvalues and gradients against a process with
+# tests/house/test_compile_flags.py checks eigenvalues and gradients against a process with
 # XLA's default flags to 1e-12. Opt out with AXOJAX_TEST_FULL_OPTIMISATION=1; benchmarks/
 # never set it.
 LEVEL_FLAG = "--xla_backend_optimization_level=0"
@@ -74,7 +74,7 @@ def seven():
 def pytest_configure(config):
     """One persistent cache of compiled programs (axojax/cache.py) for the test process,
     the `axojax` commands the tests run as processes and the notebooks' kernels
-    (tests/test_notebooks.py), kept in pytest's cache directory
+    (tests/house/test_notebooks.py), kept in pytest's cache directory
     (``.pytest_cache/d/jax-compilation-cache``; a temporary directory under
     ``-p no:cacheprovider``), not in the user's cache. Set here, before collection, so
     that no program is compiled before it.
@@ -83,7 +83,7 @@ def pytest_configure(config):
     again: a model is a static argument hashed by identity, so every test that builds its
     own ``ax.models.seven()`` compiles ``dominant_mode`` anew, and every command and
     notebook starts from nothing. A cached program is the same program (results are
-    identical; tests/test_cache.py), so every test checks what it checked before."""
+    identical; tests/house/test_compilation_cache.py), so every test checks what it checked before."""
     cache = getattr(config, "cache", None)
     path = (
         cache.mkdir("jax-compilation-cache")
@@ -93,7 +93,7 @@ def pytest_configure(config):
     if not hasattr(config, "workerinput"):  # the controller, before any worker starts:
         # the posterior's warm states (axojax/inverse/sampling/_warm_cache.py) kept by the CLI's
         # tests in this directory are dropped, so that each run executes their start-up
-        # code (tests/test_posterior_cache.py checks loading them within a run).
+        # code (tests/sampling/test_warm_cache.py checks loading them within a run).
         shutil.rmtree(path / WARM_SUBDIR, ignore_errors=True)
     config.stash[_OLD_CACHE_ENV] = os.environ.get(CACHE_ENV)
     os.environ[CACHE_ENV] = str(path)

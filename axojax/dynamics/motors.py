@@ -17,7 +17,7 @@ model's own pencil: in :func:`motor_order` each node block holds that node's q u
 then its y unknowns (2 b = 4 F d), and the border is q's border then y's (2 m). A' and C'
 are block-tridiagonal in that order because A_inf, M and the identities are (M is an
 assembled mechanism matrix, local along x but through the border): :func:`motor_blocks`
-reads the blocks out of the dense matrices (tests/test_motor_kinetics_time.py checks
+reads the blocks out of the dense matrices (tests/regulation/test_motor_kinetics_time.py checks
 that nothing lies outside them). The cubic link tangent is zero on y: its node blocks are
 padded (:meth:`axojax.dynamics.chord.MassSystem.stage_factor`).
 """

@@ -18,7 +18,7 @@ Delta_a and kappa_a are linear in the state, on every base: Delta_a(x) = a0 n_a 
 section 8, bases). :func:`pair_rows` tabulates them at the Gauss points of
 :data:`~axojax.dynamics.nonlinear.POINTS_PER_ELEMENT` per element (exact for the linear
 terms, whose integrands are polynomials: sum_q w_q Delta^T Delta is dA/dchi' and
-sum_q w_q Delta^T kappa is dA/dbeta', tests/test_motor_kinetics_time.py), node 0's dofs
+sum_q w_q Delta^T kappa is dA/dbeta', tests/regulation/test_motor_kinetics_time.py), node 0's dofs
 and the basal slidings mapped to the shared border as :mod:`axojax.assembly.border` does.
 The tangent is formed dense (2N, 2N) and read into the blocks of
 :func:`~axojax.dynamics.motors.motor_order` (a Gauss point couples its element's nodes and

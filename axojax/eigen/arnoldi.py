@@ -46,7 +46,7 @@ Algorithm (per parameter point, fixed shapes: jit/vmap-able):
    of iterative refinement: the links make ``|A|`` ~1e8 times the eigenvalues of
    interest; at 40 elements (seven, p = 300, ks = 1e6) the eigenvalue is 1.1e-11 from
    the true one with it and 1.4e-10 to 8.5e-10 without (the dense solver: 1.8e-10; true:
-   Newton with extended-precision residuals, ``tests/test_solvers.py``). It costs
+   Newton with extended-precision residuals, ``tests/eigen/test_solvers.py``). It costs
    1.1-1.2x per point. The stiff bulk of the spectrum (|lambda| up to ~1e8 from the
    links) maps to theta ~ 0, so the eigenvalues near sigma converge in a few dozen
    steps. A Ritz pair has converged when its residual bound ``|h_{m+1,m} y_m| /

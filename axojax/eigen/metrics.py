@@ -18,7 +18,7 @@ wavelength ``2 pi / |k|`` (units of L); propagation is anterograde (base to tip)
 ``k * sign(Im lambda) < 0``. Integrals use Gauss-Legendre points on the mesh (at least
 200 points along x, with at least four points per element: exact for the polynomial
 integrands, and for phi', a rational function smooth wherever psi_1 != 0, accurate to
-1e-4 relative at 10 elements, tests/test_waveform_measures.py). Every metric is
+1e-4 relative at 10 elements, tests/waveform/test_waveform_measures.py). Every metric is
 invariant to the complex scale of v, so its derivative through
 :func:`axojax.eigen.dominant.dominant_eigenpair` is exact. The same formula applied to
 the displacement u instead of its slope (:func:`displacement_wavenumber`) was axojax's

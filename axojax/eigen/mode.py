@@ -157,7 +157,7 @@ class RigidDeflated(AbstractEigenSolver):
     free axoneme is its largest-real-part *deforming* mode.
 
     Z is a right null space of A (A Z = 0: internal forces do not resist rigid motion,
-    tests/test_bases.py). With Y^T = (Z^T C Z)^{-1} Z^T C (Y^T Z = I) the pencil
+    tests/model/test_bases.py). With Y^T = (Z^T C Z)^{-1} Z^T C (Y^T Z = I) the pencil
     (A + sigma C Z Y^T, C) has every eigenvalue of (A, C) except that the rigid ones move
     from 0 to -sigma (Brauer's theorem), and an eigenvector v' of it at lambda gives the
     original's, v = v' + (sigma / lambda) Z Y^T v' (exact; both differentiable). sigma =

@@ -22,7 +22,7 @@ before this one (inverse iteration for the left eigenvector, then a projected, r
 solve) made four passes.
 Accuracy against a dense bordered solve refined in extended precision (seven, p =
 30-1000, 10 and 40 elements; two with a free base): 1e-15 to 2e-10 relative, as good
-as or better than that rule's 1e-12 to 4e-10 (``tests/test_tangent.py`` checks it
+as or better than that rule's 1e-12 to 4e-10 (``tests/eigen/test_tangent.py`` checks it
 against scipy and finite differences).
 """
 

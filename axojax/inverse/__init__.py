@@ -7,7 +7,7 @@
 
 The same problem from a file: ``ax.inverse.load_spec("FIT.toml")`` (:mod:`.spec`).
 
-The house, by job, each layer importing only the layers below it (tests/test_architecture.py
+The house, by job, each layer importing only the layers below it (tests/house/test_architecture.py
 keeps it so; docs/internals.md draws it):
 
 1. the problem core, this folder's own modules: :mod:`.problem` (:class:`Problem`, its

@@ -440,7 +440,7 @@ def lu_factor_local(M: BlockTridiagonal) -> LocalBlockLU:
     node blocks dominated by their stiff in-node couplings) the solves' backward error is
     ~1e-17, as with band pivoting. Its one user, the derivative rule of
     :mod:`axojax.eigen.tangent`, refines every solve with the exact residual, which would
-    correct a loss of accuracy; ``tests/test_tangent.py`` checks the rule against scipy,
+    correct a loss of accuracy; ``tests/eigen/test_tangent.py`` checks the rule against scipy,
     finite differences and an extended-precision solve."""
     N, b = M.n_blocks, M.block_size
     dt = M.diag.dtype

@@ -19,7 +19,7 @@ sampled ones alias. They decay geometrically (tanh of a trigonometric polynomial
 analytic), and :data:`SATURATION_SAMPLES_PER_HARMONIC` samples per harmonic put the
 aliasing far below the Newton tolerance on the tested beats (the frequency and amplitude
 change by less than 1e-10 relative from 8 H + 2 to 16 H + 2 samples,
-tests/test_orbit_motors.py; measured 1e-14, and 4 H + 2 would have done there too: those
+tests/orbits/test_orbit_motors.py; measured 1e-14, and 4 H + 2 would have done there too: those
 beats are weakly saturated).
 """
 

@@ -1,5 +1,5 @@
 """A beat made with one row of a comparison: the check that ``compare`` finds what made it
-(benchmarks/check_compare_synthetic.py, tests/test_compare_nested.py), and a way for a user
+(benchmarks/check_compare_synthetic.py, tests/comparison/test_nested.py), and a way for a user
 to try the pipeline on a beat whose truth is known.
 
 :func:`synthetic_beat` takes the row (mechanism, base) on the ``two`` preset in an

@@ -28,7 +28,7 @@ tables are as good as the knots are dense and the profile's Laplace approximatio
 an imperfect table costs efficiency, never correctness. The chains start from draws of
 that approximation (standard normal in ``y``): spread along the whole ridge.
 
-On the banana of ``tests/test_transport.py`` (u1 = u0^2 within 0.02) plain NUTS took 33
+On the banana of ``tests/sampling/test_transport.py`` (u1 = u0^2 within 0.02) plain NUTS took 33
 gradients per draw and reached an ESS of 12 in 4 x 400 draws (R-hat 1.27); in these
 coordinates 4.3 gradients per draw and ESS 760-990, moments right.
 
@@ -419,7 +419,7 @@ def build_map(settings: tuple[int, int], target, z_c: Float[Array, " k"]) -> Pro
     # Hessian there), then the secant of the last two knots' maxima, then the parabola
     # through the last three. A narrow ridge moves many of its widths between knots, and
     # can run beside a cliff (another eigenmode dominant): a start from the neighbour's
-    # maximum can fall off it (tests/test_transport.py, NarrowCliffRidge).
+    # maximum can fall off it (tests/sampling/test_transport.py, NarrowCliffRidge).
     j0 = jnp.clip(jnp.searchsorted(z_knots, z_c[a]), 0, n - 1)
     tables0 = (jnp.zeros((n, r_dim)), jnp.tile(jnp.eye(r_dim), (n, 1, 1)), jnp.full((n,), -jnp.inf))
     J = jax.jacfwd(r)(z_c)

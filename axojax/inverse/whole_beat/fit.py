@@ -66,7 +66,7 @@ PROBE = 1e-3
 force: small enough that the static response is linear."""
 MAX_STEPS = 40
 """Levenberg-Marquardt iterations of a whole-beat fit (the synthetic beat of
-tests/test_whole_beat.py converges in 15; a row whose orbit is lost pays a full Newton
+tests/whole_beat/test_whole_beat_fit.py converges in 15; a row whose orbit is lost pays a full Newton
 budget at every step, so a failing row stops early)."""
 
 
