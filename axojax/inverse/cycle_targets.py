@@ -8,12 +8,21 @@ amplitude, out-of-plane measure). :func:`waveform_residuals` solves the orbit at
 parameters (warm-started from ``start``, a nearby orbit: a fit passes the previous
 iterate's orbit, so each evaluation costs a few Newton steps) and returns::
 
-    [(psi0_model - psi0_obs) / sigma,                            (S,)   when psi0 is given
+    [(psi0_model + c - psi0_obs) / sigma,                        (S,)   when psi0 is given
      Re, Im of (e^{i phi} psi1_model - psi1_obs) / sigma,       (2 S,) when psi1 is given
      (measure_model - value) / sigma for each scalar target]
 
 with ``e^{i phi}`` the best unit phase factor (the orbit's time origin is arbitrary; its
-amplitude is not, unlike a linear mode's). Pure and differentiable in ``params`` and
+amplitude is not, unlike a linear mode's) and ``c`` the reference angle
+(:func:`psi_offset`): a recording's tangent angle is measured from an arbitrary
+direction (the camera's x axis), psi_obs = psi_true + c, so in the lab frame psi_0 is
+compared up to a constant, projected out analytically (c = the 1 / sigma^2-weighted mean
+of psi0_obs - psi0_model: no extra variable, and the Jacobian through it stays exact; a
+fit counts it as one fitted value, :attr:`axojax.inverse.Problem.n_offsets`). Its slope,
+the static curvature, and psi_1 are unaffected. In the basal frame
+(``shape.frame == "basal"``) model and data are both measured from the basal tangent,
+psi(s, t) - psi(0, t), a direction that is not arbitrary: c = 0 there. Pure and
+differentiable in ``params`` and
 ``kappa`` (the orbit by the implicit function theorem, :mod:`axojax.orbits.newton`):
 ``jax.jacfwd`` of it is the Jacobian a Levenberg-Marquardt step needs.
 """
@@ -24,6 +33,7 @@ import dataclasses
 import math
 from collections.abc import Sequence
 
+import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
@@ -31,7 +41,7 @@ from jaxtyping import Array, Float
 from ..beats.targets import ShapeTarget, Target
 from ..models.section import Model
 from ..orbits.cycle import LimitCycle
-from ..orbits.measures import CycleMeasures, cycle_measures
+from ..orbits.measures import CycleMeasures, cycle_measures, tangent_modes
 from ..orbits.solvers import AbstractOrbitSolver, HarmonicBalance
 from ..params import Params
 from ..units import Units
@@ -73,12 +83,48 @@ class CycleTarget:
         raise ValueError(f"not a limit-cycle target: {target!r}")
 
 
+def offset_fitted(shape: ShapeTarget | None) -> bool:
+    """Whether ``shape``'s psi_0 is compared up to a constant (:func:`psi_offset`): a
+    limit-cycle shape with psi_0, in the lab frame."""
+    return (
+        shape is not None
+        and shape.source == "limit_cycle"
+        and shape.psi0 is not None
+        and shape.frame == "lab"
+    )
+
+
+def shape_measures(cycle: LimitCycle, shape: ShapeTarget, units: Units) -> CycleMeasures:
+    """The orbit's measures at ``shape.s_um`` in the shape's frame: psi_0 and psi_1 as
+    they are (``"lab"``), or less their values at the base s = 0 (``"basal"``, as
+    :func:`axojax.beats.frames.in_basal_frame` does to the data: 0 for a clamped base)."""
+    m = cycle_measures(cycle, np.asarray(shape.s_um, dtype=float), units)
+    if shape.frame != "basal":
+        return m
+    _, psi0_b, psi1_b = tangent_modes(cycle, np.zeros(1), units)
+    return eqx.tree_at(lambda x: (x.psi0, x.psi1), m, (m.psi0 - psi0_b[0], m.psi1 - psi1_b[0]))
+
+
+def psi_offset(measures: CycleMeasures, shape: ShapeTarget) -> Float[Array, ""]:
+    """The reference angle c (rad) that best fits ``shape``'s psi_0 to the orbit's,
+    psi0_obs ~ psi0_model + c: the 1 / sigma^2-weighted mean of psi0_obs - psi0_model over
+    the shape's points (``measures`` taken at ``shape.s_um``, :func:`shape_measures`); 0
+    where it is not fitted (:func:`offset_fitted`: the basal frame, or no psi_0)."""
+    if not offset_fitted(shape):
+        return jnp.zeros(())
+    obs = jnp.asarray(shape.psi0, dtype=float)
+    w = 1.0 / jnp.asarray(shape.sigma, dtype=float) ** 2 * jnp.ones(obs.shape)
+    return jnp.sum(w * (obs - measures.psi0)) / jnp.sum(w)
+
+
 def shape_residuals(measures: CycleMeasures, shape: ShapeTarget) -> Float[Array, " r"]:
-    """psi_0 (when observed) and psi_1 residuals of ``measures`` (taken at ``shape.s_um``)."""
+    """psi_0 (when observed; up to :func:`psi_offset`) and psi_1 residuals of
+    ``measures`` (taken at ``shape.s_um`` in its frame, :func:`shape_measures`)."""
     sigma = jnp.asarray(shape.sigma, dtype=float)
     out = []
     if shape.psi0 is not None:
-        out.append((measures.psi0 - jnp.asarray(shape.psi0, dtype=float)) / sigma)
+        fitted = measures.psi0 + psi_offset(measures, shape)
+        out.append((fitted - jnp.asarray(shape.psi0, dtype=float)) / sigma)
     obs = jnp.asarray(shape.psi1, dtype=complex)
     d = (_phase(measures, shape) * measures.psi1 - obs) / sigma
     out += [jnp.real(d), jnp.imag(d)]
@@ -129,7 +175,8 @@ def waveform_residuals(
         model: static; its ``imbalance_kind`` says how ``params.imbalance`` is read.
         params: dimensionless parameters (may be traced: p, a0, imbalance, cubic... free).
         kappa: cubic link stiffening (1/L^2), may be traced.
-        shape: observed psi_1 (and psi_0) at ``shape.s_um`` (um), absolute amplitude.
+        shape: observed psi_1 (and psi_0, compared up to a constant in the lab frame) at
+            ``shape.s_um`` (um), absolute amplitude.
         scalars: scalar targets (:class:`CycleTarget`, or fitting ``Target`` with
             ``source="limit_cycle"``).
         solver: the orbit solver (``floquet=0``: fits need no multipliers).
@@ -144,9 +191,7 @@ def waveform_residuals(
     cyc = solver.solve(model, params, kappa, start)
     parts = []
     if shape is not None:
-        parts.append(
-            shape_residuals(cycle_measures(cyc, np.asarray(shape.s_um, dtype=float), units), shape)
-        )
+        parts.append(shape_residuals(shape_measures(cyc, shape, units), shape))
     if scalars:
         parts.append(scalar_residuals(cycle_measures(cyc, None, units), scalars))
     if not parts:

@@ -45,14 +45,13 @@ from ..eigen.nearest import nearest_mode_impl
 from ..eigen.solvers import AbstractEigenSolver
 from ..models.section import Model
 from ..orbits.cycle import LimitCycle
-from ..orbits.measures import cycle_measures
 from ..orbits.solvers import AbstractOrbitSolver, HarmonicBalance
 from ..params import DEFAULT_CUBIC, Params
 from ..units import Units
 from ._arguments import _check, _coordinate_bounds
 from .conditions import Condition
 from .cycle_targets import CYCLE_TARGETS as CYCLE_MEASURES
-from .cycle_targets import aligned_psi1
+from .cycle_targets import aligned_psi1, offset_fitted, psi_offset, shape_measures
 from .cycle_targets import shape_residuals as cycle_shape_residuals
 from .fingerprint import problem_fingerprint
 from .orbit_setup import WARM_STEPS, OrbitSetup  # noqa: F401  (WARM_STEPS: its docstrings)
@@ -282,9 +281,16 @@ class Problem:
         return len(self.conditions)
 
     @property
+    def n_offsets(self) -> int:
+        """Reference angles projected out of the residuals (one per limit-cycle shape
+        whose psi_0 is compared up to a constant: :mod:`.cycle_targets`)."""
+        return sum(offset_fitted(s) for s in self.shapes)
+
+    @property
     def dof(self) -> int:
-        """Residuals minus fitted values (chi^2 degrees of freedom)."""
-        return self.n_residuals - len(self.names)
+        """Residuals minus fitted values, the reference angles included (chi^2 degrees
+        of freedom)."""
+        return self.n_residuals - len(self.names) - self.n_offsets
 
     # -- coordinates -----------------------------------------------------------------
     def to_u(self, z: Float[Array | np.ndarray, " k"]) -> Float[Array, " k"]:
@@ -429,8 +435,9 @@ class Problem:
                     )
             shape = self.shapes[i]
             if shape is not None and shape.source == "limit_cycle":
-                # The whole waveform against the orbit: psi_0, psi_1 in absolute amplitude.
-                measures = cycle_measures(cycle, np.asarray(shape.s_um, dtype=float), self.units)
+                # The whole waveform against the orbit: psi_0 (up to the reference angle),
+                # psi_1 in absolute amplitude.
+                measures = shape_measures(cycle, shape, self.units)
                 parts.append(
                     jnp.where(cycle.converged, cycle_shape_residuals(measures, shape), CYCLE_FAILED)
                 )
@@ -501,16 +508,11 @@ class Problem:
                 d["cycle_converged"] = cycles[i].converged
                 shape = self.conditions[i].shape
                 if shape is not None and shape.source == "limit_cycle":
-                    every = cycle_measures(
-                        cycles[i], np.asarray(shape.s_um, dtype=float), self.units
-                    )
-                    kept = cycle_measures(
-                        cycles[i], np.asarray(self.shapes[i].s_um, dtype=float), self.units
-                    )
-                    d["psi1_fit"], d["psi0_fit"] = (
-                        aligned_psi1(kept, self.shapes[i], at=every),
-                        every.psi0,
-                    )
+                    every = shape_measures(cycles[i], shape, self.units)
+                    kept = shape_measures(cycles[i], self.shapes[i], self.units)
+                    c = psi_offset(kept, self.shapes[i])  # on the fitted points, as residuals
+                    d["psi1_fit"] = aligned_psi1(kept, self.shapes[i], at=every)
+                    d["psi0_fit"], d["psi_offset_rad"] = every.psi0 + c, c
             out.append(d)
         return out
 

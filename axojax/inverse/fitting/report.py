@@ -21,7 +21,8 @@ parameters: a log-space standard error 0.1 is a 10 % uncertainty). Rules:
   fitted values).
 - ``r2``, ``aic``, ``bic``, ``n_free`` (:mod:`.quality`): Sartori's R^2 of psi_1 over every
   observed shape point (None without a shape), and the information criteria with
-  ``n_free`` = the fitted values plus 2 per shape fitted with a free complex amplitude.
+  ``n_free`` = the fitted values plus 2 per shape fitted with a free complex amplitude
+  and 1 per reference angle of a whole beat's psi_0 (``psi_offset_rad``).
 - ``mechanism`` (``steady``, ``sliding``, ``curvature``, ``sliding+curvature``) and
   ``base`` (``clamped`` until other bases exist): the hypothesis that was fitted.
 """
@@ -82,7 +83,7 @@ class FitResult:
         names: the fitted values' names, in the order of ``correlation``.
         shared: the shared fitted values.
         chi2_per_dof: sum r^2 / (m - k), None if m <= k.
-        dof: m - k.
+        dof: m - k (k: the fitted values and the reference angles, n_offsets).
         at_bound: names of values within 1 % of a bound (fitted coordinate).
         stderr_fitted: standard errors in the fitted coordinate (log or linear).
         coordinate: "log" or "linear" per name.
@@ -336,7 +337,7 @@ def mechanism_name(params: Params, free=()) -> str:
 def _quality(problem: Problem, r, conditions: list[dict]) -> dict[str, Any]:
     """r2, aic, bic, n_free, mechanism and base of a fit (:mod:`.quality`). R^2 pools
     every condition's observed points; a linear-mode shape has a free complex amplitude
-    (2 real values in n_free); a limit cycle's is fixed."""
+    (2 real values in n_free); a limit cycle's is fixed, its psi_0's reference angle not."""
     obs, fit, amplitudes = [], [], 0
     for i, entry in enumerate(conditions):
         data = entry.get("shape")
@@ -346,7 +347,7 @@ def _quality(problem: Problem, r, conditions: list[dict]) -> dict[str, Any]:
         fit.append(np.asarray(data["psi1_fit_re"]) + 1j * np.asarray(data["psi1_fit_im"]))
         amplitudes += problem.shapes[i] is not None and problem.shapes[i].source != "limit_cycle"
         entry["r2"] = _finite(r2_of(obs[-1], fit[-1]))
-    n_free = len(problem.names) + 2 * int(amplitudes)
+    n_free = len(problem.names) + 2 * int(amplitudes) + problem.n_offsets
     aic, bic = information_criteria(float(np.sum(np.square(r))), n_free, int(np.size(r)))
     model = problem.models[0]
     return {
@@ -426,12 +427,14 @@ def _conditions(problem: Problem, u, r, ev) -> tuple[list, dict, dict, list[str]
 
 def condition_achieved(pred: dict) -> dict[str, float]:
     """A condition's achieved observables from its predictions: the linear mode's, and the
-    limit cycle's as ``limit_cycle_<name>`` (NaN where no orbit was found)."""
+    limit cycle's as ``limit_cycle_<name>`` and a whole beat's reference angle
+    ``psi_offset_rad`` (:mod:`axojax.inverse.cycle_targets`; NaN where no orbit was found)."""
     achieved = {kk: float(v) for kk, v in pred.get("achieved", {}).items()}
-    if "cycle" in pred:
-        ok = bool(pred["cycle_converged"])
-        for kk, v in pred["cycle"].items():
-            achieved[f"limit_cycle_{kk}"] = float(v) if ok else math.nan
+    ok = bool(pred.get("cycle_converged", False))
+    for kk, v in pred.get("cycle", {}).items():
+        achieved[f"limit_cycle_{kk}"] = float(v) if ok else math.nan
+    if "psi_offset_rad" in pred:  # the reference angle of a whole beat's psi_0
+        achieved["psi_offset_rad"] = float(pred["psi_offset_rad"]) if ok else math.nan
     return achieved
 
 

@@ -9,7 +9,8 @@ psi_1 in absolute amplitude). Rows are ranked as the linear comparison ranks the
 (:func:`~axojax.inverse.comparison.verdict.rank`: successful rows first, by BIC, BIC
 weights among them) and judged by the same verdict
 (:func:`~axojax.inverse.comparison.verdict.verdict`), on the whole beat's residuals
-(3 S + 1: psi_0, Re and Im of psi_1 at S points, the frequency).
+(3 S + 1: psi_0, Re and Im of psi_1 at S points, the frequency; psi_0 up to the
+reference angle, counted among a row's fitted values).
 
 A row's status: ``successful`` (converged, its orbit within 2 % of the observed
 frequency), the solver's code, ``missed_beat`` (no orbit at the optimum, or off the
@@ -61,7 +62,8 @@ class WholeBeatRow:
         motor_tau_ms: the motors' time (given: :func:`~axojax.inverse.whole_beat.fit.motor_time`).
         r2: R^2 of psi_1 with its amplitude; linear_r2: the linear row's (amplitude free).
         frequency_hz, static_curvature_rad_per_um, dynamic_amplitude_rad: the fitted
-            orbit's (None where none).
+            orbit's (None where none); psi_offset_rad: the reference angle of psi_0
+            (psi0_obs ~ psi0_model + c, :mod:`axojax.inverse.cycle_targets`).
         chi2_per_dof, aic, bic, n_free, at_bound: the fit's.
         delta_bic, weight: set by the ranking.
         whole: the :class:`~axojax.inverse.whole_beat.fit.WholeBeatFit` (not in the JSON).
@@ -81,6 +83,7 @@ class WholeBeatRow:
     frequency_hz: float | None = None
     static_curvature_rad_per_um: float | None = None
     dynamic_amplitude_rad: float | None = None
+    psi_offset_rad: float | None = None
     chi2_per_dof: float | None = None
     aic: float | None = None
     bic: float | None = None
@@ -151,6 +154,7 @@ def fit_whole_row(spec, shape, frequency, units: Units) -> WholeBeatRow:
         frequency_hz=f,
         static_curvature_rad_per_um=got.get("limit_cycle_static_curvature_rad_per_um"),
         dynamic_amplitude_rad=got.get("limit_cycle_dynamic_amplitude_rad"),
+        psi_offset_rad=fit.psi_offset_rad,
         chi2_per_dof=r.chi2_per_dof,
         aic=r.aic,
         bic=r.bic,

@@ -4,8 +4,10 @@
 The linear comparison fits psi_1's shape with a free complex amplitude at a Hopf point.
 The whole-beat fit drops the free amplitude: the limit cycle of the mechanism with motor
 kinetics (``tau_m``), saturating motors (``f_sat``) and a static dynein moment (``m0``)
-must reproduce the observed frequency, psi_0 (its slope is the static curvature) and
-psi_1 in absolute amplitude (rad), every residual through the periodic orbit
+must reproduce the observed frequency, psi_0 (its slope is the static curvature; up to
+a constant, the reference angle ``psi_offset_rad``: a recording's psi is measured from an
+arbitrary direction, :mod:`axojax.inverse.cycle_targets`) and psi_1 in absolute
+amplitude (rad), every residual through the periodic orbit
 (:class:`~axojax.inverse.orbit_setup.OrbitSetup`, gradients by the implicit function
 theorem through the harmonic balance).
 
@@ -20,7 +22,8 @@ Starts, in order (each orbit solved from the Hopf normal form):
 1. the linear row's fit (:func:`axojax.inverse.comparison.compare`'s, pinned at the
    observed frequency): a Hopf point at the observed beat;
 2. the mechanism's coefficients scaled by ``past`` (1.1: 10 % past the Hopf point);
-3. ``m0`` from the static curvature of the equilibrium at a probe moment (linear in m0
+3. ``m0`` from the static curvature (psi_0's least-squares slope, whatever its reference
+   angle) of the equilibrium at a probe moment (linear in m0
    while the motors are far from saturation); a subcritical Hopf point (no small orbit
    past it) is refused here, in one line;
 4. ``f_sat`` from a ladder (:data:`SATURATION_LADDER` decades around the static force
@@ -220,11 +223,14 @@ class WholeBeatFit:
             ``r2_psi1_with_amplitude``; ``params``: the fitted
             dimensionless values; ``conditions[0]["params"]`` also ``tau_m``, ``f_sat``).
         r2: R^2 of psi_1 with its amplitude included (no free complex amplitude).
-        measures: the fitted orbit's scalar measures (physical units).
+        measures: the fitted orbit's scalar measures (physical units), with
+            ``psi_offset_rad``.
         tau_m: the motors' time (dimensionless; fitted or given), ``f_sat`` and
             ``params`` (complete :class:`~axojax.Params`) at the optimum.
         start: the start's params and f_sat.
         problem: the :class:`~axojax.inverse.Problem` fitted.
+        psi_offset_rad: the reference angle c (rad; psi0_obs ~ psi0_model + c, fitted in
+            the lab frame, 0 in the basal frame: :mod:`axojax.inverse.cycle_targets`).
     """
 
     fit: FitResult
@@ -235,6 +241,7 @@ class WholeBeatFit:
     params: Params
     start: tuple[Params, float]
     problem: object
+    psi_offset_rad: float = 0.0
 
 
 def psi1_r2(observed, fitted) -> float:
@@ -343,4 +350,5 @@ def fit_whole_beat(
         params=fit.full_params,
         start=(start, f_sat),
         problem=problem,
+        psi_offset_rad=float(fit.achieved.get("psi_offset_rad", 0.0)),
     )
