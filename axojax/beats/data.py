@@ -33,15 +33,12 @@ from ..waveform import FourierModes
 from ..waveform.measures import amplitude_dip, finite_or_none, is_sensitive
 from . import reduction
 from .bundled import flagellum_of, resolve
+from .checks import FLAGELLUM_LENGTH_UM, check_angles, check_degrees, check_length  # noqa: F401
 from .readers import RawBeat, fail, read_file
 from .reduction import FREQUENCY_REL_FLOOR, PSI1_FLOOR_RAD, Planarity
 from .targets import ShapeTarget, Target, join_components
 
 N_POINTS = reduction.N_POINTS
-FLAGELLUM_LENGTH_UM = (1.0, 500.0)
-"""Lengths (um) a flagellum or cilium has, with a wide margin (the shortest motile cilia
-are a few um, the longest sperm flagella a few hundred): a length or an arc-length range
-outside is a unit mistake (mm, nm, pixels), an error."""
 
 
 class BeatDataWarning(UserWarning):
@@ -80,6 +77,9 @@ class BeatData:
             (:class:`BeatDataWarning`).
         psi1_cycles: (n, S) psi_1 (rad) of each whole cycle, whose mean is ``modes.psi1``
             (:attr:`Reduction.psi1_cycles`); None for Fourier modes or one cycle.
+        rotation_rad_per_s: the mean rotation rate of the record (the in-plane
+            component's), removed before the Fourier analysis
+            (:mod:`axojax.beats.reduction`); 0 for Fourier modes or one cycle.
     """
 
     s_um: np.ndarray
@@ -103,6 +103,7 @@ class BeatData:
     cycle_bounds_s: np.ndarray | None = None
     warnings: tuple = ()
     psi1_cycles: np.ndarray | None = None
+    rotation_rad_per_s: float = 0.0
 
     def targets(self) -> tuple[list[Target], ShapeTarget]:
         """Frequency target (none when the frequency is unknown) and the psi_1 shape
@@ -259,6 +260,7 @@ class BeatData:
             "n_points": int(self.s_um.size),
             "frames": None if self.t_s is None else int(self.t_s.size),
             "cycles": int(self.cycles),
+            "rotation_rad_per_s": float(self.rotation_rad_per_s),
             "psi1_sigma_rad": {
                 "min": float(self.psi1_sigma.min()),
                 "median": float(np.median(self.psi1_sigma)),
@@ -325,53 +327,6 @@ def read_beat(
 def _warn(raw: RawBeat) -> None:
     for line in raw.warnings:
         warnings.warn(BeatDataWarning(f"{raw.path}: {line}"), stacklevel=4)
-
-
-def _unit_guess(value_um: float) -> str:
-    """What a length of ``value_um`` outside :data:`FLAGELLUM_LENGTH_UM` more likely is."""
-    return "mm" if value_um < FLAGELLUM_LENGTH_UM[0] else "pixels or nm"
-
-
-def check_length(source, what: str, value_um: float, names: str) -> None:
-    """Refuse a length ``value_um`` (``what``: how it was found) outside
-    :data:`FLAGELLUM_LENGTH_UM`, naming the likely unit (``names``: the quantity)."""
-    lo, hi = FLAGELLUM_LENGTH_UM
-    if not lo <= value_um <= hi:
-        fail(
-            source,
-            f"{what} {value_um:.3g} um: {names} like {_unit_guess(value_um)}? axojax expects"
-            f" um (a flagellum is {lo:g} to {hi:g} um long)",
-        )
-
-
-DEGREES = "psi looks like degrees? axojax expects radians (multiply by pi/180)"
-
-
-def check_degrees(source, modes: FourierModes, psi=None, t=None, bounds=None) -> None:
-    """Refuse tangent angles that are more likely degrees than radians: a dynamic amplitude
-    (mean |psi_1|) above pi, |psi_1| above pi anywhere (a swing of more than 2 pi over a
-    period), or frames ``psi`` (T, S) at times ``t`` whose range at some point within a
-    beat period (median over the cycles ``bounds``) exceeds 2 pi."""
-    amplitude = float(modes.dynamic_amplitude)
-    if amplitude > np.pi:
-        fail(source, f"dynamic amplitude {amplitude:.3g} rad (above pi): {DEGREES}")
-    peak = float(np.max(np.abs(modes.psi1)))
-    if peak > np.pi:
-        fail(
-            source,
-            f"|psi_1| reaches {peak:.3g} rad (a swing of {2 * peak:.3g} rad over a period,"
-            f" above 2 pi): {DEGREES}",
-        )
-    if psi is None or bounds is None or len(bounds) < 2:
-        return
-    swings = []
-    for a, b in zip(bounds[:-1], bounds[1:]):
-        w = (t >= a) & (t <= b)
-        if w.sum() >= 2:
-            swings.append(float(np.max(psi[w].max(axis=0) - psi[w].min(axis=0))))
-    swing = float(np.median(swings)) if swings else 0.0
-    if swing > 2 * np.pi:
-        fail(source, f"psi swings {swing:.3g} rad within a beat period (above 2 pi): {DEGREES}")
 
 
 def _read(file, length_um, frame_rate_hz, variables, cell, planarity_threshold) -> BeatData:
@@ -529,21 +484,6 @@ def _from_modes(raw: RawBeat, length: float | None, notes: list) -> BeatData:
 MIN_POINTS = 3
 """Fewest arc-length points (every kind) and frames (frames only) of a beat: a wavelength
 needs a phase gradient, a frequency a time series."""
-MAX_PSI_RAD = 100.0
-"""Largest |tangent angle| (rad) accepted in a beat: unwrapped angles of a real beat stay
-within a few turns, so anything larger is not an angle in radians (degrees, pixels or an
-overflow), and would overflow the reduction."""
-
-
-def check_angles(source, name: str, psi: np.ndarray) -> None:
-    """Refuse tangent angles ``psi`` (any shape, rad) that are not finite radians with
-    ``|psi| <= MAX_PSI_RAD``: one line naming ``source`` and ``name``."""
-    peak = float(np.max(np.abs(psi))) if np.size(psi) else 0.0
-    if not (np.isfinite(peak) and peak <= MAX_PSI_RAD):
-        fail(
-            source,
-            f"{name}: tangent angles must be radians with |psi| <= {MAX_PSI_RAD:g}, got {peak:.3g}",
-        )
 
 
 def beat_from_kymograph(
@@ -569,6 +509,8 @@ def beat_from_kymograph(
     for i, comp in enumerate([psi, *extra]):
         check_angles(source, "psi" if i == 0 else "psi (out of plane)", np.asarray(comp, float))
     red = reduction.reduce_frames(t_s, s, [psi, *extra], source=source)
+    rot = red.rotation_rad_per_s[0]
+    turn = abs(rot) * (red.crossings_s[-1] - red.crossings_s[0])  # over the cycles used
     return BeatData(
         s_um=s,
         modes=red.modes[0],
@@ -585,8 +527,14 @@ def beat_from_kymograph(
         cycle_bounds_s=red.crossings_s,
         psi1_cycles=red.psi1_cycles[0],
         out_of_plane=(red.modes[1], red.psi1_sigma[1]) if extra else None,
+        rotation_rad_per_s=rot,
         notes=(
             f"frequency from {red.cycles} cycles: scatter {red.frequency_scatter_hz:.3g} Hz, "
             f"sigma {red.frequency_sigma_hz:.3g} Hz (floor {FREQUENCY_REL_FLOOR:.0%})",
+        )
+        + (
+            (f"mean rotation {rot:.3g} rad/s ({turn:.3g} rad over the cycles) removed",)
+            if turn > PSI1_FLOOR_RAD
+            else ()
         ),
     )

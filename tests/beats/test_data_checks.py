@@ -303,7 +303,8 @@ def test_data_text_and_plot_agree_on_cycles_and_zero(tmp_path, capsys):
     assert f"60 frames, {beat.cycles} whole cycles used" in out
     assert "static curvature  0 rad/um (within its noise" in out
     assert "direction         anterograde (the wave runs base to tip)" in out
-    assert abs(beat.static_curvature_rad_per_um) < 1e-12  # what the text shows as 0
+    # what the text shows as 0: far below its noise (the spline's 7e-10, not exactly 0)
+    assert abs(beat.static_curvature_rad_per_um) < 1e-3 * beat.static_curvature_noise_rad_per_um
     fig = plot_beat_data(beat)
     ax = fig.axes
     assert f"the {beat.cycles} whole cycles used" in ax[3].get_title()
