@@ -11,7 +11,10 @@ compared with free and head bases, a head-frame beat with clamped ones, as recor
 tangent, psi(s, t) - psi(0, t): :func:`in_basal_frame` on the data, psi_1(s) - psi_1(0) on
 the model (:data:`axojax.beats.targets.FRAMES`), which puts every base on the footing of a
 head-fixed recording. Never transform the data alone (its psi_1(0) would be compared with
-a model's that is not 0).
+a model's that is not 0). A whole beat (psi_0 and psi_1 against a limit cycle) is compared
+alike: in the lab frame its psi_0 up to a constant (the recording's arbitrary reference
+direction, :mod:`axojax.inverse.cycle_targets`), in the basal frame exactly (the basal
+tangent is the reference: :func:`shape_in_basal_frame`).
 """
 
 from __future__ import annotations
@@ -22,6 +25,33 @@ import numpy as np
 
 from .data import BeatData
 from .readers import fail
+from .targets import ShapeTarget
+
+
+def _basal_sigma(sigma: np.ndarray) -> np.ndarray:
+    """The sigmas of psi(s) - psi(0): each point's and the base's in quadrature, the base's
+    own kept (its residual is 0 for every model)."""
+    return np.concatenate([sigma[:1], np.sqrt(sigma[1:] ** 2 + sigma[0] ** 2)])
+
+
+def shape_in_basal_frame(shape: ShapeTarget) -> ShapeTarget:
+    """A shape target as recorded (``frame="lab"``) relative to its basal tangent, as
+    :func:`in_basal_frame` does to a beat: psi_0 and psi_1 less their values at s = 0,
+    ``frame="basal"`` (so that the model is compared alike). Already basal: returned as
+    it is. One-line ``ValueError`` when the shape does not start at the base."""
+    if shape.frame == "basal":
+        return shape
+    s = np.asarray(shape.s_um, dtype=float)
+    if s.size == 0 or abs(s[0]) > 1e-9 * max(abs(s[-1]), 1.0):
+        raise ValueError(
+            f"frame: the basal frame needs psi at the base (s = 0), the data start at {s[0]:g} um"
+        )
+    sigma = np.broadcast_to(np.asarray(shape.sigma, dtype=float), s.shape)
+    psi0 = None if shape.psi0 is None else np.asarray(shape.psi0) - np.asarray(shape.psi0)[0]
+    psi1 = np.asarray(shape.psi1) - np.asarray(shape.psi1)[0]
+    return dataclasses.replace(
+        shape, psi1=psi1, psi0=psi0, sigma=_basal_sigma(sigma), frame="basal"
+    )
 
 
 def in_basal_frame(beat: BeatData) -> BeatData:
@@ -45,7 +75,7 @@ def in_basal_frame(beat: BeatData) -> BeatData:
     return dataclasses.replace(
         beat,
         modes=shift(beat.modes),
-        psi1_sigma=np.concatenate([sigma[:1], np.sqrt(sigma[1:] ** 2 + sigma[0] ** 2)]),
+        psi1_sigma=_basal_sigma(sigma),
         psi_rad=None if beat.psi_rad is None else beat.psi_rad - beat.psi_rad[:, :1],
         psi1_cycles=None
         if beat.psi1_cycles is None

@@ -87,7 +87,8 @@ class ShapeTarget:
     ``"in_plane"`` (default) or ``"out_of_plane"`` (module docstring), one name for
     every point or a tuple of one name per point (:func:`join_components`); limit-cycle
     shapes are in-plane only. ``frame``: :data:`FRAMES` (``"basal"``: model and data
-    compared relative to the basal tangent)."""
+    compared relative to the basal tangent; a limit-cycle shape's psi_0 is then compared
+    exactly, in the lab frame up to a constant)."""
 
     s_um: np.ndarray
     psi1: np.ndarray
@@ -130,8 +131,6 @@ class ShapeTarget:
             )
         if self.source == "limit_cycle" and set(self.components) != {"in_plane"}:
             raise ValueError("shape target: a limit-cycle shape is in-plane only")
-        if self.source == "limit_cycle" and self.frame != "lab":
-            raise ValueError("shape target: a limit-cycle shape is compared in the lab frame only")
 
     @property
     def components(self) -> tuple[str, ...]:

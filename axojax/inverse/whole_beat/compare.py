@@ -30,6 +30,8 @@ import numpy as np
 from tqdm.auto import tqdm
 
 from ...beats.data import BeatData
+from ...beats.frames import in_basal_frame
+from ...beats.targets import FRAMES
 from ...models.presets import preset_section
 from ...results import jsonable
 from ...results import name as result_name
@@ -114,12 +116,13 @@ def _physical(fit: WholeBeatFit, units: Units) -> tuple[dict, dict]:
     return phys, {k: None if k not in se else abs(se[k]) for k in phys}
 
 
-def fit_whole_row(spec, shape, frequency, units: Units) -> WholeBeatRow:
-    """The whole-beat row of ``spec`` (a :func:`~axojax.inverse.comparison.mechanisms.row`)."""
+def fit_whole_row(spec, shape, frequency, units: Units, frame: str = "lab") -> WholeBeatRow:
+    """The whole-beat row of ``spec`` (a :func:`~axojax.inverse.comparison.mechanisms.row`)
+    in ``frame`` (:func:`~axojax.inverse.whole_beat.fit.fit_whole_beat`'s)."""
     t0 = time.perf_counter()
     try:
-        hopf, linear = linear_hopf(spec, shape, units)
-        fit = fit_whole_beat(spec, hopf, shape, frequency, units)
+        hopf, linear = linear_hopf(spec, shape, units, frame=frame)
+        fit = fit_whole_beat(spec, hopf, shape, frequency, units, frame=frame)
     except ValueError as err:
         out = WholeBeatRow(spec.mechanism, spec.base, "not_applicable", str(err))
         out.wall_s = time.perf_counter() - t0
@@ -179,6 +182,7 @@ class WholeBeatComparison:
     units_source: str
     rows: list[WholeBeatRow]
     wall_s: float
+    frame: str = "lab"
 
     @property
     def best(self) -> WholeBeatRow:
@@ -195,6 +199,7 @@ class WholeBeatComparison:
                     self.model, self.n_elements, self.units, self.frequency_hz, self.units_source
                 ),
                 "n_residuals": 3 * len(self.s_um) + 1,
+                "frame": self.frame,
                 "rows": [r.to_json() for r in self.rows],
                 "wall_s": self.wall_s,
             }
@@ -230,8 +235,9 @@ def render(doc: dict[str, Any], params: bool = False) -> str:
         if mark(r):
             lines.append(f"{mark(r)} {i:>2} {r['mechanism']} on {r['base']}: {r['reason']}")
     d = doc["data"]
+    frame = " (relative to the basal tangent)" if doc.get("frame") == "basal" else ""
     lines.append(
-        f"observed: {d['frequency_hz']:.4g} Hz, static curvature "
+        f"observed{frame}: {d['frequency_hz']:.4g} Hz, static curvature "
         f"{d['static_curvature_rad_per_um']:.4f} rad/um, dynamic amplitude "
         f"{d['dynamic_amplitude_rad']:.3f} rad"
     )
@@ -264,6 +270,7 @@ def compare_whole_beat(
     units: Units | None = None,
     organism=None,
     progress: bool = False,
+    frame: str = "lab",
 ) -> WholeBeatComparison:
     """Fit every regulated mechanism x held base to the whole of one beat and rank them.
 
@@ -276,6 +283,10 @@ def compare_whole_beat(
         units: EI and c_n per filament (the beat's length is the data's); organism: an
             organism preset's instead; default: the data set's flagellum or axojax's.
         progress: a progress bar over rows.
+        frame: ``"lab"`` (psi as recorded, psi_0 up to each row's reference angle) or
+            ``"basal"`` (model and data relative to the basal tangent, psi_0 exact;
+            :func:`~axojax.inverse.whole_beat.fit.fit_whole_beat`), as
+            :func:`axojax.compare`'s.
 
     Returns:
         :class:`WholeBeatComparison`, rows best first.
@@ -294,10 +305,14 @@ def compare_whole_beat(
             raise ValueError(
                 f"bases: the whole beat's orbits need a held base ({', '.join(HELD)}); got {b!r}"
             )
+    if frame not in FRAMES:
+        raise ValueError(f"frame: expected one of {', '.join(FRAMES)}, got {frame!r}")
     beat: BeatData = as_beat(data)
+    beat = in_basal_frame(beat) if frame == "basal" else beat
     targets, shape = beat.targets()
     if shape is None or shape.psi0 is None or not targets:
         raise ValueError("data: the whole beat needs psi_0, psi_1 and the beat frequency")
+    shape = dataclasses.replace(shape, frame=frame)
     frequency = targets[0]
     org = organism_of(organism)
     if units is not None:
@@ -313,7 +328,7 @@ def compare_whole_beat(
     for mech, base in tqdm(combos, desc="whole-beat rows", unit="row", disable=not progress):
         the_model = build_model(model, n_elements, base, units)
         spec = row(mech, base, the_model, units, frequency.value)
-        rows.append(fit_whole_row(spec, shape, frequency, units))
+        rows.append(fit_whole_row(spec, shape, frequency, units, frame))
     rank(rows)
     s = np.asarray(shape.s_um, dtype=float)
     static, dynamic = observed_measures(shape)
@@ -333,4 +348,5 @@ def compare_whole_beat(
         source,
         rows,
         time.perf_counter() - t0,
+        frame,
     )

@@ -41,7 +41,8 @@ import numpy as np
 import scipy.linalg as sl
 
 from ...assembly.motor_kinetics import assemble_motor
-from ...beats.targets import ShapeTarget, Target
+from ...beats.frames import shape_in_basal_frame
+from ...beats.targets import FRAMES, ShapeTarget, Target
 from ...models.section import Model
 from ...orbits import cycle_measures
 from ...orbits.limit_cycle import limit_cycle
@@ -191,12 +192,22 @@ def start_values(
     return prm, f_sat
 
 
-def linear_hopf(spec: Row, shape: ShapeTarget, units: Units, *, starts: int = 3, seed: int = 0):
+def linear_hopf(
+    spec: Row,
+    shape: ShapeTarget,
+    units: Units,
+    *,
+    starts: int = 3,
+    seed: int = 0,
+    frame: str = "lab",
+):
     """(complete params, the row's :class:`~axojax.inverse.comparison.compare.CompareRow`):
     the linear fit of ``spec`` to psi_1's shape with a free complex amplitude, pinned at
     the observed frequency (:func:`axojax.compare`'s fit of one row): a Hopf point at
-    the observed beat, the whole-beat fit's first start."""
+    the observed beat, the whole-beat fit's first start. ``frame``: as
+    :func:`fit_whole_beat`'s (give both the same)."""
     f_obs = float(units.omega0_to_hz(float(spec.params.omega0)))
+    shape = shape_in_basal_frame(shape) if frame == "basal" else shape
     linear = dataclasses.replace(shape, source="linear")
     r = fit_row(spec, linear, units, solver_from_name("lm"), starts, seed, SHAPE_FLOOR, f_obs)
     return r.fit.full_params, r
@@ -231,6 +242,7 @@ class WholeBeatFit:
         problem: the :class:`~axojax.inverse.Problem` fitted.
         psi_offset_rad: the reference angle c (rad; psi0_obs ~ psi0_model + c, fitted in
             the lab frame, 0 in the basal frame: :mod:`axojax.inverse.cycle_targets`).
+        frame: ``"lab"`` or ``"basal"``, the frame psi was compared in.
     """
 
     fit: FitResult
@@ -242,6 +254,7 @@ class WholeBeatFit:
     start: tuple[Params, float]
     problem: object
     psi_offset_rad: float = 0.0
+    frame: str = "lab"
 
 
 def psi1_r2(observed, fitted) -> float:
@@ -264,6 +277,7 @@ def fit_whole_beat(
     fit_cubic: bool = False,
     past: float = PAST,
     max_steps: int = MAX_STEPS,
+    frame: str = "lab",
 ) -> WholeBeatFit:
     """Fit the limit cycle of the row ``spec`` (a regulated mechanism on a held base) to
     a whole observed beat.
@@ -282,6 +296,12 @@ def fit_whole_beat(
         fit_cubic: fit the cubic stiffening too.
         past: how far past the Hopf point the start is (coefficients scaled).
         max_steps: Levenberg-Marquardt iterations (:data:`MAX_STEPS`).
+        frame: ``"lab"`` (default): psi as recorded, psi_0 up to the reference angle
+            ``psi_offset_rad`` (the recording's arbitrary direction); ``"basal"``: model
+            and data relative to the basal tangent, psi(s, t) - psi(0, t), psi_0 then
+            compared exactly (:mod:`axojax.beats.frames`; the shape must start at s = 0,
+            and one already in the basal frame is taken as it is). A clamped model's psi is
+            0 at the base, so only the data change; a pivot's base angle is subtracted.
 
     Returns:
         :class:`WholeBeatFit`.
@@ -294,6 +314,11 @@ def fit_whole_beat(
         )
     if shape.psi0 is None:
         raise ValueError("shape: a whole-beat fit needs the observed psi_0 (the static bend)")
+    if frame not in FRAMES:
+        raise ValueError(f"frame: expected one of {', '.join(FRAMES)}, got {frame!r}")
+    if shape.frame == "basal" and frame == "lab":
+        raise ValueError("frame: the shape is in the basal frame; fit it with frame='basal'")
+    shape = shape_in_basal_frame(shape) if frame == "basal" else shape
     spec.model.require_held("a whole-beat fit")
     tau_m = motor_time(spec.model, hopf) if tau_m is None else float(tau_m)
     static, dynamic = observed_measures(shape)
@@ -351,4 +376,5 @@ def fit_whole_beat(
         start=(start, f_sat),
         problem=problem,
         psi_offset_rad=float(fit.achieved.get("psi_offset_rad", 0.0)),
+        frame=frame,
     )
