@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import ast
 import pathlib
+import re
 
 import pytest
 
@@ -330,3 +331,40 @@ def test_no_private_name_is_imported_from_another_subpackage():
         for line in _private_in(_module_name(path), path.name == "__init__.py", path.read_text())
     ]
     assert not bad, "\n".join(bad)
+
+
+# --- docs/internals.md's map of the house is the house -----------------------------------
+
+INTERNALS = ROOT.parent / "docs" / "internals.md"
+
+
+def _house_section() -> str:
+    text = INTERNALS.read_text()
+    start = text.index("## The house")
+    return text[start : text.index("\n## ", start + 1)]
+
+
+def _mapped_paths() -> set[str]:
+    """Every path in the first column of the map's table (``axojax/x/``, ``axojax/y.py``)."""
+    rows = [line for line in _house_section().splitlines() if line.startswith("| `axojax/")]
+    return {p for row in rows for p in re.findall(r"`(axojax/[\w/.]+)`", row.split("|")[1])}
+
+
+def test_the_house_map_names_every_folder_and_module():
+    mapped = _mapped_paths()
+    top = {f"axojax/{p.name}/" for p in ROOT.iterdir() if p.is_dir() and p.name != "__pycache__"}
+    top |= {
+        f"axojax/{p.name}"
+        for p in ROOT.glob("*.py")
+        if p.name not in ("__init__.py", "__main__.py")
+    }
+    assert not top - mapped, f"docs/internals.md's map lacks {sorted(top - mapped)}"
+    assert all((ROOT.parent / p).exists() for p in mapped), sorted(
+        p for p in mapped if not (ROOT.parent / p).exists()
+    )
+
+
+def test_the_house_map_lists_inverse_layers_in_order():
+    section = _house_section()
+    listed = [m for m in re.findall(r"^\d+\. `(\w+)/`", section, re.M)]
+    assert listed == sorted(INVERSE_LAYERS, key=INVERSE_LAYERS.get), listed
