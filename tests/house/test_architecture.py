@@ -345,7 +345,7 @@ def _house_section() -> str:
 
 
 def _mapped_paths() -> set[str]:
-    """Every path in the first column of the map's table (``axojax/x/``, ``axojax/y.py``)."""
+    """Every path in the first column of the map's table (a folder ``axojax/NAME/`` or a module ``axojax/NAME.py``)."""
     rows = [line for line in _house_section().splitlines() if line.startswith("| `axojax/")]
     return {p for row in rows for p in re.findall(r"`(axojax/[\w/.]+)`", row.split("|")[1])}
 
