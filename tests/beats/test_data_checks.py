@@ -323,3 +323,17 @@ def test_data_text_and_plot_agree_on_cycles_and_zero(tmp_path, capsys):
     t, s, psi = angles(sign=+1.0)
     np.savez(path, psi=psi, s_um=s, frame_rate_hz=FPS)
     assert "retrograde (the wave runs tip to base)" in run_data(capsys, path)[1]
+
+
+def test_degrees_past_the_largest_angle_say_degrees(tmp_path, capsys):
+    """Angles in degrees beyond |psi| <= 100 (a 143-degree base angle) are refused by the
+    size check first: its line names degrees and the fix too, and a valid kymograph with
+    the same beat in radians still passes."""
+    t, s, psi = angles()
+    path = tmp_path / "deg143.npz"
+    np.savez(path, psi=np.degrees(psi + 2.5), s_um=s, frame_rate_hz=FPS)
+    line = one_line_error(capsys, path, "|psi| <= 100, got 1", "looks like degrees")
+    assert "multiply by pi/180" in line
+    np.savez(path, psi=psi + 2.5, s_um=s, frame_rate_hz=FPS)
+    code, _, err = run_data(capsys, path)
+    assert code == 0 and err == "", err
