@@ -308,7 +308,7 @@ def test_data_text_and_plot_agree_on_cycles_and_zero(tmp_path, capsys):
     ax = fig.axes
     assert f"the {beat.cycles} whole cycles used" in ax[3].get_title()
     assert ax[3].get_xlim()[1] < beat.t_s[-1]  # only the cycles used
-    assert "slope 0 rad/um" in ax[0].get_title()
+    assert "slope 0 rad/µm" in ax[0].get_title()
     assert np.ptp(ax[0].get_ylim()) >= 4 * np.median(beat.psi1_sigma) - 1e-12
     labels = [[t.get_text() for t in a.get_legend().get_texts()] for a in ax[:3]]
     assert labels[0] == ["psi_0"] and labels[1] == ["|psi_1|", "1 sigma"]
