@@ -89,6 +89,7 @@ def _reference_moments():
     return {"u0": (m1, u0.std()), "u1": (m2, np.sqrt(m4 - m2**2 + S1**2))}
 
 
+@pytest.mark.slow  # long end-to-end (issue 53: the quick suite within 20 CPU-minutes)
 def test_transported_nuts_samples_the_banana():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -110,6 +111,7 @@ def test_transported_nuts_samples_the_banana():
     assert post.gradients_per_draw < 8, post.gradients_per_draw
 
 
+@pytest.mark.slow  # long end-to-end (issue 53: the quick suite within 20 CPU-minutes)
 def test_warm_cache_keeps_the_map(tmp_path):
     kw = dict(draws=20, chains=2, warmup=60, seed=3, transport=ProfileTransport("u0", knots=32))
     with warnings.catch_warnings():
@@ -289,6 +291,7 @@ def test_suggest_transport_goes_along_the_widest_in_z():
     assert suggest_transport(problem, single) is None
 
 
+@pytest.mark.slow  # long end-to-end (issue 53: the quick suite within 20 CPU-minutes)
 def test_suggest_transport_sees_what_the_optimum_does_not():
     """Uncorrelated at the optimum (the banana's tip is round: the curvature there is
     all its Laplace approximation sees), yet a banana: importance sampling through each
@@ -315,6 +318,7 @@ def test_suggest_transport_sees_what_the_optimum_does_not():
     assert suggest_transport(normal, fit) is None
 
 
+@pytest.mark.slow  # long end-to-end (issue 53: the quick suite within 20 CPU-minutes)
 def test_the_suggested_map_is_sampled_as_built(monkeypatch):
     """suggest_transport hands over the map it built: the posterior samples with it
     (tabulating nothing again: build_map is switched off), and the draws have the

@@ -157,6 +157,7 @@ def test_no_cache_writes_nothing(tmp_path, monkeypatch):
     assert len(files(tmp_path / "jax" / "posterior")) == 1
 
 
+@pytest.mark.slow  # long end-to-end (issue 53: the quick suite within 20 CPU-minutes)
 def test_problems_without_a_fingerprint_run_uncached(tmp_path):
     def log_prior(u):
         return -0.5 * (u[0] - 5.0) ** 2
@@ -169,6 +170,7 @@ def test_problems_without_a_fingerprint_run_uncached(tmp_path):
         sample(problem(), cache=3)
 
 
+@pytest.mark.slow  # long end-to-end (issue 53: the quick suite within 20 CPU-minutes)
 def test_fit_posterior_uses_the_cache_when_the_compilation_cache_is_on(tmp_path, monkeypatch):
     from axojax.cli import fit_posterior as fit_cli
     from axojax.cli.main import main
@@ -195,6 +197,7 @@ def test_fit_posterior_uses_the_cache_when_the_compilation_cache_is_on(tmp_path,
         assert first[key] == second[key], key
 
 
+@pytest.mark.slow  # long end-to-end (issue 53: the quick suite within 20 CPU-minutes)
 def test_scaled_sigmas_of_a_model_problem_samples():
     """ScaledSigmas over a real Problem (whose values are Python floats) passes the
     run-time type checks of its Laplace start, and widens the width by its factor."""

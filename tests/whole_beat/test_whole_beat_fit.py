@@ -213,6 +213,7 @@ def test_a_subcritical_row_has_no_start_and_says_why():
     assert "\n" not in str(info.value)
 
 
+@pytest.mark.slow  # long end-to-end (issue 53: the quick suite within 20 CPU-minutes)
 def test_the_whole_beat_fit_recovers_the_beat_from_the_linear_fit():
     """From the linear row's fit of the noisy beat (psi_1 with a free amplitude, pinned at
     50 Hz), the whole-beat fit reaches the acceptance list's tolerances against the true
