@@ -8,7 +8,7 @@ command line (a refactoring) is checked with
     diff -r OUT_BEFORE OUT_AFTER
 
 Each command runs in a fresh temporary directory with a fresh compilation cache and no
-progress bars, with this checkout's axojax (``python3 -m axojax``). The masked values
+progress bars, with this checkout's axojax (its ``axojax`` command's entry point). The masked values
 are wall-clock durations ("12.3 s", "4 min", "(5 s)") and the cache directory's path;
 every other character must agree. The README commands' own checks (what README quotes)
 are tests/house/test_readme.py's.
@@ -24,6 +24,9 @@ import sys
 import tempfile
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
+ENTRY = (
+    "import sys; sys.argv[0] = 'axojax'; from axojax.cli.main import console; sys.exit(console())"
+)
 ELAPSED = re.compile(r"\b\d+(?:\.\d+)?(?:e[+-]?\d+)?\s?(?:s|ms|min|minutes|seconds)\b")
 
 
@@ -53,7 +56,7 @@ def main(out: str) -> int:
             os.pathsep
         )
         for i, command in enumerate(commands()):
-            argv = [sys.executable, "-m", "axojax", *command.split()[1:]]
+            argv = [sys.executable, "-c", ENTRY, *command.split()[1:]]
             run = subprocess.run(argv, cwd=work, env=env, capture_output=True, text=True)
             text = f"$ {command}\nexit {run.returncode}\n{run.stdout}\n--- stderr\n{run.stderr}"
             name = f"{i:02d}_{command.split()[1]}.txt"
