@@ -11,9 +11,8 @@ import pathlib
 import sys
 
 from ... import _io
-from ...beats import Target, read_beat
+from ...beats import Target, beat_units, read_beat
 from ...beats.reduction import PLANARITY_THRESHOLD
-from ...inverse.comparison.compare import default_units
 from ...units import Units
 from .. import common
 
@@ -38,8 +37,8 @@ def data_inputs(args: argparse.Namespace, units: Units, source: str, model):
     the nonlinear beat), the units at the data's length, the data's summary, and where
     the units came from: EI and c_n not given (--ei, --cn) come from the data set's
     flagellum when it has one (a bundled beat; as ``axojax compare`` does:
-    :func:`axojax.inverse.comparison.compare.default_units`, shared by the model's filaments), else
-    axojax's defaults."""
+    :func:`axojax.beats.units.beat_units`, shared by the model's filaments), else
+    axojax's defaults (``source`` names them)."""
     common.check_planarity_threshold(args)
     beat, summary = read_data(args.data, "--data", args.planarity_threshold)
     length = beat.length_um
@@ -48,14 +47,16 @@ def data_inputs(args: argparse.Namespace, units: Units, source: str, model):
             f"--length-um: {units.length_um:g} um conflicts with the data's length {length:g} um ({args.data})"
         )
     ei_given, cn_given = given(args, "--ei"), given(args, "--cn")
-    ei, cn = units.ei_pn_um2, units.cn_pn_s_um2
+    units, words = beat_units(  # at the data's length
+        beat,
+        model.n_filaments,
+        ei_pn_um2=units.ei_pn_um2 if ei_given else None,
+        cn_pn_s_um2=units.cn_pn_s_um2 if cn_given else None,
+    )
     if beat.flagellum is not None and not (ei_given and cn_given):
-        own, source = default_units(beat, n_filaments=model.n_filaments)
-        ei = ei if ei_given else own.ei_pn_um2
-        cn = cn if cn_given else own.cn_pn_s_um2
+        source = words
         if ei_given or cn_given:
             source += f" ({'--ei' if ei_given else '--cn'} given)"
-    units = Units(length, ei, cn)  # the data's length
     targets, shape = beat.targets()
     if getattr(args, "components", "in-plane") == "joint":
         if args.target == "limit-cycle":
