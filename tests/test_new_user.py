@@ -179,7 +179,7 @@ def test_plot_help_lists_every_input_it_reads():
     for kind in ("sweep", "simulate", "orbit", "posterior", "fit report", "FIT.json"):
         assert kind in text, kind
     # every kind the code reads is named in the help
-    from axojax.cli.plot import KINDS
+    from axojax.plotting.files import NPZ_KINDS as KINDS
 
     words = {
         "sweep": "'axojax sweep'",

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import pathlib
 import warnings
 
 from ... import _progress
@@ -446,27 +445,3 @@ def _run_spec(args: argparse.Namespace) -> dict:
         extra["data"] = spec.data[0] if len(spec.data) == 1 else list(spec.data)
     extra.update(fit_checks(problem, result, mesh=args.mesh_check))  # regime, mesh_check
     return inputs.finish(args, result, extra, post)
-
-
-def figure_of_report(path) -> object:
-    """The figure of a saved fit report (``axojax plot FIT.json``); bad files are a
-    one-line :class:`CLIError` naming FILE."""
-    import json
-
-    from ...plotting.fit_report import plot_fit_report
-
-    path = pathlib.Path(path)
-    if not path.is_file():
-        raise common.CLIError(f"FILE: {str(path)!r} does not exist")
-    try:
-        doc = json.loads(path.read_text())
-    except (OSError, UnicodeDecodeError, ValueError) as err:
-        raise common.CLIError(f"FILE: cannot read {str(path)!r} as JSON ({err})") from None
-    if not isinstance(doc, dict) or not {"loss", "converged", "conditions"} <= set(doc):
-        raise common.CLIError(
-            f"FILE: {str(path)!r} is not a fit report (write one with 'axojax fit --out FIT.json')"
-        )
-    try:
-        return plot_fit_report(doc)
-    except (KeyError, TypeError, ValueError) as err:
-        raise common.CLIError(f"FILE: {str(path)!r}: malformed fit report ({err})") from None

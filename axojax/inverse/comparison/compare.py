@@ -268,6 +268,11 @@ class Comparison:
         """Write :meth:`to_json` (read by ``axojax plot REPORT.json``), atomically."""
         _io.write_text(path, json.dumps(self.to_json(), indent=1, allow_nan=False) + "\n")
 
+    @staticmethod
+    def is_document(doc: Any) -> bool:
+        """Whether ``doc``, read back from a JSON file, is a comparison (:meth:`to_json`)."""
+        return isinstance(doc, dict) and doc.get("kind") == "comparison"
+
     def table(self, params: bool = False) -> str:
         """The rows as a text table, best first, with the status marks' footnotes and the
         verdict; ``params``: the fitted values in physical units with their standard
