@@ -14,7 +14,15 @@ from .data import BeatData, beat_from_kymograph, read_beat
 from .observations import OBSERVATIONS, observation_targets
 from .readers import BeatFileError
 from .reduction import Planarity
-from .targets import COMPONENTS, CYCLE_SCALARS, SCALARS, ShapeTarget, Target, join_components
+from .targets import (
+    COMPONENTS,
+    CYCLE_SCALARS,
+    SCALARS,
+    ShapeTarget,
+    Target,
+    join_components,
+    observed_target,
+)
 from .units import beat_units
 
 __all__ = [
@@ -32,6 +40,7 @@ __all__ = [
     "beat_units",
     "join_components",
     "observation_targets",
+    "observed_target",
     "read_beat",
     "resolve",
 ]

@@ -13,7 +13,7 @@ import dataclasses
 import warnings
 
 from ... import _progress
-from ...beats import OBSERVATIONS, Target, observation_targets
+from ...beats import OBSERVATIONS, Target, observation_targets, observed_target
 from ...eigen.solvers import AbstractEigenSolver, Auto
 from ...inverse import (
     SHAPE_FLOOR,
@@ -232,26 +232,19 @@ def _targets(args: argparse.Namespace) -> list[Target]:
             "--target-frequency/--target-wavelength/--target-amplitude or --data"
         )
     spec = (
-        ("frequency_hz", args.target_frequency, args.frequency_sigma, 0.05, "--target-frequency"),
-        (
-            "wavelength_um",
-            args.target_wavelength,
-            args.wavelength_sigma,
-            0.10,
-            "--target-wavelength",
-        ),
-        ("velocity_um_per_s", args.target_velocity, None, 0.10, "--target-velocity"),
-        ("amplitude_um", args.target_amplitude, args.amplitude_sigma, 0.10, "--target-amplitude"),
+        ("frequency_hz", args.target_frequency, args.frequency_sigma, "--target-frequency"),
+        ("wavelength_um", args.target_wavelength, args.wavelength_sigma, "--target-wavelength"),
+        ("velocity_um_per_s", args.target_velocity, None, "--target-velocity"),
+        ("amplitude_um", args.target_amplitude, args.amplitude_sigma, "--target-amplitude"),
     )
-    for name, value, sigma, rel, flag in spec:
+    for name, value, sigma, flag in spec:
         if value is None:
             continue
-        if value <= 0:
-            raise common.CLIError(f"{flag}: must be > 0, got {value:g}")
-        sigma = rel * value if sigma is None else sigma
-        if sigma <= 0:
-            raise common.CLIError(f"{flag}: its uncertainty must be > 0, got {sigma:g}")
-        out.append(Target(name, value, sigma, source="limit_cycle" if cycle else "linear"))
+        try:  # sigma: RELATIVE_SIGMA of the value unless given
+            target = observed_target(name, value, sigma, "limit_cycle" if cycle else "linear")
+        except ValueError as err:
+            raise common.CLIError(f"{flag}: {str(err).split(': ', 1)[-1]}") from None
+        out.append(target)
     if args.marginal is not None:
         if args.marginal <= 0:
             raise common.CLIError(f"--marginal: must be > 0, got {args.marginal:g}")
