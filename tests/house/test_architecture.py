@@ -123,10 +123,10 @@ GRAPH = _graph()
 
 
 def test_the_walk_sees_imports_inside_functions():
-    """The reader itself: a deferred import in a function counts (cli/fit.py imports the
-    fit report's figure inside a function)."""
+    """The reader itself: a deferred import in a function counts (cli/plot.py imports the
+    figures inside its functions)."""
     assert "plotting" in GRAPH["cli"]
-    assert any("cli/fit.py" in f for f in GRAPH["cli"]["plotting"])
+    assert any("cli/plot.py" in f for f in GRAPH["cli"]["plotting"])
     assert "eigen" in GRAPH["inverse"] and "waveform" in GRAPH["beats"]
 
 
@@ -203,10 +203,10 @@ def test_no_module_is_over_max_lines(path):
 
 # --- Inside a subpackage: module by module (issue 53) -------------------------------------
 
-NO_CIRCLE_INSIDE = ("inverse",)
+NO_CIRCLE_INSIDE = ("inverse", "cli")
 """Subpackages whose modules import one another without a circle (an ``__init__`` that
 re-exports its children is the package's front door, not part of a circle: it is left
-out)."""
+out, and no module below it may import it: :func:`test_no_module_imports_its_own_front_door`)."""
 
 INVERSE_LAYERS = {"fitting": 1, "sampling": 2, "comparison": 3, "whole_beat": 4}
 """inverse/'s layers, bottom up (its own top-level modules, the problem core, are layer 0;
@@ -255,6 +255,47 @@ def test_no_import_circle_between_the_modules_of(package):
     for start in sorted(graph):
         visit(start, [start])
     assert not circles, "import circles:\n" + "\n".join(sorted(circles))
+
+
+@pytest.mark.parametrize("package", NO_CIRCLE_INSIDE)
+def test_no_module_imports_its_own_front_door(package):
+    """A module never imports the ``__init__`` of a package it sits in (that front door
+    imports it, a circle the module graph above leaves out): cli/fit/whole_beat.py reads
+    the shared --data handling from cli/fit/inputs.py, not from cli/fit."""
+    bad = []
+    for path in sorted((ROOT / package).rglob("*.py")):
+        parts = _module_name(path).split(".")
+        above = {".".join(parts[:i]) for i in range(2, len(parts))}
+        bad += [f"{'.'.join(parts)} imports {m}" for m in _imported(path) if m in above]
+    assert not bad, "\n".join(bad)
+
+
+def _imported_names(path: pathlib.Path) -> list[tuple[str, str]]:
+    """(module, name) of every ``from module import name`` in ``path`` (absolute)."""
+    name = _module_name(path)
+    package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
+    out = []
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.ImportFrom):
+            base = package[: len(package) - (node.level - 1)] if node.level else []
+            mod = ".".join(base + ([node.module] if node.module else []))
+            out += [(mod, a.name) for a in node.names]
+    return out
+
+
+def test_no_private_name_of_a_fit_module_is_imported_by_another():
+    """cli/fit's modules share public names only (cli/fit_whole_beat.py imported
+    ``_data``, ``_finish`` and ``_given`` from cli/fit.py): no module of the command line
+    imports a ``_name`` of another module of cli/fit."""
+    bad = [
+        f"{_module_name(path)} imports {mod}.{name}"
+        for path in sorted((ROOT / "cli").rglob("*.py"))
+        for mod, name in _imported_names(path)
+        if mod.startswith("axojax.cli.fit")
+        and mod != _module_name(path)
+        and (name.startswith("_") or "._" in mod)
+    ]
+    assert not bad, "\n".join(bad)
 
 
 def test_inverse_layers_import_only_downward():

@@ -179,7 +179,7 @@ def test_plot_help_lists_every_input_it_reads():
     for kind in ("sweep", "simulate", "orbit", "posterior", "fit report", "FIT.json"):
         assert kind in text, kind
     # every kind the code reads is named in the help
-    from axojax.cli.plot import KINDS
+    from axojax.plotting.files import NPZ_KINDS as KINDS
 
     words = {
         "sweep": "'axojax sweep'",
@@ -194,7 +194,7 @@ def test_plot_help_lists_every_input_it_reads():
 
 def test_fit_help_names_its_default_solver_and_the_warm_up():
     from axojax.cli import fit as cli_fit
-    from axojax.cli import fit_posterior
+    from axojax.cli.fit import posterior as fit_posterior
     from axojax.cli.main import SUBCOMMANDS
 
     assert "optax" not in SUBCOMMANDS["fit"]
@@ -209,7 +209,7 @@ def test_fit_help_names_its_default_solver_and_the_warm_up():
     assert "(default: DRAWS, at least 150 and at most 500" in text
     # ... and that is what the code passes on
     assert [fit_posterior.warmup_steps(d, None) for d in (20, 300, 1000)] == [150, 300, 500]
-    source = (ROOT / "axojax" / "cli" / "fit_posterior.py").read_text()
+    source = (ROOT / "axojax" / "cli" / "fit" / "posterior.py").read_text()
     assert "warmup=warmup_steps(args.posterior, args.warmup, along)" in source
 
 

@@ -112,7 +112,7 @@ def test_posterior_default_solver_is_the_structured_one_where_it_pays():
 
 
 def test_default_warmup_is_the_draws_within_150_to_500():
-    from axojax.cli.fit_posterior import warmup_steps
+    from axojax.cli.fit.posterior import warmup_steps
 
     assert [warmup_steps(d, None) for d in (4, 150, 300, 1000, 100_000)] == [
         150,
@@ -133,7 +133,7 @@ def test_chains_run_sequentially_on_a_cpu(monkeypatch, capsys):
     the sampler."""
     import jax
 
-    from axojax.cli import fit_posterior as cli_fit
+    from axojax.cli.fit import posterior as cli_fit
 
     seen = {}
 
@@ -154,7 +154,7 @@ def test_chains_run_sequentially_on_a_cpu(monkeypatch, capsys):
 
 
 def test_text_report_names_the_transport():
-    from axojax.cli.fit_text import _render_posterior
+    from axojax.cli.fit.text import _render_posterior
 
     post = {
         "chains": 4, "draws": 10, "seconds": 1.0, "mean": {"p": 1.0}, "sd": {"p": 0.1},
@@ -171,7 +171,7 @@ def test_text_report_names_the_transport():
 def test_along_default_is_chosen_from_the_fit_and_none_turns_it_off():
     import argparse
 
-    from axojax.cli import fit_posterior
+    from axojax.cli.fit import posterior as fit_posterior
 
     names = ("p", "ks")
     assert fit_posterior.transport_of(argparse.Namespace(along=None), names) == fit_posterior.AUTO

@@ -172,7 +172,7 @@ def test_problems_without_a_fingerprint_run_uncached(tmp_path):
 
 @pytest.mark.slow  # long end-to-end (issue 53: the quick suite within 20 CPU-minutes)
 def test_fit_posterior_uses_the_cache_when_the_compilation_cache_is_on(tmp_path, monkeypatch):
-    from axojax.cli import fit_posterior as fit_cli
+    from axojax.cli.fit import posterior as fit_cli
     from axojax.cli.main import main
 
     argv = ["fit", "--no-mesh-check", "--model", "two", "--elements", "3", "--free", "p"]

@@ -11,11 +11,11 @@ import argparse
 import sys
 import warnings
 
-from .._progress import stage
-from ..cache import WARM_SUBDIR, compilation_cache_dir
-from ..inverse import SMC, ModeMixture, ProfileTransport, posterior, suggest_transport
-from . import common
-from .fit_text import render_laplace
+from ..._progress import stage
+from ...cache import WARM_SUBDIR, compilation_cache_dir
+from ...inverse import SMC, ModeMixture, ProfileTransport, posterior, suggest_transport
+from .. import common
+from .text import render_laplace
 
 MAX_DRAWS = 100_000  # draws per chain of --posterior (a 3-parameter posterior needs ~1000)
 MAX_CHAINS = 64
