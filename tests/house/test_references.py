@@ -70,7 +70,12 @@ FILES = _tracked()
 
 def test_the_scan_sees_the_project():
     names = {p.relative_to(ROOT).as_posix() for p in FILES}
-    for expected in ("README.md", "docs/model.md", "axojax/cli/main.py", "tests/house/test_docs.py"):
+    for expected in (
+        "README.md",
+        "docs/model.md",
+        "axojax/cli/main.py",
+        "tests/house/test_docs.py",
+    ):
         assert expected in names
     assert any(n.endswith(".ipynb") for n in names)
 
