@@ -9,7 +9,7 @@ command line (a refactoring) is checked with
 
 Each command runs in a fresh temporary directory with a fresh compilation cache and no
 progress bars, with this checkout's axojax (its ``axojax`` command's entry point). The masked values
-are wall-clock durations ("12.3 s", "4 min", "(5 s)") and the cache directory's path;
+are wall-clock durations ("12.3 s", "4 min", "(5 s)") and the paths of the checkout, the work and the cache directories;
 every other character must agree. The README commands' own checks (what README quotes)
 are tests/house/test_readme.py's.
 """
@@ -60,7 +60,7 @@ def main(out: str) -> int:
             run = subprocess.run(argv, cwd=work, env=env, capture_output=True, text=True)
             text = f"$ {command}\nexit {run.returncode}\n{run.stdout}\n--- stderr\n{run.stderr}"
             name = f"{i:02d}_{command.split()[1]}.txt"
-            (target / name).write_text(masked(text, work, cache))
+            (target / name).write_text(masked(text, work, cache, str(ROOT)))
             print(f"{name}: exit {run.returncode}", flush=True)
     return 0
 
