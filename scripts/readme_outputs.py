@@ -8,10 +8,10 @@ command line (a refactoring) is checked with
     diff -r OUT_BEFORE OUT_AFTER
 
 Each command runs in a fresh temporary directory with a fresh compilation cache and no
-progress bars, with this checkout's axojax (its ``axojax`` command's entry point). The masked values
-are wall-clock durations ("12.3 s", "4 min", "(5 s)") and the paths of the checkout, the work and the cache directories;
-every other character must agree. The README commands' own checks (what README quotes)
-are tests/house/test_readme.py's.
+progress bars, with this checkout's axojax (its ``axojax`` command's entry point). The
+masked values are wall-clock durations ("12.3 s", "4 min", "(5 s)") and the paths of the
+checkout, the work and the cache directories; every other character must agree. The
+README commands' own checks (what README quotes) are tests/house/test_readme.py's.
 """
 
 from __future__ import annotations
