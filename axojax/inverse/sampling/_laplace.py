@@ -34,7 +34,7 @@ def _logistic_residuals(z: Float[Array, " k"]) -> Float[Array, " k"]:
     return jnp.sign(z) * jnp.sqrt(2.0 * jnp.maximum(excess, 0.0))
 
 
-def _centre(settings, target, z0):
+def centre(settings, target, z0):
     """The centre of the starts and the Laplace precision (k, k) in z there, in one
     program: with ``optimise``, the maximum of the log density from ``z0``:
     Levenberg-Marquardt (optimistix) on the residuals and the logistic map's
@@ -81,7 +81,9 @@ def _centre(settings, target, z0):
     return z0, *precisions(z0)
 
 
-def _starts(target, init, chains: int, key, call) -> tuple[Array, Array, Array, np.ndarray, Any]:
+def chain_starts(
+    target, init, chains: int, key, call
+) -> tuple[Array, Array, Array, np.ndarray, Any]:
     """Starting points (chains, k) in z, their centre (k,) in z, the Laplace covariance
     (k, k) in z there (the initial inverse mass matrix), the centre in u (k,) and the
     precision (k, k) in u there (:func:`laplace_of`)."""
@@ -93,7 +95,7 @@ def _starts(target, init, chains: int, key, call) -> tuple[Array, Array, Array, 
         z_c = jnp.asarray(problem.to_z(jnp.asarray(problem.u0, dtype=float)), dtype=float)
     else:
         if hasattr(init, "params") and hasattr(init, "coordinate"):  # a least-squares FitResult
-            given = _fitted_u(init, problem.names, lower, upper)
+            given = fitted_u(init, problem.names, lower, upper)
         else:
             given = np.asarray(init, dtype=float)
         if given.shape not in ((k,), (chains, k)):
@@ -107,10 +109,10 @@ def _starts(target, init, chains: int, key, call) -> tuple[Array, Array, Array, 
             )
         z_c = jnp.asarray(problem.to_z(jnp.asarray(given.reshape(-1, k).mean(axis=0))), dtype=float)
     try:
-        z_c, precision, precision_u = call(_centre, (init is None, True), target, z_c)
+        z_c, precision, precision_u = call(centre, (init is None, True), target, z_c)
     except TypeError:  # residuals with a reverse-only (custom_vjp) derivative
-        z_c, precision, precision_u = call(_centre, (init is None, False), target, z_c)
-    cov = _covariance(np.asarray(precision, dtype=float))
+        z_c, precision, precision_u = call(centre, (init is None, False), target, z_c)
+    cov = covariance(np.asarray(precision, dtype=float))
     u_c = np.asarray(problem.to_u(z_c), dtype=float)
     precision_u = np.asarray(precision_u, dtype=float)
     if given is not None and given.ndim == 2:
@@ -125,7 +127,7 @@ def _starts(target, init, chains: int, key, call) -> tuple[Array, Array, Array, 
     return z, z_c, cov, u_c, (u_c, precision_u)
 
 
-def _fitted_u(result, names, lower, upper) -> np.ndarray:
+def fitted_u(result, names, lower, upper) -> np.ndarray:
     """The optimum of a least-squares result (``params`` by name, ``coordinate`` "log" or
     "linear") in u, kept 1e-6 of the range inside the bounds (an optimum at a bound)."""
     missing = [n for n in names if n not in result.params]
@@ -144,7 +146,7 @@ def _fitted_u(result, names, lower, upper) -> np.ndarray:
     return np.clip(u, lower + 1e-6 * span, upper - 1e-6 * span)
 
 
-def _covariance(precision: np.ndarray) -> Array:
+def covariance(precision: np.ndarray) -> Array:
     """Inverse of a (symmetrised) precision, its variances capped at ``MAX_START_SD_Z**2``
     (eigenvalues floored); a non-finite precision gives sd 0.5 in every z."""
     k = precision.shape[0]
