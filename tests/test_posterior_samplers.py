@@ -1,20 +1,28 @@
 """Samplers as objects (issue 53 item 2): ``posterior()`` checks the arguments every
 sampler shares and calls ``sampler.run`` (an :class:`AbstractSampler`), so a sampler of
-one's own works like NUTS, SMC and ModeMixture."""
+one's own works like NUTS, SMC and ModeMixture; and the defaults of ``axojax fit
+--posterior`` are the library's own (the warm-up from the draws, the chains' layout, a
+problem's 16-start fit as the start, the transport chosen from the fit)."""
+
+import warnings
 
 import equinox as eqx
 import jax
 import numpy as np
 import pytest
 from test_posterior import linear_problem
+from test_posterior_cache import problem as small_problem
+from test_transport import Banana, _Fit
 
 from axojax.inverse import (
     NUTS,
     AbstractSampler,
     NormalPrior,
     Posterior,
+    least_squares,
     posterior,
     sampling,
+    suggest_transport,
 )
 from axojax.inverse.sampling import diagnostics
 from axojax.inverse.sampling.programs import Clock
@@ -62,8 +70,8 @@ def test_posterior_runs_a_sampler_of_one_s_own():
     post = posterior(problem, draws=500, chains=3, seed=4, sampler=sampler, prior={"a": (0.3, 1.0)})
     (call,) = sampler.calls  # posterior called run once, with every argument
     assert call["draws"] == 500 and call["chains"] == 3 and call["seed"] == 4
-    assert call["warmup"] == 500 and call["vectorize"] is True and call["init"] is None
-    assert call["transport"] is None and call["cache"] is None and call["progress"] is False
+    assert call["warmup"] is None and call["vectorize"] is None and call["init"] is None
+    assert call["transport"] == "auto" and call["cache"] is None and call["progress"] is False
     assert isinstance(call["prior"], NormalPrior)  # the mapping, made a callable prior
     assert post.sampler == "exact" and post.u.shape == (3, 500, 2)
     mean, cov = problem.exact()
@@ -98,3 +106,51 @@ def test_what_is_not_a_sampler_is_refused_before_any_work():
     assert isinstance(NUTS(), AbstractSampler)
     assert isinstance(sampling.SMC(), AbstractSampler)
     assert isinstance(sampling.ModeMixture(), AbstractSampler)
+
+
+def test_the_command_line_s_rules_are_the_library_s_defaults():
+    """What `axojax fit --posterior` ran with (tests/test_cli_posterior.py: the command
+    passes none of it) is what a Python caller now gets: the warm-up follows the draws,
+    the chains run one after another on a CPU, and the command's fit has the library's
+    number of starts."""
+    from axojax.cli import fit as cli_fit
+
+    assert sampling.POSTERIOR_STARTS == 16 and cli_fit.POSTERIOR_STARTS == 16
+    assert [sampling.warmup_steps(d) for d in (4, 300, 1000)] == [150, 300, 500]
+    assert [sampling.warmup_steps(d, along="ks") for d in (4, 180, 1000)] == [150, 180, 200]
+    assert sampling.vectorize_chains() is (jax.default_backend() != "cpu")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # short chains warn
+        post = posterior(linear_problem(0), draws=20, chains=2, seed=0)
+    assert post.warmup == 150  # the rule's, not the 500 posterior() took before
+
+
+def test_a_problem_given_no_start_starts_at_its_16_start_fit():
+    """``init=None`` on an axojax Problem samples exactly what starting at its
+    POSTERIOR_STARTS-start least-squares fit samples (what `axojax fit --posterior`
+    does); the transport "auto" on one free parameter is none."""
+    prob = small_problem()
+    run = {"draws": 8, "chains": 2, "warmup": 20, "seed": 0}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # R-hat, ESS of 2 x 8 draws
+        default = posterior(prob, **run)
+        fit = least_squares(prob, starts=sampling.POSTERIOR_STARTS)
+        given = posterior(prob, init=fit, transport=None, **run)
+    assert np.array_equal(default.u, given.u)
+    assert np.array_equal(default.log_density, given.log_density)
+    assert default.transport is None
+
+
+def test_auto_transport_is_the_one_suggested_from_the_fit():
+    """``transport="auto"`` (the default) samples along what suggest_transport picks from
+    a least-squares result given as ``init``, bitwise as passing it; from a plain point,
+    the affine whitening alone."""
+    fit = _Fit(0.0, (1.0, 0.3))  # a ridge by importance sampling: along u0
+    kw = {"draws": 20, "chains": 2, "warmup": 30, "seed": 1}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        auto = posterior(Banana(), init=fit, **kw)
+        chosen = posterior(Banana(), init=fit, transport=suggest_transport(Banana(), fit), **kw)
+        plain = posterior(Banana(), init=np.array([0.5, 0.25]), **kw)
+    assert auto.transport == "u0" and np.array_equal(auto.u, chosen.u)
+    assert plain.transport is None

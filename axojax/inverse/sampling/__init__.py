@@ -11,15 +11,27 @@ one's own may use, is public: :mod:`.summaries` (draws as values, statistics, a
 gradient-free sampler's :class:`Posterior`) and :mod:`.programs` (compiled pieces and
 their clock).
 
+The defaults are those of ``axojax fit --posterior``: an axojax ``Problem`` given no start
+is fitted from :data:`POSTERIOR_STARTS` starts first, the warm-up follows the draws
+(:func:`warmup_steps`), the chains run one after another on a CPU
+(:func:`vectorize_chains`) and NUTS samples along the ridge that fit suggests.
+
 Imports the problem core and the fit layer (:mod:`axojax.inverse.fitting`), never the
 comparison or the whole beat; this ``__init__`` is the only way in from outside.
 """
 
 from . import diagnostics
 from ._densities import InverseProblem, NormalPrior, ScaledSigmas, normal_prior
-from ._laplace import Laplace, laplace_of
+from ._laplace import POSTERIOR_STARTS, Laplace, laplace_of
 from ._mode_mixture import ModeMixture
-from ._nuts import NUTS
+from ._nuts import (
+    MAX_ALONG_WARMUP,
+    MAX_DEFAULT_WARMUP,
+    MIN_WARMUP,
+    NUTS,
+    vectorize_chains,
+    warmup_steps,
+)
 from ._posterior import posterior
 from ._posterior_result import Posterior, load_truth
 from ._sampler import AbstractSampler
@@ -28,7 +40,11 @@ from .transport import ProfileTransport
 from .transport_choice import suggest_transport
 
 __all__ = [
+    "MAX_ALONG_WARMUP",
+    "MAX_DEFAULT_WARMUP",
+    "MIN_WARMUP",
     "NUTS",
+    "POSTERIOR_STARTS",
     "SMC",
     "AbstractSampler",
     "InverseProblem",
@@ -44,4 +60,6 @@ __all__ = [
     "normal_prior",
     "posterior",
     "suggest_transport",
+    "vectorize_chains",
+    "warmup_steps",
 ]

@@ -56,6 +56,7 @@ from jaxtyping import Array, Float, PRNGKeyArray
 
 from . import diagnostics
 from ._densities import LogDensity, log_reference
+from ._laplace import fitted_init
 from ._mixture import TMixture
 from ._mode_tempering import evaluate, systematic, temper
 from ._posterior_result import Posterior
@@ -76,8 +77,8 @@ class ModeMixture(AbstractSampler):
     """Independence Metropolis-Hastings from a mixture fitted to every mode (module
     docstring): for posteriors of a few parameters with several modes, cliffs or curved
     ridges. Pass it as ``sampler=`` to :func:`axojax.inverse.posterior` (``init``: a
-    least-squares ``FitResult`` seeds its optima; ``warmup``, ``transport`` and the warm
-    cache do not apply).
+    least-squares ``FitResult`` seeds its optima, by default an axojax ``Problem``'s
+    16-start fit; ``warmup``, ``transport`` and the warm cache do not apply).
 
     Attributes:
         particles: points per adaptive stage (more: a finer fit, more evaluations).
@@ -157,7 +158,9 @@ class ModeMixture(AbstractSampler):
         """``chains`` chains of ``draws`` draws each after ``burn`` (``warmup``,
         ``vectorize``, ``on_laplace`` and ``cache`` do not apply; a ``transport`` is
         refused: ModeMixture samples z as it is). ``init``: a least-squares ``FitResult``
-        whose optima are seeded, or points in u (None: nothing seeded).
+        whose optima are seeded, or points in u (None, for an axojax
+        :class:`~axojax.inverse.Problem`: its 16-start fit, :func:`._laplace.fitted_init`;
+        else nothing seeded).
 
         Returns:
             :class:`~axojax.inverse.Posterior` with ``sampler="modes"``, ``modes`` (each
@@ -167,6 +170,7 @@ class ModeMixture(AbstractSampler):
             ``acceptance`` the chains' mean acceptance rate.
         """
         refuse_transport("ModeMixture", transport)
+        init = fitted_init(problem, init, progress)
         t_start = time.perf_counter()
         names = tuple(problem.names)
         k = len(names)

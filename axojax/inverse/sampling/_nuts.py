@@ -1,5 +1,6 @@
-"""The No-U-Turn sampler (:class:`NUTS`): its settings and the run (:meth:`NUTS.run`,
-what :func:`~axojax.inverse.posterior` calls; its compiled programs in
+"""The No-U-Turn sampler (:class:`NUTS`): its settings, the defaults of a run (the
+warm-up: :func:`warmup_steps`; the chains' layout: :func:`vectorize_chains`) and the run
+(:meth:`NUTS.run`, what :func:`~axojax.inverse.posterior` calls; its compiled programs in
 :mod:`._nuts_kernels`).
 
 The sampler runs in the problem's unconstrained coordinate ``z`` (R^k), where
@@ -18,11 +19,14 @@ jax function of ``z``: blackjax takes that log density as it is, exposes the ker
 adds no model language, tracing runtime or handlers on top of axojax's own derivatives.
 
 Chains: every chain adapts its own step size and mass matrix (Stan's convention: the
-chains stay independent, so R-hat compares independent runs), the warm-ups vmapped
-together, then the NUTS kernels of all chains are vmapped and stepped with
-``jax.lax.scan``. They start from the maximum of the posterior density (optimistix
-Levenberg-Marquardt in ``z`` from ``problem.u0``, then Gauss-Newton steps on the whole
-density) and a spread around it drawn from its Laplace approximation (Gauss-Newton
+chains stay independent, so R-hat compares independent runs), the warm-ups together,
+then the NUTS kernels of all chains stepped with ``jax.lax.scan``, the chains vmapped on
+an accelerator and one after another on a CPU (:func:`vectorize_chains`). They start
+from a least-squares optimum (``init``; an axojax ``Problem`` given none: the best of
+its 16-start fit, :func:`._laplace.fitted_init`), or else from the maximum of the
+posterior density (optimistix Levenberg-Marquardt in ``z`` from ``problem.u0``, then
+Gauss-Newton steps on the whole density), and a spread around it drawn from its
+Laplace approximation (Gauss-Newton
 ``J^T J`` plus the prior's and the map's curvature). The sampler runs in coordinates
 whitened by that approximation (``w = L^-1 (z - z_c)``, ``L L^T`` its covariance: an
 affine map, so the same posterior), where the adaptation starts from the identity:
@@ -51,15 +55,47 @@ from ...results import RESULTS, message
 from . import _nuts_kernels as kernels
 from . import _warm_cache, diagnostics
 from ._densities import LogDensity, Whitened
-from ._laplace import Laplace, chain_starts, laplace_of
+from ._laplace import Laplace, chain_starts, fitted_init, laplace_of
 from ._posterior_result import Posterior
-from ._sampler import AbstractSampler
+from ._sampler import AUTO, AbstractSampler
 from .programs import Clock
 from .summaries import statistics, to_u, value_draws
 from .transport import PROFILE_DROP, ProfileMap, ProfileTransport, profile_ends
+from .transport_choice import suggest_transport
 
+MIN_WARMUP = 150
+"""Fewest warm-up steps by default: Stan's schedule has its full set of adaptation
+windows from 150."""
+MAX_DEFAULT_WARMUP = 500
+"""Most warm-up steps by default (:func:`warmup_steps`)."""
+MAX_ALONG_WARMUP = 200
+"""Most warm-up steps by default with a transport: the chains start from draws of the
+profile's approximation of the posterior, in coordinates where it is about a standard
+normal, so a shorter warm-up does (synthetic benchmark, 4 x 1000 draws: 500 steps R-hat
+1.0003/1.0005, ESS 2736/2495; 200 steps 1.0004/1.0007, 2394/2313: docs/benchmarks.md)."""
 SATURATION_WARN = 0.01
 """Warn when more than this share of the draws' trees reached ``max_num_doublings``."""
+
+
+def warmup_steps(draws: int, warmup: int | None = None, along: str | None = None) -> int:
+    """The warm-up of a run: ``warmup`` when given, else ``draws`` clipped to
+    [:data:`MIN_WARMUP`, :data:`MAX_DEFAULT_WARMUP`] (:data:`MAX_ALONG_WARMUP` with a
+    transport along the parameter ``along``)."""
+    if warmup is not None:
+        return int(warmup)
+    top = MAX_DEFAULT_WARMUP if along is None else MAX_ALONG_WARMUP
+    return min(max(int(draws), MIN_WARMUP), top)
+
+
+def vectorize_chains() -> bool:
+    """Whether the chains run vmapped by default: not on a CPU, where they run one after
+    another (vmapped, every NUTS step costs the longest of the chains' trees, and a batch
+    of eigen-solves costs about as much as the same solves one by one). Measured on 2
+    cores, 4 chains x 1000 draws (docs/benchmarks.md): the human sperm 245.5 s vmapped,
+    205.4 s sequential (6.1 and 4.3 ms per gradient); the synthetic target with a
+    transport along ks 8.8 and 5.2 ms per gradient. On an accelerator (not measured)
+    vmapped."""
+    return jax.default_backend() != "cpu"
 
 
 class NUTS(AbstractSampler):
@@ -116,14 +152,26 @@ class NUTS(AbstractSampler):
         cache,
         transport,
     ) -> Posterior:
-        """``chains`` chains of ``draws`` draws after ``warmup`` window-adaptation steps,
-        from ``init``, in the coordinates ``transport`` straightens (None: the affine
-        whitening alone), vmapped or one after another (``vectorize``).
-        :func:`~axojax.inverse.posterior` says the rest."""
-        t_start = time.perf_counter()
+        """``chains`` chains of ``draws`` draws after ``warmup`` window-adaptation steps
+        (None: :func:`warmup_steps`), from ``init`` (None, for an axojax
+        :class:`~axojax.inverse.Problem`: its :data:`._laplace.POSTERIOR_STARTS`-start
+        least-squares fit, :func:`._laplace.fitted_init`), in the coordinates
+        ``transport`` straightens (``"auto"``: what
+        :func:`~axojax.inverse.suggest_transport` picks from a least-squares fit it
+        starts from, else the affine whitening alone), vmapped or one after another
+        (``vectorize``; None: :func:`vectorize_chains`). :func:`~axojax.inverse.posterior`
+        says the rest."""
         names = tuple(problem.names)
-        along = _check_transport(transport, names)
         directory = posterior_cache_dir(cache)
+        if not _is_auto(transport):  # refused before any work
+            _check_transport(transport, names)
+        init = fitted_init(problem, init, progress)
+        if _is_auto(transport):
+            transport = _suggested(problem, init, progress)
+        along = _check_transport(transport, names)
+        warmup = warmup_steps(draws, warmup, None if transport is None else transport.along)
+        vectorize = vectorize_chains() if vectorize is None else bool(vectorize)
+        t_start = time.perf_counter()
         target = LogDensity(problem, prior)
         clock = Clock()
         key_init, key_warm, key_sample = jax.random.split(jax.random.PRNGKey(seed), 3)
@@ -189,6 +237,20 @@ class NUTS(AbstractSampler):
 
 
 DEFAULT_NUTS = NUTS()
+
+
+def _is_auto(transport) -> bool:
+    return isinstance(transport, str) and transport == AUTO
+
+
+def _suggested(problem, init, progress: bool) -> ProfileTransport | None:
+    """``transport="auto"``: :func:`~axojax.inverse.suggest_transport` of the least-squares
+    fit ``init`` (a ``FitResult``: what ``axojax fit --posterior`` samples along); from any
+    other start, None (the affine whitening alone)."""
+    if not (hasattr(init, "params") and hasattr(init, "correlation")):
+        return None
+    with stage("posterior coordinates (profiles)", enable=progress):
+        return suggest_transport(problem, init)
 
 
 def _cached(directory, problem, prior, sampler, warmup, chains, seed, init, vectorize, transport):
@@ -377,7 +439,7 @@ def _check_transport(transport, names) -> int | None:
         return None
     if not isinstance(transport, ProfileTransport):
         raise TypeError(
-            "transport must be an axojax.inverse.ProfileTransport or None, got "
+            "transport must be an axojax.inverse.ProfileTransport, 'auto' or None, got "
             f"{type(transport).__name__}"
         )
     along = transport.index(names)

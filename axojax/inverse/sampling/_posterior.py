@@ -2,7 +2,10 @@
 object (:class:`~._sampler.AbstractSampler`: :class:`~._nuts.NUTS` by default,
 :class:`~._smc.SMC`, :class:`~._mode_mixture.ModeMixture` or one's own). This verb checks
 the arguments every sampler shares and calls the sampler's ``run``; each sampler family
-lives in its own module with its run."""
+lives in its own module with its run. Its defaults are those of ``axojax fit
+--posterior``: a problem given no start is fitted from 16 starts first, the warm-up
+follows the draws, the chains run one after another on a CPU, and NUTS samples along the
+ridge the fit suggests."""
 
 from __future__ import annotations
 
@@ -17,7 +20,7 @@ from ._densities import InverseProblem, normal_prior
 from ._laplace import Laplace
 from ._nuts import DEFAULT_NUTS
 from ._posterior_result import Posterior
-from ._sampler import AbstractSampler
+from ._sampler import AUTO, AbstractSampler
 from .transport import ProfileTransport
 
 
@@ -26,16 +29,16 @@ def posterior(
     *,
     draws: int = 1000,
     chains: int = 4,
-    warmup: int = 500,
+    warmup: int | None = None,
     seed: int = 0,
     init: Any = None,
     prior: Callable[[Array], Array] | Mapping[str, tuple[float, float]] | None = None,
     sampler: AbstractSampler = DEFAULT_NUTS,
-    vectorize: bool = True,
+    vectorize: bool | None = None,
     progress: bool = False,
     on_laplace: Callable[[Laplace], None] | None = None,
     cache: bool | str | os.PathLike | None = None,
-    transport: ProfileTransport | None = None,
+    transport: ProfileTransport | str | None = AUTO,
 ) -> Posterior:
     """Sample the posterior of ``problem``'s free parameters with ``sampler`` (NUTS by
     default): the arguments every sampler shares are checked here, then
@@ -46,11 +49,17 @@ def posterior(
         draws: draws per chain kept after warm-up.
         chains: independent chains (vmapped unless ``vectorize=False``).
         warmup: window-adaptation steps per chain (Stan's schedule; at least 150 gives
-            its full set of windows), discarded.
+            its full set of windows), discarded. ``None`` (default): ``draws`` clipped to
+            150..500 (..200 with a transport), as ``axojax fit --posterior``
+            (:func:`~axojax.inverse.sampling.warmup_steps`).
         seed: seed of the chains and their starts.
-        init: where the chains start. ``None``: the posterior mode (Levenberg-Marquardt
-            in ``z`` from ``problem.u0``) and a spread drawn from its Laplace approximation;
-            a (k,) point in ``u``, or a least-squares result
+        init: where the chains start. ``None``: for an axojax :class:`Problem` (or
+            :class:`ScaledSigmas` of one), the best optimum of a least-squares fit from 16
+            starts (``least_squares(problem, starts=POSTERIOR_STARTS)``, as ``axojax fit
+            --posterior`` fits before it samples) and a spread around it; for another
+            :class:`InverseProblem`, the posterior mode (Levenberg-Marquardt in ``z``
+            from ``problem.u0``) and a spread drawn from its Laplace approximation; a
+            (k,) point in ``u``, or a least-squares result
             (:func:`axojax.inverse.least_squares`' ``FitResult``, its optimum): a spread
             around it; a (chains, k) array in ``u``: these starts exactly.
         prior: replaces ``problem.log_prior``: a jax-traceable ``log_prior(u)``, or
@@ -68,6 +77,8 @@ def posterior(
             ``False``, one after another inside the same compiled program (each chain
             pays only for its own trajectories: faster where a batch of k model
             evaluations costs k single ones, e.g. LAPACK-bound eigen-solves on few cores).
+            ``None`` (default): vmapped on an accelerator, one after another on a CPU
+            (:func:`~axojax.inverse.sampling.vectorize_chains`).
         progress: progress bars on stderr (:mod:`axojax._progress`): the warm-up's
             elapsed time (one compiled program), then the draws with rate and time left.
         on_laplace: called with the :class:`Laplace` approximation at the centre as soon
@@ -81,13 +92,17 @@ def posterior(
             :func:`axojax.cache.posterior_cache_dir`); a path: that directory. Keyed by
             a sha256 of the problem (its ``fingerprint()``), prior, sampler, warm-up,
             chains, seed, init and library versions; a problem without a fingerprint,
-            or a callable prior, runs uncached (:mod:`._warm_cache`).
+            or a callable prior, runs uncached (:mod:`._warm_cache`); the fit that
+            ``init=None`` runs first is not kept.
             ``Posterior.warm_cache`` says what happened: "off", "stored", "loaded".
         transport: sample in coordinates that straighten a curved ridge
             (:class:`~axojax.inverse.sampling.transport.ProfileTransport`, e.g.
             ``ProfileTransport("ks")``: the profile along ks is tabulated from the centre
             before the warm-up; the posterior is exactly the same, the trajectories
-            shorter). ``None``: the affine whitening alone.
+            shorter). ``None``: the affine whitening alone. ``"auto"`` (default): what
+            :func:`suggest_transport` picks from the least-squares fit the chains start
+            from (``init``, or the fit ``init=None`` runs), as ``axojax fit --posterior``
+            does without ``--along``; the affine whitening from any other start.
 
     Returns:
         :class:`Posterior`. Warns (one line each) when a parameter's R-hat exceeds
@@ -101,7 +116,7 @@ def posterior(
         problem,
         draws=int(draws),
         chains=int(chains),
-        warmup=int(warmup),
+        warmup=None if warmup is None else int(warmup),
         seed=seed,
         init=init,
         prior=prior,
@@ -130,8 +145,8 @@ def _check(problem, draws, chains, warmup, sampler, prior):
             raise ValueError(f"{name} must be an integer >= 1, got {value!r}")
     if draws < 4:
         raise ValueError(f"draws must be >= 4 (R-hat splits each chain), got {draws}")
-    if not (isinstance(warmup, (int, np.integer)) and warmup >= 0):
-        raise ValueError(f"warmup must be an integer >= 0, got {warmup!r}")
+    if warmup is not None and not (isinstance(warmup, (int, np.integer)) and warmup >= 0):
+        raise ValueError(f"warmup must be an integer >= 0 or None, got {warmup!r}")
     if not isinstance(sampler, AbstractSampler):
         raise TypeError(
             "sampler must be an axojax.inverse.AbstractSampler (NUTS, SMC, ModeMixture or "

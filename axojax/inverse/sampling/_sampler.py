@@ -16,6 +16,11 @@ import equinox as eqx
 from ._laplace import Laplace
 from ._posterior_result import Posterior
 
+AUTO = "auto"
+"""``transport``'s default (:func:`~axojax.inverse.posterior`): the sampler chooses (NUTS:
+:func:`~axojax.inverse.suggest_transport` of a least-squares fit it starts from, else the
+affine whitening; a gradient-free sampler: none)."""
+
 
 class AbstractSampler(eqx.Module):
     """A posterior sampler: its settings (the fields) and :meth:`run`, which
@@ -33,11 +38,11 @@ class AbstractSampler(eqx.Module):
         *,
         draws: int,
         chains: int,
-        warmup: int,
+        warmup: int | None,
         seed: int,
         init: Any,
         prior: Callable | None,
-        vectorize: bool,
+        vectorize: bool | None,
         progress: bool,
         on_laplace: Callable[[Laplace], None] | None,
         cache: bool | str | os.PathLike | None,
@@ -46,9 +51,10 @@ class AbstractSampler(eqx.Module):
         """The posterior of ``problem`` (an :class:`~axojax.inverse.InverseProblem`).
 
         :func:`~axojax.inverse.posterior` passes every argument it took, checked: ``draws``
-        and ``chains`` integers >= 1 (draws >= 4), ``warmup`` an integer >= 0, ``prior``
-        a callable log prior in u or None (the problem's own; a ``{name: (mean_u,
-        sd_u)}`` mapping already made a :class:`~axojax.inverse.NormalPrior`); ``init``, ``vectorize``, ``on_laplace``,
+        and ``chains`` integers >= 1 (draws >= 4), ``warmup`` an integer >= 0 or None
+        (the sampler's own default), ``prior`` a callable log prior in u or None (the
+        problem's own; a ``{name: (mean_u, sd_u)}`` mapping already made a
+        :class:`~axojax.inverse.NormalPrior`); ``init``, ``vectorize``, ``on_laplace``,
         ``cache`` and ``transport`` as :func:`~axojax.inverse.posterior` documents them.
         A sampler ignores what does not apply to it and refuses, with a one-line
         ``ValueError``, what it cannot honour (e.g. a transport). Warnings for the caller
@@ -57,6 +63,6 @@ class AbstractSampler(eqx.Module):
 
 def refuse_transport(sampler: str, transport: Any) -> None:
     """One-line ``ValueError`` for a transport given to ``sampler`` (named), which samples
-    z as it is."""
-    if transport is not None:
+    z as it is; :data:`AUTO` and None pass."""
+    if transport is not None and not (isinstance(transport, str) and transport == AUTO):
         raise ValueError(f"transport: applies to NUTS; {sampler} samples z as it is")
