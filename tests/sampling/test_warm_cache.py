@@ -22,7 +22,8 @@ from tests.sampling.test_nuts import linear_problem
 
 RUN = {"draws": 8, "chains": 2, "warmup": 20, "seed": 0}
 MODEL = ax.models.two(n_elements=3)
-posterior_module = importlib.import_module("axojax.inverse.sampling.posterior")
+nuts_module = importlib.import_module("axojax.inverse.sampling._nuts")
+kernels_module = importlib.import_module("axojax.inverse.sampling._nuts_kernels")
 
 
 def problem(frequency=30.0, bounds=None, prior=None):
@@ -62,8 +63,8 @@ def test_second_run_loads_the_start_up_and_draws_the_same(tmp_path, monkeypatch)
     def refuse(*_, **__):
         raise AssertionError("the start-up ran although it was cached")
 
-    monkeypatch.setattr(posterior_module, "_starts", refuse)
-    monkeypatch.setattr(posterior_module, "_adapt", refuse)
+    monkeypatch.setattr(nuts_module, "chain_starts", refuse)
+    monkeypatch.setattr(kernels_module, "adapt", refuse)
     seen = []
     second = sample(prob, cache=tmp_path, on_laplace=seen.append)
     assert second.warm_cache == "loaded" and second.seconds_warmup == 0.0

@@ -23,6 +23,7 @@ from ...inverse import (
     solver_from_name,
 )
 from ...inverse.fitting.checks import fit_checks
+from ...inverse.sampling import POSTERIOR_STARTS  # a posterior's fit: the library's default
 from ...params import DEFAULT_CUBIC
 from .. import common
 from ..regulation import add_motor_tau_flag
@@ -37,11 +38,6 @@ MAX_STARTS = 10_000
 """Most starts of a multi-start fit (each is a full local fit; 1e11 asked for 745 GiB)."""
 DEFAULT_STARTS = 4
 """Starts of a fit without --posterior."""
-POSTERIOR_STARTS = 16
-"""Starts of a fit with --posterior: the draws explore the optimum's mode only, so a local
-optimum gives a wrong posterior. On the bundled human sperm (p, ks) 4 of 32 starts reach
-the best loss, 181.8 (p 1034, ks 5.0e7), the rest a local one (225.0 at p 405, ks 2.9e4
-and others): 4 starts miss it, 16 find it."""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
