@@ -109,7 +109,7 @@ def test_what_is_not_a_sampler_is_refused_before_any_work():
 
 
 def test_the_command_line_s_rules_are_the_library_s_defaults():
-    """What `axojax fit --posterior` ran with (tests/test_cli_posterior.py: the command
+    """What `axojax fit --posterior` ran with (tests/sampling/test_posterior_command.py: the command
     passes none of it) is what a Python caller now gets: the warm-up follows the draws,
     the chains run one after another on a CPU, and the command's fit has the library's
     number of starts."""
