@@ -90,7 +90,7 @@ def plot_corner(
                     ax.set_ylabel(ni)
                 elif j > 0 and i != j:
                     ax.set_yticklabels([])
-        keys = _key(marks, divergent.any())
+        keys = _key(marks, bool(divergent.any()))
         if k > 1:  # in the empty corner above the diagonal
             fig.legend(
                 handles=keys,
