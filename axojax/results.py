@@ -50,7 +50,11 @@ NaN and infinities as None: :func:`jsonable`); the types stored in files
 ``save(path)`` (written whole, :mod:`axojax._io`) and ``load(path)``, and
 ``load(path).to_json() == to_json()``. Files store a code by its name (:func:`name`,
 :func:`from_names`, :func:`code_names`): the integer codes depend on the installed
-diffrax and optimistix.
+diffrax and optimistix. Each type written to a file recognises its own: the ``.npz``
+ones' ``read(path)`` is ``load`` with the file checked whole (:func:`file_meta`,
+:func:`read_checked`, :func:`check_arrays`: a truncated, damaged or foreign file is one
+:class:`ResultFileError`), the JSON reports' ``is_document(doc)`` says whether a document
+read back is theirs (:mod:`axojax.plotting.files` draws any of them).
 
 Traced inputs (inside ``jit``/``vmap``/``grad``) are not validated when traced (their
 values are unknown then): a NaN, infinite, negative or out-of-range parameter gives NaN
@@ -61,8 +65,10 @@ are validated first and raise a one-line ``ValueError`` (:meth:`axojax.Params.va
 
 from __future__ import annotations
 
+import json
 import math
-from collections.abc import Mapping, Sequence
+import zipfile
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 import diffrax
@@ -193,3 +199,95 @@ def is_successful(result) -> bool:
     """Whether a concrete result item (every point of an array item) is
     ``RESULTS.successful``."""
     return bool(np.all(codes(result) == 0))
+
+
+class ResultFileError(ValueError):
+    """A file that is not the whole axojax result it should be, in one line naming it in
+    quotes (``axojax plot`` puts ``FILE:`` before it)."""
+
+
+READ_ERRORS = (
+    OSError,
+    EOFError,
+    KeyError,
+    ValueError,
+    TypeError,
+    AttributeError,
+    IndexError,
+    zipfile.BadZipFile,
+)
+"""What a truncated, damaged or foreign file raises on the way in (numpy's zip reader,
+the JSON meta, the arrays)."""
+
+
+def _first_line(err: BaseException) -> str:
+    return f"{type(err).__name__}: {str(err).splitlines()[0] if str(err) else 'no detail'}"
+
+
+def file_meta(path) -> dict:
+    """The ``meta`` of an ``.npz`` file axojax wrote: a JSON object (its ``kind`` names
+    the result: ``"simulation"``, ``"orbit_branch"``, ``"posterior"``; a sweep's has
+    none); :class:`ResultFileError` for anything else."""
+    where = repr(str(path))
+    if not zipfile.is_zipfile(path):
+        raise ResultFileError(
+            f"{where} is not an .npz file (no zip archive: truncated, damaged or another "
+            "format); rerun the command that wrote it"
+        )
+    try:
+        with np.load(path, allow_pickle=False) as f:
+            if "meta" not in f.files:
+                raise ResultFileError(
+                    f"{where} is not an axojax file (no 'meta' entry; it holds "
+                    f"{', '.join(f.files) or 'nothing'})"
+                )
+            text = str(f["meta"])
+    except ResultFileError:
+        raise
+    except READ_ERRORS as err:
+        raise ResultFileError(
+            f"{where} cannot be read as an .npz file: truncated or damaged ({_first_line(err)}); "
+            "rerun the command that wrote it"
+        ) from None
+    try:
+        meta = json.loads(text)
+    except ValueError:
+        raise ResultFileError(
+            f"{where} has a 'meta' entry that is not JSON: not an axojax file"
+        ) from None
+    if not isinstance(meta, dict):
+        raise ResultFileError(
+            f"{where} has a 'meta' entry that is a JSON {type(meta).__name__}, not an "
+            "object: not an axojax file"
+        )
+    return meta
+
+
+def check_arrays(path, kind: str, arrays: Mapping[str, Any], expect: Mapping[str, tuple]) -> None:
+    """Each array of ``arrays`` non-empty and of its ``expect`` shape (None: any length);
+    :class:`ResultFileError` naming the first that is not."""
+    for key, shape in expect.items():
+        a = np.asarray(arrays[key])
+        if (
+            a.ndim != len(shape)
+            or any(s is not None and n != s for n, s in zip(a.shape, shape))
+            or a.size == 0
+        ):
+            raise ResultFileError(
+                f"{str(path)!r} is a {kind} file whose {key!r} array has shape {a.shape}, "
+                f"expected {tuple('*' if s is None else s for s in shape)} (non-empty)"
+            )
+
+
+def read_checked(path, kind: str, read: Callable[[Any], Any]) -> Any:
+    """``read(path)``, with what a truncated or damaged file raises on the way in one
+    :class:`ResultFileError` naming the file (``kind``: what it claims to be)."""
+    try:
+        return read(path)
+    except ResultFileError:
+        raise
+    except READ_ERRORS as err:
+        raise ResultFileError(
+            f"{str(path)!r} is a {kind} file that cannot be read whole ({_first_line(err)}); "
+            "rerun the command that wrote it"
+        ) from None

@@ -93,7 +93,7 @@ import tempfile
 import time
 
 import axojax as ax  # first: it sets the XLA flags before jax starts
-from axojax.cli import fit_posterior as cli_fit
+from axojax.cli.fit import posterior as cli_fit
 from axojax.cli.main import main as cli_main
 
 TRUTH = {"p": 300.0, "ks": 1e6}

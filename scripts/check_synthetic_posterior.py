@@ -30,8 +30,8 @@ import axojax as ax
 from axojax.beats.targets import Target
 from axojax.eigen.solvers import Auto
 from axojax.inverse import build_problem
-from axojax.inverse.sampling._densities import _Target
-from axojax.inverse.sampling._nuts import _compiled
+from axojax.inverse.sampling._densities import LogDensity
+from axojax.inverse.sampling.programs import compiled
 from axojax.inverse.sampling.transport import build_map
 
 TRUTH = {"p": 300.0, "ks": 1e6}
@@ -64,10 +64,10 @@ def main() -> None:
     ap.add_argument("--plot", default=None, help="save the figure here")
     args = ap.parse_args()
     prob = problem()
-    target = _Target(prob)
+    target = LogDensity(prob)
     z_c = prob.to_z(jnp.log(jnp.array([TRUTH["p"], TRUTH["ks"]])))
     t0 = time.perf_counter()
-    profile, _ = _compiled(build_map, (1, 96), (target, z_c))
+    profile, _ = compiled(build_map, (1, 96), (target, z_c))
     print(f"profile map: {time.perf_counter() - t0:.1f} s")
     good = np.isfinite(np.asarray(profile.log_density))
     zk = np.asarray(profile.z_knots)[good]

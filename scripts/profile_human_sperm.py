@@ -22,8 +22,8 @@ import axojax as ax
 from axojax.beats import read_beat
 from axojax.eigen.solvers import Auto
 from axojax.inverse import build_problem
-from axojax.inverse.sampling._densities import _Target
-from axojax.inverse.sampling._nuts import _compiled
+from axojax.inverse.sampling._densities import LogDensity
+from axojax.inverse.sampling.programs import compiled
 from axojax.inverse.sampling.transport import build_map
 from axojax.units import Units
 
@@ -42,9 +42,9 @@ def main() -> None:
         solver=Auto(min_batch_points=1),
         shape_floor=0.2,
     )
-    target = _Target(problem)
+    target = LogDensity(problem)
     z_c = problem.to_z(jnp.log(jnp.array([1033.85, 4.988e7])))
-    profile, _ = _compiled(build_map, (1, 96), (target, z_c))
+    profile, _ = compiled(build_map, (1, 96), (target, z_c))
     print(f"{'log10 ks':>9} {'p':>8} {'sd z_p':>8} {'log density':>12} {'s':>7}")
     for j in range(0, profile.z_knots.shape[0], 2):
         z = jnp.array([profile.centre[j, 0], profile.z_knots[j]])

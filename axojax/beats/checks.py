@@ -73,7 +73,9 @@ def check_angles(source, name: str, psi: np.ndarray) -> None:
     ``|psi| <= MAX_PSI_RAD``: one line naming ``source`` and ``name``."""
     peak = float(np.max(np.abs(psi))) if np.size(psi) else 0.0
     if not (np.isfinite(peak) and peak <= MAX_PSI_RAD):
+        hint = f": {DEGREES}" if np.isfinite(peak) and peak <= np.degrees(MAX_PSI_RAD) else ""
         fail(
             source,
-            f"{name}: tangent angles must be radians with |psi| <= {MAX_PSI_RAD:g}, got {peak:.3g}",
+            f"{name}: tangent angles must be radians with |psi| <= {MAX_PSI_RAD:g}, got "
+            f"{peak:.3g}{hint}",
         )

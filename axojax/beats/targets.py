@@ -74,6 +74,31 @@ class Target:
             raise ValueError(f"uncertainty of target {self.name} must be > 0, got {self.sigma!r}")
 
 
+RELATIVE_SIGMA = {
+    "frequency_hz": 0.05,
+    "wavelength_um": 0.10,
+    "velocity_um_per_s": 0.10,
+    "amplitude_um": 0.10,
+}
+"""The uncertainty of an observed scalar given without one, relative to it (``axojax
+fit``'s ``--target-*`` flags): 5 % of a frequency, 10 % of a wavelength, a wave velocity
+or a tip amplitude."""
+
+
+def observed_target(
+    name: str, value: float, sigma: float | None = None, source: str = "linear"
+) -> Target:
+    """The :class:`Target` of a scalar observed as ``value`` (> 0) +- ``sigma`` (default
+    :data:`RELATIVE_SIGMA` of it), of the linear mode or the limit cycle (``source``).
+    One-line ``ValueError`` (starting ``name:``) for a value or uncertainty <= 0."""
+    if not value > 0:
+        raise ValueError(f"{name}: must be > 0, got {value:g}")
+    sigma = RELATIVE_SIGMA[name] * value if sigma is None else sigma
+    if not sigma > 0:
+        raise ValueError(f"{name}: its uncertainty must be > 0, got {sigma:g}")
+    return Target(name, value, sigma, source=source)
+
+
 @dataclasses.dataclass(frozen=True)
 class ShapeTarget:
     """Observed Fourier modes of the tangent angle at arc lengths ``s_um`` (S,):

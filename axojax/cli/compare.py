@@ -10,7 +10,7 @@ or ``--ei`` and ``--cn`` (per filament: kappa / F, xi_n / F for the preset's F f
 or ``--organism NAME`` (:data:`axojax.units.ORGANISMS`: kappa, xi_n and the head's
 semi-axes); what is not given comes from the data set's flagellum when it is a bundled one
 (the human sperm's kappa and xi_n), else from axojax's defaults
-(:func:`axojax.inverse.comparison.compare.default_units`), with one warning line on stderr
+(:func:`axojax.beats.units.beat_units`), with one warning line on stderr
 saying so; the table says which.
 
 Exit status 0; bad input (an unknown or unavailable mechanism or base, a coefficient
@@ -25,7 +25,8 @@ import sys
 import warnings
 
 from .._progress import enabled as progress_enabled
-from ..inverse.comparison.compare import compare, default_units
+from ..beats import beat_units
+from ..inverse.comparison.compare import compare
 from ..inverse.comparison.mechanisms import (
     BASES,
     COMPARE_PRESETS,
@@ -399,14 +400,10 @@ def _units_and_head(args: argparse.Namespace, beat, bases):
     }
     units = None
     if any(v is not None for v in given.values()):
-        if organism is not None:
-            default = organism.flagellum.units(beat.length_um, n_f)
-        else:
-            default, _ = default_units(beat, args.model)
-        ei = default.ei_pn_um2 if given["ei"] is None else given["ei"]
-        cn = default.cn_pn_s_um2 if given["cn"] is None else given["cn"]
         try:
-            units = Units(beat.length_um, ei, cn)
+            units, _ = beat_units(
+                beat, n_f, ei_pn_um2=given["ei"], cn_pn_s_um2=given["cn"], organism=organism
+            )
         except ValueError as err:
             flag = (
                 ("--kappa" if args.kappa is not None else "--ei")
@@ -433,11 +430,7 @@ def _units_and_head(args: argparse.Namespace, beat, bases):
             a, b = DEFAULT_HEAD_UM if organism is None else organism.head_um
         mu = DEFAULT_VISCOSITY_PA_S if args.viscosity_pa_s is None else args.viscosity_pa_s
         try:
-            head_units = units or (
-                organism.flagellum.units(beat.length_um, n_f)
-                if organism
-                else default_units(beat, args.model)[0]
-            )
+            head_units = units or beat_units(beat, n_f, organism=organism)[0]
             head = Base.head_from_ellipsoid(a, b, mu, head_units)
         except ValueError as err:
             flag = "--viscosity-pa-s" if "viscosity" in str(err) else "--head-um"

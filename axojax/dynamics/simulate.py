@@ -233,6 +233,21 @@ class Simulation:
             result=result,
         )
 
+    @classmethod
+    def read(cls, path: str | pathlib.Path) -> "Simulation":
+        """:meth:`load`, the file checked whole (every array on the same times and points);
+        a file that is not is one :class:`~axojax.results.ResultFileError` naming it."""
+
+        def checked(path):
+            sim = cls.load(path)
+            T, S = len(sim.t_s), len(sim.x_um)
+            expect = {"t_s": (T,), "x_um": (S,), "tip_um": (T, None), "psi_rad": (T, S)}
+            expect["centreline_um"] = (T, None, S)
+            results.check_arrays(path, "simulation", {k: getattr(sim, k) for k in expect}, expect)
+            return sim
+
+        return results.read_checked(path, "simulation", checked)
+
 
 def _result_of(meta: dict[str, Any]) -> RESULTS | None:
     """The result of a file written without one: ``successful`` where the solver was

@@ -15,8 +15,8 @@ keeps it so; docs/internals.md draws it):
    :mod:`.predictions`, :mod:`.cycle_targets`, :mod:`.orbit_setup`, :mod:`.fingerprint`,
    :mod:`.spec` (a problem from a file);
 2. :mod:`.fitting`: least-squares solvers, :func:`fit`, the report, identifiability, checks;
-3. :mod:`.sampling`: posteriors, one sampler object each (:class:`NUTS`, :class:`SMC`,
-   :class:`ModeMixture`), run by :func:`posterior`;
+3. :mod:`.sampling`: posteriors, one sampler object each (an :class:`AbstractSampler`:
+   :class:`NUTS`, :class:`SMC`, :class:`ModeMixture`), whose ``run`` :func:`posterior` calls;
 4. :mod:`.comparison`: the dynein mechanisms fitted to one beat and ranked (it takes the
    Laplace approximation from sampling);
 5. :mod:`.whole_beat`: a regulated mechanism fitted to the whole limit cycle, and the
@@ -53,6 +53,7 @@ from .problem import SHAPE_FLOOR, Problem
 from .sampling import (
     NUTS,
     SMC,
+    AbstractSampler,
     InverseProblem,
     ModeMixture,
     NormalPrior,
@@ -81,6 +82,7 @@ __all__ = [
     "LINEAR",
     "METHODS",
     "NUTS",
+    "AbstractSampler",
     "ProfileTransport",
     "suggest_transport",
     "SHAPE_FLOOR",

@@ -15,6 +15,7 @@ from typing import Any
 
 from .. import _memory
 from ..beats import Target, read_beat
+from ..beats.targets import RELATIVE_SIGMA
 from ..eigen.mode import DEFAULT_SOLVER
 from ..eigen.solvers import AbstractEigenSolver
 from ..fem.hermite import MAX_ELEMENTS
@@ -45,12 +46,15 @@ SPEC_KEYS = frozenset(
 """The top-level keys of a spec."""
 SPEC_TARGETS = {
     # key: (target name, sigma key, default relative sigma)
-    "frequency_hz": ("frequency_hz", "frequency_sigma_hz", 0.05),
-    "wavelength_um": ("wavelength_um", "wavelength_sigma_um", 0.10),
-    "velocity_um_per_s": ("velocity_um_per_s", "velocity_sigma_um_per_s", 0.10),
+    key: (key, sigma_key, RELATIVE_SIGMA[key])
+    for key, sigma_key in (
+        ("frequency_hz", "frequency_sigma_hz"),
+        ("wavelength_um", "wavelength_sigma_um"),
+        ("velocity_um_per_s", "velocity_sigma_um_per_s"),
+    )
 }
 """A condition's scalar targets: key -> (target name, its sigma's key, default relative
-sigma)."""
+sigma: :data:`axojax.beats.targets.RELATIVE_SIGMA`, as ``axojax fit``'s flags have it)."""
 _SIGMA_KEYS = frozenset(s for _, s, _ in SPEC_TARGETS.values())
 
 

@@ -28,7 +28,7 @@ from ..critical import critical_force
 from ..eigen.dominant import dominant_eigenpair
 from ..models.section import Model
 from ..params import Params
-from ..results import jsonable
+from ..results import ResultFileError, check_arrays, jsonable, read_checked
 from ..units import Units
 from ._solve import solve_jit
 from .cycle import LimitCycle
@@ -238,6 +238,33 @@ class Branch:
             if meta.get("kind") != "orbit_branch":
                 raise ValueError(f"{str(path)!r} is not an axojax orbit branch file")
             return {k: f[k] for k in f.files if k != "meta"}, meta
+
+    @staticmethod
+    def read(path: str | pathlib.Path) -> tuple[dict[str, np.ndarray], dict]:
+        """:meth:`load`, the file checked whole: every array of :meth:`arrays` there, one
+        entry per p; a file that is not is one :class:`~axojax.results.ResultFileError`
+        naming it."""
+
+        def checked(path):
+            arrays, meta = Branch.load(path)
+            n = len(np.atleast_1d(arrays.get("p", [])))
+            expect = {
+                "p": (n,),
+                "tip_amplitude_um": (n,),
+                "frequency_hz": (n,),
+                "stable": (n,),
+                "floquet_real": (n, None),
+                "floquet_imag": (n, None),
+            }
+            missing = [k for k in expect if k not in arrays]
+            if missing:
+                raise ResultFileError(
+                    f"{str(path)!r} is an orbit branch file without its {missing[0]!r} array"
+                )
+            check_arrays(path, "orbit_branch", arrays, expect)
+            return arrays, meta
+
+        return read_checked(path, "orbit_branch", checked)
 
 
 def branch(

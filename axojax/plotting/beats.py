@@ -14,6 +14,7 @@ from matplotlib import animation  # noqa: E402
 
 from .._io import atomic_path  # noqa: E402
 from ..dynamics.simulate import Simulation  # noqa: E402
+from . import style  # noqa: E402
 
 
 def _last_cycles(sim: Simulation, n: int = 1) -> np.ndarray:
@@ -25,9 +26,9 @@ def _last_cycles(sim: Simulation, n: int = 1) -> np.ndarray:
 
 def plot_waveform(ax: plt.Axes, x_um: np.ndarray, frames_um: np.ndarray, title: str = "") -> None:
     """Centreline shapes (frames (N, S), um) over one cycle, coloured by phase."""
-    colors = plt.cm.viridis(np.linspace(0, 1, len(frames_um)))
+    colors = plt.get_cmap(style.MAP_CMAP)(np.linspace(0, 1, len(frames_um)))
     for f, c in zip(frames_um, colors):
-        ax.plot(f, x_um, color=c, lw=1.2)
+        ax.plot(f, x_um, color=c, lw=1.4)
     ax.set_xlabel("displacement in beat plane (um)")
     ax.set_ylabel("arc length x (um)")
     ax.set_aspect("equal", adjustable="datalim")
@@ -36,56 +37,74 @@ def plot_waveform(ax: plt.Axes, x_um: np.ndarray, frames_um: np.ndarray, title: 
 
 def plot_simulation(sim: Simulation | str | pathlib.Path) -> plt.Figure:
     """Tip displacement against time, kymograph of the tangent angle psi(s, t), waveform
-    of the last cycle, and the tip trace in the cross-section plane."""
+    of the last cycle, and the tip trace in the cross-section plane; sized for a slide
+    (:mod:`axojax.plotting.style`: the state, frequency and amplitude in the caption)."""
     if not isinstance(sim, Simulation):
         sim = Simulation.load(sim)
-    fig, axes = plt.subplots(2, 2, figsize=(11, 8), constrained_layout=True)
-    a = axes[0, 0]
-    a.plot(sim.t_s, sim.tip_beat_um, lw=1)
-    a.set_xlabel("time (s)")
-    a.set_ylabel("tip displacement, beat direction (um)")
-    state = sim.state.replace("_", " ")
-    if sim.limit_cycle:
-        state += f": {sim.limit_cycle['frequency_hz']:.2f} Hz, amplitude {sim.limit_cycle['tip_amplitude_um']:.2f} um"
-    a.set_title(
-        f"{sim.meta['model']} model, p = {sim.meta['params']['p']:.4g}, cubic {sim.meta['cubic']:g}\n{state}"
-    )
-
-    idx = _last_cycles(sim, 3)
-    a = axes[0, 1]
-    lim = np.nanmax(np.abs(sim.psi_rad[idx])) or 1.0
-    im = a.pcolormesh(
-        sim.t_s[idx],
-        sim.x_um,
-        sim.psi_rad[idx].T,
-        shading="auto",
-        cmap="RdBu_r",
-        vmin=-lim,
-        vmax=lim,
-    )
-    fig.colorbar(im, ax=a, label="tangent angle psi (rad)")
-    a.set_xlabel("time (s)")
-    a.set_ylabel("arc length x (um)")
-    a.set_title("kymograph (last cycles)")
-
-    last = _last_cycles(sim, 1)
-    pick = last[np.linspace(0, len(last) - 1, min(12, len(last))).astype(int)]
-    plot_waveform(axes[1, 0], sim.x_um, sim.centreline_beat_um[pick], "waveform, last cycle")
-
-    a = axes[1, 1]
-    if sim.tip_um.shape[1] == 2:
-        a.plot(sim.tip_um[:, 0], sim.tip_um[:, 1], lw=0.6, color="0.6")
-        a.plot(sim.tip_um[last, 0], sim.tip_um[last, 1], lw=1.5)
-        a.set_xlabel("tip y (um)")
-        a.set_ylabel("tip z (um)")
-        a.set_aspect("equal", adjustable="datalim")
-        a.set_title("tip trace (cross-section plane)")
-    else:
-        a.plot(sim.t_s[idx], sim.tip_beat_um[idx])
+    with style.slide_style():
+        fig = style.slide_figure()
+        axes = fig.subplots(2, 2)
+        a = axes[0, 0]
+        a.plot(sim.t_s, sim.tip_beat_um, lw=1.2, color=style.BLUE)
         a.set_xlabel("time (s)")
-        a.set_ylabel("tip displacement (um)")
-        a.set_title("tip, last cycles")
-    return fig
+        a.set_ylabel("tip (µm)")
+        a.set_title("tip displacement, beat direction")
+
+        idx = _last_cycles(sim, 3)
+        a = axes[0, 1]
+        lim = np.nanmax(np.abs(sim.psi_rad[idx])) or 1.0
+        im = a.pcolormesh(
+            sim.t_s[idx],
+            sim.x_um,
+            sim.psi_rad[idx].T,
+            shading="auto",
+            cmap=style.SIGNED_CMAP,
+            vmin=-lim,
+            vmax=lim,
+        )
+        fig.colorbar(im, ax=a, label=r"$\psi$ (rad)")
+        a.set_xlabel("time (s)")
+        a.set_ylabel("arc length (µm)")
+        a.set_title(r"kymograph of $\psi$, last cycles")
+
+        last = _last_cycles(sim, 1)
+        pick = last[np.linspace(0, len(last) - 1, min(12, len(last))).astype(int)]
+        plot_waveform(axes[1, 0], sim.x_um, sim.centreline_beat_um[pick], "waveform, last cycle")
+        axes[1, 0].set_xlabel("displacement (µm)")
+        axes[1, 0].set_ylabel("arc length (µm)")
+
+        a = axes[1, 1]
+        if sim.tip_um.shape[1] == 2:
+            a.plot(sim.tip_um[:, 0], sim.tip_um[:, 1], lw=0.8, color="0.65", label="whole record")
+            a.plot(
+                sim.tip_um[last, 0],
+                sim.tip_um[last, 1],
+                lw=2,
+                color=style.VERMILLION,
+                label="last cycle",
+            )
+            a.set_xlabel("tip y (µm)")
+            a.set_ylabel("tip z (µm)")
+            a.set_aspect("equal", adjustable="datalim")
+            a.set_title("tip trace, cross-section plane")
+            a.legend(loc="best")
+        else:
+            a.plot(sim.t_s[idx], sim.tip_beat_um[idx], color=style.BLUE)
+            a.set_xlabel("time (s)")
+            a.set_ylabel("tip (µm)")
+            a.set_title("tip, last cycles")
+        state = sim.state.replace("_", " ")
+        if sim.limit_cycle:
+            state += (
+                f" at {sim.limit_cycle['frequency_hz']:.2f} Hz, tip amplitude "
+                f"{sim.limit_cycle['tip_amplitude_um']:.2f} µm"
+            )
+        caption = (
+            f"State: {state}. Model {sim.meta['model']}, p = {sim.meta['params']['p']:.4g}, "
+            f"cubic stiffening {sim.meta['cubic']:g}; {sim.t_s[-1] - sim.t_s[0]:.3g} s simulated."
+        )
+        title = f"Simulated beat: {sim.meta['model']} model, p = {sim.meta['params']['p']:.4g}"
+        return style.finish(fig, title, caption)
 
 
 def plot_mode(x_um: np.ndarray, frames_um: np.ndarray, title: str = "") -> plt.Figure:

@@ -1,30 +1,32 @@
-"""Figure of a comparison (``axojax compare --out REPORT.json``, :func:`axojax.compare`).
+"""Figure of a comparison (``axojax compare --out REPORT.json``, :func:`axojax.compare`),
+sized for a slide (:mod:`axojax.plotting.style`).
 
-Top: the observed psi_1 amplitude |psi_1| and phase arg psi_1 along s (points) with every
-row's fit (lines; legend: mechanism, base, R^2, delta BIC, BIC weight, and the table's
-status mark: ``*`` not successful, dashed; ``n/a`` not applicable, dotted). The title
-carries the verdict line (:func:`axojax.inverse.comparison.verdict.verdict`). Bottom: the waveform over one
-cycle, observed first, then each row's, side by side (centrelines integrated from
-psi(s, phase) = psi_0(s) + Re(psi_1(s) e^{i phase}); every fit uses the observed psi_0,
-which a linear mode does not predict).
+Top: the observed psi_1 amplitude |psi_1| and phase arg psi_1 along s (black points)
+with the best rows' fits (lines, Okabe-Ito colours; a row that is not successful dashed,
+one not applicable dotted). The phase is drawn only where |psi_1| carries it (at least
+5 % of its maximum: a clamped base has none). The legend under them names each row with
+its R^2, delta BIC and BIC weight, and the table's status mark (``*`` not successful,
+``n/a`` not applicable). Bottom: the waveform over one cycle, observed first, then the
+best rows' (centrelines integrated from psi(s, phase) = psi_0(s) + Re(psi_1(s) e^{i phase});
+every fit uses the observed psi_0, which a linear mode does not predict). The title names
+the beat; the caption carries the verdict
+(:func:`axojax.inverse.comparison.verdict.verdict`), the best row's fitted values and the
+model.
 """
 
 from __future__ import annotations
 
-import textwrap
-
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 
 from ..inverse.comparison.table import physical_text
 from ..inverse.comparison.verdict import mark, verdict
+from . import style
 from .fit_report import _centrelines
 
-MAX_ROWS = 8
+MAX_ROWS = 6
 """Rows drawn (the best by BIC); the rest are in the report."""
+SHAPES = 3
+"""Rows whose waveform is drawn beside the observed one (the best by BIC)."""
 
 
 def _complex(pairs) -> np.ndarray:
@@ -33,9 +35,28 @@ def _complex(pairs) -> np.ndarray:
 
 
 def _phase(psi: np.ndarray) -> np.ndarray:
-    """Unwrapped phase, shifted so that its mean is in (-pi, pi]."""
-    ph = np.unwrap(np.angle(psi))
-    return ph - 2 * np.pi * np.round(np.mean(ph) / (2 * np.pi))
+    """Unwrapped phase where |psi| carries it (:func:`~axojax.plotting.style.masked_phase`),
+    shifted so that its mean is in (-pi, pi]."""
+    ph = style.masked_phase(psi)
+    if not np.isfinite(ph).any():
+        return ph
+    return ph - 2 * np.pi * np.round(np.nanmean(ph) / (2 * np.pi))
+
+
+def _label(r: dict) -> str:
+    r2 = "-" if r["r2"] is None else f"{r['r2']:.3f}"
+    dbic = "-" if r["delta_bic"] is None else f"{r['delta_bic']:.0f}"
+    weight = "" if r.get("weight") is None else f", w {r['weight']:.2f}"
+    flag = mark(r)
+    label = (
+        f"{flag + ' ' if flag else ''}{r['mechanism']} on {r['base']}: R² {r2}, ΔBIC {dbic}{weight}"
+    )
+    return label + (f" [{r.get('status', '')}]" if flag else "")
+
+
+def _style(r: dict) -> str:
+    flag = mark(r)
+    return "-" if not flag else (":" if r.get("status") == "not_applicable" else "--")
 
 
 def plot_comparison(doc: dict):
@@ -44,63 +65,71 @@ def plot_comparison(doc: dict):
     s = np.asarray(data["s_um"], dtype=float)
     obs = _complex(data["psi1"])
     psi0 = np.zeros_like(s) if data.get("psi0") is None else np.asarray(data["psi0"], float)
-    n = len(rows) + 1
-    fig = plt.figure(figsize=(max(10, 2.2 * n), 7.0), layout="constrained")
-    grid = fig.add_gridspec(2, n, height_ratios=[1.4, 1])
-    amp = fig.add_subplot(grid[0, : n // 2 or 1])
-    pha = fig.add_subplot(grid[0, n // 2 or 1 :])
-    amp.plot(s, np.abs(obs), "ko", ms=3, label="observed")
-    pha.plot(s, _phase(obs), "ko", ms=3)
-    colours = plt.get_cmap("tab10")
-    fits = []
-    for i, r in enumerate(rows):
-        fit = _complex(r["psi1_model"])
-        fits.append(fit)
-        r2 = "-" if r["r2"] is None else f"{r['r2']:.3f}"
-        dbic = "-" if r["delta_bic"] is None else f"{r['delta_bic']:.0f}"
-        status = r.get("status", "successful")
-        weight = "" if r.get("weight") is None else f", w {r['weight']:.2f}"
-        flag = mark(r)
-        label = f"{flag + ' ' if flag else ''}{r['mechanism']} ({r['base']}): R^2 {r2}, dBIC {dbic}{weight}"
-        if flag:
-            label += f" [{status}]"
-        style = "-" if not flag else (":" if status == "not_applicable" else "--")
-        amp.plot(s, np.abs(fit), style, color=colours(i % 10), label=label)
-        # the fitted phase follows the observed one's branch
-        ph = _phase(fit)
-        ph += 2 * np.pi * np.round(np.nanmean(_phase(obs) - ph) / (2 * np.pi))
-        pha.plot(s, ph, style, color=colours(i % 10))
-    amp.set(xlabel="s (um)", ylabel="|psi_1| (rad)", title="psi_1 amplitude")
-    pha.set(xlabel="s (um)", ylabel="arg psi_1 (rad)", title="psi_1 phase")
-    amp.legend(fontsize=7, loc="best")
-    model = doc.get("model", {})
+    fits = [_complex(r["psi1_model"]) for r in rows]
+    colours = [style.PALETTE[i % len(style.PALETTE)] for i in range(len(rows))]
+    shapes = 1 + min(SHAPES, len(rows))
+    with style.slide_style():
+        fig = style.slide_figure()
+        legend_lines = (len(rows) + 2) // 2
+        grid = fig.add_gridspec(3, 12, height_ratios=[2.2, 0.28 * max(legend_lines, 1) + 0.1, 1.25])
+        amp = fig.add_subplot(grid[0, :6])
+        pha = fig.add_subplot(grid[0, 6:])
+        obs_phase = _phase(obs)
+        amp.plot(s, np.abs(obs), "o", color=style.BLACK, ms=4, label="observed")
+        pha.plot(s, obs_phase, "o", color=style.BLACK, ms=4)
+        for r, fit, colour in zip(rows, fits, colours):
+            amp.plot(s, np.abs(fit), _style(r), color=colour, label=_label(r))
+            # the fitted phase follows the observed one's branch
+            pha.plot(s, style.follow(_phase(fit), obs_phase), _style(r), color=colour)
+        amp.set(xlabel="arc length s (µm)", ylabel=r"$|\psi_1|$ (rad)", title="amplitude")
+        pha.set(xlabel="arc length s (µm)", ylabel=r"arg $\psi_1$ (rad)", title="phase")
+        key = fig.add_subplot(grid[1, :])
+        key.set_axis_off()
+        handles, labels = amp.get_legend_handles_labels()
+        key.legend(
+            handles, labels, loc="center", ncols=2, frameon=False, borderaxespad=0, handlelength=2.5
+        )
+        shown = [("observed", obs, style.BLACK)] + [
+            (f"{mark(r) + ' ' if mark(r) else ''}{r['mechanism']}\non {r['base']}", f, c)
+            for r, f, c in zip(rows[: shapes - 1], fits, colours)
+        ]
+        width = 12 // shapes
+        first = None
+        for j, (title, psi1, colour) in enumerate(shown):
+            ax = fig.add_subplot(grid[2, j * width : (j + 1) * width], sharex=first, sharey=first)
+            first = first or ax
+            ok = np.isfinite(psi1)
+            if ok.sum() >= 2:
+                x, y = _centrelines(s[ok], psi0[ok], psi1[ok])
+                for xi, yi in zip(x, y):
+                    ax.plot(xi, yi, color=colour, lw=1.0, alpha=0.75)
+            ax.set_aspect("equal", adjustable="box")
+            ax.set_title(title, fontsize=10.5)
+            ax.set_xlabel("x (µm)")
+            if j == 0:
+                ax.set_ylabel("y (µm)")
+            else:
+                ax.tick_params(labelleft=False)
+        return style.finish(fig, _title(data), _caption(doc, rows))
+
+
+def _title(data: dict) -> str:
+    name = str(data.get("file", "the beat")).rsplit("/", 1)[-1]
+    return style.short(f"Mechanisms fitted to {name}", style.MAX_TITLE)
+
+
+def _caption(doc: dict, rows: list) -> str:
+    data, model = doc["data"], doc.get("model", {})
     v = doc.get("verdict") or verdict(doc)
-    width = int(8 * fig.get_figwidth())  # characters of the title font across the figure
-    lines = [f"verdict: {v['text']}"]
+    lines = [f"Verdict: {v['text']}."]
     if rows:
-        lines.append(f"{rows[0]['mechanism']} on {rows[0]['base']}: {physical_text(rows[0])}")
-    fig.suptitle(
-        f"mechanisms on {data.get('file', 'the beat')}: {data.get('frequency_hz', float('nan')):.4g} Hz, "
-        f"model {model.get('preset', '?')} ({model.get('elements', '?')} elements), rows by BIC\n"
-        + "\n".join(textwrap.fill(line, width) for line in lines)
+        lines.append(
+            f"Best row, {rows[0]['mechanism']} on {rows[0]['base']}: {physical_text(rows[0])}."
+        )
+    total = len(doc["rows"])
+    drawn = f"the best {len(rows)} of {total} rows by BIC" if total > len(rows) else "rows by BIC"
+    lines.append(
+        f"Observed {data.get('frequency_hz', float('nan')):.4g} Hz; model {model.get('preset', '?')} "
+        f"({model.get('elements', '?')} elements); {drawn}; waveforms over one cycle."
     )
-    shapes = [("observed", obs, "k")] + [
-        (f"{mark(r) + ' ' if mark(r) else ''}{r['mechanism']}\n{r['base']}", f, colours(i % 10))
-        for i, (r, f) in enumerate(zip(rows, fits))
-    ]
-    first = None
-    for j, (title, psi1, colour) in enumerate(shapes):
-        ax = fig.add_subplot(grid[1, j], sharex=first, sharey=first)
-        first = first or ax
-        ok = np.isfinite(psi1)
-        if ok.sum() >= 2:
-            x, y = _centrelines(s[ok], psi0[ok], psi1[ok])
-            for xi, yi in zip(x, y):
-                ax.plot(xi, yi, color=colour, lw=0.8, alpha=0.7)
-        ax.set_aspect("equal", adjustable="box")
-        ax.set_title(title, fontsize=8)
-        ax.set_xlabel("x (um)", fontsize=7)
-        if j == 0:
-            ax.set_ylabel("y (um), one cycle", fontsize=7)
-        ax.tick_params(labelsize=6)
-    return fig
+    return "\n".join(lines)

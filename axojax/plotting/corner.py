@@ -1,21 +1,23 @@
 """Corner plot of a posterior: a histogram of every parameter on the diagonal, the draws
 of every pair below it, with the 5/50/95 % quantiles, optional truth markers and the
-centre of the chains' starts (the posterior mode, or the least-squares optimum given)."""
+centre of the chains' starts (the posterior mode, or the least-squares optimum given).
+Sized for a slide (:mod:`axojax.plotting.style`): the key to the right of the panels, the
+medians, 90 % intervals and the sampler's diagnostics in the caption."""
 
 from __future__ import annotations
 
 import pathlib
 from collections.abc import Mapping
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.lines import Line2D
 
-TRUTH = "tab:red"
-START = "black"
-DIVERGENT = "tab:orange"
+from . import style
+
+DRAWS = style.BLUE
+TRUTH = style.VERMILLION
+START = style.BLACK
+DIVERGENT = style.PURPLE
 
 
 def plot_corner(
@@ -32,12 +34,12 @@ def plot_corner(
     ``.npz`` its ``save`` wrote (``axojax plot FILE.npz``).
 
     Args:
-        truth: {name: value} markers (red); default: the ``truth`` stored in the .npz.
+        truth: {name: value} markers (vermillion); default: the ``truth`` stored in the .npz.
         optimum: {name: value} markers (black cross); default: the centre of the
             chains' starts (``Posterior.start``).
         names: the parameters to show (default: all free parameters).
         max_points: draws shown in each scatter panel (evenly thinned); divergent
-            draws are drawn in orange.
+            draws are drawn in purple.
         bins: histogram bins.
         out: optional figure path (.png, .pdf, .svg).
 
@@ -63,43 +65,82 @@ def plot_corner(
     draws = {n: post.value_draws(n).reshape(-1) for n in names}
     divergent = post.divergent.reshape(-1)
     step = max(1, draws[names[0]].size // max_points)
-    size = 1.9 * k + 0.8
-    fig, axes = plt.subplots(k, k, figsize=(size, size), squeeze=False)
     marks = {"truth": truth or {}, "optimum": optimum or {}}
-    for i, ni in enumerate(names):
-        for j, nj in enumerate(names):
-            ax = axes[i, j]
-            if j > i:
-                ax.set_visible(False)
-                continue
-            if i == j:
-                _diagonal(ax, post, ni, draws[ni], bins, marks)
-            else:
-                _pair(ax, post, nj, ni, draws, divergent, step, marks)
-            if post.log_coordinate.get(nj, False):
-                ax.set_xscale("log")
-                _readable_log_ticks(ax.xaxis)
-            if i == k - 1:
-                ax.set_xlabel(nj)
-            else:
-                ax.set_xticklabels([])
-            if j == 0 and i > 0:
-                ax.set_ylabel(ni)
-            elif j > 0 and i != j:
-                ax.set_yticklabels([])
-    worst = max(post.rhat[n] for n in names)
-    fewest = min(post.ess[n] for n in names)
-    fig.suptitle(
-        f"posterior: {post.chains} chains x {post.draws} draws, R-hat <= {worst:.3f}, ESS >= "
-        f"{fewest:.0f}, {post.divergences} divergent",
-        fontsize=9,
-    )
-    fig.tight_layout()
+    with style.slide_style():
+        fig = style.slide_figure()
+        axes = fig.subplots(k, k, squeeze=False)
+        for i, ni in enumerate(names):
+            for j, nj in enumerate(names):
+                ax = axes[i, j]
+                if j > i:
+                    ax.set_visible(False)
+                    continue
+                if i == j:
+                    _diagonal(ax, post, ni, draws[ni], bins, marks)
+                else:
+                    _pair(ax, post, nj, ni, draws, divergent, step, marks)
+                if post.log_coordinate.get(nj, False):
+                    ax.set_xscale("log")
+                    style.readable_log_ticks(ax.xaxis)
+                if i == k - 1:
+                    ax.set_xlabel(nj)
+                else:
+                    ax.set_xticklabels([])
+                if j == 0 and i > 0:
+                    ax.set_ylabel(ni)
+                elif j > 0 and i != j:
+                    ax.set_yticklabels([])
+        keys = _key(marks, bool(divergent.any()))
+        if k > 1:  # in the empty corner above the diagonal
+            fig.legend(
+                handles=keys,
+                loc="center",
+                bbox_to_anchor=(0, 0, 1, 1),
+                bbox_transform=axes[0, k - 1].transAxes,
+                frameon=False,
+            )
+        else:
+            fig.legend(handles=keys, loc="outside right upper", frameon=False)
+        style.finish(fig, style.short(f"Posterior of {', '.join(names)}"), _caption(post, names))
     if out is not None:
         from .._io import save_figure
 
         save_figure(fig, out, dpi=130)  # written whole
     return fig
+
+
+def _key(marks: dict, divergent: bool) -> list:
+    """The legend's entries: what each mark and line of the panels is."""
+    keys = [
+        Line2D([], [], ls="", marker="o", color=DRAWS, alpha=0.6, label="posterior draws"),
+        Line2D([], [], color=DRAWS, ls="--", label="median"),
+        Line2D([], [], color=DRAWS, ls=":", label="5 % and 95 %"),
+    ]
+    if divergent:
+        keys.append(Line2D([], [], ls="", marker="o", color=DIVERGENT, label="divergent draws"))
+    if marks["truth"]:
+        keys.append(Line2D([], [], color=TRUTH, marker="*", ms=10, label="truth"))
+    if marks["optimum"]:
+        keys.append(Line2D([], [], color=START, ls="-.", marker="x", ms=8, label="chains' start"))
+    return keys
+
+
+def _caption(post, names) -> str:
+    """The medians and 90 % intervals, the chains and their diagnostics."""
+    worst = max(post.rhat[n] for n in names)
+    fewest = min(post.ess[n] for n in names)
+    values = "; ".join(
+        f"{n} {style.number(post.q50[n])} [{style.number(post.q05[n])}, "
+        f"{style.number(post.q95[n])}]"
+        for n in names
+    )
+    logs = [n for n in names if post.log_coordinate.get(n, False)]
+    return (
+        f"Median [5 %, 95 %]: {values}.\n"
+        f"{post.chains} chains × {post.draws} draws; R-hat ≤ {worst:.3f}, ESS ≥ {fewest:.0f}, "
+        f"{post.divergences} divergent."
+        + (f" Logarithmic axes: {', '.join(logs)} (sampled in log coordinates)." if logs else "")
+    )
 
 
 def _diagonal(ax, post, name: str, x: np.ndarray, bins: int, marks: dict) -> None:
@@ -110,41 +151,27 @@ def _diagonal(ax, post, name: str, x: np.ndarray, bins: int, marks: dict) -> Non
         if log_x and x.min() > 0 and x.max() > x.min()
         else bins
     )
-    ax.hist(x, bins=edges, color="tab:blue", alpha=0.7)
-    for q, style in ((post.q05[name], ":"), (post.q50[name], "--"), (post.q95[name], ":")):
-        ax.axvline(q, color="tab:blue", ls=style, lw=1)
+    ax.hist(x, bins=edges, color=DRAWS, alpha=0.55)
+    for q, ls in ((post.q05[name], ":"), (post.q50[name], "--"), (post.q95[name], ":")):
+        ax.axvline(q, color=DRAWS, ls=ls, lw=1.5)
     if name in marks["truth"]:
-        ax.axvline(marks["truth"][name], color=TRUTH, lw=1.5)
+        ax.axvline(marks["truth"][name], color=TRUTH, lw=2)
     if name in marks["optimum"]:
-        ax.axvline(marks["optimum"][name], color=START, lw=1, ls="-.")
+        ax.axvline(marks["optimum"][name], color=START, lw=1.5, ls="-.")
     ax.set_yticks([])
-    ax.set_title(
-        f"{name} = {post.q50[name]:.3g} [{post.q05[name]:.3g}, {post.q95[name]:.3g}]", fontsize=8
-    )
+    ax.set_title(name)
 
 
 def _pair(ax, post, nx: str, ny: str, draws: dict, divergent, step: int, marks: dict) -> None:
-    """The draws of two parameters (every ``step``-th; divergent ones all, in orange)."""
+    """The draws of two parameters (every ``step``-th; divergent ones all, in purple)."""
     x, y = draws[nx], draws[ny]
     ok = ~divergent
-    ax.scatter(x[ok][::step], y[ok][::step], s=2, alpha=0.3, color="tab:blue", rasterized=True)
+    ax.scatter(x[ok][::step], y[ok][::step], s=3, alpha=0.3, color=DRAWS, rasterized=True)
     if divergent.any():
-        ax.scatter(x[divergent], y[divergent], s=6, color=DIVERGENT, label="divergent")
-    for key, style, color, size in (("truth", "*", TRUTH, 10), ("optimum", "x", START, 8)):
+        ax.scatter(x[divergent], y[divergent], s=10, color=DIVERGENT, label="divergent")
+    for key, marker, color, size in (("truth", "*", TRUTH, 14), ("optimum", "x", START, 10)):
         if ny in marks[key] and nx in marks[key]:
-            ax.plot(marks[key][nx], marks[key][ny], style, color=color, ms=size)
+            ax.plot(marks[key][nx], marks[key][ny], marker, color=color, ms=size, mew=2)
     if post.log_coordinate.get(ny, False):
         ax.set_yscale("log")
-        _readable_log_ticks(ax.yaxis)
-
-
-def _readable_log_ticks(axis) -> None:
-    """A log axis over less than a decade gets three plain tick labels (matplotlib would
-    label its minor ticks in scientific notation, on top of each other)."""
-    from matplotlib.ticker import FormatStrFormatter, MaxNLocator, NullFormatter
-
-    low, high = axis.get_view_interval()
-    if low > 0 and high / low < 10:
-        axis.set_major_locator(MaxNLocator(3))
-        axis.set_major_formatter(FormatStrFormatter("%.3g"))
-        axis.set_minor_formatter(NullFormatter())
+        style.readable_log_ticks(ax.yaxis)

@@ -12,8 +12,10 @@ from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Circle, FancyArrowPatch  # noqa: E402
 
 from ..models.section import CrossSection, Model  # noqa: E402
+from . import style  # noqa: E402
 
-GROUP_COLORS = ("tab:orange", "tab:purple")
+GROUP_COLORS = (style.ORANGE, style.PURPLE)
+PLANE = style.BLUE
 
 
 def group_bending_directions(section: CrossSection) -> dict[int, np.ndarray]:
@@ -54,12 +56,20 @@ def plot_section(
         title: default: the section's name and size.
 
     Returns:
-        The figure.
+        The figure (a new one sized for a slide, :mod:`axojax.plotting.style`, its title the
+        figure's; or ``ax``'s, its title the axes').
     """
+    with style.slide_style():
+        return _draw(section, ax, title)
+
+
+def _draw(section, ax, title):
     if isinstance(section, Model):
         section = section.section
-    if ax is None:
-        fig, ax = plt.subplots(figsize=(6.0, 5.6), constrained_layout=True)
+    own = ax is None
+    if own:
+        fig = style.slide_figure()
+        ax = fig.subplots()
     else:
         fig = ax.figure
     pos = section.positions
@@ -68,16 +78,16 @@ def plot_section(
     radius = 0.13 * min(min(dist), span)
     lo, hi = pos.min(axis=0) - 0.45 * span, pos.max(axis=0) + 0.45 * span
 
-    ax.axhline(0.0, color="tab:blue", lw=1.2, ls="--", zorder=0)
-    ax.text(lo[0], 0.0, " beat plane (z = 0)", color="tab:blue", va="bottom", ha="left", fontsize=8)
+    ax.axhline(0.0, color=PLANE, lw=1.4, ls="--", zorder=0)
+    ax.text(lo[0], 0.0, " beat plane (z = 0)", color=PLANE, va="bottom", ha="left", fontsize=10)
     for l in section.links:
         (y0, z0), (y1, z1) = pos[l.i], pos[l.j]
-        style = (
+        look = (
             dict(color="0.55", lw=1.0, ls=":")
             if l.kind == "spoke"
             else dict(color="0.35", lw=2.0, ls="-")
         )
-        ax.plot([y0, y1], [z0, z1], zorder=1, **style)
+        ax.plot([y0, y1], [z0, z1], zorder=1, **look)
     for a in section.active_pairs:
         color = GROUP_COLORS[a.group % len(GROUP_COLORS)]
         n = (pos[a.j] - pos[a.i]) / np.linalg.norm(pos[a.j] - pos[a.i])
@@ -116,7 +126,7 @@ def plot_section(
     sign = _axial_sign(section)
     for f, (y, z) in enumerate(pos):
         ax.add_patch(Circle((y, z), radius, facecolor="white", edgecolor="black", lw=1.2, zorder=4))
-        ax.text(y, z, str(f), ha="center", va="center", fontsize=10, zorder=5)
+        ax.text(y, z, str(f), ha="center", va="center", fontsize=11, zorder=5)
         if sign[f]:
             ax.plot(
                 y + 0.8 * radius,
@@ -153,21 +163,20 @@ def plot_section(
             )
             for g in sorted(groups)
         ),
-        Line2D([], [], color="tab:blue", ls="--", label="beat plane (z = 0)"),
+        Line2D([], [], color=PLANE, ls="--", label="beat plane (z = 0)"),
         Line2D([], [], ls="", marker="o", color="black", ms=5, label="pulled baseward"),
         Line2D([], [], ls="", marker="X", color="black", mfc="white", ms=5, label="pulled tipward"),
     ]
-    ax.legend(
-        handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False
-    )
+    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
     ax.set_xlim(lo[0], hi[0])
     ax.set_ylim(lo[1], hi[1])
     ax.set_aspect("equal")
     ax.set_xlabel("y (beat-plane direction)")
     ax.set_ylabel("z")
-    ax.set_title(
-        title
-        if title is not None
-        else f"{section.name}: {section.n_filaments} filaments, {len(section.active_pairs)} active pairs"
+    size = f"{section.n_filaments} filaments, {len(section.active_pairs)} active pairs"
+    if not own:
+        ax.set_title(title if title is not None else f"{section.name}: {size}")
+        return fig
+    return style.finish(
+        fig, title if title is not None else f"Cross-section of {section.name}: {size}"
     )
-    return fig

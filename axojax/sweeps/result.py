@@ -136,3 +136,32 @@ class SweepResult:
             data["result"] = results.codes(results.recode(data["result"], table)).astype(np.int8)
             meta["result"] = results.code_names()
         return cls(coords, data, meta)
+
+    @classmethod
+    def read(cls, path: str | pathlib.Path) -> "SweepResult":
+        """:meth:`load`, the file checked whole: its growth rate, frequency and
+        classification there, every metric on the grid of the coordinates; a file that is
+        not is one :class:`~axojax.results.ResultFileError` naming it."""
+
+        def checked(path):
+            obj = cls.load(path)
+            shape = obj.shape
+            need = ("growth_rate_per_s", "frequency_hz", "classification")
+            missing = [k for k in need if k not in obj.data]
+            if missing:
+                raise results.ResultFileError(
+                    f"{str(path)!r} is a sweep file without its {missing[0]!r} array"
+                )
+            metrics = {k: obj.data[k] for k in METRICS if k in obj.data}
+            results.check_arrays(
+                path,
+                "sweep",
+                {**{k: np.asarray(v) for k, v in obj.coords.items()}, **metrics},
+                {
+                    **{k: (len(v),) for k, v in obj.coords.items()},
+                    **{k: shape for k in metrics},
+                },
+            )
+            return obj
+
+        return results.read_checked(path, "sweep", checked)

@@ -210,8 +210,8 @@ def test_bundled_sperm_wavelengths_against_an_independent_reduction(capsys):
     # The figure: a wavelength slope per component.
     fig = plot_beat_data(beat)
     labels = [t.get_text() for t in fig.axes[2].get_legend().get_texts()]
-    assert f"slope: wavelength {comps['out_of_plane']:.3g} um (out of plane)" in labels
-    assert f"slope: wavelength {comps['in_plane']:.3g} um (in plane)" in labels
+    assert f"slope: wavelength {comps['out_of_plane']:.3g} µm (out of plane)" in labels
+    assert f"slope: wavelength {comps['in_plane']:.3g} µm (in plane)" in labels
 
 
 def test_shape_target_components_validated():

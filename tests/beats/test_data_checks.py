@@ -309,7 +309,7 @@ def test_data_text_and_plot_agree_on_cycles_and_zero(tmp_path, capsys):
     ax = fig.axes
     assert f"the {beat.cycles} whole cycles used" in ax[3].get_title()
     assert ax[3].get_xlim()[1] < beat.t_s[-1]  # only the cycles used
-    assert "slope 0 rad/um" in ax[0].get_title()
+    assert "slope 0 rad/µm" in ax[0].get_title()
     assert np.ptp(ax[0].get_ylim()) >= 4 * np.median(beat.psi1_sigma) - 1e-12
     labels = [[t.get_text() for t in a.get_legend().get_texts()] for a in ax[:3]]
     assert labels[0] == ["psi_0"] and labels[1] == ["|psi_1|", "1 sigma"]
@@ -324,3 +324,17 @@ def test_data_text_and_plot_agree_on_cycles_and_zero(tmp_path, capsys):
     t, s, psi = angles(sign=+1.0)
     np.savez(path, psi=psi, s_um=s, frame_rate_hz=FPS)
     assert "retrograde (the wave runs tip to base)" in run_data(capsys, path)[1]
+
+
+def test_degrees_past_the_largest_angle_say_degrees(tmp_path, capsys):
+    """Angles in degrees beyond |psi| <= 100 (a 143-degree base angle) are refused by the
+    size check first: its line names degrees and the fix too, and a valid kymograph with
+    the same beat in radians still passes."""
+    t, s, psi = angles()
+    path = tmp_path / "deg143.npz"
+    np.savez(path, psi=np.degrees(psi + 2.5), s_um=s, frame_rate_hz=FPS)
+    line = one_line_error(capsys, path, "|psi| <= 100, got 1", "looks like degrees")
+    assert "multiply by pi/180" in line
+    np.savez(path, psi=psi + 2.5, s_um=s, frame_rate_hz=FPS)
+    code, _, err = run_data(capsys, path)
+    assert code == 0 and err == "", err

@@ -56,6 +56,35 @@ def test_flagellum_is_shared_by_the_filaments(model, n):
     assert float(units.omega0_from_hz(beat.frequency_hz)) == pytest.approx(sp, rel=1e-12)
 
 
+def test_one_rule_gives_the_units_of_a_beat(tmp_path):
+    """ax.beats.beat_units is the rule of fit, compare and the whole beat's comparison:
+    each value given wins; the one not given is the flagellum's share (an organism's
+    before the data set's), else axojax's default; the words say where they came from."""
+    from axojax.beats import beat_units
+    from axojax.beats.units import DEFAULT_SOURCE
+    from axojax.units import ORGANISMS
+
+    sperm, bull = ax.datasets.human_sperm(), ORGANISMS["bull_sperm"]
+    units, words = beat_units(sperm, 2)
+    assert (units, words) == default_units(sperm, "two")
+    assert units == ax.Units(sperm.length_um, 950.0, 1.6e-3)
+    assert beat_units(sperm, 2, ei_pn_um2=300.0)[0] == ax.Units(sperm.length_um, 300.0, 1.6e-3)
+    assert beat_units(sperm, 2, ei_pn_um2=300.0, cn_pn_s_um2=1e-3) == (
+        ax.Units(sperm.length_um, 300.0, 1e-3),
+        "given",
+    )
+    units, words = beat_units(sperm, 7, organism=bull)
+    assert units == bull.flagellum.units(sperm.length_um, 7)
+    assert words.startswith("the bull_sperm preset: kappa 1700 pN um^2") and "7 filaments" in words
+    s = np.linspace(0, 1, 12)
+    own = ax.beats.read_beat(fourier_file(tmp_path / "b.npz", s, 0.3 * s, 30.0, 20.0))
+    d = ax.Units()
+    assert beat_units(own, 2) == (ax.Units(30.0, d.ei_pn_um2, d.cn_pn_s_um2), DEFAULT_SOURCE)
+    assert beat_units(own, 2, cn_pn_s_um2=1e-3) == (ax.Units(30.0, d.ei_pn_um2, 1e-3), "given")
+    with pytest.raises(ValueError, match="^unit ei_pn_um2 must be"):
+        beat_units(own, 2, ei_pn_um2=-1.0)
+
+
 @pytest.mark.parametrize("bad", [0.0, -1.0, math.nan, math.inf])
 def test_bad_flagellum_is_one_line(bad):
     with pytest.raises(ValueError, match="^flagellum bending_rigidity_pn_um2 must be"):

@@ -262,11 +262,11 @@ def test_cli_status_verdict_and_physical_parameters(beats, tmp_path, capsys):
     png = tmp_path / "cmp.png"
     assert main(["plot", str(out), "--out", str(png)]) == 0
     assert png.stat().st_size > 10_000
-    # the figure's title carries the verdict and the best row's values with their errors
+    # the figure's caption carries the verdict and the best row's values with their errors
     from axojax.plotting.compare import plot_comparison
 
-    title = plot_comparison(doc)._suptitle.get_text()
-    assert "verdict:" in title and "pN/um^2" in title and "+-" in title
+    caption = " ".join(t.get_text() for t in plot_comparison(doc).texts)
+    assert "Verdict:" in caption and "pN/um^2" in caption and "+-" in caption
 
 
 def test_cli_verdict_on_a_beat_no_row_fits(beats, tmp_path, capsys):

@@ -186,6 +186,7 @@ def test_imbalance_bends_to_the_static_solution(seven6):
     np.testing.assert_allclose(sim.tip_um[-1], tip_eq, rtol=1e-3, atol=1e-6)
 
 
+@pytest.mark.slow  # long end-to-end (issue 53: the quick suite within 20 CPU-minutes)
 def test_solver_is_differentiable():
     """Reverse mode through the implicit integration (two filaments, 4 elements: what is
     checked is the solver's derivative, not the model's size)."""

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import ast
 import pathlib
+import re
 
 import pytest
 
@@ -122,10 +123,10 @@ GRAPH = _graph()
 
 
 def test_the_walk_sees_imports_inside_functions():
-    """The reader itself: a deferred import in a function counts (cli/fit.py imports the
-    fit report's figure inside a function)."""
+    """The reader itself: a deferred import in a function counts (cli/plot.py imports the
+    figures inside its functions)."""
     assert "plotting" in GRAPH["cli"]
-    assert any("cli/fit.py" in f for f in GRAPH["cli"]["plotting"])
+    assert any("cli/plot.py" in f for f in GRAPH["cli"]["plotting"])
     assert "eigen" in GRAPH["inverse"] and "waveform" in GRAPH["beats"]
 
 
@@ -202,10 +203,10 @@ def test_no_module_is_over_max_lines(path):
 
 # --- Inside a subpackage: module by module (issue 53) -------------------------------------
 
-NO_CIRCLE_INSIDE = ("inverse",)
+NO_CIRCLE_INSIDE = ("inverse", "cli")
 """Subpackages whose modules import one another without a circle (an ``__init__`` that
 re-exports its children is the package's front door, not part of a circle: it is left
-out)."""
+out, and no module below it may import it: :func:`test_no_module_imports_its_own_front_door`)."""
 
 INVERSE_LAYERS = {"fitting": 1, "sampling": 2, "comparison": 3, "whole_beat": 4}
 """inverse/'s layers, bottom up (its own top-level modules, the problem core, are layer 0;
@@ -254,6 +255,47 @@ def test_no_import_circle_between_the_modules_of(package):
     for start in sorted(graph):
         visit(start, [start])
     assert not circles, "import circles:\n" + "\n".join(sorted(circles))
+
+
+@pytest.mark.parametrize("package", NO_CIRCLE_INSIDE)
+def test_no_module_imports_its_own_front_door(package):
+    """A module never imports the ``__init__`` of a package it sits in (that front door
+    imports it, a circle the module graph above leaves out): cli/fit/whole_beat.py reads
+    the shared --data handling from cli/fit/inputs.py, not from cli/fit."""
+    bad = []
+    for path in sorted((ROOT / package).rglob("*.py")):
+        parts = _module_name(path).split(".")
+        above = {".".join(parts[:i]) for i in range(2, len(parts))}
+        bad += [f"{'.'.join(parts)} imports {m}" for m in _imported(path) if m in above]
+    assert not bad, "\n".join(bad)
+
+
+def _imported_names(path: pathlib.Path) -> list[tuple[str, str]]:
+    """(module, name) of every ``from module import name`` in ``path`` (absolute)."""
+    name = _module_name(path)
+    package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
+    out = []
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.ImportFrom):
+            base = package[: len(package) - (node.level - 1)] if node.level else []
+            mod = ".".join(base + ([node.module] if node.module else []))
+            out += [(mod, a.name) for a in node.names]
+    return out
+
+
+def test_no_private_name_of_a_fit_module_is_imported_by_another():
+    """cli/fit's modules share public names only (cli/fit_whole_beat.py imported
+    ``_data``, ``_finish`` and ``_given`` from cli/fit.py): no module of the command line
+    imports a ``_name`` of another module of cli/fit."""
+    bad = [
+        f"{_module_name(path)} imports {mod}.{name}"
+        for path in sorted((ROOT / "cli").rglob("*.py"))
+        for mod, name in _imported_names(path)
+        if mod.startswith("axojax.cli.fit")
+        and mod != _module_name(path)
+        and (name.startswith("_") or "._" in mod)
+    ]
+    assert not bad, "\n".join(bad)
 
 
 def test_inverse_layers_import_only_downward():
@@ -330,3 +372,40 @@ def test_no_private_name_is_imported_from_another_subpackage():
         for line in _private_in(_module_name(path), path.name == "__init__.py", path.read_text())
     ]
     assert not bad, "\n".join(bad)
+
+
+# --- docs/internals.md's map of the house is the house -----------------------------------
+
+INTERNALS = ROOT.parent / "docs" / "internals.md"
+
+
+def _house_section() -> str:
+    text = INTERNALS.read_text()
+    start = text.index("## The house")
+    return text[start : text.index("\n## ", start + 1)]
+
+
+def _mapped_paths() -> set[str]:
+    """Every path in the first column of the map's table (a folder ``axojax/NAME/`` or a module ``axojax/NAME.py``)."""
+    rows = [line for line in _house_section().splitlines() if line.startswith("| `axojax/")]
+    return {p for row in rows for p in re.findall(r"`(axojax/[\w/.]+)`", row.split("|")[1])}
+
+
+def test_the_house_map_names_every_folder_and_module():
+    mapped = _mapped_paths()
+    top = {f"axojax/{p.name}/" for p in ROOT.iterdir() if p.is_dir() and p.name != "__pycache__"}
+    top |= {
+        f"axojax/{p.name}"
+        for p in ROOT.glob("*.py")
+        if p.name not in ("__init__.py", "__main__.py")
+    }
+    assert not top - mapped, f"docs/internals.md's map lacks {sorted(top - mapped)}"
+    assert all((ROOT.parent / p).exists() for p in mapped), sorted(
+        p for p in mapped if not (ROOT.parent / p).exists()
+    )
+
+
+def test_the_house_map_lists_inverse_layers_in_order():
+    section = _house_section()
+    listed = [m for m in re.findall(r"^\d+\. `(\w+)/`", section, re.M)]
+    assert listed == sorted(INVERSE_LAYERS, key=INVERSE_LAYERS.get), listed

@@ -333,3 +333,27 @@ def test_cli_coordinator_that_never_answers(tmp_path):
         and r.stderr.strip().startswith("axojax: error: --coordinator: nothing answered")
         and len(r.stderr.strip().splitlines()) == 1
     )
+
+
+def test_an_observed_scalar_gets_the_commands_default_uncertainty(capsys):
+    """ax.beats.observed_target gives what axojax fit's --target-* flags and a fit spec
+    give a scalar without its sigma (5 % of a frequency, 10 % of a wavelength, velocity
+    or tip amplitude); a value or sigma <= 0 is one line naming the observable, which the
+    command names by its flag."""
+    from axojax.beats import Target, observed_target
+    from axojax.beats.targets import RELATIVE_SIGMA
+    from axojax.inverse.spec import SPEC_TARGETS
+
+    assert observed_target("frequency_hz", 30.0) == Target("frequency_hz", 30.0, 1.5)
+    assert observed_target("wavelength_um", 20.0, 1.0) == Target("wavelength_um", 20.0, 1.0)
+    cycle = observed_target("amplitude_um", 4.0, source="limit_cycle")
+    assert cycle == Target("amplitude_um", 4.0, 0.4, source="limit_cycle")
+    assert all(rel == RELATIVE_SIGMA[key] for key, (_, _, rel) in SPEC_TARGETS.items())
+    with pytest.raises(ValueError, match=r"^wavelength_um: must be > 0, got -2$"):
+        observed_target("wavelength_um", -2.0)
+    with pytest.raises(ValueError, match=r"^frequency_hz: its uncertainty must be > 0, got 0$"):
+        observed_target("frequency_hz", 30.0, 0.0)
+    argv = ["fit", "--model", "two", "--free", "p", "--target-frequency", "30"]
+    assert main([*argv, "--frequency-sigma", "0"]) == 2
+    err = capsys.readouterr().err
+    assert err == "axojax: error: --target-frequency: its uncertainty must be > 0, got 0\n"

@@ -179,7 +179,7 @@ def test_plot_help_lists_every_input_it_reads():
     for kind in ("sweep", "simulate", "orbit", "posterior", "fit report", "FIT.json"):
         assert kind in text, kind
     # every kind the code reads is named in the help
-    from axojax.cli.plot import KINDS
+    from axojax.plotting.files import NPZ_KINDS as KINDS
 
     words = {
         "sweep": "'axojax sweep'",
@@ -194,8 +194,8 @@ def test_plot_help_lists_every_input_it_reads():
 
 def test_fit_help_names_its_default_solver_and_the_warm_up():
     from axojax.cli import fit as cli_fit
-    from axojax.cli import fit_posterior
     from axojax.cli.main import SUBCOMMANDS
+    from axojax.inverse.sampling import warmup_steps
 
     assert "optax" not in SUBCOMMANDS["fit"]
     assert "Levenberg-Marquardt by default" in SUBCOMMANDS["fit"]
@@ -207,10 +207,10 @@ def test_fit_help_names_its_default_solver_and_the_warm_up():
     assert "as many warm-up" not in text
     assert "after --warmup steps" in text
     assert "(default: DRAWS, at least 150 and at most 500" in text
-    # ... and that is what the code passes on
-    assert [fit_posterior.warmup_steps(d, None) for d in (20, 300, 1000)] == [150, 300, 500]
-    source = (ROOT / "axojax" / "cli" / "fit_posterior.py").read_text()
-    assert "warmup=warmup_steps(args.posterior, args.warmup, along)" in source
+    # ... and that is what the library does with the warm-up the command passes on
+    assert [warmup_steps(d, None) for d in (20, 300, 1000)] == [150, 300, 500]
+    source = (ROOT / "axojax" / "cli" / "fit" / "posterior.py").read_text()
+    assert "warmup=args.warmup," in source
 
 
 def test_scalar_fit_report_gives_each_unit_its_own_axis():

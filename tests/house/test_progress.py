@@ -90,6 +90,7 @@ def test_disabled_bar_prints_nothing(monkeypatch):
     assert err.getvalue() == ""
 
 
+@pytest.mark.slow  # long end-to-end (issue 53: the quick suite within 20 CPU-minutes)
 def test_cli_passes_the_json_rule(monkeypatch, capsys):
     """stderr a terminal, stdout a pipe: ``fit --json`` asks for no bar; text output shows
     the bars of the fit's starts and of the posterior (run in process with no delay, so that

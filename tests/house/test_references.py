@@ -27,7 +27,7 @@ OUTSIDE_FILES = re.compile(r"\b(MODEL|INTERFACE|INVERSE)\.md\b")
 TOP = r"(?:docs|tests|axojax|scripts|benchmarks|notebooks)"
 EXTENSIONS = r"(?:md|py|ipynb|toml|yml|yaml|json|npz|csv|mat|png|gif|txt|cff|js)"
 PATH = re.compile(rf"(?<![\w./-]){TOP}/[\w./-]*?\.{EXTENSIONS}\b(?![\w/-])")
-"""A repository path such as ``docs/model.md`` or ``axojax/cli/fit.py`` (not inside a URL
+"""A repository path such as ``docs/model.md`` or ``axojax/cli/main.py`` (not inside a URL
 or another path)."""
 
 PLACEHOLDER = re.compile(r"NAME|FILE|PATH|X|Y|Z")
@@ -70,7 +70,12 @@ FILES = _tracked()
 
 def test_the_scan_sees_the_project():
     names = {p.relative_to(ROOT).as_posix() for p in FILES}
-    for expected in ("README.md", "docs/model.md", "axojax/cli/fit.py", "tests/house/test_docs.py"):
+    for expected in (
+        "README.md",
+        "docs/model.md",
+        "axojax/cli/main.py",
+        "tests/house/test_docs.py",
+    ):
         assert expected in names
     assert any(n.endswith(".ipynb") for n in names)
 

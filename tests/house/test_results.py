@@ -300,3 +300,51 @@ def test_limit_cycle(two):
     with pytest.raises(ValueError, match="linearly stable") as err:
         ax.limit_cycle(two, ax.Params(p=0.9 * p_c), KAPPA, solver=ORBIT, throw=True)
     assert one_line(str(err.value))
+
+
+# -- files: each result recognises its own -----------------------------------------------
+
+
+def test_each_result_reads_and_recognises_its_own_file(swept, simulations, tmp_path):
+    """``read`` is ``load`` with the file checked whole, a foreign or damaged file one
+    ResultFileError naming it (what ``axojax plot`` prints after ``FILE:``); a JSON report
+    type says whether a document is its own; the plotting registry takes each kind to its
+    reader."""
+    from axojax.inverse import FitResult, Posterior
+    from axojax.inverse.comparison.compare import Comparison
+    from axojax.orbits.branch import Branch
+    from axojax.plotting.files import npz_kind
+
+    _, path = swept
+    assert SweepResult.read(path).shape == (2,) and npz_kind(path) == "sweep"
+    sim = tmp_path / "sim.npz"
+    simulations[0].save(sim)
+    assert ax.Simulation.read(sim).state == simulations[0].state
+    assert npz_kind(sim) == "simulation"
+    foreign = tmp_path / "foreign.npz"
+    np.savez(foreign, meta=np.array(json.dumps({"kind": "simulation"})))
+    for reader, kind in (
+        (SweepResult.read, "sweep"),
+        (ax.Simulation.read, "simulation"),
+        (Posterior.read, "posterior"),
+        (Branch.read, "orbit_branch"),
+    ):
+        with pytest.raises(results.ResultFileError) as err:
+            reader(foreign)
+        assert one_line(str(err.value)) and str(err.value).startswith(f"{str(foreign)!r} is a")
+        assert isinstance(err.value, ValueError)
+    with np.load(path) as f:
+        arrays = {k: f[k] for k in f.files}
+    arrays["frequency_hz"] = arrays["frequency_hz"][:1]
+    np.savez(tmp_path / "short.npz", **arrays)
+    with pytest.raises(results.ResultFileError, match="'frequency_hz' array has shape"):
+        SweepResult.read(tmp_path / "short.npz")
+    (tmp_path / "text.npz").write_text("not a zip")
+    with pytest.raises(results.ResultFileError, match="is not an .npz file"):
+        npz_kind(tmp_path / "text.npz")
+    np.savez(tmp_path / "banana.npz", meta=np.array(json.dumps({"kind": "banana"})))
+    with pytest.raises(results.ResultFileError, match="has kind 'banana'; axojax plots sweep"):
+        npz_kind(tmp_path / "banana.npz")
+    fit_doc = {"loss": 1.0, "converged": True, "conditions": []}
+    assert FitResult.is_document(fit_doc) and not Comparison.is_document(fit_doc)
+    assert Comparison.is_document({"kind": "comparison"}) and not FitResult.is_document([1])

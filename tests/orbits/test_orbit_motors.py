@@ -356,6 +356,7 @@ def test_cli_orbit_with_motor_kinetics(capsys):
     assert "motor kinetics: tau_m = 5 ms" in text and "saturating at 40 pN/um" in text
 
 
+@pytest.mark.slow  # long end-to-end (issue 53: the quick suite within 20 CPU-minutes)
 def test_warm_starts_take_the_motors_and_older_solvers_still_work():
     """WarmStart passes the motors on (from the regulated orbit itself: one Newton step,
     the same orbit); a solver written before motor kinetics (``solve`` without ``motors``)

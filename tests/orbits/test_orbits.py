@@ -155,6 +155,7 @@ def test_derivatives_match_finite_differences():
         assert abs(grad[i] - fd) <= 1e-5 * abs(fd), (i, grad[i], fd)
 
 
+@pytest.mark.slow  # long end-to-end (issue 53: the quick suite within 20 CPU-minutes)
 def test_fit_recovers_parameters_from_limit_cycle(two4):
     """A fit of p and cl to a limit cycle's frequency and tip amplitude recovers them."""
     true = ax.Params(p=160.0, cl=0.005)

@@ -281,6 +281,7 @@ def test_start_is_the_mode_of_the_density_in_z():
     )
 
 
+@pytest.mark.slow  # long end-to-end (issue 53: the quick suite within 20 CPU-minutes)
 def test_starts_settings_and_errors():
     problem = linear_problem(0)
     starts = np.array([[0.2, -0.1], [0.4, -0.3], [0.3, 0.0], [0.1, -0.2]])

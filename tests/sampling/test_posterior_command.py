@@ -112,7 +112,8 @@ def test_posterior_default_solver_is_the_structured_one_where_it_pays():
 
 
 def test_default_warmup_is_the_draws_within_150_to_500():
-    from axojax.cli.fit_posterior import warmup_steps
+    """The library's rule (the command passes --warmup as given, None without it)."""
+    from axojax.inverse.sampling import warmup_steps
 
     assert [warmup_steps(d, None) for d in (4, 150, 300, 1000, 100_000)] == [
         150,
@@ -127,13 +128,13 @@ def test_default_warmup_is_the_draws_within_150_to_500():
     assert warmup_steps(1000, 900, "ks") == 900
 
 
-def test_chains_run_sequentially_on_a_cpu(monkeypatch, capsys):
-    """The command runs its chains one after another on a CPU (measured faster there:
-    docs/benchmarks.md), vmapped on an accelerator; --along and its default warm-up reach
-    the sampler."""
-    import jax
-
-    from axojax.cli import fit_posterior as cli_fit
+def test_the_command_leaves_the_defaults_to_the_library(monkeypatch, capsys):
+    """The command passes its flags only: no warm-up, chain layout or transport of its own
+    (the library's defaults: the warm-up from the draws, the chains one after another on a
+    CPU, the transport chosen from the fit); --along and --warmup reach the sampler as
+    given."""
+    from axojax.cli.fit import posterior as cli_fit
+    from axojax.inverse.sampling import vectorize_chains
 
     seen = {}
 
@@ -141,20 +142,28 @@ def test_chains_run_sequentially_on_a_cpu(monkeypatch, capsys):
         pass
 
     def posterior(problem, **kw):
+        seen.clear()
         seen.update(kw)
         raise Stop
 
     monkeypatch.setattr(cli_fit, "posterior", posterior)
     argv = ["fit", "--no-mesh-check", "--model", "two", "--elements", "4", "--free", "p,ks"]
     argv += ["--target-frequency", "30", "--target-wavelength", "20", "--posterior", "1000"]
+    argv += ["--starts", "2"]  # the fit is not what is tested here
     with pytest.raises(Stop):
-        main(argv + ["--along", "ks"])
-    assert seen["vectorize"] is (jax.default_backend() != "cpu")
-    assert seen["transport"].along == "ks" and seen["warmup"] == 200
+        main(argv)
+    assert "vectorize" not in seen and seen["warmup"] is None
+    assert seen["transport"] == "auto" and hasattr(seen["init"], "params")  # the fit
+    with pytest.raises(Stop):
+        main(argv + ["--along", "ks", "--warmup", "300"])
+    assert seen["transport"].along == "ks" and seen["warmup"] == 300
+    import jax
+
+    assert vectorize_chains() is (jax.default_backend() != "cpu")
 
 
 def test_text_report_names_the_transport():
-    from axojax.cli.fit_text import _render_posterior
+    from axojax.cli.fit.text import _render_posterior
 
     post = {
         "chains": 4, "draws": 10, "seconds": 1.0, "mean": {"p": 1.0}, "sd": {"p": 0.1},
@@ -171,7 +180,7 @@ def test_text_report_names_the_transport():
 def test_along_default_is_chosen_from_the_fit_and_none_turns_it_off():
     import argparse
 
-    from axojax.cli import fit_posterior
+    from axojax.cli.fit import posterior as fit_posterior
 
     names = ("p", "ks")
     assert fit_posterior.transport_of(argparse.Namespace(along=None), names) == fit_posterior.AUTO

@@ -22,7 +22,8 @@ from tests.sampling.test_nuts import linear_problem
 
 RUN = {"draws": 8, "chains": 2, "warmup": 20, "seed": 0}
 MODEL = ax.models.two(n_elements=3)
-posterior_module = importlib.import_module("axojax.inverse.sampling.posterior")
+nuts_module = importlib.import_module("axojax.inverse.sampling._nuts")
+kernels_module = importlib.import_module("axojax.inverse.sampling._nuts_kernels")
 
 
 def problem(frequency=30.0, bounds=None, prior=None):
@@ -62,8 +63,8 @@ def test_second_run_loads_the_start_up_and_draws_the_same(tmp_path, monkeypatch)
     def refuse(*_, **__):
         raise AssertionError("the start-up ran although it was cached")
 
-    monkeypatch.setattr(posterior_module, "_starts", refuse)
-    monkeypatch.setattr(posterior_module, "_adapt", refuse)
+    monkeypatch.setattr(nuts_module, "chain_starts", refuse)
+    monkeypatch.setattr(kernels_module, "adapt", refuse)
     seen = []
     second = sample(prob, cache=tmp_path, on_laplace=seen.append)
     assert second.warm_cache == "loaded" and second.seconds_warmup == 0.0
@@ -157,6 +158,7 @@ def test_no_cache_writes_nothing(tmp_path, monkeypatch):
     assert len(files(tmp_path / "jax" / "posterior")) == 1
 
 
+@pytest.mark.slow  # long end-to-end (issue 53: the quick suite within 20 CPU-minutes)
 def test_problems_without_a_fingerprint_run_uncached(tmp_path):
     def log_prior(u):
         return -0.5 * (u[0] - 5.0) ** 2
@@ -169,8 +171,9 @@ def test_problems_without_a_fingerprint_run_uncached(tmp_path):
         sample(problem(), cache=3)
 
 
+@pytest.mark.slow  # long end-to-end (issue 53: the quick suite within 20 CPU-minutes)
 def test_fit_posterior_uses_the_cache_when_the_compilation_cache_is_on(tmp_path, monkeypatch):
-    from axojax.cli import fit_posterior as fit_cli
+    from axojax.cli.fit import posterior as fit_cli
     from axojax.cli.main import main
 
     argv = ["fit", "--no-mesh-check", "--model", "two", "--elements", "3", "--free", "p"]
@@ -195,6 +198,7 @@ def test_fit_posterior_uses_the_cache_when_the_compilation_cache_is_on(tmp_path,
         assert first[key] == second[key], key
 
 
+@pytest.mark.slow  # long end-to-end (issue 53: the quick suite within 20 CPU-minutes)
 def test_scaled_sigmas_of_a_model_problem_samples():
     """ScaledSigmas over a real Problem (whose values are Python floats) passes the
     run-time type checks of its Laplace start, and widens the width by its factor."""

@@ -238,6 +238,7 @@ def test_simulate_flags_a_near_node(monkeypatch, capsys, shape, flagged):
     assert (NOTE in line) == flagged
 
 
+@pytest.mark.slow  # long end-to-end (issue 53: the quick suite within 20 CPU-minutes)
 def test_fit_reports_the_achieved_modes_dip(capsys):
     """`axojax fit`: the achieved mode's amplitude_dip in the JSON (the dominant mode's at the
     fitted values), and the note on the terminal exactly when it is below SENSITIVE_DIP."""

@@ -252,6 +252,7 @@ def test_a_beat_rotated_by_a_constant_has_the_same_residuals():
     np.testing.assert_allclose(base[: len(S_UM)], expected, atol=1e-9)
 
 
+@pytest.mark.slow  # long end-to-end (issue 53: the quick suite within 20 CPU-minutes)
 def test_the_whole_beat_fit_recovers_the_beat_from_the_linear_fit():
     """From the linear row's fit of the noisy beat (psi_1 with a free amplitude, pinned at
     50 Hz), the whole-beat fit reaches the acceptance list's tolerances against the true

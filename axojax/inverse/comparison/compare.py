@@ -31,6 +31,7 @@ from ... import _io
 from ...beats.data import BeatData, read_beat
 from ...beats.frames import in_basal_frame
 from ...beats.targets import FRAMES
+from ...beats.units import beat_units
 from ...models.presets import preset_section
 from ...results import jsonable
 from ...results import name as result_name
@@ -267,6 +268,11 @@ class Comparison:
         """Write :meth:`to_json` (read by ``axojax plot REPORT.json``), atomically."""
         _io.write_text(path, json.dumps(self.to_json(), indent=1, allow_nan=False) + "\n")
 
+    @staticmethod
+    def is_document(doc: Any) -> bool:
+        """Whether ``doc``, read back from a JSON file, is a comparison (:meth:`to_json`)."""
+        return isinstance(doc, dict) and doc.get("kind") == "comparison"
+
     def table(self, params: bool = False) -> str:
         """The rows as a text table, best first, with the status marks' footnotes and the
         verdict; ``params``: the fitted values in physical units with their standard
@@ -303,25 +309,14 @@ def default_units(
     beat: BeatData, model: str = DEFAULT_PRESET, n_filaments: int | None = None
 ) -> tuple[Units, str]:
     """The units a comparison (or ``axojax fit --data``) of ``beat`` assumes when given
-    none, and where they come from in words: the data set's flagellum when it is known (a
-    bundled beat: :attr:`BeatData.flagellum`, kappa and xi_n shared by the preset's F
-    filaments, or by ``n_filaments``), else axojax's :class:`~axojax.Units` (paper table
-    2: a 12 um cilium's EI and c_n per filament), at the beat's length either way. The
-    shape a model can reach depends on the sperm number they give (docs/mechanisms.md),
-    so a user's own beat should come with its organism's units."""
+    none, and where they come from in words (:func:`axojax.beats.units.beat_units`): the
+    data set's flagellum when it is known (a bundled beat: :attr:`BeatData.flagellum`,
+    kappa and xi_n shared by the preset's F filaments, or by ``n_filaments``), else
+    axojax's :class:`~axojax.Units` (paper table 2: a 12 um cilium's EI and c_n per
+    filament), at the beat's length either way."""
     if n_filaments is None:
         n_filaments = preset_section(model).n_filaments
-    if beat.flagellum is not None:
-        f = beat.flagellum
-        return f.units(beat.length_um, n_filaments), (
-            f"the data set's flagellum: kappa {f.bending_rigidity_pn_um2:.4g} pN um^2, "
-            f"xi_n {f.normal_drag_pn_s_um2:.3g} pN s/um^2, shared by {n_filaments} filaments"
-        )
-    u = Units()
-    return Units(beat.length_um, u.ei_pn_um2, u.cn_pn_s_um2), (
-        "axojax's default units (paper table 2, a 12 um cilium's); give the organism's "
-        "(--ei, --cn) for a fit that means something"
-    )
+    return beat_units(beat, n_filaments)
 
 
 def organism_of(organism) -> Organism | None:
@@ -435,17 +430,13 @@ def compare(
     org = organism_of(organism)
     if org is not None and head is None:
         head = org.head_um  # made a Base below, in the units chosen
-    if units is None and org is not None:
-        n_f = preset_section(model).n_filaments
-        units = org.flagellum.units(beat.length_um, n_f)
-        units_source = (
-            f"the {org.name} preset: kappa {org.flagellum.bending_rigidity_pn_um2:.4g} pN um^2, "
-            f"xi_n {org.flagellum.normal_drag_pn_s_um2:.3g} pN s/um^2, shared by {n_f} filaments"
-        )
-    elif units is None:
-        units, units_source = default_units(beat, model)
-    else:
-        units, units_source = Units(beat.length_um, units.ei_pn_um2, units.cn_pn_s_um2), "given"
+    units, units_source = beat_units(
+        beat,
+        preset_section(model).n_filaments,
+        ei_pn_um2=None if units is None else units.ei_pn_um2,
+        cn_pn_s_um2=None if units is None else units.cn_pn_s_um2,
+        organism=org,
+    )
     if sperm_number is not None:
         if not (math.isfinite(sperm_number) and sperm_number > 0):
             raise ValueError(f"sperm_number: must be > 0, got {sperm_number!r}")

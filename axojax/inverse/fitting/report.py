@@ -44,12 +44,7 @@ from ...results import RESULTS, jsonable, message
 from ...results import name as result_name
 from .._arguments import SIGNED
 from ..problem import CYCLE_FAILED, Problem
-from .identifiability import (
-    start_notes,
-    strong_pairs,
-    uncertainty,
-    verdicts,
-)
+from .identifiability import start_notes, strong_pairs, uncertainty, verdicts
 from .quality import information_criteria
 from .quality import r2 as r2_of
 
@@ -206,6 +201,11 @@ class FitResult:
         a temporary file renamed into place (:func:`axojax._io.write_text`): a killed
         run leaves the old file or none, never half of one."""
         _io.write_text(path, json.dumps(self.to_json(), indent=1, allow_nan=False) + "\n")
+
+    @staticmethod
+    def is_document(doc: Any) -> bool:
+        """Whether ``doc``, read back from a JSON file, is a fit report (:meth:`to_json`)."""
+        return isinstance(doc, dict) and {"loss", "converged", "conditions"} <= set(doc)
 
 
 def base_name(model) -> str:

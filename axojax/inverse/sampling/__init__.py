@@ -1,10 +1,20 @@
-"""Posteriors of an inverse problem (:class:`axojax.inverse.Problem`), one sampler
-object each, all run by :func:`posterior`: :class:`NUTS` chains (:mod:`.posterior`),
-adaptive tempered :class:`SMC` runs for several modes and cliffs (:mod:`.smc`),
-:class:`ModeMixture`'s independence chains from a fitted mixture (:mod:`.modes`); the
-coordinates that straighten a curved ridge for them (:mod:`.transport`,
-:mod:`.transport_choice`), the Laplace approximation where chains start, their start-up
-cache and diagnostics.
+"""Posteriors of an inverse problem (:class:`axojax.inverse.Problem`), one sampler object
+each (an :class:`AbstractSampler`), all run by :func:`posterior`, which checks the
+arguments they share and calls the sampler's ``run``: :class:`NUTS` chains (its settings,
+defaults and run in ``_nuts``, its compiled programs in ``_nuts_kernels``), adaptive
+tempered :class:`SMC` runs for several modes and cliffs (``_smc``), :class:`ModeMixture`'s
+independence chains from a fitted mixture (``_mode_mixture``; its tempered fit in
+``_mode_tempering``); the coordinates that straighten a curved ridge for NUTS
+(:mod:`.transport`, :mod:`.transport_choice`), the Laplace approximation where chains
+start, their start-up cache and diagnostics. What every sampler shares, and a sampler of
+one's own may use, is public: :mod:`.summaries` (draws as values, statistics, a
+gradient-free sampler's :class:`Posterior`) and :mod:`.programs` (compiled pieces and
+their clock).
+
+The defaults are those of ``axojax fit --posterior``: an axojax ``Problem`` given no start
+is fitted from :data:`POSTERIOR_STARTS` starts first, the warm-up follows the draws
+(:func:`warmup_steps`), the chains run one after another on a CPU
+(:func:`vectorize_chains`) and NUTS samples along the ridge that fit suggests.
 
 Imports the problem core and the fit layer (:mod:`axojax.inverse.fitting`), never the
 comparison or the whole beat; this ``__init__`` is the only way in from outside.
@@ -12,18 +22,31 @@ comparison or the whole beat; this ``__init__`` is the only way in from outside.
 
 from . import diagnostics
 from ._densities import InverseProblem, NormalPrior, ScaledSigmas, normal_prior
-from ._laplace import Laplace, laplace_of
-from ._nuts import NUTS
+from ._laplace import POSTERIOR_STARTS, Laplace, laplace_of
+from ._mode_mixture import ModeMixture
+from ._nuts import (
+    MAX_ALONG_WARMUP,
+    MAX_DEFAULT_WARMUP,
+    MIN_WARMUP,
+    NUTS,
+    vectorize_chains,
+    warmup_steps,
+)
+from ._posterior import posterior
 from ._posterior_result import Posterior, load_truth
+from ._sampler import AbstractSampler
 from ._smc import SMC
-from .modes import ModeMixture
-from .posterior import posterior
 from .transport import ProfileTransport
 from .transport_choice import suggest_transport
 
 __all__ = [
+    "MAX_ALONG_WARMUP",
+    "MAX_DEFAULT_WARMUP",
+    "MIN_WARMUP",
     "NUTS",
+    "POSTERIOR_STARTS",
     "SMC",
+    "AbstractSampler",
     "InverseProblem",
     "Laplace",
     "ModeMixture",
@@ -37,4 +60,6 @@ __all__ = [
     "normal_prior",
     "posterior",
     "suggest_transport",
+    "vectorize_chains",
+    "warmup_steps",
 ]

@@ -1,7 +1,8 @@
 """What a sampler needs of an inverse problem (:class:`InverseProblem`), priors in the
 fitted coordinate (:class:`NormalPrior`), a problem with rescaled sigmas
-(:class:`ScaledSigmas`), and the log density actually sampled (``_Target``, in z, and
-``_Whitened``, in the coordinates whitened by the Laplace approximation)."""
+(:class:`ScaledSigmas`), and the log density actually sampled (:class:`LogDensity`, in z, and
+:class:`Whitened`, in the coordinates whitened by the Laplace approximation), and the
+reference density that gradient-free samplers temper from (:func:`log_reference`)."""
 
 from __future__ import annotations
 
@@ -152,7 +153,7 @@ class ScaledSigmas(eqx.Module):
         return self.problem.values(u)
 
 
-class _Target(eqx.Module):
+class LogDensity(eqx.Module):
     """The log density sampled, in z: the problem's, with its prior replaced by ``prior``
     when given; NaN (a failed model evaluation) reads as -inf (a rejected proposal)."""
 
@@ -185,14 +186,14 @@ class _Target(eqx.Module):
         return r, rest
 
 
-class _Whitened(eqx.Module):
+class Whitened(eqx.Module):
     """``target`` in whitened coordinates: ``w -> target(centre + chol @ w)`` (the
     constant log-Jacobian left out: it changes no ratio of densities). With a
     ``transport`` (a :class:`~axojax.inverse.sampling.transport.ProfileMap`), whitened after it:
     ``w -> y = centre + chol @ w -> z = transport.to_z(y)``, the log density in ``y``
     being ``target(z) + transport.log_det(y)`` (``centre`` and ``chol`` then in ``y``)."""
 
-    target: _Target
+    target: LogDensity
     centre: Float[Array, " k"]
     chol: Float[Array, "k k"]
     transport: Any = None
@@ -220,3 +221,15 @@ class _Whitened(eqx.Module):
                 to_y = jax.vmap(to_y)
             z = to_y(z)
         return jax.scipy.linalg.solve_triangular(self.chol, (z - self.centre).T, lower=True).T
+
+
+def log_reference(problem):
+    """The reference log density in z, ``z -> log|du/dz|``: the uniform prior in u between
+    the bounds (up to the box's volume), as a density in z. SMC and :class:`ModeMixture`
+    temper from it; the rest of :class:`LogDensity` (the likelihood and the prior's departure
+    from uniform) is the tempered part."""
+
+    def log_ref(z: Float[Array, " k"]) -> Float[Array, ""]:
+        return jnp.linalg.slogdet(jax.jacfwd(problem.to_u)(z))[1]
+
+    return log_ref

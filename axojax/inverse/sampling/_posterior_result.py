@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 
 from ..._io import atomic_path
-from ...results import RESULTS
+from ...results import RESULTS, check_arrays, read_checked
 from ...results import name as result_name
 from ._laplace import Laplace
 
@@ -284,6 +284,18 @@ class Posterior:
             **scalars,
             **arrays,
         )
+
+    @classmethod
+    def read(cls, path) -> Posterior:
+        """:meth:`load`, the file checked whole (draws of every parameter); a file that is
+        not is one :class:`~axojax.results.ResultFileError` naming it."""
+
+        def checked(path):
+            post = cls.load(path)
+            check_arrays(path, NPZ_KIND, {"u": post.u}, {"u": (None, None, len(post.names))})
+            return post
+
+        return read_checked(path, NPZ_KIND, checked)
 
 
 _ARRAY_FIELDS = (

@@ -1,4 +1,5 @@
-"""Adaptive tempered sequential Monte Carlo (:class:`SMC`): the sampler's settings and the
+"""Adaptive tempered sequential Monte Carlo (:class:`SMC`): the sampler's settings, its
+run (:meth:`SMC.run`, what ``posterior(problem, sampler=SMC(...))`` calls) and the
 compiled program of one run (blackjax's ``adaptive_tempered_smc`` with a random-walk
 Metropolis mutation whose proposal follows the particles' covariance, its scale the
 acceptance rate).
@@ -17,20 +18,38 @@ jumps (a cliff of the likelihood) and a Metropolis step simply accepts or reject
 across it, where a gradient-based trajectory diverges. Particles spread over every mode
 from the start (the prior covers them all), and the tempering weighs the modes by their
 mass.
+
+``chains`` independent runs play the chains' part: each run's equally weighted particles
+are its "draws" (in the order the last resampling left them: copies of one ancestor side
+by side, so the autocorrelation along a run sees what resampling duplicated), and R-hat
+and ESS are computed from the (runs, particles, k) array as for chains. R-hat < 1.01
+then says the runs agree, the ESS how many independent draws the particles are worth.
+Every log-density evaluation is counted (``Posterior.gradients``, none of them a
+gradient): per stage and particle, the mutation steps plus three (:meth:`SMC.evaluations_per_stage`),
+and one per particle for the draws' log densities.
 """
 
 from __future__ import annotations
 
 import math
+import time
 
 import blackjax
-import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 from blackjax.smc.tuning.from_kernel_info import update_scale_from_acceptance_rate
 from blackjax.smc.tuning.from_particles import particles_covariance_matrix
 from blackjax.smc.waste_free import waste_free_smc
 from jaxtyping import Array, Float, Int, PRNGKeyArray
+
+from ..._progress import progress as progress_bar
+from . import diagnostics
+from ._densities import LogDensity, log_reference
+from ._posterior_result import Posterior
+from ._sampler import AbstractSampler, refuse_transport
+from .programs import Clock
+from .summaries import gradient_free_posterior, to_u, value_draws
 
 LOG_FLOOR = -1e12
 """Log likelihood given to a failed model evaluation (NaN or -inf): finite, so that
@@ -40,9 +59,9 @@ JITTER = 1e-9
 squared: the proposal of a collapsed direction stays proper)."""
 
 
-class SMC(eqx.Module):
+class SMC(AbstractSampler):
     """Adaptive tempered sequential Monte Carlo (blackjax), for posteriors with several
-    modes or cliffs (:mod:`._smc`). Pass it as ``sampler=`` to
+    modes or cliffs (module docstring). Pass it as ``sampler=`` to
     :func:`axojax.inverse.posterior`: ``chains`` independent runs, each started from the
     prior (``init``, ``warmup``, ``transport`` and the warm cache do not apply).
 
@@ -117,16 +136,89 @@ class SMC(eqx.Module):
         chains = particles // (self.mutation_steps + 1) if self.waste_free else particles
         return 2 * particles + chains * (self.mutation_steps + 1)
 
+    def run(
+        self,
+        problem,
+        *,
+        draws,
+        chains,
+        warmup,
+        seed,
+        init,
+        prior,
+        vectorize,
+        progress,
+        on_laplace,
+        cache,
+        transport,
+    ) -> Posterior:
+        """``chains`` independent SMC runs of :meth:`n_particles` particles each, from the
+        prior (``init``, ``warmup``, ``vectorize``, ``on_laplace`` and ``cache`` do not
+        apply; a ``transport`` is refused: SMC samples z as it is).
 
-def _reference(problem):
-    """The reference log density in z and the likelihood over it: uniform in u between
-    the bounds is ``log|du/dz|`` in z; the rest of ``target`` (a :class:`._densities._Target`)
-    is the tempered part."""
-
-    def log_ref(z: Float[Array, " k"]) -> Float[Array, ""]:
-        return jnp.linalg.slogdet(jax.jacfwd(problem.to_u)(z))[1]
-
-    return log_ref
+        Returns:
+            :class:`~axojax.inverse.Posterior` with ``u`` (runs, particles, k),
+            ``sampler="smc"``, ``gradients`` every log-density evaluation (no gradients),
+            ``tempering_stages`` and ``log_evidence`` per run; warnings as
+            :func:`~axojax.inverse.posterior`'s (R-hat, ESS), and when a run stopped at
+            ``max_stages`` before beta reached 1.
+        """
+        t_start = time.perf_counter()
+        refuse_transport("SMC", transport)
+        names = tuple(problem.names)
+        k = len(names)
+        lower = np.asarray(problem.lower, dtype=float).reshape(-1)
+        upper = np.asarray(problem.upper, dtype=float).reshape(-1)
+        n = self.n_particles(draws)
+        if n < 4:
+            raise ValueError(
+                f"SMC: particles per run must be >= 4 (R-hat splits each run), got {n}"
+            )
+        target = LogDensity(problem, prior)
+        clock = Clock()
+        keys = jax.random.split(jax.random.PRNGKey(seed), chains)
+        runs = []
+        with progress_bar(total=chains, desc="SMC runs", unit="run", enable=progress) as bar:
+            for key in keys:
+                out = clock.call(
+                    _one_run, (self, n), target, key, jnp.asarray(lower), jnp.asarray(upper)
+                )
+                runs.append(jax.device_get(out))
+                bar.update(1)
+        z = np.stack([r[0] for r in runs])
+        log_density = np.stack([r[1] for r in runs])
+        stages = tuple(int(r[2]) for r in runs)
+        accept = float(np.mean([r[3] for r in runs]))
+        log_evidence = tuple(float(r[4]) for r in runs)
+        u = np.asarray(clock.call(to_u, None, target, jnp.asarray(z)))
+        value_names, values, log_coordinate = value_draws(problem, names, u, clock.call)
+        summ = diagnostics.summary(values[..., :k])
+        evaluations = sum(self.evaluations_per_stage(n) * s + n for s in stages)
+        notes = diagnostics.sampler_notes(names, summ, chains, chains * n, 0)
+        short = [i for i, s in enumerate(stages) if s >= self.max_stages]
+        if short or not np.all(np.isfinite(log_density)):
+            notes.append(
+                f"SMC: runs {', '.join(map(str, short))} stopped at max_stages={self.max_stages} "
+                "before the tempering reached the posterior (raise max_stages or target_ess)"
+            )
+        return gradient_free_posterior(
+            names=names,
+            u=u,
+            draws_info=(value_names, values, log_coordinate, log_density),
+            bounds=(lower, upper),
+            summ=summ,
+            notes=notes,
+            evaluations=evaluations,
+            clock=clock,
+            t_start=t_start,
+            acceptance=accept,
+            warmup=0,
+            seconds_warmup=0.0,
+            seconds_sampling=time.perf_counter() - t_start,
+            sampler="smc",
+            tempering_stages=stages,
+            log_evidence=log_evidence,
+        )
 
 
 def _strategy(sampler: SMC, n: int) -> dict:
@@ -138,7 +230,7 @@ def _strategy(sampler: SMC, n: int) -> dict:
     return {"num_mcmc_steps": None, "update_strategy": update}
 
 
-def _run(
+def _one_run(
     settings: tuple[SMC, int],
     target,
     key: PRNGKeyArray,
@@ -147,7 +239,7 @@ def _run(
 ) -> tuple[
     Float[Array, "n k"], Float[Array, " n"], Int[Array, ""], Float[Array, ""], Float[Array, ""]
 ]:
-    """One SMC run (:mod:`._smc`) of ``target`` (the log density in z): the particles
+    """One SMC run (module docstring) of ``target`` (the log density in z): the particles
     (n, k) in z, equally weighted; their log densities (n,); the stages run (the last at
     beta = 1 included); the mutation's mean acceptance rate; and the log of the
     normalising constant of the posterior over the reference (the log evidence, up to
@@ -155,7 +247,7 @@ def _run(
     sampler, n = settings
     problem = target.problem
     k = lower.shape[0]
-    log_ref = _reference(problem)
+    log_ref = log_reference(problem)
 
     def log_like(z):
         ll = target(z) - log_ref(z)

@@ -88,7 +88,7 @@ def run_key(
     import jax
 
     from ._densities import NormalPrior
-    from ._laplace import _fitted_u
+    from ._laplace import fitted_u
 
     fingerprint = getattr(problem, "fingerprint", None)
     if not callable(fingerprint) or not (prior is None or isinstance(prior, NormalPrior)):
@@ -100,7 +100,7 @@ def run_key(
         elif hasattr(init, "params") and hasattr(init, "coordinate"):  # a FitResult
             lower = np.asarray(problem.lower, dtype=float)
             upper = np.asarray(problem.upper, dtype=float)
-            start = ("fit", _fitted_u(init, tuple(problem.names), lower, upper))
+            start = ("fit", fitted_u(init, tuple(problem.names), lower, upper))
         else:
             start = ("u", np.asarray(init, dtype=float))
         return digest(

@@ -42,9 +42,9 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..fitting.identifiability import NEAR_LOSS
-from ._densities import _Target
-from ._laplace import _centre, _covariance, _fitted_u
-from ._nuts import _compiled
+from ._densities import LogDensity
+from ._laplace import centre, covariance, fitted_u
+from .programs import compiled
 from .transport import DEFAULT_KNOTS, ProfileTransport, build_map
 
 RIDGE_CORRELATION = 0.99
@@ -81,7 +81,7 @@ def suggest_transport(problem, fit) -> ProfileTransport | None:
     if len(names) < 2 or corr.shape != (len(names), len(names)):
         return None
     lower, upper = np.asarray(problem.lower), np.asarray(problem.upper)
-    u = jnp.asarray(_fitted_u(fit, names, lower, upper))
+    u = jnp.asarray(fitted_u(fit, names, lower, upper))
     dz_du = np.abs(np.diagonal(np.asarray(jax.jacfwd(problem.to_z)(u))))
     sd_z = np.array([fit.stderr_fitted[n] for n in names]) * dz_du
     if not np.any(np.isfinite(sd_z)):
@@ -112,22 +112,20 @@ def importance_scores(problem, u, draws: int = IMPORTANCE_DRAWS, seed: int = 0) 
 
 def _importance(problem, u, draws: int = IMPORTANCE_DRAWS, seed: int = 0) -> tuple[dict, dict]:
     """:func:`importance_scores` and the profile maps it built, ``{index: ProfileMap}``."""
-    target = _Target(problem)
+    target = LogDensity(problem)
     z0 = jnp.asarray(problem.to_z(u), dtype=float)
     try:
-        z_c, precision, _ = _compiled(_centre, (False, True), (target, z0))[0]
+        z_c, precision, _ = compiled(centre, (False, True), (target, z0))[0]
     except TypeError:  # residuals with a reverse-only (custom_vjp) derivative
-        z_c, precision, _ = _compiled(_centre, (False, False), (target, z0))[0]
-    chol = jnp.linalg.cholesky(jnp.asarray(_covariance(np.asarray(precision, dtype=float))))
+        z_c, precision, _ = compiled(centre, (False, False), (target, z0))[0]
+    chol = jnp.linalg.cholesky(jnp.asarray(covariance(np.asarray(precision, dtype=float))))
     y = jax.random.normal(jax.random.PRNGKey(seed), (draws, z0.shape[0]), dtype=float)
     s = jnp.linspace(-BARRIER_RANGE, BARRIER_RANGE, BARRIER_POINTS)
-    scores = {
-        None: (*_score(_compiled(_laplace_log_weights, None, (target, z_c, chol, y))[0]), 0.0)
-    }
+    scores = {None: (*_score(compiled(_laplace_log_weights, None, (target, z_c, chol, y))[0]), 0.0)}
     maps = {}
     for a in range(z0.shape[0]):
-        maps[a] = _compiled(build_map, (a, DEFAULT_KNOTS), (target, z_c))[0]
-        log_w, along = _compiled(_profile_log_weights, None, (target, maps[a], y, s))[0]
+        maps[a] = compiled(build_map, (a, DEFAULT_KNOTS), (target, z_c))[0]
+        log_w, along = compiled(_profile_log_weights, None, (target, maps[a], y, s))[0]
         scores[a] = (*_score(log_w), _dip(along))
     return scores, maps
 
@@ -201,8 +199,8 @@ def _distant_optimum(problem, fit, names, u, sd_z) -> bool:
             continue
         if any(n not in values for n in names):
             continue
-        end = SimpleNamespace(params=values, coordinate=fit.coordinate)  # as _fitted_u reads
-        other = _fitted_u(end, names, lower, upper)
+        end = SimpleNamespace(params=values, coordinate=fit.coordinate)  # as fitted_u reads
+        other = fitted_u(end, names, lower, upper)
         dz = np.asarray(problem.to_z(jnp.asarray(other))) - z_best
         if np.max(np.abs(dz) / sd) > OPTIMA_SDS:
             return True

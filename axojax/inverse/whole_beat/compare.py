@@ -32,11 +32,12 @@ from tqdm.auto import tqdm
 from ...beats.data import BeatData
 from ...beats.frames import in_basal_frame
 from ...beats.targets import FRAMES
+from ...beats.units import beat_units
 from ...models.presets import preset_section
 from ...results import jsonable
 from ...results import name as result_name
 from ...units import Units
-from ..comparison.compare import as_beat, default_units, model_json, organism_of, physical_values
+from ..comparison.compare import as_beat, model_json, organism_of, physical_values
 from ..comparison.mechanisms import DEFAULT_PRESET, FREE, build_model, check_names, parse_base, row
 from ..comparison.table import physical_text
 from ..comparison.verdict import FREQUENCY_MATCH, mark, rank, verdict
@@ -315,13 +316,16 @@ def compare_whole_beat(
     shape = dataclasses.replace(shape, frame=frame)
     frequency = targets[0]
     org = organism_of(organism)
-    if units is not None:
-        units, source = Units(beat.length_um, units.ei_pn_um2, units.cn_pn_s_um2), "given"
-    elif org is not None:
-        units = org.flagellum.units(beat.length_um, preset_section(model).n_filaments)
-        source = f"the {org.name} preset"
-    else:
-        units, source = default_units(beat, model)
+    given = units
+    units, source = beat_units(
+        beat,
+        preset_section(model).n_filaments,
+        ei_pn_um2=None if given is None else given.ei_pn_um2,
+        cn_pn_s_um2=None if given is None else given.cn_pn_s_um2,
+        organism=org,
+    )
+    if given is None and org is not None:
+        source = f"the {org.name} preset"  # the whole beat's table names the preset alone
     t0 = time.perf_counter()
     rows = []
     combos = [(m, b) for b in bases for m in mechanisms]

@@ -1,6 +1,9 @@
-"""Summaries shared by the samplers (:mod:`.posterior`, :mod:`.smc`, :mod:`.modes`):
-the clock of compiled pieces, draws as parameter values, their per-parameter statistics,
-and the result of a sampler without gradients."""
+"""What every sampler of :mod:`axojax.inverse.sampling` makes of its draws (public, so that
+a sampler of one's own, an :class:`~axojax.inverse.sampling.AbstractSampler`, can make
+them the same way): draws in z as draws in u (:func:`to_u`, a compiled piece) and as
+parameter values (:func:`value_draws`, by :func:`problem_values`), their per-parameter statistics
+(:func:`statistics`), and the :class:`~axojax.inverse.Posterior` of a sampler without
+gradients (:func:`gradient_free_posterior`)."""
 
 from __future__ import annotations
 
@@ -8,31 +11,46 @@ import math
 import time
 import warnings
 
+import jax
+import jax.numpy as jnp
 import numpy as np
 
 from ...results import RESULTS, message
-from ._nuts import _compiled, _values
+from ._densities import LogDensity
 from ._posterior_result import Posterior
+from .programs import Clock
 
 
-class _Clock:
-    """Runs compiled pieces (:func:`._nuts._compiled`) and adds up their compilation."""
-
-    def __init__(self):
-        self.seconds = 0.0
-
-    def call(self, fn, static, *dynamic):
-        out, seconds = _compiled(fn, static, dynamic)
-        self.seconds += seconds
-        return out
+def to_u(_, target, z):
+    """Draws z (chains, draws, k) -> u (chains, draws, k): a piece for :meth:`Clock.call`
+    (``clock.call(to_u, None, target, z)``)."""
+    return jax.vmap(jax.vmap(target.problem.to_u))(z)
 
 
-def _value_draws(problem, names, u, call):
+def _values_batch(_, target, u):
+    return jax.vmap(target.problem.values)(u)
+
+
+def problem_values(problem, u: np.ndarray, call) -> dict[str, np.ndarray]:
+    """``problem.values`` of every row of u (n, k): vmapped where it is traceable (by
+    ``call``, a :meth:`Clock.call`), else one call per draw (a ``values`` written in numpy
+    for concrete u)."""
+    try:
+        return {
+            n: np.asarray(v, dtype=float)
+            for n, v in call(_values_batch, None, LogDensity(problem), jnp.asarray(u)).items()
+        }
+    except TypeError:  # jax's concretisation errors: values() needs concrete u
+        rows = [problem.values(x) for x in u]
+        return {n: np.array([float(r[n]) for r in rows]) for n in rows[0]}
+
+
+def value_draws(problem, names, u, call):
     """The draws u (chains, draws, k) as parameter values: their names (the free
     parameters first, then what else ``problem.values`` reports), the values (chains,
     draws, n) and per free parameter whether u is the log of its value."""
     chains, draws, k = u.shape
-    by_name = _values(problem, u.reshape(-1, k), call)
+    by_name = problem_values(problem, u.reshape(-1, k), call)
     value_names = tuple(names) + tuple(n for n in by_name if n not in names)
     cols = [
         np.asarray(by_name[n], dtype=float).reshape(chains, draws) if n in by_name else u[..., i]
@@ -49,7 +67,7 @@ def _value_draws(problem, names, u, call):
     return value_names, values, log_coordinate
 
 
-def _statistics(names, summ, flat_u) -> dict[str, dict[str, float]]:
+def statistics(names, summ, flat_u) -> dict[str, dict[str, float]]:
     """Per parameter, by name: mean, sd, 5/50/95 % quantiles, R-hat and bulk/tail ESS of
     its values (``summ``: :func:`.diagnostics.summary`), and the mean and sd of its
     draws in u (``flat_u``: (chains * draws, k)), as :class:`Posterior` names them."""
@@ -80,12 +98,13 @@ def gradient_free_posterior(
     summ,
     notes: list[str],
     evaluations: int,
-    clock: _Clock,
+    clock: Clock,
     t_start: float,
     **fields,
 ):
-    """The :class:`~._posterior_result.Posterior` of a sampler without gradients (:mod:`.smc`, :mod:`.modes`):
-    its notes warned (one line each, for ``posterior``'s caller) and folded into
+    """The :class:`~axojax.inverse.Posterior` of a sampler without gradients (:class:`SMC`,
+    :class:`ModeMixture`, or one's own, its ``run`` calling this): its notes warned (one
+    line each, for the caller of :func:`posterior`, which called ``run``) and folded into
     ``message`` and ``result``; no divergences, step sizes or start. ``draws_info`` =
     (value_names, values, log_coordinate, log_density); ``bounds`` = (lower, upper);
     ``fields``: the sampler's own (``acceptance``, ``warmup``, ``seconds_warmup``,
@@ -107,7 +126,7 @@ def gradient_free_posterior(
         lower=bounds[0],
         upper=bounds[1],
         log_coordinate=log_coordinate,
-        **_statistics(names, summ, u.reshape(-1, k)),
+        **statistics(names, summ, u.reshape(-1, k)),
         divergences=0,
         step_size=np.full(chains, math.nan),
         gradients=int(evaluations),

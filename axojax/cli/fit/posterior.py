@@ -3,7 +3,9 @@
 and the run of :func:`axojax.inverse.posterior`: NUTS from the fit's optimum (with the
 warm-state cache when the compilation cache is on, the Laplace approximation printed
 first), ``--sampler smc``: independent SMC runs from the prior, or ``--sampler modes``:
-independence Metropolis-Hastings chains from a mixture fitted to every mode."""
+independence Metropolis-Hastings chains from a mixture fitted to every mode. The
+defaults (the warm-up, the chains' layout, the transport chosen from the fit) are the
+library's own (:mod:`axojax.inverse.sampling`): the command passes its flags only."""
 
 from __future__ import annotations
 
@@ -11,44 +13,14 @@ import argparse
 import sys
 import warnings
 
-from .._progress import stage
-from ..cache import WARM_SUBDIR, compilation_cache_dir
-from ..inverse import SMC, ModeMixture, ProfileTransport, posterior, suggest_transport
-from . import common
-from .fit_text import render_laplace
+from ...cache import WARM_SUBDIR, compilation_cache_dir
+from ...inverse import SMC, ModeMixture, ProfileTransport, posterior
+from ...inverse.sampling import MAX_ALONG_WARMUP, MAX_DEFAULT_WARMUP, MIN_WARMUP
+from .. import common
+from .text import render_laplace
 
 MAX_DRAWS = 100_000  # draws per chain of --posterior (a 3-parameter posterior needs ~1000)
 MAX_CHAINS = 64
-MIN_WARMUP = 150
-"""Fewest warm-up steps: Stan's schedule has its full set of adaptation windows from 150."""
-MAX_DEFAULT_WARMUP = 500
-"""The default warm-up never exceeds :func:`axojax.posterior`'s own default."""
-MAX_ALONG_WARMUP = 200
-"""With ``--along`` the chains start from draws of the profile's approximation of the
-posterior, in coordinates where it is about a standard normal: a shorter warm-up does
-(synthetic benchmark, 4 x 1000 draws: 500 steps R-hat 1.0003/1.0005, ESS 2736/2495;
-200 steps 1.0004/1.0007, 2394/2313: docs/benchmarks.md)."""
-
-
-def vectorize_chains() -> bool:
-    """Whether ``--posterior`` runs its chains vmapped: not on a CPU, where the chains run
-    one after another (vmapped, every NUTS step costs the longest of the chains' trees,
-    and a batch of eigen-solves costs about as much as the same solves one by one).
-    Measured on 2 cores, 4 chains x 1000 draws (docs/benchmarks.md): the human sperm 245.5
-    s vmapped, 205.4 s sequential (6.1 and 4.3 ms per gradient); the synthetic target with
-    --along 8.8 and 5.2 ms per gradient. On an accelerator (not measured) vmapped."""
-    import jax
-
-    return jax.default_backend() != "cpu"
-
-
-def warmup_steps(draws: int, warmup: int | None, along: str | None = None) -> int:
-    """``--warmup`` when given, else ``draws`` clipped to [:data:`MIN_WARMUP`,
-    :data:`MAX_DEFAULT_WARMUP`] (:data:`MAX_ALONG_WARMUP` with ``--along``)."""
-    if warmup is not None:
-        return int(warmup)
-    top = MAX_DEFAULT_WARMUP if along is None else MAX_ALONG_WARMUP
-    return min(max(int(draws), MIN_WARMUP), top)
 
 
 def check_arguments(args: argparse.Namespace) -> None:
@@ -142,7 +114,8 @@ MODES_HINT_MAX = 3
 """Free parameters up to which a NUTS run that warns suggests ``--sampler modes``."""
 
 AUTO = "auto"
-"""What :func:`transport_of` returns without ``--along``: :func:`sample` chooses from the fit."""
+"""What :func:`transport_of` returns without ``--along``: the library chooses from the fit
+(:func:`axojax.inverse.posterior`'s ``transport="auto"``)."""
 
 
 def transport_of(args: argparse.Namespace, names) -> ProfileTransport | str | None:
@@ -169,14 +142,11 @@ def sample(
     transport: ProfileTransport | str | None,
 ):
     """The posterior of ``problem`` from the fit ``result``'s optimum (``--posterior``),
-    along ``transport`` (:func:`transport_of`; :data:`AUTO`: :func:`suggest_transport` of
-    the fit); its warnings (R-hat, ESS, divergences) one line each on stderr."""
+    along ``transport`` (:func:`transport_of`; :data:`AUTO`: what
+    :func:`axojax.inverse.suggest_transport` picks from the fit); its warnings (R-hat,
+    ESS, divergences) one line each on stderr."""
     if args.sampler != "nuts":
         return _sample_gradient_free(args, problem, result, progress)
-    if transport == AUTO:
-        with stage("posterior coordinates (profiles)", enable=progress):
-            transport = suggest_transport(problem, result)
-    along = None if transport is None else transport.along
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
@@ -184,8 +154,7 @@ def sample(
                 problem,
                 draws=args.posterior,
                 chains=args.chains,
-                warmup=warmup_steps(args.posterior, args.warmup, along),
-                vectorize=vectorize_chains(),
+                warmup=args.warmup,
                 init=result,
                 progress=progress,
                 cache=_warm_cache_dir(),

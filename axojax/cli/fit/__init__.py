@@ -10,41 +10,34 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import pathlib
-import sys
 import warnings
 
-from .. import _io, _progress
-from ..beats import OBSERVATIONS, Target, observation_targets, read_beat
-from ..beats.reduction import PLANARITY_THRESHOLD
-from ..eigen.solvers import AbstractEigenSolver, Auto
-from ..inverse import (
+from ... import _progress
+from ...beats import OBSERVATIONS, Target, observation_targets, observed_target
+from ...eigen.solvers import AbstractEigenSolver, Auto
+from ...inverse import (
     SHAPE_FLOOR,
     build_problem,
     least_squares,
     read_spec,
     solver_from_name,
 )
-from ..inverse.comparison.compare import default_units
-from ..inverse.fitting.checks import fit_checks
-from ..params import DEFAULT_CUBIC
-from ..units import Units
-from . import common, fit_posterior, fit_whole_beat
-from .fit_text import (
+from ...inverse.fitting.checks import fit_checks
+from ...inverse.sampling import POSTERIOR_STARTS  # a posterior's fit: the library's default
+from ...params import DEFAULT_CUBIC
+from .. import common
+from ..regulation import add_motor_tau_flag
+from . import inputs, whole_beat
+from . import posterior as fit_posterior
+from .text import (
     render,  # noqa: F401  (the command's text output: main calls fit.render)
 )
-from .regulation import add_motor_tau_flag
 
 METHODS = ("lm", "lbfgs", "adam")
 MAX_STARTS = 10_000
 """Most starts of a multi-start fit (each is a full local fit; 1e11 asked for 745 GiB)."""
 DEFAULT_STARTS = 4
 """Starts of a fit without --posterior."""
-POSTERIOR_STARTS = 16
-"""Starts of a fit with --posterior: the draws explore the optimum's mode only, so a local
-optimum gives a wrong posterior. On the bundled human sperm (p, ks) 4 of 32 starts reach
-the best loss, 181.8 (p 1034, ks 5.0e7), the rest a local one (225.0 at p 405, ks 2.9e4
-and others): 4 starts miss it, 16 find it."""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -235,26 +228,19 @@ def _targets(args: argparse.Namespace) -> list[Target]:
             "--target-frequency/--target-wavelength/--target-amplitude or --data"
         )
     spec = (
-        ("frequency_hz", args.target_frequency, args.frequency_sigma, 0.05, "--target-frequency"),
-        (
-            "wavelength_um",
-            args.target_wavelength,
-            args.wavelength_sigma,
-            0.10,
-            "--target-wavelength",
-        ),
-        ("velocity_um_per_s", args.target_velocity, None, 0.10, "--target-velocity"),
-        ("amplitude_um", args.target_amplitude, args.amplitude_sigma, 0.10, "--target-amplitude"),
+        ("frequency_hz", args.target_frequency, args.frequency_sigma, "--target-frequency"),
+        ("wavelength_um", args.target_wavelength, args.wavelength_sigma, "--target-wavelength"),
+        ("velocity_um_per_s", args.target_velocity, None, "--target-velocity"),
+        ("amplitude_um", args.target_amplitude, args.amplitude_sigma, "--target-amplitude"),
     )
-    for name, value, sigma, rel, flag in spec:
+    for name, value, sigma, flag in spec:
         if value is None:
             continue
-        if value <= 0:
-            raise common.CLIError(f"{flag}: must be > 0, got {value:g}")
-        sigma = rel * value if sigma is None else sigma
-        if sigma <= 0:
-            raise common.CLIError(f"{flag}: its uncertainty must be > 0, got {sigma:g}")
-        out.append(Target(name, value, sigma, source="limit_cycle" if cycle else "linear"))
+        try:  # sigma: RELATIVE_SIGMA of the value unless given
+            target = observed_target(name, value, sigma, "limit_cycle" if cycle else "linear")
+        except ValueError as err:
+            raise common.CLIError(f"{flag}: {str(err).split(': ', 1)[-1]}") from None
+        out.append(target)
     if args.marginal is not None:
         if args.marginal <= 0:
             raise common.CLIError(f"--marginal: must be > 0, got {args.marginal:g}")
@@ -267,16 +253,6 @@ def _targets(args: argparse.Namespace) -> list[Target]:
         have = {t.name for t in out}
         out += [t for t in obs if t.name not in have]
     return out
-
-
-def _read_data(path, flag: str, planarity_threshold: float = PLANARITY_THRESHOLD):
-    """(BeatData, its summary: what ``axojax data`` prints) of a beat file; the reader
-    refuses data no fit can use (:mod:`axojax.beats.data`)."""
-    try:
-        beat = read_beat(path, planarity_threshold=planarity_threshold)
-    except (ValueError, OSError) as err:
-        raise common.CLIError(f"{flag}: {err}") from None
-    return beat, beat.summary()
 
 
 def _eigen_solver(args: argparse.Namespace) -> AbstractEigenSolver:
@@ -311,39 +287,6 @@ def _fit_options(args: argparse.Namespace) -> dict:
     }
 
 
-def _given(args, *flags: str) -> bool:
-    """Whether any of ``flags`` is on the command line (not just its default)."""
-    return any(a == f or a.startswith(f + "=") for a in getattr(args, "_argv", []) for f in flags)
-
-
-def _finish(args, result, extra: dict, post=None) -> dict:
-    doc = result.to_json()
-    doc.update(extra)
-    if post is not None:
-        doc["posterior"] = post.to_json()
-        if args.out is not None:
-            draws = pathlib.Path(args.out).with_suffix(".posterior.npz")
-            try:
-                post.save(draws)
-            except OSError as err:
-                raise common.CLIError(f"--out: cannot write {str(draws)!r} ({err})") from None
-            doc["posterior"]["file"] = str(draws)
-    if args.out is not None:
-        import json
-
-        try:
-            _io.write_text(
-                args.out, json.dumps(common.to_jsonable(doc), indent=1, allow_nan=False) + "\n"
-            )
-        except OSError as err:
-            raise common.CLIError(f"--out: cannot write {args.out!r} ({err})") from None
-        doc["out"] = str(args.out)
-    if not result.targets_met:
-        print(f"axojax: fit: {result.message}", file=sys.stderr)
-    args._exit_code = 0 if result.targets_met else 1
-    return doc
-
-
 PROBLEM_OPTIONS = ("solver", "shape_floor", "exclude_base_um", "cubic")
 """The options of :func:`_fit_options` that shape the problem (the rest drive its solver)."""
 
@@ -370,7 +313,7 @@ def run(args: argparse.Namespace) -> dict:
     common.check_output("--out", args.out, (".json",))  # before any work, as every command
     fit_posterior.check_arguments(args)
     if args.target == "limit-cycle" and args.mechanism != "steady":
-        return fit_whole_beat.run(args)
+        return whole_beat.run(args)
     if getattr(args, "motor_tau_ms", None) is not None:
         raise common.CLIError(
             "--motor-tau-ms: a fit takes motor kinetics with --target limit-cycle --mechanism M"
@@ -387,10 +330,10 @@ def run(args: argparse.Namespace) -> dict:
     targets = _targets(args)
     shape, extra = None, {}
     units_source = (
-        "given" if _given(args, "--ei", "--cn") else "axojax's default units (paper table 2)"
+        "given" if inputs.given(args, "--ei", "--cn") else "axojax's default units (paper table 2)"
     )
     if args.data is not None:
-        data_targets, shape, units, extra["data"], units_source = _data(
+        data_targets, shape, units, extra["data"], units_source = inputs.data_inputs(
             args, units, units_source, model
         )
         targets += [t for t in data_targets if t.name not in {u.name for u in targets}]
@@ -419,53 +362,7 @@ def run(args: argparse.Namespace) -> dict:
     result, post = _run_fit(args, problem, options, flag)
     extra.update(fit_checks(problem, result, mesh=args.mesh_check))  # regime, mesh_check
     extra["units"] = {**dataclasses.asdict(units), "source": units_source}
-    return _finish(args, result, extra, post)
-
-
-def _data(args: argparse.Namespace, units: Units, source: str, model):
-    """--data: its targets and shape (for --target limit-cycle, the whole waveform against
-    the nonlinear beat), the units at the data's length, the data's summary, and where
-    the units came from: EI and c_n not given (--ei, --cn) come from the data set's
-    flagellum when it has one (a bundled beat; as ``axojax compare`` does:
-    :func:`axojax.inverse.comparison.compare.default_units`, shared by the model's filaments), else
-    axojax's defaults."""
-    common.check_planarity_threshold(args)
-    beat, summary = _read_data(args.data, "--data", args.planarity_threshold)
-    length = beat.length_um
-    if abs(length - units.length_um) > 1e-6 * length and _given(args, "--length-um"):
-        raise common.CLIError(
-            f"--length-um: {units.length_um:g} um conflicts with the data's length {length:g} um ({args.data})"
-        )
-    ei_given, cn_given = _given(args, "--ei"), _given(args, "--cn")
-    ei, cn = units.ei_pn_um2, units.cn_pn_s_um2
-    if beat.flagellum is not None and not (ei_given and cn_given):
-        own, source = default_units(beat, n_filaments=model.n_filaments)
-        ei = ei if ei_given else own.ei_pn_um2
-        cn = cn if cn_given else own.cn_pn_s_um2
-        if ei_given or cn_given:
-            source += f" ({'--ei' if ei_given else '--cn'} given)"
-    units = Units(length, ei, cn)  # the data's length
-    targets, shape = beat.targets()
-    if getattr(args, "components", "in-plane") == "joint":
-        if args.target == "limit-cycle":
-            raise common.CLIError(
-                "--components joint: the limit cycle's shape is in-plane only; leave it out or fit the linear mode"
-            )
-        if beat.out_of_plane is not None and model.n_dirs == 1:
-            raise common.CLIError(
-                f"--components joint: {args.data} beats in 3D but model {model.name!r} in one plane; "
-                "use a 3D model (e.g. --model seven)"
-            )
-        shape = beat.joint_shape_target()
-    if args.target == "limit-cycle":
-        # psi_0 and psi_1 in absolute amplitude, and the data's frequency as the cycle's.
-        targets = [
-            Target(t.name, t.value, t.sigma, source="limit_cycle")
-            for t in targets
-            if t.name in ("frequency_hz", "wavelength_um")
-        ]
-        shape = None if shape is None else dataclasses.replace(shape, source="limit_cycle")
-    return targets, shape, units, summary, source
+    return inputs.finish(args, result, extra, post)
 
 
 def _cubic(args: argparse.Namespace, model) -> float:
@@ -536,28 +433,4 @@ def _run_spec(args: argparse.Namespace) -> dict:
     if spec.data:
         extra["data"] = spec.data[0] if len(spec.data) == 1 else list(spec.data)
     extra.update(fit_checks(problem, result, mesh=args.mesh_check))  # regime, mesh_check
-    return _finish(args, result, extra, post)
-
-
-def figure_of_report(path) -> object:
-    """The figure of a saved fit report (``axojax plot FIT.json``); bad files are a
-    one-line :class:`CLIError` naming FILE."""
-    import json
-
-    from ..plotting.fit_report import plot_fit_report
-
-    path = pathlib.Path(path)
-    if not path.is_file():
-        raise common.CLIError(f"FILE: {str(path)!r} does not exist")
-    try:
-        doc = json.loads(path.read_text())
-    except (OSError, UnicodeDecodeError, ValueError) as err:
-        raise common.CLIError(f"FILE: cannot read {str(path)!r} as JSON ({err})") from None
-    if not isinstance(doc, dict) or not {"loss", "converged", "conditions"} <= set(doc):
-        raise common.CLIError(
-            f"FILE: {str(path)!r} is not a fit report (write one with 'axojax fit --out FIT.json')"
-        )
-    try:
-        return plot_fit_report(doc)
-    except (KeyError, TypeError, ValueError) as err:
-        raise common.CLIError(f"FILE: {str(path)!r}: malformed fit report ({err})") from None
+    return inputs.finish(args, result, extra, post)

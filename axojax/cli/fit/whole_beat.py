@@ -12,10 +12,11 @@ from __future__ import annotations
 
 import argparse
 
-from ..inverse.comparison.mechanisms import build_model, row
-from ..inverse.whole_beat.fit import fit_whole_beat, linear_hopf
-from . import common
-from .regulation import motor_tau_from_args
+from ...inverse.comparison.mechanisms import build_model, row
+from ...inverse.whole_beat.fit import fit_whole_beat, linear_hopf
+from .. import common
+from ..regulation import motor_tau_from_args
+from .inputs import data_inputs, finish, given
 
 DEFAULT_MODEL = "two"
 EXTRA_FREE = ("tau_m", "cubic")
@@ -66,17 +67,15 @@ def check(args: argparse.Namespace) -> None:
 
 def run(args: argparse.Namespace) -> dict:
     """The whole-beat fit's report (the fit's JSON document plus ``"whole_beat"``)."""
-    from .fit import _data, _finish, _given
-
     check(args)
     preset = args.model or DEFAULT_MODEL
     if args.model_file is not None:
         raise common.CLIError("--model-file: a whole-beat fit takes a preset (--model)")
     units = common.units_from_args(args)
     probe = common.model_from_args(argparse.Namespace(**{**vars(args), "model": preset}))
-    source = "given" if _given(args, "--ei", "--cn") else "axojax's default units"
+    source = "given" if given(args, "--ei", "--cn") else "axojax's default units"
     args.target = "limit-cycle"
-    targets, shape, units, summary, source = _data(args, units, source, probe)
+    targets, shape, units, summary, source = data_inputs(args, units, source, probe)
     if shape is None or shape.psi0 is None:
         raise common.CLIError(f"--data: {args.data} gives no psi_0 and psi_1 to fit")
     frequency = next((t for t in targets if t.name == "frequency_hz"), None)
@@ -124,7 +123,7 @@ def run(args: argparse.Namespace) -> dict:
             "linear_status": linear.status,
         },
     }
-    return _finish(args, out.fit, extra)
+    return finish(args, out.fit, extra)
 
 
 def render(doc: dict) -> list[str]:

@@ -4,9 +4,9 @@ the regime and mesh check, the loss, and the posterior's summary."""
 
 from __future__ import annotations
 
-from ..inverse.fitting.checks import render_checks
-from ..waveform.measures import sensitive_note
-from .fit_whole_beat import render as render_whole_beat
+from ...inverse.fitting.checks import render_checks
+from ...waveform.measures import sensitive_note
+from .whole_beat import render as render_whole_beat
 
 
 def render(doc: dict) -> str:
