@@ -7,7 +7,8 @@ README.md; the minutes are on a shared two-core machine.
     python scripts/make_plot_fixtures.py [KIND ...]   # default: every kind
 
 Kinds: compare (5 min), fit (10 min: the fit report and its posterior), sweep (1 min),
-orbit (8 min), simulation (2 min). The beat data kind needs no file: it reads the bundled
+orbit (8 min), simulation (2 min), whole_beat (a whole-beat comparison of a synthetic
+beat) and whole_beat_fit (its whole-beat fit). The beat data kind needs no file: it reads the bundled
 ``human_sperm``.
 """
 
@@ -21,6 +22,10 @@ import sys
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 FIXTURES = ROOT / "tests" / "plotting" / "fixtures"
+
+WHOLE_BEAT_UNITS = ["--ei", "290.0", "--cn", "0.00245"]
+"""The synthetic whole beat's units (tests/whole_beat/test_whole_beat_fit.py's ``UNITS``;
+checked when the beat is written)."""
 
 COMMANDS = {
     "compare": [
@@ -41,8 +46,19 @@ COMMANDS = {
         "orbit", "--model", "seven", "--elements", "4", "--p", "240:330:10",
         "--out", "branch.npz",
     ],
+    "whole_beat": [
+        "compare", "--target", "limit-cycle", "--data", "whole_beat_beat.npz",
+        "--mechanisms", "curvature,sliding", "--elements", "10", *WHOLE_BEAT_UNITS,
+        "--out", "whole_beat.json",
+    ],
+    "whole_beat_fit": [
+        "fit", "--target", "limit-cycle", "--mechanism", "curvature", "--data",
+        "whole_beat_beat.npz", "--elements", "10", *WHOLE_BEAT_UNITS, "--no-mesh-check",
+        "--out", "whole_beat_fit.json",
+    ],
 }  # fmt: skip
-"""The ``axojax`` command of each kind (run in the fixtures' folder)."""
+"""The ``axojax`` command of each kind (run in the fixtures' folder; the whole beat's
+first writes its beat, :func:`whole_beat_beat`)."""
 
 SIMULATION = {"p": 300.0, "t_end_s": 1.0, "samples_per_period": 16, "n_points": 21, "every": 5}
 """``axojax.dynamics.simulate(seven(n_elements=4), Params(p=300), 1.0 s, samples_per_period=16,
@@ -78,6 +94,18 @@ def simulation(out: pathlib.Path) -> None:
     print(f"{sim.state}: {len(sim.t_s)} frames, {len(small.t_s)} kept; wrote {out}")
 
 
+def whole_beat_beat() -> None:
+    """The synthetic curvature-control beat of tests/whole_beat/test_whole_beat_fit.py
+    (clamped, 50 Hz, noise 0.02 rad) as a Fourier-mode file, ``whole_beat_beat.npz``."""
+    sys.path.insert(0, str(ROOT))
+    from tests.whole_beat.test_whole_beat_fit import UNITS, beat_file
+
+    given = [float(WHOLE_BEAT_UNITS[1]), float(WHOLE_BEAT_UNITS[3])]
+    if given != [UNITS.ei_pn_um2, UNITS.cn_pn_s_um2]:
+        raise SystemExit(f"WHOLE_BEAT_UNITS {given} are not the test beat's {UNITS}")
+    beat_file(FIXTURES).rename(FIXTURES / "whole_beat_beat.npz")
+
+
 def make(kind: str) -> int:
     from axojax.cli.main import main
 
@@ -88,6 +116,8 @@ def make(kind: str) -> int:
         if kind == "simulation":
             simulation(FIXTURES / "simulation.npz")
             return 0
+        if kind.startswith("whole_beat"):
+            whole_beat_beat()
         return main(COMMANDS[kind])
     finally:
         os.chdir(here)

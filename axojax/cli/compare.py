@@ -105,7 +105,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default="lab",
         help="the frame psi is compared in: lab (as recorded, default: a lab-frame beat suits "
         "free and head bases, a head-fixed one clamped bases) or basal (model and data "
-        "relative to the basal tangent, psi(s) - psi(0); docs/model.md section 8, frames)",
+        "relative to the basal tangent, psi(s) - psi(0); docs/model.md section 8, frames); "
+        "with --target limit-cycle, lab compares psi_0 up to the recording's reference angle "
+        "(each row's psi_offset_rad), basal exactly",
     )
     parser.add_argument(
         "--model",
@@ -340,11 +342,10 @@ def _whole_beat(args: argparse.Namespace, beat, units, organism) -> dict:
         ("--compliance", args.compliance),
         ("--sperm-number", args.sperm_number),
         ("--head-um", args.head_um),
-        ("--frame", None if args.frame == "lab" else args.frame),
     ):
         if value is not None:
             raise common.CLIError(
-                f"{flag}: not with --target limit-cycle (held bases, the lab frame, the data's drag)"
+                f"{flag}: not with --target limit-cycle (held bases, the data's drag)"
             )
     mechanisms = _names(args.mechanisms, "--mechanisms") or WHOLE_MECHANISMS
     bases = _names(args.bases, "--bases") or WHOLE_BASES
@@ -361,6 +362,7 @@ def _whole_beat(args: argparse.Namespace, beat, units, organism) -> dict:
                 units=units,
                 organism=organism,
                 progress=progress_enabled(json_output=args.json),
+                frame=args.frame,
             )
     except ValueError as err:
         msg = str(err)

@@ -82,16 +82,18 @@ def _draw(path: pathlib.Path, kind: str, obj):
 
 
 def figure_of_report(path) -> tuple[object, str]:
-    """(figure, kind) of a JSON report: a comparison (``axojax compare --out``,
-    :meth:`~axojax.inverse.comparison.compare.Comparison.is_document`) or a fit report
+    """(figure, kind) of a JSON report: a comparison, linear or of the whole beat
+    (``axojax compare --out``, :meth:`~axojax.inverse.comparison.compare.Comparison.is_document`,
+    :meth:`~axojax.inverse.whole_beat.compare.WholeBeatComparison.is_document`) or a fit report
     (``axojax fit --out``, :meth:`~axojax.inverse.FitResult.is_document`)."""
     from ..inverse.comparison.compare import Comparison
+    from ..inverse.whole_beat.compare import WholeBeatComparison
 
     try:
         doc = json.loads(pathlib.Path(path).read_text())
     except (OSError, UnicodeDecodeError, ValueError):
         doc = None  # _fit_report says what is wrong with the file
-    if not Comparison.is_document(doc):
+    if not (Comparison.is_document(doc) or WholeBeatComparison.is_document(doc)):
         return _fit_report(path), "fit"
     from .compare import plot_comparison
 

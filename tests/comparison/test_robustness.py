@@ -10,7 +10,12 @@ import pytest
 from scipy.optimize import least_squares
 
 from axojax.beats.data import beat_from_kymograph
-from axojax.inverse.comparison.robustness import cycle_bootstrap, shape_chi2
+from axojax.inverse.comparison.robustness import (
+    cycle_bootstrap,
+    phase_chi2,
+    shape_chi2,
+    whole_beat_bootstrap,
+)
 from axojax.inverse.comparison.verdict import verdict
 
 S = np.linspace(0.0, 1.0, 21)
@@ -95,3 +100,71 @@ def test_a_kymograph_keeps_its_cycles():
     np.testing.assert_allclose(beat.psi1_cycles.mean(axis=0), beat.modes.psi1, atol=1e-12)
     cut = beat.exclude_base(2.0)
     assert cut.psi1_cycles.shape == (beat.cycles, cut.s_um.size)
+
+
+def test_phase_chi2_refits_only_the_time_origin():
+    """A limit cycle's psi_1 keeps its amplitude; only its time origin is free: scipy's
+    minimum over the phase is the closed form's."""
+    rng = np.random.default_rng(2)
+    sigma = 0.05 + 0.05 * rng.random(S.size)
+    psi = 0.7j * TRUE + 0.05 * (rng.normal(size=S.size) + 1j * rng.normal(size=S.size))
+
+    def chi2(phi):
+        return float(np.sum(np.abs(psi - np.exp(1j * phi[0]) * 0.9 * OTHER) ** 2 / sigma**2))
+
+    ref = min(least_squares(lambda p: [math.sqrt(chi2(p))], [x]).fun[0] ** 2 for x in (0, 2, 4))
+    assert phase_chi2(psi[None], 0.9 * OTHER, sigma)[0] == pytest.approx(ref, rel=1e-7)
+    # an amplitude it may not refit costs: the shape's chi^2 is never larger
+    assert shape_chi2(psi[None], OTHER, sigma)[0] <= phase_chi2(psi[None], OTHER, sigma)[0]
+
+
+def _whole(name, model, rest=0.0, n_free=5):
+    return dict(_row(name, model, n_free), chi2_rest=rest)
+
+
+def test_the_whole_beats_bootstrap_holds_each_orbit():
+    """Cycles of the true orbit with noise: its row is first in every resample against an
+    orbit of the same shape but 20 % too small (a whole beat's amplitude is not refitted)
+    and against one as true whose psi_0 fitted worse (its ``chi2_rest``); a time shift
+    of the true orbit costs nothing."""
+    cycles = _cycles(30, 0.05)
+    sigma = np.full(S.size, 0.05 / math.sqrt(30) * 1.5)
+    n_res = 3 * S.size + 1
+    rows = [_whole("true", TRUE), _whole("small", 0.8 * TRUE), _whole("rest", TRUE, rest=50.0)]
+    out = whole_beat_bootstrap(rows, cycles, sigma, n_res, resamples=200)
+    assert out["best_share"] == 1.0 and not out["identical"]
+    assert out["shares"]["small/clamped"] == out["shares"]["rest/clamped"] == 0.0
+    shifted = whole_beat_bootstrap(
+        [_whole("late", TRUE * np.exp(0.7j)), _whole("small", 0.8 * TRUE)],
+        cycles,
+        sigma,
+        n_res,
+        resamples=200,
+    )
+    assert shifted["best_share"] == 1.0
+
+
+def test_copies_of_one_cycle_are_said_to_be_copies():
+    """A recording made of copies of one cycle (a noise-free periodic kymograph) gives no
+    bootstrap share: resampling copies always keeps the ranking, which says nothing; the
+    verdict says so instead of claiming 100 %. A recording with noise still bootstraps."""
+    t = np.arange(0, 0.8, 0.002)  # 50 frames per cycle: every cycle the same frames
+    s = np.linspace(0, 10, 11)
+    psi = 0.5 * np.cos(2 * np.pi * (10 * t[:, None] - s[None] / 10))
+    beat = beat_from_kymograph(t, s, psi)
+    model = beat.modes.psi1
+    sigma = np.full(s.size, 0.05)
+    rows = [_row("true", model), _row("other", 0.5 * model * np.exp(0.3j * s))]
+    out = cycle_bootstrap(rows, beat.psi1_cycles, sigma, 10.0, 1e-3)
+    assert out["identical"] and out["resamples"] == 0 and out["best_share"] is None
+    doc = {
+        "data": {"s_um": list(s)},
+        "rows": [dict(rows[0], r2=0.99, chi2_per_dof=1.0, weight=1.0)],
+        "robustness": out,
+    }
+    text = verdict(doc)["text"]
+    assert f"{beat.cycles} cycles are copies of one" in text and "%" not in text
+    rng = np.random.default_rng(3)
+    noisy = beat_from_kymograph(t, s, psi + 0.02 * rng.normal(size=psi.shape))
+    out = cycle_bootstrap(rows, noisy.psi1_cycles, sigma, 10.0, 1e-3, resamples=100)
+    assert not out["identical"] and out["best_share"] == 1.0

@@ -23,7 +23,6 @@ UNIT_FLAGS = ["--ei", str(UNITS.ei_pn_um2), "--cn", str(UNITS.cn_pn_s_um2)]
         (["--bases", "free"], "--bases"),
         (["--mechanisms", "steady"], "--mechanisms"),
         (["--compliance", "on"], "--compliance"),
-        (["--frame", "basal"], "--frame"),
     ],
 )
 def test_bad_whole_beat_comparisons_are_one_line(tmp_path, capsys, extra, flag):
@@ -35,6 +34,39 @@ def test_bad_whole_beat_comparisons_are_one_line(tmp_path, capsys, extra, flag):
     assert main(argv) == 2
     err = capsys.readouterr().err.strip()
     assert err.startswith(f"axojax: error: {flag}: ") and "\n" not in err, err
+
+
+@pytest.mark.parametrize("frame", ["lab", "basal"])
+def test_the_frame_reaches_the_whole_beat(tmp_path, capsys, monkeypatch, frame):
+    """``--frame lab|basal`` with ``--target limit-cycle``: compare passes it to
+    ``compare_whole_beat``, fit to its linear start (each stopped there by a stand-in, so
+    no fit runs); a fit that is not of the whole beat refuses ``--frame basal`` in one
+    line."""
+    import axojax.cli.fit.whole_beat as fit_cli
+    import axojax.inverse.whole_beat.compare as wbc
+
+    seen = {}
+
+    def stop(name):
+        def stand_in(*args, **kwargs):
+            seen[name] = kwargs.get("frame")
+            raise ValueError("stopped by the test")
+
+        return stand_in
+
+    monkeypatch.setattr(wbc, "compare_whole_beat", stop("compare"))
+    monkeypatch.setattr(fit_cli, "linear_hopf", stop("linear_hopf"))
+    path = beat_file(tmp_path)
+    argv = ["compare", "--target", "limit-cycle", "--data", str(path), *UNIT_FLAGS]
+    assert main([*argv, "--frame", frame]) == 2
+    argv = ["fit", "--target", "limit-cycle", "--mechanism", "curvature", "--data", str(path)]
+    assert main([*argv, *UNIT_FLAGS, "--frame", frame]) == 2
+    assert seen == {"compare": frame, "linear_hopf": frame}
+    capsys.readouterr()
+    argv = ["fit", "--free", "p", "--target-frequency", "30", "--frame", "basal"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("axojax: error: --frame basal: ") and "\n" not in err, err
 
 
 def test_the_verdict_counts_the_whole_beats_residuals():

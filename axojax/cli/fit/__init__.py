@@ -179,6 +179,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     common.add_planarity_flag(parser)
     parser.add_argument(
+        "--frame",
+        choices=("lab", "basal"),
+        default="lab",
+        help="with --target limit-cycle --mechanism M, the frame psi is compared in: lab (as "
+        "recorded, default: psi_0 up to the recording's reference angle, reported as "
+        "psi_offset_rad) or basal (model and data relative to the basal tangent, psi(s) - "
+        "psi(0), psi_0 exactly; docs/model.md section 9)",
+    )
+    parser.add_argument(
         "--exclude-base-um",
         type=common.finite_float,
         default=0.0,
@@ -314,6 +323,11 @@ def run(args: argparse.Namespace) -> dict:
     fit_posterior.check_arguments(args)
     if args.target == "limit-cycle" and args.mechanism != "steady":
         return whole_beat.run(args)
+    if getattr(args, "frame", "lab") != "lab":
+        raise common.CLIError(
+            f"--frame {args.frame}: a fit takes a frame with --target limit-cycle --mechanism M "
+            "(the whole beat; the linear comparison's: axojax compare --frame)"
+        )
     if getattr(args, "motor_tau_ms", None) is not None:
         raise common.CLIError(
             "--motor-tau-ms: a fit takes motor kinetics with --target limit-cycle --mechanism M"

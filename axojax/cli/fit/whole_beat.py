@@ -85,7 +85,7 @@ def run(args: argparse.Namespace) -> dict:
         elements = int(args.elements)
         model = build_model(preset, elements, args.base, units)
         spec = row(args.mechanism, args.base, model, units, frequency.value)
-        hopf, linear = linear_hopf(spec, shape, units)
+        hopf, linear = linear_hopf(spec, shape, units, frame=args.frame)
         tau_m = None
         if getattr(args, "motor_tau_ms", None) is not None:
             tau_m = motor_tau_from_args(args, hopf)
@@ -99,9 +99,11 @@ def run(args: argparse.Namespace) -> dict:
             tau_m=tau_m,
             fit_tau_m="tau_m" in extra,
             fit_cubic="cubic" in extra,
+            frame=args.frame,
         )
     except ValueError as err:
         raise common.CLIError(f"--mechanism {args.mechanism}: {err}") from None
+    extra_free = extra
     extra = {
         "data": summary,
         "units": {
@@ -117,6 +119,12 @@ def run(args: argparse.Namespace) -> dict:
             "elements": elements,
             "r2_psi1_with_amplitude": out.r2,
             "motor_tau_ms": out.tau_m * units.tau_s * 1e3,
+            "motor_tau_omega0": out.tau_m * float(out.params.omega0),
+            "motor_tau_source": "fitted"
+            if "tau_m" in extra_free
+            else ("default" if tau_m is None else "given"),
+            "frame": out.frame,
+            "psi_offset_rad": out.psi_offset_rad,
             "motor_saturation_pn_per_um": float(units.p_to_pn_per_um(out.f_sat)),
             "static_moment_pn": float(units.moment_to_pn(out.params.m0)),
             "linear_r2": linear.r2,
@@ -131,10 +139,27 @@ def render(doc: dict) -> list[str]:
     w = doc.get("whole_beat")
     if not w:
         return []
+    frame = w.get("frame", "lab")
+    if frame == "basal":
+        angle = "psi relative to the basal tangent (psi_0 compared exactly)"
+    else:
+        angle = (
+            f"reference angle psi_offset_rad {w.get('psi_offset_rad', 0.0):.4g} (psi_0 "
+            "compared up to it: the recording's direction is arbitrary)"
+        )
     return [
         f"whole beat: {w['mechanism']} on a {w['base']} base ({w['model']}, {w['elements']} "
-        f"elements): motor time {w['motor_tau_ms']:.4g} ms, saturation "
+        f"elements): motor time {w['motor_tau_ms']:.4g} ms{motor_source(w)}, saturation "
         f"{w['motor_saturation_pn_per_um']:.4g} pN/um, static moment {w['static_moment_pn']:.4g} pN",
         f"R^2 of psi_1 with its amplitude {w['r2_psi1_with_amplitude']:.3f} (the linear row's, "
-        f"amplitude free: {w['linear_r2']:.3f})",
+        f"amplitude free: {w['linear_r2']:.3f}); {angle}",
     ]
+
+
+def motor_source(w: dict) -> str:
+    """Where the motor time came from, as the tables say it: " (default: omega0 tau_m =
+    1.5)", " (given)", " (fitted)"; nothing for a document that does not say."""
+    source = w.get("motor_tau_source")
+    if source == "default":
+        return f" (default: omega0 tau_m = {w['motor_tau_omega0']:.3g})"
+    return "" if source is None else f" ({source})"

@@ -154,7 +154,12 @@ def verdict(doc: dict[str, Any]) -> dict[str, Any]:
         fits, text = "none", f"no row fits this beat (best R^2 {top_r2:.2f}; best by BIC: {name})"
     warning = base_warning(doc, best)
     robust = doc.get("robustness")
-    if robust:
+    if robust and robust.get("identical"):
+        text += (
+            f"; the recording's {robust['cycles']} cycles are copies of one: no bootstrap "
+            "over cycles says how stable the ranking is"
+        )
+    elif robust:
         text += (
             f"; first in {100 * robust['best_share']:.0f} % of {robust['resamples']} bootstrap "
             f"resamples of the {robust['cycles']} cycles"

@@ -22,6 +22,7 @@ subcritical bifurcation), with its reason.
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 import time
 from typing import Any
@@ -29,6 +30,7 @@ from typing import Any
 import numpy as np
 from tqdm.auto import tqdm
 
+from ... import _io
 from ...beats.data import BeatData
 from ...beats.frames import in_basal_frame
 from ...beats.targets import FRAMES
@@ -39,6 +41,7 @@ from ...results import name as result_name
 from ...units import Units
 from ..comparison.compare import as_beat, model_json, organism_of, physical_values
 from ..comparison.mechanisms import DEFAULT_PRESET, FREE, build_model, check_names, parse_base, row
+from ..comparison.robustness import phase_chi2, whole_beat_bootstrap
 from ..comparison.table import physical_text
 from ..comparison.verdict import FREQUENCY_MATCH, mark, rank, verdict
 from .fit import WholeBeatFit, fit_whole_beat, linear_hopf, observed_measures
@@ -62,12 +65,18 @@ class WholeBeatRow:
             (module docstring).
         free: fitted names; params: their dimensionless values; physical and
             physical_stderr: the same in physical units (:data:`PHYSICAL`).
-        motor_tau_ms: the motors' time (given: :func:`~axojax.inverse.whole_beat.fit.motor_time`).
+        motor_tau_ms: the motors' time; motor_tau_omega0: the same times the observed
+            omega0 (dimensionless); motor_tau_source: where it came from (``"default"``:
+            :func:`~axojax.inverse.whole_beat.fit.motor_time`'s choice).
         r2: R^2 of psi_1 with its amplitude; linear_r2: the linear row's (amplitude free).
         frequency_hz, static_curvature_rad_per_um, dynamic_amplitude_rad: the fitted
             orbit's (None where none); psi_offset_rad: the reference angle of psi_0
             (psi0_obs ~ psi0_model + c, :mod:`axojax.inverse.cycle_targets`).
         chi2_per_dof, aic, bic, n_free, at_bound: the fit's.
+        psi0_model: the orbit's psi_0 (rad) on the data's s, plus its reference angle
+            (comparable with the observed); psi1_model: its psi_1 as [re, im] pairs (rad),
+            turned to the observed time origin; chi2_rest: the chi^2 of its psi_0 and
+            frequency residuals (what the bootstrap over cycles holds).
         delta_bic, weight: set by the ranking.
         whole: the :class:`~axojax.inverse.whole_beat.fit.WholeBeatFit` (not in the JSON).
     """
@@ -81,6 +90,8 @@ class WholeBeatRow:
     physical: dict[str, float] = dataclasses.field(default_factory=dict)
     physical_stderr: dict[str, float | None] = dataclasses.field(default_factory=dict)
     motor_tau_ms: float | None = None
+    motor_tau_omega0: float | None = None
+    motor_tau_source: str = "default"
     r2: float | None = None
     linear_r2: float | None = None
     frequency_hz: float | None = None
@@ -94,6 +105,9 @@ class WholeBeatRow:
     at_bound: list[str] = dataclasses.field(default_factory=list)
     delta_bic: float | None = None
     weight: float | None = None
+    psi0_model: list[float] | None = None
+    psi1_model: list[list[float]] | None = None
+    chi2_rest: float | None = None
     wall_s: float = 0.0
     whole: WholeBeatFit | None = dataclasses.field(default=None, repr=False)
 
@@ -143,6 +157,9 @@ def fit_whole_row(spec, shape, frequency, units: Units, frame: str = "lab") -> W
         status, reason = "successful", None
     phys, se = _physical(fit, units)
     r = fit.fit
+    drawn = r.conditions[0]["shape"]
+    psi1 = np.asarray(drawn["psi1_fit_re"]) + 1j * np.asarray(drawn["psi1_fit_im"])
+    psi0 = drawn.get("psi0_fit_rad")
     out = WholeBeatRow(
         spec.mechanism,
         spec.base,
@@ -153,6 +170,7 @@ def fit_whole_row(spec, shape, frequency, units: Units, frame: str = "lab") -> W
         physical=phys,
         physical_stderr=se,
         motor_tau_ms=float(units.time_to_ms(fit.tau_m)),
+        motor_tau_omega0=float(fit.tau_m * float(fit.params.omega0)),
         r2=fit.r2,
         linear_r2=linear.r2,
         frequency_hz=f,
@@ -164,10 +182,34 @@ def fit_whole_row(spec, shape, frequency, units: Units, frame: str = "lab") -> W
         bic=r.bic,
         n_free=r.n_free,
         at_bound=list(r.at_bound),
+        psi0_model=None if psi0 is None else np.asarray(psi0, dtype=float).tolist(),
+        psi1_model=[[float(z.real), float(z.imag)] for z in psi1],
+        chi2_rest=_chi2_rest(fit, psi1),
         whole=fit,
     )
     out.wall_s = time.perf_counter() - t0
     return out
+
+
+def psi1_sigma(fit: WholeBeatFit) -> np.ndarray:
+    """(S,) the sigma (rad) each of Re and Im of psi_1 was divided by in ``fit``: the
+    data's with the problem's shape floor in quadrature."""
+    shape = fit.problem.conditions[0].shape
+    sigma = np.broadcast_to(np.asarray(shape.sigma, dtype=float), np.shape(shape.s_um))
+    return np.sqrt(sigma**2 + float(fit.problem.shape_floor) ** 2)
+
+
+def _chi2_rest(fit: WholeBeatFit, psi1_model: np.ndarray) -> float | None:
+    """The fit's chi^2 less its psi_1 part: what psi_0 and the frequency contribute."""
+    r = fit.fit
+    if r.chi2_per_dof is None:
+        return None
+    n_res = 3 * len(psi1_model) + 1
+    total = r.chi2_per_dof * max(n_res - r.n_free, 1)
+    shape = fit.problem.conditions[0].shape
+    obs = np.asarray(shape.psi1, dtype=complex)[None, :]
+    part = phase_chi2(obs, psi1_model, psi1_sigma(fit))[0]
+    return float(total - part)
 
 
 @dataclasses.dataclass
@@ -184,14 +226,39 @@ class WholeBeatComparison:
     rows: list[WholeBeatRow]
     wall_s: float
     frame: str = "lab"
+    psi0: np.ndarray | None = dataclasses.field(default=None, repr=False)
+    psi1: np.ndarray | None = dataclasses.field(default=None, repr=False)
+    psi1_cycles: np.ndarray | None = dataclasses.field(default=None, repr=False)
 
     @property
     def best(self) -> WholeBeatRow:
         return self.rows[0]
 
+    @staticmethod
+    def is_document(doc: Any) -> bool:
+        """Whether ``doc``, read back from a JSON file, is a whole-beat comparison."""
+        return isinstance(doc, dict) and doc.get("kind") == "whole_beat_comparison"
+
+    def robustness(self) -> dict | None:
+        """Each successful row's share of first places over bootstrap resamples of the
+        recording's cycles, orbits held
+        (:func:`~axojax.inverse.comparison.robustness.whole_beat_bootstrap`); None for a
+        Fourier-mode file, too few cycles or no successful row."""
+        fitted = next((r.whole for r in self.rows if r.successful and r.whole), None)
+        if self.psi1_cycles is None or fitted is None:
+            return None
+        rows = [r.to_json() for r in self.rows]
+        return whole_beat_bootstrap(
+            rows, self.psi1_cycles, psi1_sigma(fitted), 3 * len(self.s_um) + 1
+        )
+
     def to_json(self) -> dict[str, Any]:
         """The ``axojax compare --target limit-cycle --json`` document."""
         data = dict(self.data, s_um=np.asarray(self.s_um, dtype=float).tolist())
+        if self.psi1 is not None:
+            data["psi1"] = [[float(z.real), float(z.imag)] for z in np.asarray(self.psi1)]
+        if self.psi0 is not None:
+            data["psi0"] = np.asarray(self.psi0, dtype=float).tolist()
         doc = jsonable(
             {
                 "kind": "whole_beat_comparison",
@@ -205,8 +272,13 @@ class WholeBeatComparison:
                 "wall_s": self.wall_s,
             }
         )
+        doc["robustness"] = jsonable(self.robustness())
         doc["verdict"] = jsonable(verdict(doc))
         return doc
+
+    def save(self, path) -> None:
+        """Write :meth:`to_json` (read by ``axojax plot REPORT.json``), atomically."""
+        _io.write_text(path, json.dumps(self.to_json(), indent=1, allow_nan=False) + "\n")
 
     def table(self, params: bool = False) -> str:
         return render(self.to_json(), params)
@@ -249,7 +321,11 @@ def render(doc: dict[str, Any], params: bool = False) -> str:
         lines += [
             f"{i:>4}{mark(r):<4} {r['mechanism']} on {r['base']}: "
             + physical_text(r)
-            + ("" if r["motor_tau_ms"] is None else f"; tau_m {r['motor_tau_ms']:.3g} ms (given)")
+            + (
+                ""
+                if r["motor_tau_ms"] is None
+                else f"; tau_m {r['motor_tau_ms']:.3g} ms{_tau_source(r)}"
+            )
             for i, r in enumerate(doc["rows"], 1)
         ]
     m = doc["model"]
@@ -259,6 +335,14 @@ def render(doc: dict[str, Any], params: bool = False) -> str:
         f"({m['units_source']})"
     )
     return "\n".join(lines)
+
+
+def _tau_source(r: dict[str, Any]) -> str:
+    """Where a row's motor time came from: " (default: omega0 tau_m = 1.5)", " (given)"."""
+    source = r.get("motor_tau_source", "default")
+    if source == "default" and r.get("motor_tau_omega0") is not None:
+        return f" (default: omega0 tau_m = {r['motor_tau_omega0']:.3g})"
+    return f" ({source})"
 
 
 def compare_whole_beat(
@@ -353,4 +437,7 @@ def compare_whole_beat(
         rows,
         time.perf_counter() - t0,
         frame,
+        psi0=np.asarray(shape.psi0, dtype=float),
+        psi1=np.asarray(shape.psi1, dtype=complex),
+        psi1_cycles=beat.psi1_cycles,
     )
