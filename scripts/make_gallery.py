@@ -37,6 +37,10 @@ def figures():
     posterior = FIXTURES / "fit.posterior.npz"
     yield "data", lambda: plot_beat_data(read_beat("human_sperm"))
     yield "compare", lambda: plot_comparison(json.loads((FIXTURES / "compare.json").read_text()))
+    yield (
+        "whole_beat",
+        lambda: plot_comparison(json.loads((FIXTURES / "whole_beat.json").read_text())),
+    )
     yield "fit", lambda: plot_fit_report(json.loads((FIXTURES / "fit.json").read_text()))
     yield (
         "posterior",

@@ -142,12 +142,13 @@ def plot_comparison(doc: dict):
                 ax.set_ylabel("y (µm)")
             else:
                 ax.tick_params(labelleft=False)
-        return style.finish(fig, _title(data), _caption(doc, rows))
+        return style.finish(fig, _title(data, whole), _caption(doc, rows))
 
 
-def _title(data: dict) -> str:
+def _title(data: dict, whole: bool = False) -> str:
     name = str(data.get("file", "the beat")).rsplit("/", 1)[-1]
-    return style.short(f"Mechanisms fitted to {name}", style.MAX_TITLE)
+    what = "Whole beats" if whole else "Mechanisms"
+    return style.short(f"{what} fitted to {name}", style.MAX_TITLE)
 
 
 def _caption(doc: dict, rows: list) -> str:

@@ -30,6 +30,18 @@ def _comparison():
     return plot_comparison(json.loads((FIXTURES / "compare.json").read_text()))
 
 
+def _whole_beat():
+    from axojax.plotting.compare import plot_comparison
+
+    return plot_comparison(json.loads((FIXTURES / "whole_beat.json").read_text()))
+
+
+def _whole_beat_fit():
+    from axojax.plotting.fit_report import plot_fit_report
+
+    return plot_fit_report(json.loads((FIXTURES / "whole_beat_fit.json").read_text()))
+
+
 def _fit():
     from axojax.plotting.fit_report import plot_fit_report
 
@@ -88,6 +100,8 @@ def _section():
 
 KINDS = {
     "comparison": _comparison,
+    "whole_beat": _whole_beat,
+    "whole_beat_fit": _whole_beat_fit,
     "fit": _fit,
     "fit_scalar": _fit_scalar,
     "posterior": _posterior,
@@ -97,8 +111,7 @@ KINDS = {
     "data": _data,
     "section": _section,
 }
-"""Each kind as ``axojax plot`` (or ``axojax data --plot``) draws it; the whole beat's kind
-joins when its figure exists."""
+"""Each kind as ``axojax plot`` (or ``axojax data --plot``) draws it."""
 
 
 def _render(fig) -> tuple[int, int]:
@@ -217,7 +230,16 @@ def test_fit_report_phase_is_masked_at_the_clamped_base():
 
 @pytest.mark.parametrize(
     "name",
-    ["compare.json", "fit.json", "fit.posterior.npz", "map.npz", "simulation.npz", "branch.npz"],
+    [
+        "compare.json",
+        "whole_beat.json",
+        "whole_beat_fit.json",
+        "fit.json",
+        "fit.posterior.npz",
+        "map.npz",
+        "simulation.npz",
+        "branch.npz",
+    ],
 )
 def test_axojax_plot_draws_every_fixture(name, tmp_path, capsys):
     """The fixtures are what the commands write: ``axojax plot`` draws each (svg: the
@@ -234,6 +256,8 @@ def test_fixtures_are_small():
     sizes = {p.name: p.stat().st_size for p in FIXTURES.iterdir() if p.name != "README.md"}
     assert set(sizes) >= {
         "compare.json",
+        "whole_beat.json",
+        "whole_beat_fit.json",
         "fit.json",
         "fit.posterior.npz",
         "map.npz",
