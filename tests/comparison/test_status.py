@@ -225,6 +225,7 @@ def _run(path, tmp_path, capsys, *extra):
     return capsys.readouterr().out, json.loads(out.read_text()), out
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_cli_status_verdict_and_physical_parameters(beats, tmp_path, capsys):
     """On a beat made with the model: the curvature row is successful at the observed beat
     and fits (verdict), its parameters come with physical units and errors on the
@@ -269,6 +270,7 @@ def test_cli_status_verdict_and_physical_parameters(beats, tmp_path, capsys):
     assert "Verdict:" in caption and "pN/um^2" in caption and "+-" in caption
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_cli_verdict_on_a_beat_no_row_fits(beats, tmp_path, capsys):
     text, doc, _ = _run(beats[1], tmp_path, capsys)
     assert doc["verdict"]["fits"] == "none"

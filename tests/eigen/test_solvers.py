@@ -193,6 +193,7 @@ def assert_same_modes(dense, fast):
     assert np.all(overlap > 1 - 1e-6), overlap.min()
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize("arnoldi", PATHS, ids=PATH_IDS)
 def test_seven_sweep_arnoldi_equals_dense(capsys, arnoldi):
     model = ax.models.seven()
@@ -309,6 +310,7 @@ def test_model_file_cross_section_arnoldi_equals_dense(tmp_path, arnoldi):
     assert_same_modes(batch_modes(model, params, Dense()), batch_modes(model, params, arnoldi))
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize("batched", [False, True], ids=PATH_IDS)
 def test_fallback_when_not_certified_gives_the_dense_answer(batched):
     """A certificate radius no Krylov space of this size can reach: every point goes to

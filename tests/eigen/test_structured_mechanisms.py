@@ -45,6 +45,7 @@ def _near_modes(model, params, shifts, solver):
     )(params, shifts)
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize("arnoldi", [PATHS[0], pytest.param(PATHS[1], marks=SLOW)], ids=PATH_IDS)
 def test_nearest_matches_dense_and_scipy_for_indefinite_and_nonsymmetric_c(arnoldi):
     cases = [
@@ -146,6 +147,7 @@ def _strong_sliding_grid():
     return ax.Params(p=p, ks=ks, kl=ks / 1e3, **STRONG_SLIDING).broadcast((P.size,))
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize("batched", [False, pytest.param(True, marks=SLOW)], ids=PATH_IDS)
 def test_strong_dynamic_sliding_control_certifies_with_the_right_disc(monkeypatch, batched):
     """Overdamped modes crowding the real axis left of the dominant eigenvalue kept the
@@ -297,6 +299,7 @@ def _bordered_pencil(model, params, m, seed, extra_block=False):
     return pencil_of(system)
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize(
     "arnoldi,cases",
     [

@@ -373,6 +373,7 @@ def test_two_identical_sweeps_at_once(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.npz"]
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize(
     "argv",
     [

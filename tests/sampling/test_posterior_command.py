@@ -13,6 +13,7 @@ import axojax as ax
 from axojax.cli.main import main
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_fit_posterior_report_file_and_corner_plot(tmp_path, capsys):
     out = tmp_path / "fit.json"
     rc = main(

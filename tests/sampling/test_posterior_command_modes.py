@@ -12,6 +12,7 @@ from axojax.cli.main import main
 FIT = ["fit", "--no-mesh-check", "--model", "two", "--elements", "4", "--free", "p"]
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_modes_posterior_in_the_report(capsys):
     argv = [
         *FIT,
@@ -53,6 +54,7 @@ def test_nuts_flags_refused_in_one_line(extra, flag, capsys):
     assert rc == 2 and len(err) == 1 and flag in err[0], err
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_a_nuts_run_that_warns_suggests_the_modes_sampler(capsys):
     # 31 Hz: a problem of its own. The warm-state cache is keyed by the problem, and
     # tests/house/test_progress.py checks the warm-up bar of the same run at 30 Hz.
