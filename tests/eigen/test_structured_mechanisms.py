@@ -121,6 +121,7 @@ def test_nearest_derivatives_match_the_dense_rule_and_finite_differences():
     assert np.max(np.abs(fast - fd) / scale) < 1e-5
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_dominant_is_structured_and_certified_when_c_stays_positive_definite():
     """chi'' >= 0 and beta'' = 0 keep C symmetric positive definite: the dominant solver
     certifies on its own (no fallback) and agrees with the dense one; with beta'' != 0
@@ -382,6 +383,7 @@ def test_filament_major_keeps_the_border_last_and_bad_borders_are_refused():
     assert "\n" not in str(info.value)
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_arnoldi_on_a_compliant_clamped_base_is_structured_and_equals_dense():
     """Basal compliance on a clamped base is a border without rigid motion: the structured
     solver takes it itself (certified, no dense fallback) and agrees with the dense one."""

@@ -164,6 +164,7 @@ def test_parameter_at_a_bound_is_never_identifiable(model):
     assert best_loss == result.loss and best_values["cl"] == pytest.approx(result.params["cl"])
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_linear_parameter_judged_on_its_own_scale(problem_gamma):
     """gamma (truth 0) is judged by its standard error against its bound range (5 % of
     (-3, 3)), not against its value near 0; log parameters by a factor e."""
