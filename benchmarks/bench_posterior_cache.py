@@ -100,7 +100,7 @@ def main() -> None:
     ap.add_argument("extra", nargs="*", help="fit arguments instead of the synthetic problem")
     args = ap.parse_args()
     problem = args.extra or synthetic()
-    argv = ["fit", "--no-mesh-check", *problem, "--posterior", str(args.draws)]
+    argv = ["fit", "--no-mesh-check", *problem, "--posterior", str(args.draws), "--sampler", "nuts"]
     argv += ["--chains", str(args.chains), "--json"]
     print(f"{os.cpu_count()} cores, load average at start {os.getloadavg()}")
     print("axojax " + " ".join(argv))

@@ -98,6 +98,7 @@ from axojax.cli.main import main as cli_main
 
 TRUTH = {"p": 300.0, "ks": 1e6}
 COMMON = ["fit", "--no-mesh-check", "--model", "seven", "--free", "p,ks", "--kl-ratio", "1000"]
+COMMON += ["--sampler", "nuts"]  # NUTS's speed (--sampler auto picks modes for two)
 SPERM = ["--data", "human_sperm", "--ei", "90.9", "--cn", "0.000285", "--shape-floor", "0.2"]
 
 

@@ -223,7 +223,7 @@ def add_model_flags(
         type=finite_float,
         default=du.cn_pn_s_um2,
         metavar="PN_S_UM2",
-        help="resistive coefficient, pN s um^-2 (default 0.003)",
+        help="resistive (normal drag) coefficient of one filament, pN s/um^2 (default 0.003)",
     )
     parser.add_argument(
         "--json", action="store_true", help="print one JSON document on stdout and nothing else"

@@ -217,8 +217,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--params",
         action="store_true",
-        help="also print every row's fitted values in physical units (chi pN/um^2, beta pN, "
-        "k_b pN/um, xi_b pN s/um, p pN/um, link stiffness and damping) with standard errors",
+        help="also print every row's fitted values in physical units with standard errors: "
+        "chi' and chi'' in pN/um^2, beta' and beta'' in pN, p in pN/um, the basal compliance "
+        "1/k_b in um/pN (or the spring k_b in pN/um) and friction xi_b in pN s/um, the links' "
+        "k_l and k_s in pN/um^2 and damping c_l in pN s/um^2, gamma a number; with --target "
+        "limit-cycle also m0 in pN, f_sat in pN/um and tau_m in ms. A value the pins alone fix "
+        "(the beat held at the observed frequency) is marked pinned, without an error",
     )
     parser.add_argument(
         "--target",

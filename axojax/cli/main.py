@@ -17,7 +17,8 @@ SUBCOMMANDS = {
     "sweep": "dominant mode over a parameter grid, saved to .npz",
     "fit": (
         "estimate free parameters from observed beats "
-        "(least squares: Levenberg-Marquardt by default; NUTS posteriors)"
+        "(least squares: Levenberg-Marquardt by default; posteriors by the mode-aware "
+        "sampler or NUTS, chosen by the problem)"
     ),
     "simulate": "nonlinear beat in the time domain (diffrax), saved to .npz",
     "orbit": "limit cycle computed directly, or its branch in p from the Hopf point",

@@ -355,6 +355,7 @@ def test_3d_centreline_of_the_model_reduces_and_fits_back(tmp_path, model3d):
     assert rms[0] < 0.05 and rms[1] > 10 * rms[0]
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_cli_fit_of_a_3d_beat_with_joint_components(tmp_path, model3d, capsys):
     """``axojax fit --data FILE --components joint`` fits the in-plane and out-of-plane
     psi_1 of a 3D centreline with one complex scale (the library's

@@ -153,6 +153,7 @@ def test_compliance_starts_are_hopf_points():
         assert prm.kb > 0 and prm.xib > 0
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_sartoris_free_base_beat_is_recovered_with_compliance(beat):
     """Curvature control on a free base with basal compliance, fitted to the continuum
     beat of Sartori's wild-type values: R^2 > 0.995 (recomputed from the report's arrays),

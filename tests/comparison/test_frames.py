@@ -77,6 +77,7 @@ def test_warning_when_a_held_base_wins_on_a_moving_base():
     assert base_warning(*_doc(0.5, frame="basal")) is None
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_cli_compares_in_the_basal_frame(tmp_path, capsys):
     """A valid Fourier-mode file whose psi_1(0) is large: compared in the basal frame, the
     JSON says so and the data's psi_1(0) is 0; a file not starting at the base is refused

@@ -84,6 +84,7 @@ def test_zero_compliance_is_the_base_without_it():
     assert abs(complex(soft.eigenvalue) - complex(without.eigenvalue)) > 1e-3 * 200.0
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_no_row_fits_worse_than_a_row_it_contains(tmp_path, capsys):
     """A small comparison (curvature and sliding+curvature on a clamped base without and
     with a spring) on the continuum curvature-control beat with noise: each row's R^2 is

@@ -225,6 +225,7 @@ def _run(path, tmp_path, capsys, *extra):
     return capsys.readouterr().out, json.loads(out.read_text()), out
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_cli_status_verdict_and_physical_parameters(beats, tmp_path, capsys):
     """On a beat made with the model: the curvature row is successful at the observed beat
     and fits (verdict), its parameters come with physical units and errors on the
@@ -255,6 +256,15 @@ def test_cli_status_verdict_and_physical_parameters(beats, tmp_path, capsys):
     assert set(best["physical"]) == {"chi_re_pn_per_um2", "beta_re_pn", "beta_im_pn"}
     assert set(best["physical_stderr"]) == set(best["physical"])
     assert all(v is None or v >= 0 for v in best["physical_stderr"].values())
+    # pinned values (issue 57): the sliding row has two values and two pins, so the pins
+    # alone fix chi' and chi'' (no error from the data); the curvature row's three values
+    # leave the data one direction, so none of them is pinned
+    sliding = next(r for r in doc["rows"] if r["mechanism"] == "sliding")
+    assert sliding["pinned"] == ["chi_re_pn_per_um2", "chi_im_pn_per_um2"]
+    assert all(sliding["physical_stderr"][k] is None for k in sliding["pinned"])
+    line = next(x for x in text.splitlines() if "sliding on clamped:" in x)
+    assert line.count("(pinned)") == 2 and "+-" not in line
+    assert best["pinned"] == [] and all(v is not None for v in best["physical_stderr"].values())
     # chi' in pN/um^2 is the dimensionless chi times EI / L^4 (axojax.units)
     assert best["physical"]["chi_re_pn_per_um2"] == pytest.approx(
         best["params"]["chi_re"] * 100.0 / 10.0**4
@@ -269,6 +279,7 @@ def test_cli_status_verdict_and_physical_parameters(beats, tmp_path, capsys):
     assert "Verdict:" in caption and "pN/um^2" in caption and "+-" in caption
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_cli_verdict_on_a_beat_no_row_fits(beats, tmp_path, capsys):
     text, doc, _ = _run(beats[1], tmp_path, capsys)
     assert doc["verdict"]["fits"] == "none"

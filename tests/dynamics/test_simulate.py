@@ -35,6 +35,7 @@ def hopf6(seven6):
     return float(c.p), float(c.frequency_hz())
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_linear_growth_and_frequency_match_dominant_eigenvalue(seven):
     pc = float(ax.critical_force(seven, ax.Params()).p)
     params = ax.Params(p=1.04 * pc)

@@ -38,6 +38,7 @@ def _dense(model, params):
     return np.asarray(s.A), np.asarray(s.C), np.asarray(s.b)
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize("name", list(BASES))
 def test_linear_integration_is_the_matrix_exponential(name):
     model = ax.models.seven(n_elements=4, base=BASES[name])
@@ -75,6 +76,7 @@ def test_the_cubic_links_leave_the_border_alone(name):
     np.testing.assert_allclose(links.tangent(q), jax.jacfwd(links.force)(q), rtol=1e-10, atol=1e-8)
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_nonlinear_integration_on_a_free_base_matches_radau():
     """The chord's bordered block Jacobian against scipy's Radau (its own finite-difference
     Jacobian) on the dense vector field C^-1 (b - A q - f_nl(q)), cubic links on."""
@@ -104,6 +106,7 @@ def test_nonlinear_integration_on_a_free_base_matches_radau():
     assert np.linalg.norm(ref.y[:, -1] - q0) > 0.1 * np.linalg.norm(q0)  # it moved
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_simulate_on_a_head_base_reports_the_body_frame():
     """The tip is from the base's tangent line (the lab-frame centreline's u(L) - u(0) -
     L u'(0)); psi stays the lab frame's, the slope of the lab-frame centreline along the

@@ -29,6 +29,7 @@ def bisect(model, params, lo, hi, rtol=1e-12):
     return 0.5 * (lo + hi)
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize("ks", [1e3, 1e5, 1e6])
 def test_seven_boundary_matches_bisection(ks, seven):
     model = seven  # the session's model: critical_force compiles once for all three
@@ -41,6 +42,7 @@ def test_seven_boundary_matches_bisection(ks, seven):
         assert scipy_max_real(model, params.replace(p=p)).real <= 0
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_boundary_along_ks_vmapped_and_differentiable(seven):
     model = seven
     f = jax.jit(jax.vmap(lambda ks: ax.critical_force(model, ax.Params(ks=ks, kl=ks / 1e3)).p))

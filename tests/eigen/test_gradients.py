@@ -100,6 +100,7 @@ def sample_points(name, rng):
     return model, names, jnp.asarray(np.array(points))
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize("name", list(CASES))
 def test_gradients_match_finite_differences(name):
     rng = np.random.default_rng(zlib.crc32(name.encode()))

@@ -193,6 +193,7 @@ def assert_same_modes(dense, fast):
     assert np.all(overlap > 1 - 1e-6), overlap.min()
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize("arnoldi", PATHS, ids=PATH_IDS)
 def test_seven_sweep_arnoldi_equals_dense(capsys, arnoldi):
     model = ax.models.seven()
@@ -230,6 +231,7 @@ def test_auto_picks_arnoldi_for_large_models_and_sweeps():
     assert isinstance(auto.resolve(four, n_points=400), Dense)
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize("arnoldi", PATHS, ids=PATH_IDS)
 def test_nine_and_other_parameters_arnoldi_equals_dense(arnoldi):
     model = ax.models.nine()
@@ -245,6 +247,7 @@ def test_nine_and_other_parameters_arnoldi_equals_dense(arnoldi):
     assert_same_modes(batch_modes(model, params, Dense()), batch_modes(model, params, arnoldi))
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize(
     "arnoldi", [PATHS[0], pytest.param(PATHS[1], marks=pytest.mark.slow)], ids=PATH_IDS
 )
@@ -289,6 +292,7 @@ def true_eigenvalue(A, C, lam, x, steps=4):
     return complex(float(lr), float(li))
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize("arnoldi", PATHS, ids=PATH_IDS)
 def test_model_file_cross_section_arnoldi_equals_dense(tmp_path, arnoldi):
     """A five-filament cross-section of a user's own, with unequal rigidity and drag."""
@@ -309,6 +313,7 @@ def test_model_file_cross_section_arnoldi_equals_dense(tmp_path, arnoldi):
     assert_same_modes(batch_modes(model, params, Dense()), batch_modes(model, params, arnoldi))
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize("batched", [False, True], ids=PATH_IDS)
 def test_fallback_when_not_certified_gives_the_dense_answer(batched):
     """A certificate radius no Krylov space of this size can reach: every point goes to

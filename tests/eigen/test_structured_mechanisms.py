@@ -45,6 +45,7 @@ def _near_modes(model, params, shifts, solver):
     )(params, shifts)
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize("arnoldi", [PATHS[0], pytest.param(PATHS[1], marks=SLOW)], ids=PATH_IDS)
 def test_nearest_matches_dense_and_scipy_for_indefinite_and_nonsymmetric_c(arnoldi):
     cases = [
@@ -120,6 +121,7 @@ def test_nearest_derivatives_match_the_dense_rule_and_finite_differences():
     assert np.max(np.abs(fast - fd) / scale) < 1e-5
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_dominant_is_structured_and_certified_when_c_stays_positive_definite():
     """chi'' >= 0 and beta'' = 0 keep C symmetric positive definite: the dominant solver
     certifies on its own (no fallback) and agrees with the dense one; with beta'' != 0
@@ -146,6 +148,7 @@ def _strong_sliding_grid():
     return ax.Params(p=p, ks=ks, kl=ks / 1e3, **STRONG_SLIDING).broadcast((P.size,))
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize("batched", [False, pytest.param(True, marks=SLOW)], ids=PATH_IDS)
 def test_strong_dynamic_sliding_control_certifies_with_the_right_disc(monkeypatch, batched):
     """Overdamped modes crowding the real axis left of the dominant eigenvalue kept the
@@ -297,6 +300,7 @@ def _bordered_pencil(model, params, m, seed, extra_block=False):
     return pencil_of(system)
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize(
     "arnoldi,cases",
     [
@@ -379,6 +383,7 @@ def test_filament_major_keeps_the_border_last_and_bad_borders_are_refused():
     assert "\n" not in str(info.value)
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_arnoldi_on_a_compliant_clamped_base_is_structured_and_equals_dense():
     """Basal compliance on a clamped base is a border without rigid motion: the structured
     solver takes it itself (certified, no dense fallback) and agrees with the dense one."""

@@ -176,6 +176,7 @@ def test_relative_change_from_zero_is_infinite_not_an_error():
     assert _relative(0.02, 0.0, scale=0.06) == pytest.approx(1 / 3)
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_cli_fit_reports_regime_and_mesh_check(tmp_path, capsys):
     """`axojax fit` prints both checks (text), --no-mesh-check leaves the mesh check out
     (JSON null), and a --spec fit of two conditions names each condition's regime and

@@ -43,6 +43,7 @@ def synthetic(model):
     return dict(f=f, s=s, t=t, psi=psi, fps=fps, wavelength=float(mode.wavelength_um()))
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_recovery_from_synthetic_kymograph_file(model, synthetic, tmp_path):
     path = tmp_path / "beat.npz"
     np.savez(path, psi=synthetic["psi"], frame_rate_hz=synthetic["fps"], length_um=12.0)

@@ -25,6 +25,7 @@ def problem():
     )
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_levenberg_marquardt_keeps_optimistix_result(problem):
     done = least_squares(problem, LevenbergMarquardt(), starts=1)
     assert done.result == RESULTS.successful and done.result_message == "successful"

@@ -34,6 +34,7 @@ def _spec(path, params: dict, starts_note: str = "") -> None:
     path.write_text("\n".join(lines) + "\n")
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_fig7_global_fit_reproduces_all_five_and_modes_agrees(tmp_path, capsys):
     """One set of ks, kl, cl, gamma reproduces 17, 22, 51, 66, 245 Hz at p = 150, 200, 300,
     400, 800 within 3 %. Quick form: one start, off the solution docs/model.md section 7 quotes
@@ -92,6 +93,7 @@ def test_fig7_multistart_from_the_stated_parameters():
         assert abs(c["achieved"]["frequency_hz"] / FIG7[round(c["params"]["p"])] - 1) <= 0.03
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_synthetic_global_fit_recovers_the_truth():
     """Three dynein forces sharing ks, kl, cl: frequencies and wavelengths made here at a
     known truth. Without noise the fit recovers the truth exactly; perturbed by noise of

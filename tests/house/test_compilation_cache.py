@@ -72,6 +72,7 @@ def sweep(cache, out):
     return ax.SweepResult.load(out).data, hits
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @needs_quiet_loader
 def test_second_command_loads_what_the_first_compiled(tmp_path):
     cache = tmp_path / "cache"
@@ -83,6 +84,7 @@ def test_second_command_loads_what_the_first_compiled(tmp_path):
         np.testing.assert_array_equal(second[name], first[name])
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_off_keeps_nothing_and_python_caches_nothing(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     _, hits = sweep("off", tmp_path / "a.npz")

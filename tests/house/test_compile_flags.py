@@ -12,6 +12,7 @@ import sys
 
 import jax
 import numpy as np
+import pytest
 
 import axojax as ax
 
@@ -52,6 +53,7 @@ def _run(xla_flags: str) -> dict:
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_suite_flags_do_not_change_results():
     assert "xla_backend_optimization_level=0" in os.environ.get("XLA_FLAGS", "") or os.environ.get(
         "AXOJAX_TEST_FULL_OPTIMISATION"

@@ -373,6 +373,7 @@ def test_two_identical_sweeps_at_once(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.npz"]
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize(
     "argv",
     [
@@ -559,6 +560,7 @@ def test_traced_parameters_out_of_range_give_nan_and_a_code():
         )
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_one_result_convention():
     from axojax.results import RESULTS, message
 

@@ -34,6 +34,8 @@ FIT = [
     "40",
     "--chains",
     "2",
+    "--sampler",
+    "nuts",  # the warm-up's bar is NUTS's (auto picks the mode-aware sampler for one)
     "--json",
 ]
 

@@ -63,7 +63,7 @@ COMPARE = "axojax compare --data human_sperm --out cmp.json"
 PLOT = "axojax plot cmp.json"
 FIT = (
     "axojax fit --model seven --free p,ks --kl-ratio 1000 --data human_sperm --ei 90.9"
-    " --cn 0.000285 --shape-floor 0.2 --posterior 1000 --out fit.json"
+    " --cn 0.000285 --shape-floor 0.2 --posterior 1000 --sampler nuts --out fit.json"
 )
 CHECKED = {MAIN_JOB, DATA, COMPARE, PLOT, FIT}
 

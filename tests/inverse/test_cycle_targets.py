@@ -57,6 +57,7 @@ def residual_fn(model, base, shape, freq):
     return r
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_fit_recovers_the_orbit_parameters(problem):
     model, base, truth, shape, freq = problem
     guess = truth * np.array([1.01, 1.15, 1.3])

@@ -114,6 +114,7 @@ def test_jacobian_matches_finite_differences(problem_gamma):
         np.testing.assert_allclose(J[:, j], fd, rtol=2e-5, atol=1e-6 * np.abs(fd).max())
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize("solver", [LevenbergMarquardt(), LBFGS(max_steps=60)], ids=["lm", "lbfgs"])
 def test_solvers_reach_the_truth(problem, solver):
     """Noise-free targets made at ks = 1e5, cl = 0.005: both solvers recover them."""
@@ -163,6 +164,7 @@ def test_parameter_at_a_bound_is_never_identifiable(model):
     assert best_loss == result.loss and best_values["cl"] == pytest.approx(result.params["cl"])
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_linear_parameter_judged_on_its_own_scale(problem_gamma):
     """gamma (truth 0) is judged by its standard error against its bound range (5 % of
     (-3, 3)), not against its value near 0; log parameters by a factor e."""
@@ -191,6 +193,7 @@ def _shape_target(model, params, s, noise=0.0, basal=0.0, seed=0):
     return ShapeTarget(s, psi1, 0.01)
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_shape_floor_and_basal_exclusion(model):
     params = ax.Params(p=320.0, ks=1e5).with_values({}, RATIO)
     s = np.linspace(0, 12, 25)

@@ -497,6 +497,7 @@ def test_bases_that_hold_the_axoneme_pass(kind):
     ax.models.two(n_elements=4, base=kind).require_held("limit_cycle")
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize("solver", [Dense(), Arnoldi()], ids=["dense", "arnoldi"])
 @pytest.mark.parametrize(
     "preset,base,p",
@@ -540,6 +541,7 @@ def test_dominant_mode_skips_rigid_body_motion(preset, base, p, solver):
     np.testing.assert_allclose(float(jax.grad(growth)(p)), fd, rtol=1e-5)
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize(
     "solver",
     [Arnoldi(batched=True), Arnoldi(krylov_dims=(2,))],

@@ -126,6 +126,7 @@ def test_cli_imbalance_kind(capsys):
     assert "--imbalance-kind" in err and len(err.splitlines()) == 1
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_cli_spec_reads_the_imbalance_kind(tmp_path, capsys):
     """A global-fit spec says how its imbalance is read (``imbalance_kind``, default
     ``--imbalance-kind``): fitting p to the force reading's own frequency at p = 300

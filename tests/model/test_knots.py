@@ -112,6 +112,7 @@ def test_unit_knots_equal_the_uniform_model(name):
             assert float(jnp.max(jnp.abs(x - y), initial=0.0)) <= 1e-12 * scale
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_structured_equals_dense_and_gradients_equal_finite_differences():
     model = ax.models.seven(4)
     prm = ax.Params(p=260.0)

@@ -25,6 +25,7 @@ def critical(model):
     return jax.vmap(lambda prm: ax.critical_force(model, prm))(params)
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_critical_force_rises_with_spoke_stiffness(critical):
     pc = np.asarray(critical.p)[: KS.size]
     assert np.all(np.diff(pc) > 0)

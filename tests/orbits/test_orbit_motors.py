@@ -70,6 +70,7 @@ def _row(name, past):
     return model, _scaled(params, field, 1.0 + past, parts), units, f_sat, cubic
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize("name", list(ROWS))
 def test_the_orbit_is_the_long_simulation(name):
     """(a) Past the Hopf point a long simulation from a small bend (0.1 um) settles on the
@@ -125,6 +126,7 @@ def test_the_orbit_is_the_long_simulation_on_a_pivot():
     assert float(cycle.amplitude_um(units)) == pytest.approx(lc["tip_amplitude_um"], rel=1e-2)
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize("name", list(ROWS))
 def test_the_orbit_solves_the_simulated_equations(name):
     """The harmonic balance's X(theta) satisfies the augmented equations built here
@@ -173,6 +175,7 @@ def test_the_saturation_is_sampled_finely_enough():
     assert out[0][1] == pytest.approx(out[1][1], rel=1e-10)
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_the_orbit_is_differentiable_in_the_motors():
     """Forward-mode derivatives of the orbit's frequency and amplitude in tau_m, f_sat and
     beta'' (the implicit function theorem through the harmonic balance, never through
@@ -392,6 +395,7 @@ def test_warm_starts_take_the_motors_and_older_solvers_still_work():
         assert float(cycle.omega) == pytest.approx(float(ref.omega), rel=1e-10)
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_the_augmented_harmonic_balance_jacobian_is_exact_in_the_node_layout():
     """The Newton matrix of the doubled state, block-tridiagonal in the integrator's node
     order (each node's q then its y) on a clamped base and one dense block with basal

@@ -84,6 +84,7 @@ def _loss_and_start():
     return loss, x0
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_the_loss_gradient_through_the_regulated_orbit_equals_finite_differences():
     """jax.value_and_grad of the loss equals central differences in tau_m, f_sat, chi'
     and chi'' (1e-5 relative per component; measured 1.3e-7, 3e-11, 9.8e-8, 1.1e-7: the differences'

@@ -38,6 +38,7 @@ def p_hopf(two4):
     return p_h
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize(
     "base, tol",
     [
@@ -135,6 +136,7 @@ def test_floquet_multipliers_past_hopf(two4, p_hopf):
     assert abs(np.sort(np.abs(others))[-1] - abs(ref[1])) < 1e-5
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_derivatives_match_finite_differences():
     """d(frequency)/d(p, ks, cl) by the implicit function theorem (forward and reverse
     mode) equal central finite differences to 1e-5."""

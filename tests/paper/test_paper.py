@@ -21,6 +21,7 @@ def rows():
     return {r.claim.key: r for r in paper.compute_rows(beat=False)}
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_rows_match_model_md_section_7(rows):
     for key, stated in [
         ("7a", "347.06"),
@@ -169,6 +170,7 @@ def test_inferred_json(capsys):
     assert main(["--json"]) == 2  # --json alone is a one-line error
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_inferred_fig12_gives_the_papers_beat():
     """The limit cycle at the inferred parameters has fig. 12b's wavelength, frequency,
     dynamic amplitude and static curvature (paper, section 3.7.1: 17 um, 17 Hz, 0.71 rad,

@@ -206,6 +206,7 @@ def test_refuses_a_bad_tau_and_is_traceable():
     assert float(grad) == model.n_unknowns
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_nearest_mode_with_motor_kinetics_is_the_dense_augmented_pencils():
     """``ax.nearest_mode(..., tau_m=)``: at the Hopf point the same mode as today's (eigenvalue
     and unit eigenvector, 1e-8); off it the eigenvalue is scipy's nearest of the augmented

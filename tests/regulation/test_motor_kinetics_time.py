@@ -191,6 +191,7 @@ def _growth_and_frequency(t, y):
     return growth, 1.0 / (2.0 * half)
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize("row", list(ROWS))
 def test_linear_growth_and_frequency_are_the_augmented_pencils(row):
     """(b) Near the linear regime (a 0.3 nm initial bend, cubic links on) the simulated
@@ -239,6 +240,7 @@ def test_linear_integration_is_the_matrix_exponential(row):
         assert np.linalg.norm(Xi - ref) <= 1e-7 * np.linalg.norm(ref), ti
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_nonlinear_integration_with_motor_kinetics_matches_radau():
     """Cubic links on, a large bend: the chord's padded block Jacobian (links on q, none
     on y) against scipy's Radau on the dense augmented vector field (basal compliance:
@@ -391,6 +393,7 @@ def _saturated_field(model, params, tau_m, f_sat):
     return rhs
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_saturating_motors_match_radau():
     """Saturating motors (cubic links off): the chord's saturation tangent in the motor
     blocks against scipy's Radau on the dense vector field built here; the saturation
@@ -438,6 +441,7 @@ def test_the_saturation_tangent_is_the_exact_jacobian():
     assert np.array_equal(blocks, ours[np.asarray(sat.perm)][:, np.asarray(sat.perm)])
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_saturating_motors_set_the_amplitude_of_a_regulated_beat():
     """Past its Hopf point a regulated beat grows until its motors saturate: a limit cycle
     whose amplitude is proportional to f_sat (cubic links off, the equations are then

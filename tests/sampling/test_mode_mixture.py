@@ -29,6 +29,7 @@ def modes_post():
         )
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_both_modes_with_the_quadrature_s_masses(modes_post):
     mass, mean_b = quadrature(two_modes())
     u = modes_post.u
@@ -104,6 +105,7 @@ class CountedCliff(Cliff):
         return super().residuals(u)
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_every_evaluation_is_counted():
     problem = CountedCliff(np.eye(2), np.zeros(2), 1.0, [-2.0, -2.0], [3.0, 3.0], ["a", "b"])
     COUNT[0] = 0
@@ -164,6 +166,7 @@ def test_two_exact_solutions_of_a_small_model_weighed_as_the_quadrature():
     assert post.gradients_per_ess < 50
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_points_in_u_seed_the_mixture_and_bad_ones_are_refused():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

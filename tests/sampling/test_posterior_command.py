@@ -13,6 +13,7 @@ import axojax as ax
 from axojax.cli.main import main
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_fit_posterior_report_file_and_corner_plot(tmp_path, capsys):
     out = tmp_path / "fit.json"
     rc = main(
@@ -38,9 +39,10 @@ def test_fit_posterior_report_file_and_corner_plot(tmp_path, capsys):
             "--json",
         ]
     )
-    assert rc == 0
     out, err = capsys.readouterr()
     doc = json.loads(out)
+    # the fit meets its target; the exit status is the posterior's (1: not converged)
+    assert rc == (0 if doc["posterior"]["result"] == "successful" else 1)
     # one prefix per line (issue 33: "axojax: fit: posterior: posterior: R-hat ..." doubled it)
     for line in err.splitlines():
         assert line.count("posterior:") <= 1 and line.count("axojax:") == 1, line
@@ -150,6 +152,7 @@ def test_the_command_leaves_the_defaults_to_the_library(monkeypatch, capsys):
     argv = ["fit", "--no-mesh-check", "--model", "two", "--elements", "4", "--free", "p,ks"]
     argv += ["--target-frequency", "30", "--target-wavelength", "20", "--posterior", "1000"]
     argv += ["--starts", "2"]  # the fit is not what is tested here
+    argv += ["--sampler", "nuts"]  # auto would pick the mode-aware sampler for two
     with pytest.raises(Stop):
         main(argv)
     assert "vectorize" not in seen and seen["warmup"] is None

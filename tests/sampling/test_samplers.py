@@ -125,6 +125,7 @@ def test_the_command_line_s_rules_are_the_library_s_defaults():
     assert post.warmup == 150  # the rule's, not the 500 posterior() took before
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_a_problem_given_no_start_starts_at_its_16_start_fit():
     """``init=None`` on an axojax Problem samples exactly what starting at its
     POSTERIOR_STARTS-start least-squares fit samples (what `axojax fit --posterior`
@@ -141,6 +142,7 @@ def test_a_problem_given_no_start_starts_at_its_16_start_fit():
     assert default.transport is None
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_auto_transport_is_the_one_suggested_from_the_fit():
     """``transport="auto"`` (the default) samples along what suggest_transport picks from
     a least-squares result given as ``init``, bitwise as passing it; from a plain point,

@@ -64,6 +64,7 @@ def test_profile_is_the_conditional_maximum():
         assert abs(float(jnp.exp(profile.log_diag[j, 0])) / sd - 1) < 1e-3, j
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_map_is_a_bijection_with_its_log_jacobian():
     _, _, profile = _map()
     rng = np.random.default_rng(0)

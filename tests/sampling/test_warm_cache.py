@@ -53,6 +53,7 @@ def same_draws(a, b):
     )
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_second_run_loads_the_start_up_and_draws_the_same(tmp_path, monkeypatch):
     prob = problem()
     first = sample(prob, cache=tmp_path)
@@ -112,6 +113,7 @@ def test_a_changed_input_misses():
     assert None not in changed and len({key, *changed}) == len(changed) + 1
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_another_seed_misses_and_stores_its_own(tmp_path):
     prob = problem()
     assert sample(prob, cache=tmp_path).warm_cache == "stored"
@@ -120,6 +122,7 @@ def test_another_seed_misses_and_stores_its_own(tmp_path):
     assert not np.array_equal(other.u, sample(prob).u)
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize("damage", ["truncate", "garbage", "empty", "wrong_key"])
 def test_a_corrupt_file_is_ignored_with_one_warning(tmp_path, damage):
     prob = problem()
@@ -147,6 +150,7 @@ def test_a_corrupt_file_is_ignored_with_one_warning(tmp_path, damage):
     assert sample(prob, cache=tmp_path).warm_cache == "loaded"  # rewritten whole
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_no_cache_writes_nothing(tmp_path, monkeypatch):
     prob = problem()
     monkeypatch.setenv("AXOJAX_CACHE_DIR", "off")
@@ -178,6 +182,7 @@ def test_fit_posterior_uses_the_cache_when_the_compilation_cache_is_on(tmp_path,
 
     argv = ["fit", "--no-mesh-check", "--model", "two", "--elements", "3", "--free", "p"]
     argv += ["--target-frequency", "30", "--posterior", "8", "--chains", "2", "--json"]
+    argv += ["--sampler", "nuts"]  # the warm state is NUTS's (auto: the mode-aware sampler)
 
     def run():
         import contextlib

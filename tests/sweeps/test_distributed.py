@@ -97,6 +97,7 @@ def single():
     )
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_two_processes_resume_and_equal_one(single, tmp_path, monkeypatch):
     """An interrupted one-process run leaves 2 of 4 chunks; a 2-process job resumes it
     (the chunk layout does not depend on the process count) and its merged file equals

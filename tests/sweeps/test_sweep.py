@@ -112,6 +112,7 @@ def run_two_device_script(script: str, marker: str, what: str) -> None:
     assert marker in proc.stdout
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_two_cpu_devices_identical(tmp_path):
     script = textwrap.dedent(
         """

@@ -17,6 +17,7 @@ from tests.whole_beat.test_whole_beat_fit import UNITS, beat_file  # noqa: E402
 UNIT_FLAGS = ["--ei", str(UNITS.ei_pn_um2), "--cn", str(UNITS.cn_pn_s_um2)]
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize(
     "extra, flag",
     [

@@ -3,7 +3,8 @@ condition (flags) or several at once (``--spec FIT.toml``).
 
 The spec file's format: :mod:`axojax.inverse.spec` (``ax.inverse.read_spec``).
 
-Exit status 0 when every target is reproduced, 1 (with the report) when not.
+Exit status 0 when every target is reproduced (and a posterior's chains converged), 1
+(with the report) when not.
 """
 
 from __future__ import annotations
@@ -301,8 +302,8 @@ PROBLEM_OPTIONS = ("solver", "shape_floor", "exclude_base_um", "cubic")
 
 
 def _run_fit(args, problem, options: dict, flag: str):
-    """The fit of ``problem``, then (``--posterior``) NUTS from its optimum on the same
-    problem."""
+    """The fit of ``problem``, then (``--posterior``) the posterior of the same problem
+    from its optimum: (fit, None) or (fit, (posterior, why that sampler))."""
     transport = fit_posterior.transport_of(args, problem.names)  # refused before the fit
     try:
         method = solver_from_name(options["method"])
@@ -373,10 +374,10 @@ def run(args: argparse.Namespace) -> dict:
         )
     except ValueError as err:
         raise common.CLIError(f"{flag}: {err}") from None
-    result, post = _run_fit(args, problem, options, flag)
+    result, sampled = _run_fit(args, problem, options, flag)
     extra.update(fit_checks(problem, result, mesh=args.mesh_check))  # regime, mesh_check
     extra["units"] = {**dataclasses.asdict(units), "source": units_source}
-    return inputs.finish(args, result, extra, post)
+    return inputs.finish(args, result, extra, sampled)
 
 
 def _cubic(args: argparse.Namespace, model) -> float:
@@ -442,9 +443,9 @@ def _run_spec(args: argparse.Namespace) -> dict:
         )
     except ValueError as err:
         raise common.CLIError(f"{flag}: {err}") from None
-    result, post = _run_fit(args, problem, options, flag)
+    result, sampled = _run_fit(args, problem, options, flag)
     extra = {"spec": str(args.spec)}
     if spec.data:
         extra["data"] = spec.data[0] if len(spec.data) == 1 else list(spec.data)
     extra.update(fit_checks(problem, result, mesh=args.mesh_check))  # regime, mesh_check
-    return inputs.finish(args, result, extra, post)
+    return inputs.finish(args, result, extra, sampled)

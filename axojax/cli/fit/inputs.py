@@ -1,6 +1,7 @@
 """What the linear and the whole-beat ``axojax fit`` share: which flags the command line
 gave, the beat of ``--data`` (its targets, shape and units), and the report document
-written to ``--out`` with the command's exit status."""
+written to ``--out`` with the command's exit status (1 when the targets are missed or a
+posterior's chains did not converge)."""
 
 from __future__ import annotations
 
@@ -13,6 +14,7 @@ import sys
 from ... import _io
 from ...beats import Target, beat_units, read_beat
 from ...beats.reduction import PLANARITY_THRESHOLD
+from ...results import RESULTS
 from ...units import Units
 from .. import common
 
@@ -80,14 +82,18 @@ def data_inputs(args: argparse.Namespace, units: Units, source: str, model):
     return targets, shape, units, summary, source
 
 
-def finish(args, result, extra: dict, post=None) -> dict:
+def finish(args, result, extra: dict, sampled=None) -> dict:
     """The command's JSON document of ``result`` (a fit report) with ``extra`` and the
-    posterior ``post``, written to ``--out`` (the draws beside it); exit status 1 and one
-    line on stderr when the targets are not met."""
+    posterior (``sampled``: the :class:`~axojax.inverse.Posterior` and why its sampler
+    ran, or None), written to ``--out`` (the draws beside it); exit status 1 when the
+    targets are not met (with one line on stderr) or the posterior's chains did not
+    converge (its warnings, one line each, are on stderr already)."""
     doc = result.to_json()
     doc.update(extra)
-    if post is not None:
-        doc["posterior"] = post.to_json()
+    post = None
+    if sampled is not None:
+        post, why = sampled
+        doc["posterior"] = {**post.to_json(), "sampler_reason": why}
         if args.out is not None:
             draws = pathlib.Path(args.out).with_suffix(".posterior.npz")
             try:
@@ -105,5 +111,6 @@ def finish(args, result, extra: dict, post=None) -> dict:
         doc["out"] = str(args.out)
     if not result.targets_met:
         print(f"axojax: fit: {result.message}", file=sys.stderr)
-    args._exit_code = 0 if result.targets_met else 1
+    converged = post is None or post.result == RESULTS.successful
+    args._exit_code = 0 if result.targets_met and converged else 1
     return doc

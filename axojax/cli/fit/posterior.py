@@ -3,7 +3,10 @@
 and the run of :func:`axojax.inverse.posterior`: NUTS from the fit's optimum (with the
 warm-state cache when the compilation cache is on, the Laplace approximation printed
 first), ``--sampler smc``: independent SMC runs from the prior, or ``--sampler modes``:
-independence Metropolis-Hastings chains from a mixture fitted to every mode. The
+independence Metropolis-Hastings chains from a mixture fitted to every mode;
+``--sampler auto`` (the default): the library's choice by the number of free parameters
+(:func:`axojax.inverse.choose_sampler`), NUTS when a NUTS flag (``--along``,
+``--warmup``) is given. The report's ``sampler_reason`` says which ran and why. The
 defaults (the warm-up, the chains' layout, the transport chosen from the fit) are the
 library's own (:mod:`axojax.inverse.sampling`): the command passes its flags only."""
 
@@ -14,10 +17,20 @@ import sys
 import warnings
 
 from ...cache import WARM_SUBDIR, compilation_cache_dir
-from ...inverse import SMC, ModeMixture, ProfileTransport, posterior
-from ...inverse.sampling import MAX_ALONG_WARMUP, MAX_DEFAULT_WARMUP, MIN_WARMUP
+from ...inverse import SMC, ModeMixture, ProfileTransport, choose_sampler, posterior
+from ...inverse.sampling import (
+    MAX_ALONG_WARMUP,
+    MAX_DEFAULT_WARMUP,
+    MIN_WARMUP,
+    MODES_MAX_FREE,
+)
 from .. import common
 from .text import render_laplace
+
+AUTO = "auto"
+"""``--sampler``'s default (the library picks by the problem: :func:`sampler_of`), and
+what :func:`transport_of` returns without ``--along``: the library chooses from the fit
+(:func:`axojax.inverse.posterior`'s ``transport="auto"``)."""
 
 MAX_DRAWS = 100_000  # draws per chain of --posterior (a 3-parameter posterior needs ~1000)
 MAX_CHAINS = 64
@@ -32,10 +45,10 @@ def check_arguments(args: argparse.Namespace) -> None:
             raise common.CLIError("--warmup: applies to the posterior; add --posterior DRAWS")
         if args.along is not None:
             raise common.CLIError("--along: applies to the posterior; add --posterior DRAWS")
-        if args.sampler != "nuts":
+        if args.sampler != AUTO:
             raise common.CLIError("--sampler: applies to the posterior; add --posterior DRAWS")
         return
-    if args.sampler != "nuts":
+    if args.sampler not in ("nuts", AUTO):
         for flag, value in (("--warmup", args.warmup), ("--along", args.along)):
             if value is not None:
                 raise common.CLIError(f"{flag}: applies to NUTS, not to --sampler {args.sampler}")
@@ -60,9 +73,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         type=int,
         default=None,
         metavar="DRAWS",
-        help="then sample the posterior from the optimum with NUTS: DRAWS per chain after --warmup steps "
-        '(adds "posterior" to the report; with --out FIT.json the draws go to '
-        "FIT.posterior.npz, drawn by 'axojax plot')",
+        help="then sample the posterior: DRAWS per chain, by the sampler --sampler picks (NUTS "
+        'from the optimum after --warmup steps). Adds "posterior" to the report: the line after '
+        "its table gives the result, and the exit status is 1 when the chains did not converge; "
+        "with --out FIT.json the draws go to FIT.posterior.npz, drawn by 'axojax plot'",
     )
     parser.add_argument(
         "--chains",
@@ -95,9 +109,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--sampler",
-        choices=("nuts", "smc", "modes"),
-        default="nuts",
-        help="with --posterior: 'nuts' (default): NUTS chains from the optimum; 'modes': "
+        choices=(AUTO, "nuts", "smc", "modes"),
+        default=AUTO,
+        help=f"with --posterior: '{AUTO}' (default): 'modes' up to {MODES_MAX_FREE} free parameters, "
+        "'nuts' beyond or with --along or --warmup (the report says which and why); "
+        "'nuts': NUTS chains from the optimum; 'modes': "
         "independence Metropolis-Hastings chains from a Student-t mixture fitted to every mode by "
         "tempered importance sampling from the prior, the fit's optima seeded "
         "(axojax.inverse.ModeMixture): for up to about three free parameters with several modes, "
@@ -110,12 +126,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
-MODES_HINT_MAX = 3
+MODES_HINT_MAX = MODES_MAX_FREE
 """Free parameters up to which a NUTS run that warns suggests ``--sampler modes``."""
-
-AUTO = "auto"
-"""What :func:`transport_of` returns without ``--along``: the library chooses from the fit
-(:func:`axojax.inverse.posterior`'s ``transport="auto"``)."""
 
 
 def transport_of(args: argparse.Namespace, names) -> ProfileTransport | str | None:
@@ -134,6 +146,19 @@ def transport_of(args: argparse.Namespace, names) -> ProfileTransport | str | No
     return transport
 
 
+def sampler_of(args: argparse.Namespace, problem) -> tuple[str, str]:
+    """``--sampler`` for ``problem``: the sampler's name ("nuts", "smc" or "modes") and why
+    (the report's ``sampler_reason``). :data:`AUTO`: NUTS when ``--along`` or ``--warmup``
+    (NUTS's settings) is given, else :func:`axojax.inverse.choose_sampler`'s choice."""
+    if args.sampler != AUTO:
+        return args.sampler, f"--sampler {args.sampler}: given"
+    given = [f for f, v in (("--along", args.along), ("--warmup", args.warmup)) if v is not None]
+    if given:
+        return "nuts", f"--sampler {AUTO}: {' and '.join(given)} given (NUTS's settings)"
+    sampler, why = choose_sampler(problem)
+    return ("modes" if isinstance(sampler, ModeMixture) else "nuts"), f"--sampler {AUTO}: {why}"
+
+
 def sample(
     args: argparse.Namespace,
     problem,
@@ -141,12 +166,13 @@ def sample(
     progress: bool,
     transport: ProfileTransport | str | None,
 ):
-    """The posterior of ``problem`` from the fit ``result``'s optimum (``--posterior``),
-    along ``transport`` (:func:`transport_of`; :data:`AUTO`: what
-    :func:`axojax.inverse.suggest_transport` picks from the fit); its warnings (R-hat,
-    ESS, divergences) one line each on stderr."""
-    if args.sampler != "nuts":
-        return _sample_gradient_free(args, problem, result, progress)
+    """The posterior of ``problem`` from the fit ``result``'s optimum (``--posterior``) by
+    the sampler :func:`sampler_of` picks, and why; NUTS along ``transport``
+    (:func:`transport_of`; :data:`AUTO`: what :func:`axojax.inverse.suggest_transport`
+    picks from the fit). Its warnings (R-hat, ESS, divergences) one line each on stderr."""
+    name, why = sampler_of(args, problem)
+    if name != "nuts":
+        return _sample_gradient_free(name, args, problem, result, progress), why
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
@@ -172,15 +198,15 @@ def sample(
             "cliffs (docs/fitting.md)",
             file=sys.stderr,
         )
-    return post
+    return post, why
 
 
-def _sample_gradient_free(args: argparse.Namespace, problem, result, progress: bool):
+def _sample_gradient_free(name: str, args: argparse.Namespace, problem, result, progress: bool):
     """``--sampler smc``: ``--chains`` SMC runs of ``--posterior`` particles each, from the
     prior; ``--sampler modes``: ``--chains`` chains of ``--posterior`` draws from a mixture
     fitted to every mode, the fit ``result``'s optima seeded. The warnings one line each on
     stderr."""
-    sampler, init = (SMC(), None) if args.sampler == "smc" else (ModeMixture(), result)
+    sampler, init = (SMC(), None) if name == "smc" else (ModeMixture(), result)
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")

@@ -1,6 +1,7 @@
 """The text that ``axojax fit`` prints for a report (the JSON document of
 :mod:`axojax.cli.fit`): fitted values with their verdicts, what each condition achieved,
-the regime and mesh check, the loss, and the posterior's summary."""
+the regime and mesh check, the loss, and the posterior's summary (its table with the bulk
+and tail ESS, then its result, then which sampler ran and why)."""
 
 from __future__ import annotations
 
@@ -86,15 +87,24 @@ def _render_posterior(post: dict | None) -> list[str]:
     )
     lines.append(
         f"{'parameter':>12s}  {'mean':>12s}  {'sd':>10s}  {'q05':>12s}  {'q95':>12s}  "
-        f"{'rhat':>6s}  {'ess':>7s}  {'sd/Laplace':>10s}"
+        f"{'rhat':>6s}  {'bulk ess':>8s}  {'tail ess':>8s}  {'sd/Laplace':>10s}"
     )
     ratio = post.get("sd_ratio") or {}
+    tail = post.get("ess_tail") or {}
     for k, m in post["mean"].items():
         lines.append(
             f"{k:>12s}  {m:12.5g}  {post['sd'][k]:10.3g}  {post['q05'][k]:12.5g}  "
-            f"{post['q95'][k]:12.5g}  {post['rhat'][k]:6.3f}  {post['ess'][k]:7.0f}  "
-            f"{_num(ratio.get(k)):>10s}"
+            f"{post['q95'][k]:12.5g}  {post['rhat'][k]:6.3f}  {post['ess'][k]:8.0f}  "
+            f"{_num(tail.get(k), '.0f'):>8s}  {_num(ratio.get(k)):>10s}"
         )
+    if post.get("result"):  # the first line after the table: whether to trust it
+        lines.append(
+            "result: successful"
+            if post["result"] == "successful"
+            else f"result: {post['result']}: {post.get('message', '')}"
+        )
+    if post.get("sampler_reason"):
+        lines.append(f"sampler: {post.get('sampler', 'nuts')} ({post['sampler_reason']})")
     if post.get("sampler") == "smc":
         lines.append(
             f"SMC: {post['chains']} independent runs from the prior, tempering stages "

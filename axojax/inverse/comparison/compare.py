@@ -41,6 +41,7 @@ from ..fitting.identifiability import distinct_optima
 from ..fitting.least_squares import least_squares, solver_from_name
 from ..fitting.report import FitResult
 from ..problem import SHAPE_FLOOR, Problem
+from .errors import physical_stderr
 from .mechanisms import (
     DEFAULT_ELEMENTS,
     DEFAULT_PRESET,
@@ -77,8 +78,12 @@ class CompareRow:
         free: its fitted values' names (dimensionless :class:`~axojax.Params` fields).
         params: their fitted values (dimensionless); ``physical``: the same in physical
             units (:data:`axojax.inverse.comparison.table.PHYSICAL`), ``physical_stderr`` their standard errors (the
-            Laplace approximation at the optimum, :meth:`laplace`; inf where the data do
-            not determine a value, None where the row was not fitted).
+            Laplace approximation at the optimum with the pins held exactly:
+            :mod:`axojax.inverse.comparison.errors`; inf where the data do not determine a
+            value, None where the row was not fitted or the value is pinned).
+        pinned: the physical names of the values the pins alone fix (the beat held at
+            the observed frequency; e.g. the sliding row's chi' and chi''): no error from
+            the data, so their ``physical_stderr`` is None.
         status: ``"successful"`` (the solver converged and the beat sits at the observed
             frequency, within 2 %, with growth rate 0 within 3 of the pins' sigmas), the
             solver's failure code (e.g. ``"nonlinear_max_steps_reached"``),
@@ -126,6 +131,7 @@ class CompareRow:
     physical_stderr: dict[str, float | None] = dataclasses.field(default_factory=dict)
     weight: float | None = None
     contains: list[str] = dataclasses.field(default_factory=list)
+    pinned: list[str] = dataclasses.field(default_factory=list)
 
     @property
     def successful(self) -> bool:
@@ -164,6 +170,7 @@ class CompareRow:
             "params": dict(self.params),
             "physical": dict(self.physical),
             "physical_stderr": dict(self.physical_stderr),
+            "pinned": list(self.pinned),
             "status": self.status,
             "reason": self.reason,
             "weight": self.weight,
@@ -566,25 +573,6 @@ def fit_row(
         reason=reason,
         contains=[f"{r.mechanism}/{r.base}" for r in inner],
     )
-    out.physical_stderr = _physical_stderr(out, units)
+    out.physical_stderr, out.pinned = physical_stderr(out, units)
     out.wall_s = time.perf_counter() - t0
-    return out
-
-
-def _physical_stderr(r: CompareRow, units: Units) -> dict[str, float | None]:
-    """Standard errors of ``r.physical`` from the row's Laplace approximation (its
-    Jacobian taken from the fit's own compiled report program: no new compilation); inf
-    where the data do not determine a value, None if it cannot be computed."""
-    p = r.problem
-    try:
-        u = values_to_u(p, np.array([[r.fit.params[n] for n in p.names]]))[0]
-        sd = r.laplace(jacobian=p.evaluate(u)["J"]).sd()
-    except (ValueError, np.linalg.LinAlgError, KeyError):
-        return {k: None for k in r.physical}
-    out = {}
-    for name, v in sd.items():
-        if name in PHYSICAL:
-            key, conv = PHYSICAL[name]
-            se = abs(float(v)) if conv is None else abs(float(getattr(units, conv)(v)))
-            out[key] = se if math.isfinite(se) else math.inf
     return out

@@ -123,26 +123,36 @@ def _pm(value: float | None, se: float | None) -> str:
 
 def physical_text(row: dict[str, Any]) -> str:
     """One row's fitted values in physical units with standard errors, on one line
-    ("chi' -124 +- 5.2 pN/um^2; ..."; ``-`` when it has none)."""
+    ("chi' -124 +- 5.2 pN/um^2; ..."; a value the row's pins alone fix, listed in its
+    ``pinned``, as "chi' -34.4 pN/um^2 (pinned)": no error from the data; ``-`` when it
+    has none)."""
     phys, se = row.get("physical") or {}, row.get("physical_stderr") or {}
+    pinned = set(row.get("pinned") or ())
     parts = []
     for key in PARAM_ORDER:
         if key in phys:
             label, unit = PARAM_UNITS[key]
-            parts.append(f"{label} {_pm(phys[key], se.get(key))}" + (f" {unit}" if unit else ""))
+            unit = f" {unit}" if unit else ""
+            if key in pinned and phys[key] is not None:
+                parts.append(f"{label} {phys[key]:.3g}{unit} (pinned)")
+            else:
+                parts.append(f"{label} {_pm(phys[key], se.get(key))}{unit}")
     return "; ".join(parts) or "-"
 
 
 def render_params(doc: dict[str, Any]) -> str:
     """Every row's fitted values in physical units with standard errors (the row's
-    Laplace approximation; ``?`` where the data do not determine a value), rows in the
-    table's order (``axojax compare --params``)."""
+    Laplace approximation with its pins held exactly; ``?`` where the data do not
+    determine a value, ``(pinned)`` where the pins alone fix it), rows in the table's
+    order (``axojax compare --params``)."""
     lines = ["fitted values (physical units) +- standard error, rows as ranked above:"]
     for i, r in enumerate(doc["rows"], 1):
         lines.append(f"{i:>4}{mark(r):<4} {r['mechanism']} on {r['base']}: " + physical_text(r))
     lines.append(
         "chi = chi' + i chi'' (sliding control), beta = beta' + i beta'' (curvature control), "
         "p the steady dynein load, 1/k_b and xi_b the basal compliance and friction, k_l and c_l the "
-        "links' stiffness and damping (docs/mechanisms.md); ? = not determined by the data"
+        "links' stiffness and damping (docs/mechanisms.md); ? = not determined by the data; "
+        "pinned = fixed by the pins that hold the row's beat at the observed one (growth rate 0, "
+        "the observed frequency), so without an error from the data"
     )
     return "\n".join(lines)

@@ -6,15 +6,17 @@ tempered :class:`SMC` runs for several modes and cliffs (``_smc``), :class:`Mode
 independence chains from a fitted mixture (``_mode_mixture``; its tempered fit in
 ``_mode_tempering``); the coordinates that straighten a curved ridge for NUTS
 (:mod:`.transport`, :mod:`.transport_choice`), the Laplace approximation where chains
-start, their start-up cache and diagnostics. What every sampler shares, and a sampler of
+start, their start-up cache and diagnostics; which sampler a posterior gets when none is
+named (:func:`choose_sampler`, ``axojax fit --sampler auto``). What every sampler shares, and a sampler of
 one's own may use, is public: :mod:`.summaries` (draws as values, statistics, a
 gradient-free sampler's :class:`Posterior`) and :mod:`.programs` (compiled pieces and
 their clock).
 
-The defaults are those of ``axojax fit --posterior``: an axojax ``Problem`` given no start
-is fitted from :data:`POSTERIOR_STARTS` starts first, the warm-up follows the draws
-(:func:`warmup_steps`), the chains run one after another on a CPU
-(:func:`vectorize_chains`) and NUTS samples along the ridge that fit suggests.
+The defaults are those of ``axojax fit --posterior`` (whose default ``--sampler auto``
+picks the sampler by the problem, :func:`choose_sampler`; ``posterior``'s is NUTS): an
+axojax ``Problem`` given no start is fitted from :data:`POSTERIOR_STARTS` starts first,
+the warm-up follows the draws (:func:`warmup_steps`), the chains run one after another on
+a CPU (:func:`vectorize_chains`) and NUTS samples along the ridge that fit suggests.
 
 Imports the problem core and the fit layer (:mod:`axojax.inverse.fitting`), never the
 comparison or the whole beat; this ``__init__`` is the only way in from outside.
@@ -36,6 +38,7 @@ from ._posterior import posterior
 from ._posterior_result import Posterior, load_truth
 from ._sampler import AbstractSampler
 from ._smc import SMC
+from .choice import MODES_MAX_FREE, choose_sampler
 from .transport import ProfileTransport
 from .transport_choice import suggest_transport
 
@@ -43,6 +46,7 @@ __all__ = [
     "MAX_ALONG_WARMUP",
     "MAX_DEFAULT_WARMUP",
     "MIN_WARMUP",
+    "MODES_MAX_FREE",
     "NUTS",
     "POSTERIOR_STARTS",
     "SMC",
@@ -54,6 +58,7 @@ __all__ = [
     "Posterior",
     "ProfileTransport",
     "ScaledSigmas",
+    "choose_sampler",
     "diagnostics",
     "laplace_of",
     "load_truth",

@@ -3,9 +3,10 @@ object (:class:`~._sampler.AbstractSampler`: :class:`~._nuts.NUTS` by default,
 :class:`~._smc.SMC`, :class:`~._mode_mixture.ModeMixture` or one's own). This verb checks
 the arguments every sampler shares and calls the sampler's ``run``; each sampler family
 lives in its own module with its run. Its defaults are those of ``axojax fit
---posterior``: a problem given no start is fitted from 16 starts first, the warm-up
-follows the draws, the chains run one after another on a CPU, and NUTS samples along the
-ridge the fit suggests."""
+--posterior`` (which picks the sampler by the problem unless ``--sampler`` names one:
+:func:`~.choice.choose_sampler`): a problem given no start is fitted from 16 starts
+first, the warm-up follows the draws, the chains run one after another on a CPU, and
+NUTS samples along the ridge the fit suggests."""
 
 from __future__ import annotations
 

@@ -98,7 +98,8 @@ def sampler_notes(
 ) -> list[str]:
     """What makes a posterior's draws untrustworthy, one line each (empty: nothing):
     R-hat above :data:`RHAT_MAX`, bulk or tail ESS below :data:`ESS_MIN_PER_CHAIN` per
-    chain, divergent transitions (of ``draws``, all chains)."""
+    chain (each parameter's lower one, named: "p tail 373"), divergent transitions (of
+    ``draws``, all chains)."""
     notes = []
     rhat = summary_["rhat"]
     bad = [f"{n} {rhat[i]:.3f}" for i, n in enumerate(names) if not rhat[i] <= RHAT_MAX]
@@ -107,8 +108,13 @@ def sampler_notes(
             f"R-hat above {RHAT_MAX}: {', '.join(bad)} (chains disagree; run longer or look for several modes)"
         )
     floor = ESS_MIN_PER_CHAIN * chains
-    ess = np.minimum(summary_["ess_bulk"], summary_["ess_tail"])
-    low = [f"{n} {ess[i]:.0f}" for i, n in enumerate(names) if not ess[i] >= floor]
+    bulk, tail = summary_["ess_bulk"], summary_["ess_tail"]
+    ess = np.minimum(bulk, tail)  # the lower of the two, named: the table prints both
+    low = [
+        f"{n} {'tail' if tail[i] < bulk[i] else 'bulk'} {ess[i]:.0f}"
+        for i, n in enumerate(names)
+        if not ess[i] >= floor
+    ]
     if low:
         notes.append(
             f"effective sample size below {floor} ({ESS_MIN_PER_CHAIN} per chain): {', '.join(low)} (run more draws)"

@@ -1,0 +1,44 @@
+"""Which sampler a posterior gets when none is named (``axojax fit --posterior`` with
+``--sampler auto``, the default): :func:`choose_sampler`, and why, in words for the report.
+
+Up to :data:`MODES_MAX_FREE` free parameters, :class:`ModeMixture`: as many targets as free
+parameters often have several exact solutions, and a cliff where another eigenmode becomes
+the dominant one stops NUTS's trajectories, while the mixture's independence chains find
+every mode and cross cliffs without a gradient; its fit of the whole posterior by tempered
+importance sampling is what limits it to a few parameters (docs/fitting.md, "Which
+sampler"). Beyond, :class:`NUTS`, whose cost per effective draw grows slowly with the
+number of parameters."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from ._mode_mixture import ModeMixture
+from ._nuts import NUTS
+from ._sampler import AbstractSampler
+
+MODES_MAX_FREE = 3
+"""Free parameters up to which :func:`choose_sampler` picks :class:`ModeMixture`."""
+
+
+def choose_sampler(problem: Any) -> tuple[AbstractSampler, str]:
+    """The sampler for ``problem``'s posterior (an
+    :class:`~axojax.inverse.InverseProblem`, by the number of its free parameters) and
+    why, one clause: :class:`ModeMixture` up to :data:`MODES_MAX_FREE` free parameters,
+    :class:`NUTS` beyond.
+
+    >>> sampler, why = choose_sampler(problem)
+    >>> post = ax.inverse.posterior(problem, sampler=sampler, init=fit)
+    """
+    k = len(tuple(problem.names))
+    if k < 1:
+        raise ValueError(f"problem: has no free parameters to sample, got names {problem.names!r}")
+    counted = f"{k} free parameter{'s' if k > 1 else ''}"
+    if k <= MODES_MAX_FREE:
+        return ModeMixture(), (
+            f"{counted}, at most {MODES_MAX_FREE}: the mode-aware sampler, which finds every "
+            "mode and crosses cliffs without gradients"
+        )
+    return NUTS(), (
+        f"{counted}, more than {MODES_MAX_FREE}: NUTS, whose cost grows slowly with their number"
+    )
