@@ -20,6 +20,17 @@ from matplotlib.text import Text
 from axojax.plotting import style
 
 FIXTURES = pathlib.Path(__file__).parent / "fixtures"
+FIXTURE_FILES = (
+    "compare.json",
+    "whole_beat.json",
+    "whole_beat_fit.json",
+    "fit.json",
+    "fit.posterior.npz",
+    "map.npz",
+    "simulation.npz",
+    "branch.npz",
+)
+"""The stored files ``axojax plot`` draws (tests/plotting/fixtures/README.md)."""
 SIZE = (10.0, 6.25)
 DPI = 160
 
@@ -228,19 +239,7 @@ def test_fit_report_phase_is_masked_at_the_clamped_base():
         plt.close(fig)
 
 
-@pytest.mark.parametrize(
-    "name",
-    [
-        "compare.json",
-        "whole_beat.json",
-        "whole_beat_fit.json",
-        "fit.json",
-        "fit.posterior.npz",
-        "map.npz",
-        "simulation.npz",
-        "branch.npz",
-    ],
-)
+@pytest.mark.parametrize("name", FIXTURE_FILES)
 def test_axojax_plot_draws_every_fixture(name, tmp_path, capsys):
     """The fixtures are what the commands write: ``axojax plot`` draws each (svg: the
     suffix of --out picks the format)."""
@@ -254,14 +253,5 @@ def test_axojax_plot_draws_every_fixture(name, tmp_path, capsys):
 
 def test_fixtures_are_small():
     sizes = {p.name: p.stat().st_size for p in FIXTURES.iterdir() if p.name != "README.md"}
-    assert set(sizes) >= {
-        "compare.json",
-        "whole_beat.json",
-        "whole_beat_fit.json",
-        "fit.json",
-        "fit.posterior.npz",
-        "map.npz",
-        "simulation.npz",
-        "branch.npz",
-    }
+    assert set(sizes) >= set(FIXTURE_FILES)
     assert max(sizes.values()) < 200_000, sizes
