@@ -96,7 +96,7 @@ class RESULTS(diffrax.RESULTS):
     )
     rigid_drift = (
         "No periodic orbit: on this base, which lets the axoneme move rigidly, the static load "
-        "has a net force or torque, so the beat drifts (docs/model.md section 9; "
+        "has a net force or torque, so the beat drifts (docs/model.md section 8; "
         "`LimitCycle.rigid_drift`)."
     )
 

@@ -152,7 +152,7 @@ def border_terms(model: Model, params: Params, A_terms: list[Term], C_terms: lis
        filaments are joined: ``-int m dx`` on u'(0). Its work is then
        ``int m (u'(x) - u'(0)) dx``, that of the dynein's sliding relative to the base (as
        the regulated force's in 2.), which no rigid motion does: the load has no net force
-       or torque (docs/model.md section 9; without it a free axoneme would spin under its
+       or torque (docs/model.md section 8; without it a free axoneme would spin under its
        static moment).
 
     Node 0 is shared by every filament (a rigid basal body, :attr:`Model.n_base_dofs`):

@@ -45,7 +45,7 @@ def limit_cycle(
             without basal compliance: on one that lets the axoneme move rigidly (free,
             head, a pivot without a spring) the orbit's rigid offset is fixed by one phase
             condition per rigid motion and its drift solved for (``cycle.rigid_drift``,
-            ~0: docs/model.md section 9, :mod:`axojax.orbits.rigid`); the rigid motions'
+            ~0: docs/model.md section 8, :mod:`axojax.orbits.rigid`); the rigid motions'
             Floquet multipliers are ``cycle.rigid_floquet``.
         params: dimensionless parameters, past the Hopf point (p > p_c; for a regulated
             mechanism, past its Hopf point in chi or beta).
@@ -121,7 +121,7 @@ def drift_reason(cycle: LimitCycle, at: str) -> str:
     return (
         f"no periodic orbit {at}: the static load has a net rigid-body force or torque on this "
         f"{cycle.model.base.kind} base, so the beat drifts (drift velocities "
-        f"{np.array2string(v, precision=3)} L or rad per tau; docs/model.md section 9)"
+        f"{np.array2string(v, precision=3)} L or rad per tau; docs/model.md section 8)"
     )
 
 

@@ -1,5 +1,5 @@
 """The rigid-body motions of a periodic orbit on a base that moves (docs/model.md
-section 9; issue 54 item 4).
+section 8, "Bases that move"; issue 54 item 4).
 
 A free or head base (and a pivot without a spring) leaves the axoneme r rigid motions Z
 (:meth:`axojax.models.Model.rigid_modes`): ``A Z = 0``, and the internal forces have no
@@ -93,7 +93,7 @@ def rigid_of(model: Model, C: Float[Array, "n n"]) -> Rigid:
 def rigid_load(model: Model, params: Params) -> Float[Array, " r"]:
     """Z^T b (r,): the net rigid-body force and torque of the static load b (the static
     dynein moment m0, the imbalance's couple) on a base that moves; dimensionless (EI/L^2
-    per direction for a translation, EI/L for a rotation). docs/model.md section 9: it must
+    per direction for a translation, EI/L for a rotation). docs/model.md section 8: it must
     be 0 (to rounding), else the beat drifts; empty on a held base."""
     Z = jnp.asarray(model.rigid_modes(), dtype=float)
     return Z.T @ assemble(model, params).b

@@ -1,4 +1,4 @@
-"""Periodic orbits on bases that move (issue 54 item 4; docs/model.md section 9): free and
+"""Periodic orbits on bases that move (issue 54 item 4; docs/model.md section 8): free and
 head bases (a translation and a rotation per direction), whose rigid offset the harmonic
 balance fixes by one phase condition per rigid motion, with the drift solved for.
 
@@ -96,7 +96,7 @@ def psi_mismatch(cycle, sim, units, offset: bool) -> float:
 
 
 def test_the_static_load_has_no_rigid_component():
-    """docs/model.md section 9: the static dynein moment m0 (and the imbalance's couple of
+    """docs/model.md section 8: the static dynein moment m0 (and the imbalance's couple of
     a regulated row, p = 0) loads a free or head axoneme without a net force or torque:
     Z^T b = 0 to rounding, Z built here from the mesh, b assembled; ``rigid_load`` says
     the same. b itself is not 0 (the check is not empty), and a clamped base has no rigid
