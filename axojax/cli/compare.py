@@ -224,7 +224,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default="linear",
         help="linear (default): psi_1's shape at a Hopf point, amplitude free; limit-cycle: the "
         "whole beat (frequency, psi_0, psi_1 with its amplitude) by each regulated mechanism's "
-        "limit cycle with motor kinetics, saturating motors and a static moment (held bases)",
+        "limit cycle with motor kinetics, saturating motors and a static moment",
     )
     parser.add_argument("--json", action="store_true", help="print one JSON document on stdout")
 
@@ -344,7 +344,7 @@ def _whole_beat(args: argparse.Namespace, beat, units, organism) -> dict:
     ):
         if value is not None:
             raise common.CLIError(
-                f"{flag}: not with --target limit-cycle (held bases, the lab frame, the data's drag)"
+                f"{flag}: not with --target limit-cycle (the lab frame, the data's drag)"
             )
     mechanisms = _names(args.mechanisms, "--mechanisms") or WHOLE_MECHANISMS
     bases = _names(args.bases, "--bases") or WHOLE_BASES

@@ -92,7 +92,7 @@ def run(args: argparse.Namespace) -> dict:
     f_sat = motor_saturation_from_args(args, tau_m)
     # motor kinetics makes an active friction well posed; any base (a free or head one's rigid
     # offset is fixed by phase conditions, axojax/orbits/rigid.py)
-    common.require_passive_friction(model, params, "orbit", held=False, motors=tau_m is not None)
+    common.require_passive_friction(model, params, "orbit", motors=tau_m is not None)
     if tau_m is not None and axes:
         raise common.CLIError(
             "--p: a branch in p is not built with motor kinetics (--motor-tau-ms); give one value"
