@@ -10,7 +10,7 @@ Every answer a user meets carries a ``result``: an item of :class:`RESULTS`, an
 - :class:`~axojax.critical.Critical` (:func:`axojax.critical_force`): successful,
   no_crossing, max_steps_reached, invalid_params (``found`` kept);
 - :class:`~axojax.orbits.LimitCycle` (:func:`axojax.limit_cycle`): successful, no_start,
-  nonlinear_max_steps_reached (``converged`` kept);
+  nonlinear_max_steps_reached, rigid_drift (``converged`` kept);
 - :class:`~axojax.dynamics.simulate.Simulation` (:func:`axojax.simulate`): diffrax's
   codes, promoted (``max_steps_reached``, ``dt_min_reached``, ...; ``state`` and
   ``meta["solver"]["ok"]`` kept);
@@ -93,6 +93,11 @@ class RESULTS(diffrax.RESULTS):
     no_start = (
         "No limit cycle: the Hopf normal form has no small orbit here (subcritical, or not "
         "past the Hopf point); start from a nearby orbit."
+    )
+    rigid_drift = (
+        "No periodic orbit: on this base, which lets the axoneme move rigidly, the static load "
+        "has a net force or torque, so the beat drifts (docs/model.md section 8; "
+        "`LimitCycle.rigid_drift`)."
     )
 
 

@@ -69,6 +69,16 @@ def base_vectors(model: Model) -> dict[str, np.ndarray]:
     }
 
 
+@functools.lru_cache(maxsize=64)
+def rotation_row(model: Model) -> np.ndarray:
+    """Filament-level (k + 2 N_e,) dofs (base dofs first) of the rigid rotation u = x about
+    x = 0: u'(0) = 1, each node (x_i, 1); ``row @ int p phi'`` is ``int p dx``."""
+    N = model.n_elements
+    base = [0.0 if dof == 0 else 1.0 for dof in model.base.dofs]
+    nodes = np.stack([np.arange(1, N + 1) / N, np.ones(N)], axis=1).ravel()
+    return np.concatenate([base, nodes])
+
+
 def _per_filament(model: Model) -> int:
     """Size of the border before node 0 is shared: node 0's dofs per (filament,
     direction), then the basal slidings (the space :func:`border_terms` sums in)."""
@@ -136,6 +146,14 @@ def border_terms(model: Model, params: Params, A_terms: list[Term], C_terms: lis
        equation is then chi_b Delta_b,a = -int f_a dx: a positive kb is a spring).
     4. A head: drags against the basal displacement and slope, in C; a pivot: its spring
        (A) and drag (C) on the basal slope.
+    5. The static load b (the dynein couple m(x) per length of :func:`static_couple`, the
+       imbalance's and ``m0``): node 0's part of ``int m phi'``, and where the basal slope
+       is free (pivot, free, head) the couple's reaction at the basal body, where the
+       filaments are joined: ``-int m dx`` on u'(0). Its work is then
+       ``int m (u'(x) - u'(0)) dx``, that of the dynein's sliding relative to the base (as
+       the regulated force's in 2.), which no rigid motion does: the load has no net force
+       or torque (docs/model.md section 8; without it a free axoneme would spin under its
+       static moment).
 
     Node 0 is shared by every filament (a rigid basal body, :attr:`Model.n_base_dofs`):
     1-3 are summed with a dof of node 0 per filament and direction, then contracted with
@@ -228,7 +246,10 @@ def border_terms(model: Model, params: Params, A_terms: list[Term], C_terms: lis
     b = jnp.zeros(m)
     if has_node0 and model.pair_B.shape[0] and model.section.load == "pairs":
         k = len(base.dofs)
-        f1 = moment_load(model, params, base.dofs)[:k]
+        row = moment_load(model, params, base.dofs)
+        f1 = row[:k]
+        if 1 in base.dofs:  # 5. the couple's reaction at the basal body (docstring)
+            f1 = f1.at[base.dofs.index(1)].add(-jnp.asarray(rotation_row(model)) @ row)
         b = b.at[: model.n_fd * k].set(jnp.kron(static_couple(model, params), f1))
     b = R.T @ b
     (A_nb, A_bn, A_bb), (C_nb, C_bn, C_bb) = fa["A"], fa["C"]

@@ -230,7 +230,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default="linear",
         help="linear (default): psi_1's shape at a Hopf point, amplitude free; limit-cycle: the "
         "whole beat (frequency, psi_0, psi_1 with its amplitude) by each regulated mechanism's "
-        "limit cycle with motor kinetics, saturating motors and a static moment (held bases)",
+        "limit cycle with motor kinetics, saturating motors and a static moment",
     )
     parser.add_argument("--json", action="store_true", help="print one JSON document on stdout")
 
@@ -349,7 +349,8 @@ def _whole_beat(args: argparse.Namespace, beat, units, organism) -> dict:
     ):
         if value is not None:
             raise common.CLIError(
-                f"{flag}: not with --target limit-cycle (held bases, the data's drag)"
+                f"{flag}: not with --target limit-cycle (its rows take compliance from --bases, "
+                "e.g. clamped+elastic, and the drag and head from the data or --organism)"
             )
     mechanisms = _names(args.mechanisms, "--mechanisms") or WHOLE_MECHANISMS
     bases = _names(args.bases, "--bases") or WHOLE_BASES

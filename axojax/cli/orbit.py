@@ -90,7 +90,8 @@ def run(args: argparse.Namespace) -> dict:
     common.check_params(params, "--kl-ratio")
     tau_m = motor_tau_from_args(args, params)
     f_sat = motor_saturation_from_args(args, tau_m)
-    # motor kinetics makes an active friction well posed; the base must still hold the axoneme
+    # motor kinetics makes an active friction well posed; any base (a free or head one's rigid
+    # offset is fixed by phase conditions, axojax/orbits/rigid.py)
     common.require_passive_friction(model, params, "orbit", motors=tau_m is not None)
     if tau_m is not None and axes:
         raise common.CLIError(
@@ -236,6 +237,19 @@ def render(doc: dict) -> str:
             f"{wavelength_text(o['wavelength_um'], '.3f', ''):>15s}  {second:8.4f}  "
             f"{o['stable']}"
             + sensitive_note(o.get("amplitude_dip") if o.get("wavelength_sensitive") else None)
+        )
+    rigid = [o for o in doc["orbits"] if o.get("rigid_floquet")]
+    if rigid:
+        off = max(
+            abs(complex(*r) - 1) if r[0] is not None else math.inf
+            for o in rigid
+            for r in o["rigid_floquet"]
+        )
+        drift = max(abs(v) for o in rigid for v in o["rigid_drift"])
+        lines.append(
+            f"rigid motions of the base: {len(rigid[0]['rigid_floquet'])} trivial multipliers "
+            f"(|rho - 1| <= {off:.1e}; not in rho_2 nor in stable), drift {drift:.1e} L or rad "
+            "per tau (none: a periodic orbit)"
         )
     if doc.get("missing"):
         lines.append("no orbit at p = " + ", ".join(f"{p:g}" for p in doc["missing"]))

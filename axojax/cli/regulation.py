@@ -29,20 +29,13 @@ DEFAULT_VISCOSITY_PA_S = 1e-3
 """``--viscosity-pa-s`` default (water): the fluid of a head given by ``--head-um``."""
 
 
-def require_passive_friction(
-    model: Model, params: Params, what: str, held: bool = True, motors: bool = False
-) -> None:
-    """The time domain's conditions as CLI errors: a base that holds the axoneme
-    (``--base``; where ``held``: limit cycles) and, unless ``motors`` (motor kinetics,
+def require_passive_friction(model: Model, params: Params, what: str, motors: bool = False) -> None:
+    """The time domain's condition as a CLI error: unless ``motors`` (motor kinetics,
     ``--motor-tau-ms``, makes any friction well posed), no active friction
-    (:func:`axojax.well_posed.require_passive_friction`, naming ``--beta`` or ``--chi``)."""
+    (:func:`axojax.well_posed.require_passive_friction`, naming ``--beta`` or ``--chi``).
+    Every base is taken (orbits on a base that moves: :mod:`axojax.orbits.rigid`)."""
     from ..well_posed import require_passive_friction as check
 
-    try:
-        if held:
-            model.require_held(what)
-    except ValueError as err:
-        raise CLIError(f"--base: {err}") from None
     if motors:
         return
     try:

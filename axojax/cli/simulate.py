@@ -94,7 +94,7 @@ def run(args: argparse.Namespace) -> dict:
     tau_m = motor_tau_from_args(args, params)
     f_sat = motor_saturation_from_args(args, tau_m)
     if tau_m is None:  # motor kinetics makes an active friction well posed
-        common.require_passive_friction(model, params, "simulate", held=False)
+        common.require_passive_friction(model, params, "simulate")
     units = common.units_from_args(args)
     cubic = DEFAULT_CUBIC if args.cubic is None else args.cubic
     if model.link_B.shape[0] == 0 and args.cubic is None:

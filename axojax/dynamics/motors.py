@@ -85,10 +85,10 @@ def rigid_motions(model: Model) -> np.ndarray:
     return np.concatenate([Z, Z], axis=0)
 
 
-def dominant_eigenvalue(model: Model, params: Params, tau_m: float) -> complex:
-    """The rightmost deforming eigenvalue of the augmented pencil (A' + lambda C') v = 0
-    (dimensionless, 1/tau), by a dense eigen-solve (scipy); a base's rigid motions moved to
-    -s first (Brauer, as :mod:`axojax.eigen.deflation`; none on a held base)."""
+def deflated_pencil(model: Model, params: Params, tau_m: float) -> tuple[np.ndarray, np.ndarray]:
+    """(A', C') of the augmented system (numpy, dense) with a base's rigid motions moved
+    from eigenvalue 0 to -s (Brauer, as :mod:`axojax.eigen.deflation`; unchanged on a held
+    base): every other eigenvalue of (A', C') kept, so the spectrum's deforming modes."""
     s = assemble_motor(model, params, tau_m)
     A, C = np.asarray(s.A), np.asarray(s.C)
     Z = rigid_motions(model)
@@ -96,6 +96,14 @@ def dominant_eigenvalue(model: Model, params: Params, tau_m: float) -> complex:
         shift = float(scale_of(jnp.asarray(np.max(np.abs(A))), jnp.asarray(np.max(np.abs(C)))))
         Yt = np.linalg.solve(Z.T @ C @ Z, Z.T @ C)
         A = A + shift * (C @ Z) @ Yt
+    return A, C
+
+
+def dominant_eigenvalue(model: Model, params: Params, tau_m: float) -> complex:
+    """The rightmost deforming eigenvalue of the augmented pencil (A' + lambda C') v = 0
+    (dimensionless, 1/tau), by a dense eigen-solve (scipy); a base's rigid motions moved to
+    -s first (Brauer, as :mod:`axojax.eigen.deflation`; none on a held base)."""
+    A, C = deflated_pencil(model, params, tau_m)
     lam = sl.eigvals(-A, C)
     lam = lam[np.isfinite(lam)]
     return complex(lam[np.argmax(lam.real)])

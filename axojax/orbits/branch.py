@@ -5,7 +5,8 @@ not followed: pseudo-arclength continuation would be needed there).
 
 The Hopf point is that of the equilibrium ``A q_e + f_nl(q_e) = b`` (bent when b != 0, so
 it can differ from :func:`axojax.critical_force`, which linearises about the straight
-state): the root in p of the growth rate of its linearisation.
+state): the root in p of the growth rate of its linearisation (its dominant deforming
+mode on a base that moves: :func:`~axojax.orbits.guess.dominant_deforming`).
 """
 
 from __future__ import annotations
@@ -25,7 +26,6 @@ import scipy.optimize
 from .. import _io
 from ..assembly import assemble
 from ..critical import critical_force
-from ..eigen.dominant import dominant_eigenpair
 from ..models.section import Model
 from ..params import Params
 from ..results import ResultFileError, check_arrays, jsonable, read_checked
@@ -33,14 +33,14 @@ from ..units import Units
 from ._solve import solve_jit
 from .cycle import LimitCycle
 from .fourier import Problem
-from .guess import equilibrium
+from .guess import dominant_deforming, equilibrium
 from .solvers import AbstractOrbitSolver
 
 
 def _eq_eigenvalue(model: Model, params: Params, kappa):
     prob = Problem(model, params, assemble(model, params), kappa, 1, 6)
     qe = equilibrium(prob)
-    return dominant_eigenpair(prob.s.A + prob.f_nl_tangent(qe), prob.s.C)[0]
+    return dominant_deforming(prob, prob.s.A + prob.f_nl_tangent(qe))[0]
 
 
 _eq_eigenvalue_jit = jax.jit(_eq_eigenvalue, static_argnums=0)

@@ -41,7 +41,9 @@ class LimitCycle(eqx.Module):
             along the beat direction (rad per L; negative: anterograde; docs/model.md,
             :mod:`axojax.waveform.measures`).
         floquet: (k,) multipliers of largest modulus, largest first (NaN-padded); one is
-            1 (the phase).
+            1 (the phase). On a base that moves, without the rigid motions' (those are
+            :attr:`rigid_floquet`); :attr:`trivial_multipliers` and
+            :attr:`stability_multipliers` set the trivial ones apart.
         converged: whether Newton converged (otherwise the coefficients are a finite
             stand-in: the linear mode at small amplitude).
         started: whether there was a start (False: the Hopf normal form has no orbit here).
@@ -52,8 +54,17 @@ class LimitCycle(eqx.Module):
             of the augmented pencil).
         phase_ref: (n,) the phase condition ``phase_ref . b_1 = 0``.
         result: :class:`axojax.results.RESULTS` item: ``successful``, ``no_start``
-            (no start: ``started`` False) or ``nonlinear_max_steps_reached`` (Newton did
-            not converge).
+            (no start: ``started`` False), ``nonlinear_max_steps_reached`` (Newton did
+            not converge) or ``rigid_drift`` (a base that moves, under a load with a net
+            rigid-body force or torque: no periodic orbit).
+        rigid_drift: (r,) on a base that moves (r = ``model.rigid_modes()`` columns:
+            free and head bases a translation and a rotation per direction, a pivot
+            without a spring a rotation), the drift velocities (L or rad per tau) of the
+            rigid motions that the bordered Newton system solves for: ~0 (to rounding) for a
+            periodic orbit (:mod:`axojax.orbits.rigid`; the rigid offset of the mean
+            state is fixed at 0, ``Y^T c_0 = 0``). Empty on a held base.
+        rigid_floquet: (r,) the rigid motions' Floquet multipliers (1 to rounding; NaN
+            when no multipliers were computed). Empty on a held base.
     """
 
     model: Model = eqx.field(static=True)
@@ -70,6 +81,8 @@ class LimitCycle(eqx.Module):
     linear_eigenvalue: Complex[Array, ""]
     phase_ref: Float[Array, " n"]
     result: RESULTS = eqx.field(default_factory=lambda: RESULTS.successful)
+    rigid_drift: Float[Array, " r"] = eqx.field(default_factory=lambda: jnp.zeros(0))
+    rigid_floquet: Complex[Array, " r"] = eqx.field(default_factory=lambda: jnp.zeros(0, complex))
 
     # -- physical units -------------------------------------------------------------
     @property
@@ -107,16 +120,48 @@ class LimitCycle(eqx.Module):
         return wm.direction(self.wavenumber, self.omega)
 
     @property
+    def n_rigid(self) -> int:
+        """r, the rigid motions the base leaves free (0 on a held base)."""
+        return int(self.model.rigid_modes().shape[1])
+
+    def _phase_index(self) -> Array:
+        """Index in :attr:`floquet` of the time shift's multiplier (the closest to 1)."""
+        rho = self.floquet
+        return jnp.argmin(jnp.where(jnp.isfinite(rho), jnp.abs(rho - 1), jnp.inf), axis=-1)
+
+    @property
+    def trivial_multipliers(self) -> Complex[Array, " t"]:
+        """(r + 1,) the multipliers that are 1 by symmetry: the rigid motions' (r of them,
+        :attr:`rigid_floquet`), then the time shift's (of :attr:`floquet`, the closest to
+        1). Empty when no multipliers were computed."""
+        rho = self.floquet
+        if rho.shape[-1] == 0:
+            return rho
+        phase = jnp.take_along_axis(rho, self._phase_index()[..., None], axis=-1)
+        return jnp.concatenate([self.rigid_floquet, phase], axis=-1)
+
+    @property
+    def stability_multipliers(self) -> Complex[Array, " k1"]:
+        """(k - 1,) the multipliers that decide stability: :attr:`floquet` without the
+        time shift's (NaN-padded as :attr:`floquet`; the rigid motions' are not in it)."""
+        rho = self.floquet
+        k = rho.shape[-1]
+        if k == 0:
+            return rho
+        idx = jnp.arange(k - 1)
+        idx = idx + (idx >= self._phase_index()[..., None])
+        return jnp.take_along_axis(rho, idx, axis=-1)
+
+    @property
     def stable(self) -> Array:
-        """All multipliers but the phase one (the closest to 1) inside the unit circle
+        """All :attr:`stability_multipliers` (every multiplier but the trivial ones: the
+        time shift's and, on a base that moves, the rigid motions') inside the unit circle
         (False when none were computed: ``HarmonicBalance(floquet=0)``)."""
         rho = self.floquet
         if rho.shape[-1] == 0:
             return jnp.zeros(rho.shape[:-1], bool)
-        finite = jnp.isfinite(rho)
-        trivial = jnp.argmin(jnp.where(finite, jnp.abs(rho - 1), jnp.inf))
-        others = jnp.where(finite & (jnp.arange(rho.shape[-1]) != trivial), jnp.abs(rho), 0.0)
-        return jnp.max(others) < 1.0
+        others = self.stability_multipliers
+        return jnp.max(jnp.where(jnp.isfinite(others), jnp.abs(others), 0.0), axis=-1) < 1.0
 
     # -- the waveform -----------------------------------------------------------------
     def states(self, n_frames: int = 64) -> tuple[np.ndarray, np.ndarray]:
@@ -185,6 +230,10 @@ class LimitCycle(eqx.Module):
                 "static_curvature_rad_per_um": float(m.static_curvature_rad_per_um),
                 "dynamic_amplitude_rad": float(m.dynamic_amplitude_rad),
                 "floquet": [[float(r.real), float(r.imag)] for r in rho],
+                "rigid_floquet": [
+                    [float(r.real), float(r.imag)] for r in np.asarray(self.rigid_floquet)
+                ],
+                "rigid_drift": [float(v) for v in np.asarray(self.rigid_drift)],
                 "stable": bool(self.stable) if rho.size else None,
                 "converged": bool(self.converged),
                 "harmonics": self.harmonics,

@@ -13,6 +13,12 @@ one block-tridiagonal LU in the node layout, ``krylov`` steps with full re-ortho
 eigen-decomposition of the whole Hill matrix. The phase exponent 0 is exact up to
 round-off (the discretisation keeps the phase-shift symmetry, see
 :mod:`axojax.orbits.fourier`).
+
+On a base that moves each rigid motion Z is an exact eigenvector at mu = 0 too (at
+harmonic 0): a Krylov space from one start vector holds only one vector of a multiple
+eigenvalue, so they are taken out first. :func:`floquet_multipliers` moves them to
+mu = -s (Brauer: ``J + s M (e_0 (x) Z)(e_0 (x) Y)^T``, every other exponent kept,
+:mod:`axojax.orbits.rigid`), and :func:`rigid_floquet` gives their own multipliers.
 """
 
 from __future__ import annotations
@@ -22,6 +28,7 @@ import jax.numpy as jnp
 from ..linalg import arnoldi_steps
 from .fourier import Problem
 from .linear import factor
+from .rigid import deflation_scale, rigid_multipliers
 
 
 def floquet_multipliers(
@@ -34,7 +41,8 @@ def floquet_multipliers(
     shift: float = 0.05,
     tol: float = 1e-8,
 ):
-    """The ``count`` multipliers of largest modulus (complex, NaN-padded), largest first.
+    """The ``count`` multipliers of largest modulus (complex, NaN-padded), largest first;
+    on a base that moves, without the rigid motions' (:func:`rigid_floquet`).
 
     Args:
         prob: the harmonic-balance problem of the orbit.
@@ -47,6 +55,12 @@ def floquet_multipliers(
     """
     J = prob.jacobian_blocks(X, omega)
     M = prob.mass_blocks()
+    if prob.r:  # one dense block, harmonic-major: the rigid motions at harmonic 0 moved away
+        U = jnp.zeros((prob.m, prob.n, prob.r)).at[0].set(prob.rigid.drag)
+        V = jnp.zeros((prob.m, prob.n, prob.r)).at[0].set(prob.rigid.coords.T)
+        U, V = U.reshape(-1, prob.r), V.reshape(-1, prob.r)
+        scale = deflation_scale(prob.s.A, prob.s.C)
+        J = type(J)(J.lower, J.diag.at[0].add(scale * U @ V.T), J.upper)
     N = J.shape[0]
     k = min(krylov, N - 1)
     s = -shift * omega  # pencil value nu = -mu
@@ -77,3 +91,13 @@ def floquet_multipliers(
     if k < count:
         rho = jnp.concatenate([rho, jnp.full(count - k, jnp.nan + 0j)])
     return rho[:count]
+
+
+def rigid_floquet(prob: Problem, X, omega):
+    """(r,) the multipliers of the rigid motions (1 to rounding; empty on a held base):
+    :func:`~axojax.orbits.rigid.rigid_multipliers` on the mean's Jacobian."""
+    if prob.r == 0:
+        return jnp.zeros((0,), complex)
+    n = prob.n
+    J0 = prob.harmonic_jacobian(X, omega)[:n, :n]
+    return rigid_multipliers(J0, prob.rigid, prob.s.C, omega)

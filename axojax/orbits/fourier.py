@@ -48,6 +48,7 @@ from ..dynamics.saturation import MotorSaturation, nonlinear_force, nonlinear_ta
 from ..linalg import BlockTridiagonal
 from ..models.section import Model
 from ..params import Params
+from .rigid import rigid_of
 
 
 @functools.lru_cache(maxsize=32)
@@ -86,8 +87,13 @@ def pad(X: Float[Array, "m n"], harmonics: int) -> Float[Array, "m2 n"]:
 
 class Problem:
     """The harmonic-balance equations at fixed (model, system, kappa): residual and
-    exact Jacobian in the flat unknown ``x = [X.ravel(), omega]``, with the phase
+    exact Jacobian in the flat unknown ``x = [X.ravel(), v, omega]``, with the phase
     condition ``ref . b_1 = 0`` as the last equation.
+
+    On a base that moves (r = ``rigid.r`` rigid motions, :mod:`axojax.orbits.rigid`) the
+    mean's equation gains the drift's drag ``C Z v`` (v: r drift velocities, L or rad per
+    tau) and r equations fix the rigid offset, ``Y^T c_0 = 0``, before the phase
+    condition; on a held base v is empty and ``x = [X.ravel(), omega]``.
 
     ``system`` is the model's :class:`~axojax.assembly.System` (n = N unknowns q), or with
     motor kinetics the augmented :class:`~axojax.assembly.motor_kinetics.MotorSystem`
@@ -128,6 +134,10 @@ class Problem:
             self.n_blocks, self.block = model.n_elements, 2 * model.n_fd
             self.perm = node_major(model)
         self.inverse_perm = np.argsort(self.perm)
+        self.rigid = rigid_of(model, system.C)
+        self.r = self.rigid.r
+        if self.r and not self.bordered:
+            raise ValueError("a base with rigid motions has a border")  # (node 0's dofs)
 
     def f_nl(self, q):
         """f_nl(q) (n,): the cubic links' force (and the saturating motors')."""
@@ -138,7 +148,19 @@ class Problem:
         return nonlinear_tangent(self.links, self.saturation, q)
 
     def split(self, x):
-        return jnp.reshape(x[:-1], (self.m, self.n)), x[-1]
+        """(X (2H+1, n), omega) of a flat unknown x."""
+        return jnp.reshape(x[: self.m * self.n], (self.m, self.n)), x[-1]
+
+    def drift(self, x):
+        """(r,) the drift velocities v of a flat unknown x (empty on a held base)."""
+        return x[self.m * self.n : self.m * self.n + self.r]
+
+    def join(self, X, omega, v=None):
+        """The flat unknown ``[X.ravel(), v, omega]`` (v: zeros by default)."""
+        parts = [jnp.ravel(X), jnp.reshape(omega, (1,)).astype(X.dtype)]
+        if self.r:
+            parts.insert(1, jnp.zeros(self.r, X.dtype) if v is None else v)
+        return jnp.concatenate(parts)
 
     def harmonic_residual(self, X, omega):
         """R(X, omega), shape (2H+1, n)."""
@@ -149,9 +171,13 @@ class Problem:
 
     def residual(self, x, ref):
         X, omega = self.split(x)
-        return jnp.concatenate(
-            [jnp.ravel(self.harmonic_residual(X, omega)), (ref @ X[self.H + 1])[None]]
-        )
+        R = self.harmonic_residual(X, omega)
+        phase = (ref @ X[self.H + 1])[None]
+        if not self.r:
+            return jnp.concatenate([jnp.ravel(R), phase])
+        R = R.at[0].add(self.rigid.drag @ self.drift(x))
+        gauge = self.rigid.coords @ X[0]  # (r,): the mean's rigid coordinates
+        return jnp.concatenate([jnp.ravel(R), gauge, phase])
 
     def harmonic_jacobian(self, X, omega):
         """d R / d X, shape (m n, m n): omega D (x) C + I (x) A + Galerkin of d f_nl."""
@@ -161,14 +187,17 @@ class Problem:
         return omega * jnp.kron(self.D, s.C) + jnp.kron(jnp.eye(m), s.A) + nl
 
     def jacobian(self, x, ref):
-        """d residual / d x, shape (m n + 1, m n + 1)."""
+        """d residual / d x, shape (m n + r + 1, m n + r + 1)."""
         X, omega = self.split(x)
-        m, n, H = self.m, self.n, self.H
+        m, n, H, r = self.m, self.n, self.H, self.r
         J = self.harmonic_jacobian(X, omega)
         d_omega = jnp.ravel((self.D @ X) @ self.s.C.T)
+        d_drift = jnp.zeros((m, n, r)).at[0].set(self.rigid.drag).reshape(m * n, r)
+        gauge = jnp.zeros((r, m, n)).at[:, 0].set(self.rigid.coords).reshape(r, m * n)
         phase = jnp.zeros((m, n)).at[H + 1].set(ref).ravel()
-        top = jnp.concatenate([J, d_omega[:, None]], axis=1)
-        bottom = jnp.concatenate([phase, jnp.zeros(1)])[None]
+        top = jnp.concatenate([J, d_drift, d_omega[:, None]], axis=1)
+        rows = jnp.concatenate([gauge, phase[None]], axis=0)
+        bottom = jnp.concatenate([rows, jnp.zeros((r + 1, r + 1))], axis=1)
         return jnp.concatenate([top, bottom], axis=0)
 
     # -- node-major layout: (node, harmonic, local dof) ---------------------------------

@@ -16,6 +16,11 @@ exists for ``Re lambda > 0`` and ``Re g21 < 0`` (supercritical); elsewhere the s
 and the solver reports failure. The multilinear derivatives of the cubic force are
 forward-mode derivatives of :func:`axojax.dynamics.nonlinear.cubic_link_force`, which is a
 polynomial and so evaluates at complex states.
+
+On a base that moves (:mod:`axojax.orbits.rigid`) A_e is singular along the rigid motions
+Z: the equilibrium and h11 are the solutions with no rigid offset (``Y^T q = 0``), and the
+dominant mode is that of the pencil with the rigid eigenvalues moved away (Brauer), so
+it is the dominant *deforming* mode, as :func:`axojax.dominant_mode` takes it.
 """
 
 from __future__ import annotations
@@ -26,19 +31,34 @@ from jax.scipy.linalg import lu_factor, lu_solve
 
 from ..eigen.dominant import dominant_eigenpair
 from .fourier import Problem
+from .rigid import deflated, deflation_scale, gauged_solve, restore
 
 EQUILIBRIUM_STEPS = 12
 
 
 def equilibrium(prob: Problem):
-    """q_e with ``A q_e + f_nl(q_e) = b`` (Newton from ``A^{-1} b``; 0 when b = 0)."""
-    s = prob.s
+    """q_e with ``A q_e + f_nl(q_e) = b`` (Newton from ``A^{-1} b``; 0 when b = 0); on a
+    base that moves, the one without rigid offset (:func:`~axojax.orbits.rigid.gauged_solve`)."""
+    s, rigid = prob.s, prob.rigid
 
     def step(_, q):
         J = s.A + prob.f_nl_tangent(q)
-        return q - jnp.linalg.solve(J, s.A @ q + prob.f_nl(q) - s.b)
+        return q - gauged_solve(J, s.A @ q + prob.f_nl(q) - s.b, rigid)
 
-    return jax.lax.fori_loop(0, EQUILIBRIUM_STEPS, step, jnp.linalg.solve(s.A, s.b))
+    return jax.lax.fori_loop(0, EQUILIBRIUM_STEPS, step, gauged_solve(s.A, s.b, rigid))
+
+
+def dominant_deforming(prob: Problem, Ae):
+    """(lambda, v): the dominant eigenpair of ``(Ae + lambda C) v = 0`` without the rigid
+    motions' zero eigenvalues (moved away, :func:`~axojax.orbits.rigid.deflated`; the
+    plain dominant pair on a held base). v has unit norm, its largest entry real."""
+    C, rigid = prob.s.C, prob.rigid
+    if rigid.r == 0:
+        return dominant_eigenpair(Ae, C)
+    scale = deflation_scale(Ae, C)
+    lam, w = dominant_eigenpair(deflated(Ae, rigid, scale), C)
+    v = restore(w, lam, rigid, scale)
+    return lam, v / jnp.linalg.norm(v)
 
 
 def _left_vector(A, C, lam):
@@ -54,7 +74,7 @@ def _left_vector(A, C, lam):
 
 
 def hopf_guess(prob: Problem):
-    """(x0, ref, lambda, fallback): the start ``[X.ravel(), omega]`` on ``prob``'s
+    """(x0, ref, lambda, fallback): the start ``[X.ravel(), v, omega]`` (drift v = 0) on ``prob``'s
     harmonics (NaN where the normal form has no orbit), the phase reference (unit vector
     at the largest entry of the mode: its first-harmonic sine coefficient is held at 0,
     so that entry peaks at theta = 0), the dominant eigenvalue at the equilibrium, and a
@@ -62,7 +82,7 @@ def hopf_guess(prob: Problem):
     s, H, n = prob.s, prob.H, prob.n
     qe = equilibrium(prob)
     Ae = s.A + prob.f_nl_tangent(qe)
-    lam, v = dominant_eigenpair(Ae, s.C)
+    lam, v = dominant_deforming(prob, Ae)
     i = jnp.argmax(jnp.abs(v))
     v = v * jnp.conj(v[i]) / jnp.abs(v[i])  # largest entry real and positive
     w = _left_vector(Ae, s.C, lam)
@@ -72,7 +92,7 @@ def hopf_guess(prob: Problem):
     d2 = lambda q, y, z: jax.jvp(lambda a: d1(a, y), (q,), (z,))[1]
     d3 = lambda y, z, u: jax.jvp(lambda a: d2(a, y, z), (qc,), (u,))[1]
     vb = jnp.conj(v)
-    h11 = -jnp.linalg.solve(Ae, jnp.real(d2(qc, v, vb)))
+    h11 = -gauged_solve(Ae, jnp.real(d2(qc, v, vb)), prob.rigid)
     h20 = -jnp.linalg.solve(Ae + 2 * lam * s.C, d2(qc, v, v))
     g21 = -jnp.vdot(
         w, d3(v, v, vb) + 2 * d2(qc, v, h11.astype(v.dtype)) + d2(qc, vb, h20)
@@ -96,5 +116,5 @@ def hopf_guess(prob: Problem):
         .at[H + 1]
         .set(-1e-3 * jnp.imag(v))
     )
-    fallback = jnp.concatenate([jnp.ravel(small), jnp.abs(jnp.imag(lam))[None]])
-    return jnp.concatenate([jnp.ravel(X), omega[None]]), ref, lam, fallback
+    fallback = prob.join(small, jnp.abs(jnp.imag(lam)))
+    return prob.join(X, omega), ref, lam, fallback

@@ -4,8 +4,11 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from ..models.section import Model
 from ..params import DEFAULT_CUBIC, Params
+from ..results import RESULTS
 from ..well_posed import require_passive_friction
 from ._solve import solve_jit
 from .branch import continue_to
@@ -38,8 +41,12 @@ def limit_cycle(
 
     Args:
         model: e.g. ``ax.models.seven()``; needs links (the cubic force lives in them),
-            unless saturating motors (``f_sat``) bound the beat. A held base (clamped,
-            with or without basal compliance; a pivot with a spring).
+            unless saturating motors (``f_sat``) bound the beat. Any base, with or
+            without basal compliance: on one that lets the axoneme move rigidly (free,
+            head, a pivot without a spring) the orbit's rigid offset is fixed by one phase
+            condition per rigid motion and its drift solved for (``cycle.rigid_drift``,
+            ~0: docs/model.md section 8, :mod:`axojax.orbits.rigid`); the rigid motions'
+            Floquet multipliers are ``cycle.rigid_floquet``.
         params: dimensionless parameters, past the Hopf point (p > p_c; for a regulated
             mechanism, past its Hopf point in chi or beta).
         kappa: cubic link stiffening (1/L^2), > 0 (>= 0 with ``f_sat``).
@@ -68,7 +75,6 @@ def limit_cycle(
         continuation in p (the normal form is the only start besides ``start``).
     """
     params = params.validate()
-    model.require_held("limit_cycle")
     motors = motors_of(params, tau_m, f_sat)
     if motors is None:
         require_passive_friction(model, params, "limit_cycle")
@@ -95,6 +101,7 @@ def limit_cycle(
         and start is None
         and motors is None
         and complex(cycle.linear_eigenvalue).real > 0
+        and not bool(cycle.result == RESULTS.rigid_drift)
     ):
         # Far from the Hopf point the normal form is no start: continue from it instead.
         try:
@@ -108,11 +115,23 @@ def limit_cycle(
     return cycle
 
 
+def drift_reason(cycle: LimitCycle, at: str) -> str:
+    """One line for an orbit refused for its drift (``RESULTS.rigid_drift``)."""
+    v = np.asarray(cycle.rigid_drift, dtype=float)
+    return (
+        f"no periodic orbit {at}: the static load has a net rigid-body force or torque on this "
+        f"{cycle.model.base.kind} base, so the beat drifts (drift velocities "
+        f"{np.array2string(v, precision=3)} L or rad per tau; docs/model.md section 8)"
+    )
+
+
 def failure_reason(cycle: LimitCycle, params: Params, motors: bool = False) -> str:
     """One line saying why no orbit was found (``motors``: with motor kinetics, where the
     regulation's coefficients, not p, move the Hopf point)."""
     lam = complex(cycle.linear_eigenvalue)
     at = "with motor kinetics" if motors else f"at p = {float(params.p):g}"
+    if cycle.result == RESULTS.rigid_drift:
+        return drift_reason(cycle, at)
     past = "move chi or beta past the Hopf point" if motors else "raise p past the Hopf point"
     if lam.real <= 0:
         return (

@@ -14,6 +14,12 @@ change of one diagonal entry, so still block-tridiagonal, and regular whenever K
 
 and the transposed system likewise with ``J_a^T`` (the implicit-function-theorem
 derivative in reverse mode). Exact: no approximation beyond the LU's round-off.
+
+On a base that moves, J has r more null vectors (the rigid motions at harmonic 0) and
+the system r more border unknowns and rows (the drift and the rigid offset's phase
+conditions, :mod:`axojax.orbits.rigid`); such a model's harmonic balance is one dense
+block already (its border couples every node), so :class:`RigidSolver` factors the whole
+square system densely. :func:`orbit_factor` picks the solver.
 """
 
 from __future__ import annotations
@@ -84,3 +90,25 @@ class BorderedSolver:
         y = z1 + beta * self.y
         t = self.a * (self.e @ y) - beta
         return jnp.concatenate([p.from_nodes(y), t[None]])
+
+
+class RigidSolver:
+    """Dense LU of the whole Newton matrix ``[[J, C Z e_0, u], [Y^T e_0^T, 0, 0],
+    [e_c^T, 0, 0]]`` (:meth:`~axojax.orbits.fourier.Problem.jacobian`) at one point, for
+    a base with rigid motions; ``solve`` and ``solve_transpose`` act on flat vectors
+    ``[X.ravel(), v, omega]``."""
+
+    def __init__(self, prob: Problem, x, ref):
+        self.lu = jsl.lu_factor(prob.jacobian(x, ref))
+
+    def solve(self, r):
+        return jsl.lu_solve(self.lu, r)
+
+    def solve_transpose(self, r):
+        return jsl.lu_solve(self.lu, r, trans=1)
+
+
+def orbit_factor(prob: Problem, x, ref):
+    """The Newton matrix's factorisation at x: :class:`BorderedSolver` (through the
+    block-tridiagonal structure), or :class:`RigidSolver` on a base with rigid motions."""
+    return RigidSolver(prob, x, ref) if prob.r else BorderedSolver(prob, x, ref)

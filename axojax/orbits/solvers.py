@@ -30,12 +30,13 @@ from ..models.section import Model
 from ..params import Params
 from ..results import RESULTS
 from .cycle import LimitCycle, measures
-from .floquet import floquet_multipliers
+from .floquet import floquet_multipliers, rigid_floquet
 from .fourier import pad
 from .guess import hopf_guess
-from .linear import BorderedSolver
+from .linear import orbit_factor
 from .motors import Motors, default_samples, orbit_problem
 from .newton import Restart, implicit_solve
+from .rigid import DRIFT_RTOL, drift_ratio
 
 
 class AbstractOrbitSolver(eqx.Module):
@@ -149,7 +150,7 @@ class HarmonicBalance(AbstractOrbitSolver):
             # is no orbit of the supercritical branch to continue to (a fit's trial step
             # there fails at once, as from the Hopf guess, instead of after max_steps).
             X0 = resize(start.coefficients, H)
-            x_warm = jnp.concatenate([jnp.ravel(X0), jnp.reshape(start.omega, (1,))])
+            x_warm = prob.join(X0, start.omega)
             warm = start.converged & jnp.all(jnp.isfinite(x_warm)) & (jnp.real(lam) > 0)
             x0 = jnp.where(warm, x_warm, x_hopf)
             ref = jnp.where(warm, start.phase_ref, ref_hopf)
@@ -159,7 +160,7 @@ class HarmonicBalance(AbstractOrbitSolver):
                 accept = lambda p, x: _nontrivial(p.split(x)[0])
         x, info, ref = implicit_solve(
             make,
-            BorderedSolver,
+            orbit_factor,
             theta,
             x0,
             ref,
@@ -170,8 +171,14 @@ class HarmonicBalance(AbstractOrbitSolver):
             accept=accept,
         )
         X, omega = prob.split(x)
+        drift = prob.drift(x)
         # Newton may also land on the equilibrium (zero amplitude, any omega): not an orbit.
         info = info.at[0].set(jnp.where(_nontrivial(X), info[0], 0.0))
+        # On a base that moves, a drift (a net rigid-body load) leaves no periodic orbit.
+        drifts = jnp.array(False)
+        if prob.r:
+            drifts = (info[0] > 0.5) & ~(drift_ratio(drift, X, omega) <= DRIFT_RTOL)
+            info = info.at[0].set(jnp.where(drifts, 0.0, info[0]))
         started = jnp.where(info[3] > 0.5, jnp.all(jnp.isfinite(x_hopf)), jnp.all(jnp.isfinite(x0)))
         amplitude, angle, k = measures(model, X[:, : model.n_unknowns])  # q, without y
         if self.floquet > 0:
@@ -182,8 +189,10 @@ class HarmonicBalance(AbstractOrbitSolver):
                 count=self.floquet,
                 krylov=self.krylov,
             )
+            rigid_rho = rigid_floquet(fixed, jax.lax.stop_gradient(X), jax.lax.stop_gradient(omega))
         else:
             rho = jnp.full((0,), jnp.nan + 0j)
+            rigid_rho = jnp.full((prob.r,), jnp.nan + 0j)
         return LimitCycle(
             model=model,
             coefficients=X,
@@ -201,8 +210,14 @@ class HarmonicBalance(AbstractOrbitSolver):
             result=RESULTS.where(
                 info[0] > 0.5,
                 RESULTS.successful,
-                RESULTS.where(started, RESULTS.nonlinear_max_steps_reached, RESULTS.no_start),
+                RESULTS.where(
+                    drifts,
+                    RESULTS.rigid_drift,
+                    RESULTS.where(started, RESULTS.nonlinear_max_steps_reached, RESULTS.no_start),
+                ),
             ),
+            rigid_drift=drift,
+            rigid_floquet=rigid_rho,
         )
 
 

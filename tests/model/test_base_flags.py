@@ -97,11 +97,14 @@ def test_unknown_base_is_refused_by_the_parser(capsys):
     assert code == 2 and out == "" and err.count("\n") == 1 and "--base" in err
 
 
-def test_orbit_refuses_an_unclamped_base(capsys):
-    argv = ["orbit", "--model", "two", "--elements", "4", "--base", "free", "--json"]
+def test_orbit_takes_an_unclamped_base(capsys):
+    """A free base is taken (its orbit's rigid offset is gauged:
+    tests/orbits/test_free_base_orbits.py); below its Hopf point (the deforming modes' p_c =
+    84) there is no orbit, and the line says why, naming --p."""
+    argv = ["orbit", "--model", "two", "--elements", "4", "--base", "free", "--p", "50", "--json"]
     code, out, err = _run(argv, capsys)
     assert code == 2 and out == "" and err.count("\n") == 1
-    assert err.startswith("axojax: error: --base: orbit")
+    assert err.startswith("axojax: error: --p: no limit cycle at p = 50: the equilibrium is")
 
 
 @pytest.mark.parametrize(
@@ -121,10 +124,12 @@ def test_simulate_runs_on_a_base_that_moves(flags, capsys, tmp_path):
     )
 
 
-def test_library_limit_cycle_refuses_a_free_base():
+def test_library_limit_cycle_takes_a_free_base():
+    """No refusal for the base: the answer is the physics' (linearly stable below p_c)."""
     model = ax.models.two(n_elements=4, base="free")
-    with pytest.raises(ValueError, match="^limit_cycle needs a base that holds the axoneme"):
-        ax.limit_cycle(model, ax.Params())
+    cycle = ax.limit_cycle(model, ax.Params(p=50.0))
+    assert not bool(cycle.converged) and complex(cycle.linear_eigenvalue).real < 0
+    assert cycle.rigid_drift.shape == (2,)
 
 
 def test_critical_force_skips_the_rigid_modes_of_a_free_base():

@@ -291,10 +291,6 @@ def test_other_refusals_are_one_line():
         with pytest.raises(ValueError) as err:
             ax.limit_cycle(model, params, kappa, **kwargs)
         assert "\n" not in str(err.value) and needle in str(err.value), (kwargs, str(err.value))
-    free = ax.models.two(n_elements=8, base=ax.models.Base("free", compliance=True))
-    with pytest.raises(ValueError, match="limit_cycle") as err:
-        ax.limit_cycle(free, params, 10.0, tau_m=tau_m, f_sat=f_sat)
-    assert "\n" not in str(err.value)
 
 
 def _orbit_argv(past=0.1, units=ax.Units()):
@@ -327,12 +323,13 @@ def test_cli_refuses_bad_motor_values_on_one_line(capsys, extra, flag, needle):
     assert err.startswith(f"axojax: error: {flag}: ") and needle in err, err
 
 
-def test_cli_refuses_a_branch_or_a_free_base_with_motors(capsys):
+def test_cli_refuses_a_branch_with_motors(capsys):
+    """(A base that moves is taken: tests/orbits/test_free_base_orbits.py.)"""
     from axojax.cli.main import main
 
     motors = ["--motor-tau-ms", "5", "--motor-saturation", "40"]
     argv = _orbit_argv()
-    for extra, flag in ((["--p", "0,1e-3"], "--p"), (["--base", "free"], "--base")):
+    for extra, flag in ((["--p", "0,1e-3"], "--p"),):
         code = main([*argv, *motors, *extra, "--json"])
         err = capsys.readouterr().err
         assert code == 2 and err.count("\n") == 1 and err.startswith(f"axojax: error: {flag}: ")

@@ -87,11 +87,6 @@ def test_orbit_equals_long_simulation(base, tol):
     assert abs(rep["wavelength_um"] / sampled - 1) < 1e-2, (rep["wavelength_um"], sampled)
 
 
-def test_orbit_refuses_a_base_that_moves_rigidly():
-    with pytest.raises(ValueError, match="^limit_cycle needs a base that holds the axoneme"):
-        ax.limit_cycle(ax.models.two(n_elements=4, base="pivot"), ax.Params(p=200.0), KAPPA)
-
-
 def test_floquet_multipliers_past_hopf(two4, p_hopf):
     """Just past the Hopf point on the supercritical branch: one multiplier is 1 (the
     phase), the others lie inside the unit circle and equal the eigenvalues of the

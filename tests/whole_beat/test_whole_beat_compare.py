@@ -21,13 +21,12 @@ UNIT_FLAGS = ["--ei", str(UNITS.ei_pn_um2), "--cn", str(UNITS.cn_pn_s_um2)]
 @pytest.mark.parametrize(
     "extra, flag",
     [
-        (["--bases", "free"], "--bases"),
         (["--mechanisms", "steady"], "--mechanisms"),
         (["--compliance", "on"], "--compliance"),
     ],
 )
 def test_bad_whole_beat_comparisons_are_one_line(tmp_path, capsys, extra, flag):
-    """A base that moves (its orbit has no gauge), the steady load (its whole beat is
+    """The steady load (its whole beat is
     ``axojax fit --target limit-cycle``), and flags of the linear comparison only: one line
     naming the flag, exit 2, before any fit."""
     path = beat_file(tmp_path)

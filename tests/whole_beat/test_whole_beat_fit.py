@@ -407,7 +407,6 @@ def test_the_subcritical_row_beats_below_its_hopf_point():
 @pytest.mark.parametrize(
     "extra, flag",
     [
-        (["--base", "free"], "--base"),
         (["--free", "beta_re"], "--free"),
         (["--free", "tau_m,a0"], "--free"),
         (["--basal-compliance", "10,0.1"], "--basal-compliance"),

@@ -2,7 +2,8 @@
 regulated mechanism (issue 47 item 4; :mod:`axojax.inverse.whole_beat.fit`).
 
 The row is :func:`axojax.compare`'s (``--model``, default ``two``; ``--elements``;
-``--base`` held: clamped or pivot), fitted first as the linear comparison fits it, then
+``--base``: any; on a free or head one the orbit's rigid offset is fixed by phase
+conditions, :mod:`axojax.orbits.rigid`), fitted first as the linear comparison fits it, then
 its limit cycle with motor kinetics (``--motor-tau-ms``, default
 :func:`~axojax.inverse.whole_beat.fit.motor_time`), saturating motors and a static dynein
 moment against the data's frequency, psi_0 and psi_1 in absolute amplitude.
@@ -50,11 +51,6 @@ def check(args: argparse.Namespace) -> None:
                 f"{args.mechanism}) fits the mechanism's coefficients, the motors' saturation "
                 "and the static moment from the data; leave it out"
             )
-    if args.base not in ("clamped", "pivot"):
-        raise common.CLIError(
-            f"--base: a whole-beat fit needs a held base (clamped or pivot), got {args.base!r}: "
-            "on a free or head base the beat is a relative periodic orbit (docs/model.md section 8)"
-        )
     if getattr(args, "basal_compliance", None) is not None:
         raise common.CLIError(
             "--basal-compliance: a whole-beat fit takes the base without compliance in this version"

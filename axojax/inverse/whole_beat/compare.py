@@ -1,7 +1,7 @@
 """``axojax compare --target limit-cycle``: the regulated mechanisms ranked on the whole
 beat (issue 47 item 5; docs/mechanisms.md, "The whole beat").
 
-Each row is a mechanism on a held base, fitted as :func:`axojax.compare` fits it (the
+Each row is a mechanism on a base, fitted as :func:`axojax.compare` fits it (the
 linear row: psi_1's shape with a free amplitude, pinned at the observed frequency) and
 then as a whole (:func:`axojax.inverse.whole_beat.fit.fit_whole_beat`: the limit cycle with
 motor kinetics, saturating motors and a static moment against the frequency, psi_0 and
@@ -40,7 +40,7 @@ from ...results import jsonable
 from ...results import name as result_name
 from ...units import Units
 from ..comparison.compare import as_beat, model_json, organism_of, physical_values
-from ..comparison.mechanisms import DEFAULT_PRESET, FREE, build_model, check_names, parse_base, row
+from ..comparison.mechanisms import DEFAULT_PRESET, FREE, build_model, check_names, row
 from ..comparison.robustness import phase_chi2, whole_beat_bootstrap
 from ..comparison.table import physical_text
 from ..comparison.verdict import FREQUENCY_MATCH, mark, rank, verdict
@@ -50,8 +50,6 @@ MECHANISMS = tuple(FREE)
 """The regulated mechanisms (the steady load's whole beat: ``axojax fit --target
 limit-cycle`` without ``--mechanism``)."""
 DEFAULT_BASES = ("clamped",)
-HELD = ("clamped", "pivot")
-"""Bases whose orbits are built (a free or head base leaves a rigid motion to gauge)."""
 DEFAULT_ELEMENTS = 10
 
 
@@ -357,13 +355,15 @@ def compare_whole_beat(
     progress: bool = False,
     frame: str = "lab",
 ) -> WholeBeatComparison:
-    """Fit every regulated mechanism x held base to the whole of one beat and rank them.
+    """Fit every regulated mechanism x base to the whole of one beat and rank them.
 
     Args:
         data: a :class:`~axojax.beats.BeatData`, a beat file or a bundled name; it must
             give psi_0, psi_1 and the frequency.
         mechanisms: names of :data:`MECHANISMS` (default all three).
-        bases: held bases (:data:`HELD`; default clamped).
+        bases: base names (:func:`~axojax.inverse.comparison.mechanisms.check_names`;
+            default clamped; on a free or head base the orbit's rigid offset is fixed by
+            phase conditions, :mod:`axojax.orbits.rigid`).
         model: the preset (default two filaments); n_elements: elements per filament.
         units: EI and c_n per filament (the beat's length is the data's); organism: an
             organism preset's instead; default: the data set's flagellum or axojax's.
@@ -384,11 +384,6 @@ def compare_whole_beat(
             raise ValueError(
                 f"mechanisms: the whole beat compares regulated mechanisms ({', '.join(MECHANISMS)}); "
                 f"got {m!r}"
-            )
-    for b in bases:
-        if parse_base(b)[0] not in HELD:
-            raise ValueError(
-                f"bases: the whole beat's orbits need a held base ({', '.join(HELD)}); got {b!r}"
             )
     if frame not in FRAMES:
         raise ValueError(f"frame: expected one of {', '.join(FRAMES)}, got {frame!r}")

@@ -40,9 +40,9 @@ import warnings
 import numpy as np
 import scipy.linalg as sl
 
-from ...assembly.motor_kinetics import assemble_motor
 from ...beats.frames import shape_in_basal_frame
 from ...beats.targets import FRAMES, ShapeTarget, Target
+from ...dynamics.motors import deflated_pencil
 from ...models.section import Model
 from ...orbits import cycle_measures
 from ...orbits.limit_cycle import limit_cycle
@@ -96,8 +96,8 @@ def motor_time(model: Model, params: Params, times=MOTOR_TIMES, past: float = PA
     )
 
     def split(prm, wt):
-        s = assemble_motor(model, prm, wt / w0)
-        ev = sl.eigvals(-np.asarray(s.A), np.asarray(s.C))
+        A, C = deflated_pencil(model, prm, wt / w0)  # a base's rigid motions moved away
+        ev = sl.eigvals(-A, C)
         ev = ev[np.isfinite(ev)]
         near = ev[np.argmin(np.abs(ev - 1j * w0))]  # the beat, and its conjugate
         beat = (np.abs(ev - near) <= 1e-9 * w0) | (np.abs(ev - np.conj(near)) <= 1e-9 * w0)
@@ -279,8 +279,9 @@ def fit_whole_beat(
     max_steps: int = MAX_STEPS,
     frame: str = "lab",
 ) -> WholeBeatFit:
-    """Fit the limit cycle of the row ``spec`` (a regulated mechanism on a held base) to
-    a whole observed beat.
+    """Fit the limit cycle of the row ``spec`` (a regulated mechanism on any base: on a free
+    or head one the orbit's rigid offset is fixed by phase conditions,
+    :mod:`axojax.orbits.rigid`) to a whole observed beat.
 
     Args:
         spec: the row (:func:`axojax.inverse.comparison.mechanisms.row`): model, fixed
@@ -319,7 +320,6 @@ def fit_whole_beat(
     if shape.frame == "basal" and frame == "lab":
         raise ValueError("frame: the shape is in the basal frame; fit it with frame='basal'")
     shape = shape_in_basal_frame(shape) if frame == "basal" else shape
-    spec.model.require_held("a whole-beat fit")
     tau_m = motor_time(spec.model, hopf) if tau_m is None else float(tau_m)
     static, dynamic = observed_measures(shape)
     start, f_sat = start_values(
