@@ -269,6 +269,7 @@ def test_model_components_are_the_principal_axes(model3d):
         model_psi1(ax.models.preset("two", n_elements=4), mode, s[:5], "out_of_plane")
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_3d_fit_to_both_components_recovers_the_parameters(model3d):
     """A target made of the model's own two components at p = 320 (one complex scale,
     sigma 0.01 rad) is fitted from p = 300 back to 320 with the scale recovered; with the

@@ -48,6 +48,7 @@ def test_levenberg_marquardt_keeps_optimistix_result(problem):
     assert doc["result_message"] == cut.result_message
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_other_solvers_say_when_they_ran_out_of_steps(problem):
     adam = least_squares(problem, ax.inverse.Adam(max_steps=2), starts=1)
     assert adam.result == RESULTS.max_steps_reached  # Adam has no termination test

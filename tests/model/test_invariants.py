@@ -57,6 +57,7 @@ def test_relabelling_invariance(name):
     assert_same_spectrum(b, a)
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize(
     "name,params",
     [("single", ax.Params(p=300.0)), ("seven", ax.Params(p=300.0)), ("beck", ax.Params(p=40.0))],

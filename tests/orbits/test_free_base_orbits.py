@@ -137,6 +137,7 @@ def _the_orbit_is_the_simulation(model, params, cycle, t_end_s, units, **motors)
     return sim
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_the_regulated_orbit_on_a_free_base_is_the_long_simulation(free_row):
     """Sartori et al.'s curvature control (beta'' < 0) with motor kinetics and saturating
     motors on a free base with basal compliance: a simulation from a 1 um bend (0.3 s, 20

@@ -218,6 +218,7 @@ def test_linear_growth_and_frequency_are_the_augmented_pencils(row):
     assert np.abs(sim.tip_beat_um).max() < 0.2  # linear regime: the tip within 0.2 um
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 @pytest.mark.parametrize("row", ["sliding-clamped", "curvature-clamped+compliance"])
 def test_linear_integration_is_the_matrix_exponential(row):
     """With the cubic links off the integrated state X = (q, y) is scipy's matrix

@@ -186,7 +186,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="with --target limit-cycle --mechanism M, the frame psi is compared in: lab (as "
         "recorded, default: psi_0 up to the recording's reference angle, reported as "
         "psi_offset_rad) or basal (model and data relative to the basal tangent, psi(s) - "
-        "psi(0), psi_0 exactly; docs/model.md section 9)",
+        "psi(0), psi_0 exactly; docs/model.md section 8, frames)",
     )
     parser.add_argument(
         "--exclude-base-um",
