@@ -189,6 +189,12 @@ def fit_whole_row(spec, shape, frequency, units: Units, frame: str = "lab") -> W
     return out
 
 
+def n_residuals(points: int) -> int:
+    """A whole-beat fit's residual count at ``points`` arc-length points: psi_0, Re and Im
+    of psi_1 at each, and the frequency (3 S + 1)."""
+    return 3 * points + 1
+
+
 def psi1_sigma(fit: WholeBeatFit) -> np.ndarray:
     """(S,) the sigma (rad) each of Re and Im of psi_1 was divided by in ``fit``: the
     data's with the problem's shape floor in quadrature."""
@@ -202,7 +208,7 @@ def _chi2_rest(fit: WholeBeatFit, psi1_model: np.ndarray) -> float | None:
     r = fit.fit
     if r.chi2_per_dof is None:
         return None
-    n_res = 3 * len(psi1_model) + 1
+    n_res = n_residuals(len(psi1_model))
     total = r.chi2_per_dof * max(n_res - r.n_free, 1)
     shape = fit.problem.conditions[0].shape
     obs = np.asarray(shape.psi1, dtype=complex)[None, :]
@@ -247,7 +253,7 @@ class WholeBeatComparison:
             return None
         rows = [r.to_json() for r in self.rows]
         return whole_beat_bootstrap(
-            rows, self.psi1_cycles, psi1_sigma(fitted), 3 * len(self.s_um) + 1
+            rows, self.psi1_cycles, psi1_sigma(fitted), n_residuals(len(self.s_um))
         )
 
     def to_json(self) -> dict[str, Any]:
@@ -264,7 +270,7 @@ class WholeBeatComparison:
                 "model": model_json(
                     self.model, self.n_elements, self.units, self.frequency_hz, self.units_source
                 ),
-                "n_residuals": 3 * len(self.s_um) + 1,
+                "n_residuals": n_residuals(len(self.s_um)),
                 "frame": self.frame,
                 "rows": [r.to_json() for r in self.rows],
                 "wall_s": self.wall_s,
