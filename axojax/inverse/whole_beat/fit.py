@@ -68,7 +68,7 @@ SATURATION_LADDER = np.geomspace(0.3, 300.0, 13)
 PROBE = 1e-3
 """The probe moment of the m0 start, in units of a0 times :func:`_saturation_scale`'s
 force: small enough that the static response is linear."""
-MAX_STEPS = 40
+MAX_STEPS = 80
 """Levenberg-Marquardt iterations of a whole-beat fit (the synthetic beat of
 tests/whole_beat/test_whole_beat_fit.py converges in 15; a row whose orbit is lost pays a full Newton
 budget at every step, so a failing row stops early)."""
