@@ -307,7 +307,7 @@ def run(args: argparse.Namespace) -> dict:
                 seed=args.seed,
                 shape_floor=args.shape_floor,
                 pin_tolerance=args.pin_tolerance,
-                progress=progress_enabled(json_output=args.json),
+                progress=progress_enabled(),
                 head=head,
                 organism=organism,
                 frame=args.frame,
@@ -366,7 +366,7 @@ def _whole_beat(args: argparse.Namespace, beat, units, organism) -> dict:
                 n_elements=args.elements,
                 units=units,
                 organism=organism,
-                progress=progress_enabled(json_output=args.json),
+                progress=progress_enabled(),
                 frame=args.frame,
             )
     except ValueError as err:

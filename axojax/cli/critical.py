@@ -7,8 +7,8 @@ import sys
 
 import jax
 import numpy as np
-from tqdm.auto import tqdm
 
+from .. import _progress
 from ..critical import critical_force
 from ..results import RESULTS, message
 from . import common
@@ -69,8 +69,8 @@ def run(args: argparse.Namespace) -> dict:
 
     chunk_size = min(args.chunk, len(values))
     out, failures = [], []
-    for start in tqdm(
-        range(0, len(values), chunk_size), desc="critical", unit="chunk", disable=None
+    for start in _progress.progress(
+        range(0, len(values), chunk_size), desc="critical", unit="chunk", starting=True
     ):
         chunk = values[start : start + chunk_size]
         padded = np.concatenate([chunk, np.repeat(chunk[-1:], chunk_size - len(chunk))])

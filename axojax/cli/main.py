@@ -8,6 +8,7 @@ import os
 import re
 import sys
 
+from .. import _progress
 from ..cache import command_line_cache
 from .common import CLIError, emit_json
 
@@ -60,6 +61,19 @@ def version() -> str:
         return "unknown"
 
 
+QUIET_HELP = (
+    "no progress on stderr (by default long runs show it after 2 s: bars on a terminal, "
+    "else one plain line per step or stage, done / total and elapsed time; warnings and "
+    "errors still print)"
+)
+
+
+def add_quiet_flag(parser: argparse.ArgumentParser, default) -> None:
+    """``--quiet``, before or after the subcommand's name (the subcommand's default is
+    ``SUPPRESS``, so that it keeps a ``--quiet`` given before it)."""
+    parser.add_argument("--quiet", action="store_true", default=default, help=QUIET_HELP)
+
+
 def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     """The full parser; with ``only``, the flags of that subcommand alone (the others
     listed but not imported: ``axojax sweep`` never loads diffrax, optax or matplotlib)."""
@@ -68,9 +82,11 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
         description="Flutter of the ciliary axoneme: eigen-analysis, sweeps, fits and simulations.",
     )
     parser.add_argument("--version", action="version", version=f"axojax {version()}")
+    add_quiet_flag(parser, False)
     sub = parser.add_subparsers(dest="command", parser_class=_Parser)
     for name, help_text in SUBCOMMANDS.items():
         p = sub.add_parser(name, help=help_text, description=help_text)
+        add_quiet_flag(p, argparse.SUPPRESS)
         if only is None or name == only:
             module = importlib.import_module(f"axojax.cli.{name}")
             module.add_arguments(p)
@@ -88,7 +104,8 @@ def main(argv: list[str] | None = None) -> int:
         if args.command is None:
             parser.print_help(sys.stderr)
             return 2
-        doc = args._module.run(args)
+        with _progress.quiet(args.quiet):
+            doc = args._module.run(args)
     except CLIError as err:
         print(f"axojax: error: {err}", file=sys.stderr)
         return 2

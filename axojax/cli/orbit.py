@@ -11,11 +11,10 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
 
 import numpy as np
 
-from .. import _io
+from .. import _io, _progress
 from ..params import DEFAULT_CUBIC, Params
 from ..waveform.measures import sensitive_note, wavelength_text
 from . import common
@@ -139,9 +138,10 @@ def run(args: argparse.Namespace) -> dict:
 
     if "p" not in axes:
         try:
-            cycle = limit_cycle(
-                model, params, args.cubic, solver=solver, throw=True, tau_m=tau_m, f_sat=f_sat
-            )
+            with _progress.stage("orbit: the limit cycle (compiling, then solving)"):
+                cycle = limit_cycle(
+                    model, params, args.cubic, solver=solver, throw=True, tau_m=tau_m, f_sat=f_sat
+                )
         except ValueError as err:
             raise common.CLIError(f"{'--p' if tau_m is None else '--mechanism'}: {err}") from None
         report = {"p": float(params.p), **cycle.to_json(units), **_sensitivity(cycle, units)}
@@ -168,34 +168,30 @@ def run(args: argparse.Namespace) -> dict:
     p_values = axes["p"]
     if np.any(p_values <= 0):
         raise common.CLIError(f"--p: forces must be > 0, got {p_values.min():g}")
-    show = not args.json and sys.stderr.isatty()
-    bar = None
-    if show:
-        from tqdm.auto import tqdm
-
-        bar = tqdm(total=len(p_values), desc="orbits", unit="p")
-
+    bar = _progress.progress(
+        total=len(p_values),
+        desc="orbits",
+        unit="p",
+        starting="the Hopf point, then the first orbit",
+    )
     flags = {}  # p -> the orbit's sensitivity (the branch keeps summaries, not orbits)
 
     def progress(p, cyc):
         if cyc is not None:
             flags[float(p)] = _sensitivity(cyc, units)
-        if bar is not None:
-            bar.update(1)
-            bar.set_postfix_str(
-                f"p={p:.4g} "
-                + ("no orbit" if cyc is None else f"{float(cyc.frequency_hz(units)):.3f} Hz")
-            )
+        bar.set_postfix_str(
+            f"p={p:.4g} "
+            + ("no orbit" if cyc is None else f"{float(cyc.frequency_hz(units)):.3f} Hz")
+        )
+        bar.update(1)
 
     try:
-        result = branch(
-            model, params, args.cubic, p_values, solver=solver, units=units, callback=progress
-        )
+        with bar:
+            result = branch(
+                model, params, args.cubic, p_values, solver=solver, units=units, callback=progress
+            )
     except ValueError as err:
         raise common.CLIError(f"--p: {err}") from None
-    finally:
-        if bar is not None:
-            bar.close()
     for c in result.cycles:
         if c is not None:
             c.update(flags.get(c["p"], {}))

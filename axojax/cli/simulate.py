@@ -6,7 +6,7 @@ import argparse
 import math
 import sys
 
-from .. import _io
+from .. import _io, _progress
 from ..dynamics import simulate
 from ..dynamics.simulate import MIN_STEPS, STEPS_PER_PERIOD, check_inputs
 from ..params import DEFAULT_CUBIC
@@ -122,28 +122,29 @@ def run(args: argparse.Namespace) -> dict:
     common.check_output("--gif", args.gif, (".gif",))
     n = model.n_dof * (1 if tau_m is None else 2)  # with motor kinetics, and its copy y
     common.check_memory(96.0 * n**2, "--elements", f"a simulation of {n} unknowns (dense matrices)")
-    if args.max_steps is None:
-        _check_duration(model, params, units, args.t_end, tau_m)
-    sim = simulate(
-        model,
-        params,
-        args.t_end,
-        cubic=cubic,
-        units=units,
-        perturbation_um=args.perturbation_um,
-        rtol=args.rtol,
-        atol=args.rtol * 1e-3,
-        max_steps=args.max_steps,
-        progress=not args.json and sys.stderr.isatty(),
-        tau_m=tau_m,
-        f_sat=f_sat,
-    )
+    with _progress.stage(f"simulate {args.t_end:g} s (compiling, then integrating)"):
+        if args.max_steps is None:
+            _check_duration(model, params, units, args.t_end, tau_m)
+        sim = simulate(
+            model,
+            params,
+            args.t_end,
+            cubic=cubic,
+            units=units,
+            perturbation_um=args.perturbation_um,
+            rtol=args.rtol,
+            atol=args.rtol * 1e-3,
+            max_steps=args.max_steps,
+            progress=_progress.style() == "bars",  # diffrax's bar (a host callback): terminals only
+            tau_m=tau_m,
+            f_sat=f_sat,
+        )
     if args.out is not None:
         sim.save(args.out)  # written whole (axojax._io)
     if args.gif is not None:
         from ..plotting import animate_simulation
 
-        with _io.atomic_path(args.gif) as tmp:
+        with _progress.stage(f"simulate: drawing {args.gif}"), _io.atomic_path(args.gif) as tmp:
             animate_simulation(sim, tmp)
     if sim.state == "solver_failed":
         wrote = f"; {args.out} holds the record up to there" if args.out is not None else ""

@@ -249,7 +249,7 @@ def run(args: argparse.Namespace) -> dict:
             chunk_size=args.chunk,
             out=args.out,
             solver=solver,
-            progress=_progress.enabled(json_output=args.json),
+            progress=_progress.enabled(),
             log=lambda line: print(f"axojax: sweep: {line}", file=sys.stderr),
         )
     except _io.OutputBusy as err:

@@ -195,8 +195,9 @@ def sweep(
         out: ``.npz`` path; makes the sweep resumable (see module docstring). Needed,
             on a file system every process sees, when ``jax.distributed`` runs several
             processes: each computes its share of the chunks (module docstring).
-        progress: a progress bar on stderr (:mod:`axojax._progress`; default: its rule,
-            i.e. only on a terminal).
+        progress: progress over chunks on stderr from the start (the first chunk's
+            compilation included; :mod:`axojax._progress`; default: its rule, a bar on a
+            terminal, plain lines into a file or pipe).
         devices: how many of this process's local devices to split each chunk over
             (default all).
         solver: dominant-eigenpair solver (:mod:`axojax.eigen.solvers`); the result's
@@ -358,7 +359,9 @@ def _run_chunks(
     results: dict[int, dict[str, np.ndarray]] = {}
     mine = [c for c in range(n_chunks) if share.owns(c)]
     resumed = damaged = 0
-    for c in progress_bar(mine, desc=f"sweep {model.name}", unit="chunk", enable=progress):
+    for c in progress_bar(
+        mine, desc=f"sweep {model.name}", unit="chunk", enable=progress, starting=True
+    ):
         part = part_path(c)
         if part is not None and part.exists():
             vals = _read_chunk(part)

@@ -290,7 +290,7 @@ def _fit_options(args: argparse.Namespace) -> dict:
     return {
         "starts": starts,
         "method": args.method,
-        "progress": _progress.enabled(json_output=args.json),
+        "progress": _progress.enabled(),
         "solver": _eigen_solver(args),
         "shape_floor": args.shape_floor,
         "exclude_base_um": args.exclude_base_um,
@@ -375,9 +375,16 @@ def run(args: argparse.Namespace) -> dict:
     except ValueError as err:
         raise common.CLIError(f"{flag}: {err}") from None
     result, sampled = _run_fit(args, problem, options, flag)
-    extra.update(fit_checks(problem, result, mesh=args.mesh_check))  # regime, mesh_check
+    extra.update(_checks(args, problem, result))
     extra["units"] = {**dataclasses.asdict(units), "source": units_source}
     return inputs.finish(args, result, extra, sampled)
+
+
+def _checks(args: argparse.Namespace, problem, result) -> dict:
+    """The report's ``regime`` and ``mesh_check`` (the mesh check refits on a finer mesh:
+    a stage on stderr)."""
+    with _progress.stage("fit: checks (regime, mesh)"):
+        return fit_checks(problem, result, mesh=args.mesh_check)
 
 
 def _cubic(args: argparse.Namespace, model) -> float:
@@ -447,5 +454,5 @@ def _run_spec(args: argparse.Namespace) -> dict:
     extra = {"spec": str(args.spec)}
     if spec.data:
         extra["data"] = spec.data[0] if len(spec.data) == 1 else list(spec.data)
-    extra.update(fit_checks(problem, result, mesh=args.mesh_check))  # regime, mesh_check
+    extra.update(_checks(args, problem, result))
     return inputs.finish(args, result, extra, sampled)

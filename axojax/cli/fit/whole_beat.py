@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 
+from ... import _progress
 from ...inverse.comparison.mechanisms import build_model, row
 from ...inverse.whole_beat.fit import fit_whole_beat, linear_hopf
 from .. import common
@@ -81,22 +82,24 @@ def run(args: argparse.Namespace) -> dict:
         elements = int(args.elements)
         model = build_model(preset, elements, args.base, units)
         spec = row(args.mechanism, args.base, model, units, frequency.value)
-        hopf, linear = linear_hopf(spec, shape, units, frame=args.frame)
+        with _progress.stage("fit: the linear fit's Hopf point (compiling, then fitting)"):
+            hopf, linear = linear_hopf(spec, shape, units, frame=args.frame)
         tau_m = None
         if getattr(args, "motor_tau_ms", None) is not None:
             tau_m = motor_tau_from_args(args, hopf)
         extra = _extra_free(args)
-        out = fit_whole_beat(
-            spec,
-            hopf,
-            shape,
-            frequency,
-            units,
-            tau_m=tau_m,
-            fit_tau_m="tau_m" in extra,
-            fit_cubic="cubic" in extra,
-            frame=args.frame,
-        )
+        with _progress.stage("fit: the whole beat (compiling, then fitting)"):
+            out = fit_whole_beat(
+                spec,
+                hopf,
+                shape,
+                frequency,
+                units,
+                tau_m=tau_m,
+                fit_tau_m="tau_m" in extra,
+                fit_cubic="cubic" in extra,
+                frame=args.frame,
+            )
     except ValueError as err:
         raise common.CLIError(f"--mechanism {args.mechanism}: {err}") from None
     extra_free = extra

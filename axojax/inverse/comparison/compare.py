@@ -25,9 +25,9 @@ import warnings
 from typing import Any
 
 import numpy as np
-from tqdm.auto import tqdm
 
 from ... import _io
+from ..._progress import progress as progress_bar
 from ...beats.data import BeatData, read_beat
 from ...beats.frames import in_basal_frame
 from ...beats.targets import FRAMES
@@ -413,8 +413,9 @@ def compare(
             and its head's semi-axes (unless ``head`` is given).
         frame: ``"lab"`` (psi as recorded) or ``"basal"`` (model and data relative to the
             basal tangent, psi(s) - psi(0): :mod:`axojax.beats.frames`).
-        progress: a bar over rows on stderr (``axojax compare`` shows it on a terminal,
-            never with ``--json`` on a pipe: :mod:`axojax._progress`'s rule).
+        progress: progress over rows on stderr from the start (the first row's
+            compilation included): a bar on a terminal, plain lines into a file or pipe
+            (:mod:`axojax._progress`'s rule; ``axojax compare --quiet`` turns it off).
 
     Raises:
         ValueError: an unknown or unavailable mechanism or base, a bad setting (one
@@ -461,7 +462,9 @@ def compare(
     # the rows each asked row contains are fitted first, for their optima, even when not
     # asked for (then not ranked): a row's fit must never fall below theirs
     combos = nested_order(list(dict.fromkeys(c for a in asked for c in [*contained(*a), a])))
-    for mech, base in tqdm(combos, desc="compare rows", unit="row", disable=not progress):
+    for mech, base in progress_bar(
+        combos, desc="compare rows", unit="row", enable=progress, starting=True
+    ):
         the_model = build_model(model, n_elements, base, units, head, profiles)
         spec = row(mech, base, the_model, units, f_obs, pin_tolerance=pin_tolerance)
         inner = [fitted[c] for c in contained(mech, base) if c in fitted]

@@ -338,7 +338,8 @@ def least_squares(
         starts: the problem's start ``u0`` and ``starts - 1`` points of a scrambled Sobol
             design of the bounded box.
         seed: seed of the design.
-        progress: a progress bar over starts (on stderr, :mod:`axojax._progress`).
+        progress: progress over starts on stderr from the start (the first start's
+            compilation included; :mod:`axojax._progress`).
         polish: while the best start stopped at the solver's step limit, run the same
             compiled solver on from where it stopped, at most this many more times (a
             slow stretch of a valley, not a failure, often converges so; its steps add
@@ -349,7 +350,7 @@ def least_squares(
     run = solver.compile(problem)
     initial = problem.start_design(starts, seed)
     runs = []
-    for u in progress_bar(initial, desc="fit starts", unit="start", enable=progress):
+    for u in progress_bar(initial, desc="fit starts", unit="start", enable=progress, starting=True):
         z, value, steps, gnorm, result = run(problem.to_z(jnp.asarray(u)))
         value = float(value)
         runs.append(

@@ -54,6 +54,7 @@ import scipy.sparse.csgraph
 import scipy.special
 from jaxtyping import Array, Float, PRNGKeyArray
 
+from ..._progress import stage
 from . import diagnostics
 from ._densities import LogDensity, log_reference
 from ._laplace import fitted_init
@@ -186,9 +187,11 @@ class ModeMixture(AbstractSampler):
         z0 = jnp.asarray(z_last[systematic(key_start, log_w, chains)])
         t0 = time.perf_counter()
         steps = self.burn + draws
-        z, logd, accept = (
-            np.asarray(a) for a in clock.call(_chains, steps, target, adapted.mix, key_chain, z0)
-        )
+        with stage(f"posterior chains ({chains} x {steps} steps)", enable=progress):
+            z, logd, accept = (
+                np.asarray(a)
+                for a in clock.call(_chains, steps, target, adapted.mix, key_chain, z0)
+            )
         z, logd, accept = z[:, self.burn :], logd[:, self.burn :], accept[:, self.burn :]
         seconds_sampling = time.perf_counter() - t0
         u = np.asarray(jax.vmap(jax.vmap(problem.to_u))(jnp.asarray(z)))

@@ -188,7 +188,16 @@ class Adapted(eqx.Module):
 def temper(sampler, target, init, key, clock, progress: bool) -> Adapted:
     """Stage 1 of :class:`~._mode_mixture.ModeMixture` (``sampler``): tempered adaptive
     importance sampling from the prior box to the posterior, the fit's optima (``init``)
-    seeded."""
+    seeded; its stages counted on stderr from the start (the seeds' compilation
+    included)."""
+    with progress_bar(
+        total=None, desc="posterior stages", unit="stage", enable=progress, starting="compiling"
+    ) as bar:
+        return _tempered(sampler, target, init, key, clock, bar)
+
+
+def _tempered(sampler, target, init, key, clock, bar) -> Adapted:
+    """:func:`temper`'s stages, each counted on ``bar``."""
     problem = target.problem
     k = len(problem.names)
     n = sampler.particles
@@ -204,36 +213,31 @@ def temper(sampler, target, init, key, clock, progress: bool) -> Adapted:
     beta, stages, components, mix = 0.0, 0, None, None
     history = []  # every stage's points and log(reference / proposal): the EM's data at beta = 1
     rounds = 0
-    with progress_bar(total=None, desc="posterior stages", unit="stage", enable=progress) as bar:
-        while stages < sampler.max_stages:
-            log_base = log_ref - log_q
-            history.append((z, log_base + ll))
-            if beta >= 1.0:
-                rounds += 1
-                if _ess(log_base + ll) >= sampler.efficiency * n or rounds > sampler.rounds:
-                    break
-            bridge = _bridge(ll)
-            beta = _next_beta(beta, bridge, log_base, sampler.target_ess)
-            key, key_init, key_draw = jax.random.split(key, 3)
-            if beta >= 1.0:
-                data_z, log_w = _recycled(history)
-            else:
-                data_z, log_w = z, log_base + beta * bridge
-            if components is None:
-                components = _initial_components(
-                    key_init, data_z, log_w, sampler.components or 12 * k
-                )
-            components = split_to(*components, sampler.components or 12 * k)
-            components = fit_mixture(data_z, scipy.special.softmax(log_w), *components)
-            mix = mixture_of(
-                *_with_seeds(*components, seeds), sampler.df, sampler.defensive, lower, upper
-            )
-            z, log_q = (np.asarray(a) for a in clock.call(_draw, n, target, mix, key_draw))
-            ll, log_ref, r = (
-                np.asarray(a) for a in clock.call(evaluate, None, target, jnp.asarray(z))
-            )
-            seen.append((z, r, ll))
-            stages += 1
-            bar.update(1)
+    while stages < sampler.max_stages:
+        log_base = log_ref - log_q
+        history.append((z, log_base + ll))
+        if beta >= 1.0:
+            rounds += 1
+            if _ess(log_base + ll) >= sampler.efficiency * n or rounds > sampler.rounds:
+                break
+        bridge = _bridge(ll)
+        beta = _next_beta(beta, bridge, log_base, sampler.target_ess)
+        key, key_init, key_draw = jax.random.split(key, 3)
+        if beta >= 1.0:
+            data_z, log_w = _recycled(history)
+        else:
+            data_z, log_w = z, log_base + beta * bridge
+        if components is None:
+            components = _initial_components(key_init, data_z, log_w, sampler.components or 12 * k)
+        components = split_to(*components, sampler.components or 12 * k)
+        components = fit_mixture(data_z, scipy.special.softmax(log_w), *components)
+        mix = mixture_of(
+            *_with_seeds(*components, seeds), sampler.df, sampler.defensive, lower, upper
+        )
+        z, log_q = (np.asarray(a) for a in clock.call(_draw, n, target, mix, key_draw))
+        ll, log_ref, r = (np.asarray(a) for a in clock.call(evaluate, None, target, jnp.asarray(z)))
+        seen.append((z, r, ll))
+        stages += 1
+        bar.update(1)
     stacked = tuple(np.concatenate([s[i] for s in seen]) for i in range(3))
     return Adapted(mix, (z, log_ref - log_q + ll), stacked, stages, beta, n * (stages + 1))

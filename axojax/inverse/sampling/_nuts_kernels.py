@@ -182,7 +182,11 @@ def draw(sampled, sampler, states, step_size, imm, draws, vectorize, key, progre
     )
     outs = []
     with progress_bar(
-        total=chains * draws, desc="posterior draws", unit="draw", enable=progress
+        total=chains * draws,
+        desc="posterior draws",
+        unit="draw",
+        enable=progress,
+        starting="the first chunk compiles",
     ) as bar:
         for i in range(n_chunks):
             states, out = clock.call(

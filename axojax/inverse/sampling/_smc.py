@@ -178,7 +178,9 @@ class SMC(AbstractSampler):
         clock = Clock()
         keys = jax.random.split(jax.random.PRNGKey(seed), chains)
         runs = []
-        with progress_bar(total=chains, desc="SMC runs", unit="run", enable=progress) as bar:
+        with progress_bar(
+            total=chains, desc="SMC runs", unit="run", enable=progress, starting=True
+        ) as bar:
             for key in keys:
                 out = clock.call(
                     _one_run, (self, n), target, key, jnp.asarray(lower), jnp.asarray(upper)

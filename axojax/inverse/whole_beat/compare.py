@@ -28,9 +28,9 @@ import time
 from typing import Any
 
 import numpy as np
-from tqdm.auto import tqdm
 
 from ... import _io
+from ..._progress import progress as progress_bar
 from ...beats.data import BeatData
 from ...beats.frames import in_basal_frame
 from ...beats.targets import FRAMES
@@ -373,7 +373,7 @@ def compare_whole_beat(
         model: the preset (default two filaments); n_elements: elements per filament.
         units: EI and c_n per filament (the beat's length is the data's); organism: an
             organism preset's instead; default: the data set's flagellum or axojax's.
-        progress: a progress bar over rows.
+        progress: progress over rows on stderr, as :func:`axojax.compare`'s.
         frame: ``"lab"`` (psi as recorded, psi_0 up to each row's reference angle) or
             ``"basal"`` (model and data relative to the basal tangent, psi_0 exact;
             :func:`~axojax.inverse.whole_beat.fit.fit_whole_beat`), as
@@ -414,7 +414,9 @@ def compare_whole_beat(
     t0 = time.perf_counter()
     rows = []
     combos = [(m, b) for b in bases for m in mechanisms]
-    for mech, base in tqdm(combos, desc="whole-beat rows", unit="row", disable=not progress):
+    for mech, base in progress_bar(
+        combos, desc="whole-beat rows", unit="row", enable=progress, starting=True
+    ):
         the_model = build_model(model, n_elements, base, units)
         spec = row(mech, base, the_model, units, frequency.value)
         rows.append(fit_whole_row(spec, shape, frequency, units, frame))
