@@ -100,34 +100,45 @@ class LevenbergMarquardt(LeastSquaresSolver):
             loss, grad = jax.value_and_grad(lambda z: 0.5 * jnp.sum(fn(z, starts) ** 2))(z)
             return z, loss, steps, jnp.linalg.norm(grad), RESULTS.promote(result)
 
-        def scales(z0):
+        def scales(z0, starts):
             if cycles and self.scaled:
-                return column_scales(lambda z: fn(z, None), z0)
+                return column_scales(lambda z: fn(z, starts), z0)
             return jnp.ones_like(z0)
+
+        def first(z0, orbits):
+            """The orbits of the first evaluation: from ``orbits`` (a large cycle), or
+            None (the Hopf normal form)."""
+            if orbits is None:
+                return None
+            return problem.residuals_and_cycles(problem.to_u(z0), orbits)[1]
 
         if self.warm_start and cycles:
 
             def warm_fn(y, scale, starts):
                 return problem.residuals_and_cycles(problem.to_u(y / scale), starts)
 
-            def run(z0):
-                d = scales(z0)
-                sol = warm_least_squares(warm_fn, solver, z0 * d, d, max_steps=self.max_steps)
+            def run(z0, orbits=None):
+                starts = first(z0, orbits)
+                d = scales(z0, starts)
+                sol = warm_least_squares(
+                    warm_fn, solver, z0 * d, d, starts, max_steps=self.max_steps
+                )
                 return finish(sol.value / d, sol.num_steps, sol.result, sol.starts)
 
             return jax.jit(run)
 
-        def run(z0):
-            d = scales(z0)
+        def run(z0, orbits=None):
+            starts = first(z0, orbits)
+            d = scales(z0, starts)
             sol = optx.least_squares(
-                lambda y, scale: fn(y / scale, None),
+                lambda y, scale: fn(y / scale, starts),
                 solver,
                 z0 * d,
                 d,
                 max_steps=self.max_steps,
                 throw=False,
             )
-            return finish(sol.value / d, sol.stats["num_steps"], sol.result)
+            return finish(sol.value / d, sol.stats["num_steps"], sol.result, starts)
 
         return jax.jit(run)
 
@@ -328,6 +339,7 @@ def least_squares(
     seed: int = 0,
     progress: bool = False,
     polish: int = 0,
+    orbits: list | None = None,
 ) -> FitResult:
     """Fit ``problem`` by ``solver`` from ``starts`` starts; the report of the best.
 
@@ -344,10 +356,21 @@ def least_squares(
             compiled solver on from where it stopped, at most this many more times (a
             slow stretch of a valley, not a failure, often converges so; its steps add
             up in ``iterations``).
+        orbits: for a problem with limit-cycle targets, the orbits (one
+            :class:`~axojax.LimitCycle` or None per condition) every start's first
+            evaluation begins from, instead of the Hopf normal form: the large cycle
+            past a subcritical Hopf point (:mod:`axojax.orbits.large_cycle`).
+            Levenberg-Marquardt only.
     """
     solver = solver_from_name(solver)
+    if orbits is not None and not isinstance(solver, LevenbergMarquardt):
+        raise ValueError(f"orbits: starting orbits need the lm solver, got {solver.name!r}")
     t0 = time.perf_counter()
-    run = solver.compile(problem)
+    compiled = solver.compile(problem)
+
+    def run(z):
+        return compiled(z) if orbits is None else compiled(z, orbits)
+
     initial = problem.start_design(starts, seed)
     runs = []
     for u in progress_bar(initial, desc="fit starts", unit="start", enable=progress, starting=True):

@@ -35,7 +35,6 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 import lineax as lx
@@ -111,4 +110,3 @@ def column_scales(
     d = jnp.linalg.norm(J.reshape(-1, z0.size), axis=0)
     d = jnp.where(jnp.isfinite(d), d, 0.0)
     return jnp.maximum(d, 1e-8 * jnp.maximum(jnp.max(d), 1e-300))
-

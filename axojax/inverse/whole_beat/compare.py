@@ -75,6 +75,9 @@ class WholeBeatRow:
             (comparable with the observed); psi1_model: its psi_1 as [re, im] pairs (rad),
             turned to the observed time origin; chi2_rest: the chi^2 of its psi_0 and
             frequency residuals (what the bootstrap over cycles holds).
+        large_cycle: whether its Hopf point is subcritical and the fit started on the
+            large cycle a simulation from a large bend settles on
+            (:func:`~axojax.inverse.whole_beat.fit.start_values`).
         delta_bic, weight: set by the ranking.
         whole: the :class:`~axojax.inverse.whole_beat.fit.WholeBeatFit` (not in the JSON).
     """
@@ -106,6 +109,7 @@ class WholeBeatRow:
     psi0_model: list[float] | None = None
     psi1_model: list[list[float]] | None = None
     chi2_rest: float | None = None
+    large_cycle: bool = False
     wall_s: float = 0.0
     whole: WholeBeatFit | None = dataclasses.field(default=None, repr=False)
 
@@ -183,6 +187,7 @@ def fit_whole_row(spec, shape, frequency, units: Units, frame: str = "lab") -> W
         psi0_model=None if psi0 is None else np.asarray(psi0, dtype=float).tolist(),
         psi1_model=[[float(z.real), float(z.imag)] for z in psi1],
         chi2_rest=_chi2_rest(fit, psi1),
+        large_cycle=fit.large_cycle,
         whole=fit,
     )
     out.wall_s = time.perf_counter() - t0
@@ -311,6 +316,12 @@ def render(doc: dict[str, Any], params: bool = False) -> str:
     for i, r in enumerate(doc["rows"], 1):
         if mark(r):
             lines.append(f"{mark(r)} {i:>2} {r['mechanism']} on {r['base']}: {r['reason']}")
+    for i, r in enumerate(doc["rows"], 1):
+        if r.get("large_cycle"):
+            lines.append(
+                f"    {i:>2} {r['mechanism']} on {r['base']}: subcritical Hopf point, fitted from "
+                "the large cycle a simulation begun at a large bend settles on"
+            )
     d = doc["data"]
     frame = " (relative to the basal tangent)" if doc.get("frame") == "basal" else ""
     lines.append(

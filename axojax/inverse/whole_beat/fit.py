@@ -24,11 +24,17 @@ Starts, in order (each orbit solved from the Hopf normal form):
 2. the mechanism's coefficients scaled by ``past`` (1.1: 10 % past the Hopf point);
 3. ``m0`` from the static curvature (psi_0's least-squares slope, whatever its reference
    angle) of the equilibrium at a probe moment (linear in m0
-   while the motors are far from saturation); a subcritical Hopf point (no small orbit
-   past it) is refused here, in one line;
+   while the motors are far from saturation);
 4. ``f_sat`` from a ladder (:data:`SATURATION_LADDER` decades around the static force
    m0 / a0), the value whose orbit's dynamic amplitude is nearest the observed one; then
    ``m0`` corrected once by the ratio of static curvatures.
+
+Past a subcritical Hopf point (the normal form's Re g21 > 0: no small orbit, a small bend
+grows onto a distant cycle) steps 3-4 run on the large cycle instead: a simulation begun
+at a large bend settles on it (:func:`axojax.orbits.large_cycle.large_cycle`), f_sat is
+scaled to the observed amplitude and m0 set from a probe, each orbit continued from the
+last, and the fit's orbits start from it (:attr:`WholeBeatFit.large_cycle`; the report
+says so).
 """
 
 from __future__ import annotations
@@ -45,6 +51,8 @@ from ...beats.targets import FRAMES, ShapeTarget, Target
 from ...dynamics.motors import deflated_pencil
 from ...models.section import Model
 from ...orbits import cycle_measures
+from ...orbits.cycle import LimitCycle
+from ...orbits.large_cycle import large_cycle
 from ...orbits.limit_cycle import limit_cycle
 from ...params import Params
 from ...units import Units
@@ -68,6 +76,11 @@ SATURATION_LADDER = np.geomspace(0.3, 300.0, 13)
 PROBE = 1e-3
 """The probe moment of the m0 start, in units of a0 times :func:`_saturation_scale`'s
 force: small enough that the static response is linear."""
+CONTINUATION = 8
+"""Steps in which the static moment and f_sat move along a large cycle (each orbit
+continued from the last: a bend of two radians in one step loses it)."""
+ROUNDS = 6
+"""Rounds of (m0, f_sat) corrections of a large-cycle start (:func:`_large_start`)."""
 MAX_STEPS = 80
 """Levenberg-Marquardt iterations of a whole-beat fit (the synthetic beat of
 tests/whole_beat/test_whole_beat_fit.py converges in 15; a row whose orbit is lost pays a full Newton
@@ -132,18 +145,79 @@ def _measures(model, params, cubic, tau_m, f_sat, units, s_um):
     return bool(cycle.converged), cycle_measures(cycle, s_um, units)
 
 
-def _require_supercritical(model, params, mechanism, cubic, tau_m, f_sat) -> None:
-    """One-line ``ValueError`` when the Hopf bifurcation past which ``params`` lie is
-    subcritical (the normal form has no small orbit: a small bend grows onto a distant
-    cycle, or diverges), so no start near the Hopf point exists."""
+def subcritical(model, params, cubic, tau_m, f_sat) -> bool:
+    """Whether ``params`` lie past a subcritical Hopf bifurcation (the normal form has no
+    small orbit, Re g21 > 0: a small bend grows onto a distant cycle, or diverges)."""
     cycle = limit_cycle(model, params, cubic, tau_m=tau_m, f_sat=f_sat)
     lam = complex(cycle.linear_eigenvalue)
-    if not bool(cycle.started) and lam.real > 0 and lam.imag != 0:
+    return not bool(cycle.started) and lam.real > 0 and lam.imag != 0
+
+
+def _large_start(model, prm, cubic, tau_m, static_curvature, dynamic_amplitude, units):
+    """(params with m0 set, f_sat, the orbit): the start past a subcritical Hopf point, on
+    the large cycle a simulation begun at a large bend settles on
+    (:func:`axojax.orbits.large_cycle.large_cycle`). Without a static moment and cubic
+    stiffening the cycle's size is proportional to f_sat, so f_sat is first scaled to the
+    observed dynamic amplitude; then up to :data:`ROUNDS` rounds move m0 by the static
+    curvature still missing (per unit m0 from a probe moment) and f_sat by the ratio of
+    amplitudes (a static moment saturates the motors and shrinks the beat), each move
+    continued in :data:`CONTINUATION` steps from the last orbit (halved where the orbit is
+    lost). One-line ``ValueError`` when the simulation settles on no cycle or no round
+    moves."""
+    scale = _saturation_scale(prm)
+    orbit = large_cycle(model, prm.replace(m0=0.0), cubic, tau_m=tau_m, f_sat=scale)
+    if not bool(orbit.converged):
         raise ValueError(
-            f"the fitted {mechanism} row's Hopf bifurcation is subcritical at omega0 tau_m = "
-            f"{tau_m * float(params.omega0):.3g} (the normal form has no small orbit past "
-            "it): its beat is not reached from its Hopf point; give another tau_m (--motor-tau-ms)"
+            "its Hopf bifurcation is subcritical and a simulation begun at a large bend "
+            "settles on no limit cycle there (it decays or diverges)"
         )
+
+    def at(m0, f_sat, start):
+        cycle = limit_cycle(model, prm.replace(m0=m0), cubic, tau_m=tau_m, f_sat=f_sat, start=start)
+        m = cycle_measures(cycle, None, units)
+        return cycle, float(m.static_curvature_rad_per_um), float(m.dynamic_amplitude_rad)
+
+    def walk(orbit, here, there):
+        """The last orbit converged on the way from (m0, f_sat) ``here`` to ``there``."""
+        for k in range(2):  # the whole move, then half of it
+            goal = there if k == 0 else tuple((a + b) / 2 for a, b in zip(here, there))
+            path = zip(
+                np.linspace(here[0], goal[0], CONTINUATION + 1)[1:],
+                np.geomspace(here[1], goal[1], CONTINUATION + 1)[1:],
+            )
+            cycle, reached = orbit, here
+            for m0, f in path:
+                nxt = at(float(m0), float(f), cycle)
+                if not bool(nxt[0].converged):
+                    break
+                cycle, reached = nxt[0], (float(m0), float(f))
+            else:
+                return cycle, reached
+        return cycle, reached
+
+    _, _, amp = at(0.0, scale, orbit)
+    orbit, (_, f_sat) = walk(orbit, (0.0, scale), (0.0, scale * dynamic_amplitude / amp))
+    probe = PROBE * f_sat * float(prm.a0)
+    _, kappa, _ = at(probe, f_sat, orbit)
+    per_m0 = kappa / probe
+    here = (0.0, f_sat)
+    for _ in range(ROUNDS if per_m0 != 0 else 0):
+        _, kappa, amp = at(*here, orbit)
+        if abs(kappa - static_curvature) <= 0.05 * abs(static_curvature) and (
+            abs(amp / dynamic_amplitude - 1) <= 0.05
+        ):
+            break
+        there = (here[0] + (static_curvature - kappa) / per_m0, here[1] * dynamic_amplitude / amp)
+        orbit, reached = walk(orbit, here, there)
+        if reached == here:
+            break
+        here = reached
+    if here[0] == 0.0 and static_curvature != 0.0:
+        raise ValueError(
+            "its Hopf bifurcation is subcritical and the large cycle a simulation settles "
+            "on is lost when the static moment is set"
+        )
+    return prm.replace(m0=here[0]), here[1], orbit
 
 
 def start_values(
@@ -157,14 +231,26 @@ def start_values(
     units: Units,
     cubic: float = 0.0,
     past: float = PAST,
-) -> tuple[Params, float]:
-    """(params with the coefficients past the Hopf point and m0 set, f_sat): the start
-    of a whole-beat fit (module docstring, steps 2-4) from a Hopf point ``params``.
-    ``static_curvature`` (rad/um) and ``dynamic_amplitude`` (rad) are the observed ones."""
+) -> tuple[Params, float, LimitCycle | None]:
+    """(params with the coefficients past the Hopf point and m0 set, f_sat, orbit): the
+    start of a whole-beat fit (module docstring, steps 2-4) from a Hopf point ``params``.
+    ``static_curvature`` (rad/um) and ``dynamic_amplitude`` (rad) are the observed ones.
+    ``orbit``: None past a supercritical Hopf point (the fit's orbits start from the
+    normal form); past a subcritical one, the large cycle the fit starts on
+    (:func:`_large_start`)."""
     prm = _scaled_past(params, mechanism, past)
     scale = _saturation_scale(prm)
     big = 1e4 * scale  # the motors far from saturation: the static response is linear
-    _require_supercritical(model, prm, mechanism, cubic, tau_m, big)
+    if subcritical(model, prm, cubic, tau_m, big):
+        try:
+            return _large_start(
+                model, prm, cubic, tau_m, static_curvature, dynamic_amplitude, units
+            )
+        except ValueError as err:
+            raise ValueError(
+                f"the fitted {mechanism} row at omega0 tau_m = "
+                f"{tau_m * float(params.omega0):.3g}: {err}; give another tau_m (--motor-tau-ms)"
+            ) from None
     probe = PROBE * scale * float(prm.a0)
     _, m = _measures(model, prm.replace(m0=probe), cubic, tau_m, big, units, None)
     per_m0 = float(m.static_curvature_rad_per_um) / probe
@@ -189,7 +275,7 @@ def start_values(
     _, f_sat, kappa0 = best
     if m0 != 0 and kappa0 != 0 and static_curvature / kappa0 > 0:
         prm = prm.replace(m0=m0 * static_curvature / kappa0)
-    return prm, f_sat
+    return prm, f_sat, None
 
 
 def linear_hopf(
@@ -243,6 +329,8 @@ class WholeBeatFit:
         psi_offset_rad: the reference angle c (rad; psi0_obs ~ psi0_model + c, fitted in
             the lab frame, 0 in the basal frame: :mod:`axojax.inverse.cycle_targets`).
         frame: ``"lab"`` or ``"basal"``, the frame psi was compared in.
+        large_cycle: whether the fit started on the large cycle of a subcritical Hopf
+            point (:func:`start_values`), not from the normal form.
     """
 
     fit: FitResult
@@ -255,6 +343,7 @@ class WholeBeatFit:
     problem: object
     psi_offset_rad: float = 0.0
     frame: str = "lab"
+    large_cycle: bool = False
 
 
 def psi1_r2(observed, fitted) -> float:
@@ -322,7 +411,7 @@ def fit_whole_beat(
     shape = shape_in_basal_frame(shape) if frame == "basal" else shape
     tau_m = motor_time(spec.model, hopf) if tau_m is None else float(tau_m)
     static, dynamic = observed_measures(shape)
-    start, f_sat = start_values(
+    start, f_sat, orbit = start_values(
         spec.model,
         hopf,
         spec.mechanism,
@@ -359,7 +448,12 @@ def fit_whole_beat(
     )
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        fit = least_squares(problem, solver_from_name("lm", max_steps), starts=1)
+        fit = least_squares(
+            problem,
+            solver_from_name("lm", max_steps),
+            starts=1,
+            orbits=None if orbit is None else [orbit],
+        )
     entry = fit.conditions[0]
     shape_out = entry["shape"]
     fitted = np.asarray(shape_out["psi1_fit_re"]) + 1j * np.asarray(shape_out["psi1_fit_im"])
@@ -374,6 +468,7 @@ def fit_whole_beat(
         f_sat=float(orbit.get("f_sat", f_sat)),
         params=fit.full_params,
         start=(start, f_sat),
+        large_cycle=orbit is not None,
         problem=problem,
         psi_offset_rad=float(fit.achieved.get("psi_offset_rad", 0.0)),
         frame=frame,
