@@ -138,3 +138,12 @@ def _free_compiled_programs():
     again comes back from the persistent cache on disk (``pytest_configure``)."""
     yield
     jax.clear_caches()
+
+
+@pytest.fixture(autouse=True)
+def _no_progress(monkeypatch):
+    """Progress off in every test (``AXOJAX_PROGRESS=0``): off a terminal a run longer
+    than 2 s writes plain progress lines to stderr (axojax/_progress.py), and the tests
+    that check a command's error is one line would pass or fail by the machine's speed.
+    tests/house/test_progress.py sets or removes the variable where it checks progress."""
+    monkeypatch.setenv("AXOJAX_PROGRESS", "0")
