@@ -141,6 +141,7 @@ def test_tangent_stiffness_is_the_exact_jacobian():
     np.testing.assert_allclose(K, K.T, rtol=1e-12, atol=1e-12 * float(jnp.abs(J).max()))
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_trajectory_matches_scipy_radau():
     """The same ODE integrated by scipy's Radau (its own step control and Newton
     iteration, autodiff Jacobian) lands on the same state: growth into the cubic

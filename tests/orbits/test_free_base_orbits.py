@@ -266,6 +266,7 @@ def test_the_steady_load_on_a_free_base_diverges_and_is_refused():
         ax.limit_cycle(model, ax.Params(p=200.0), 10.0, solver=SOLVER, throw=True)
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_the_orbit_is_differentiable_on_a_free_base(free_row):
     """d(frequency)/d(beta'', tau_m) through the bordered Newton system (implicit function
     theorem; the phase conditions depend on the drag, the drift column too) equal central

@@ -159,6 +159,7 @@ def test_the_orbit_solves_the_simulated_equations(name):
     np.testing.assert_allclose(cycle.q_coefficients, X[:, :n])
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_the_saturation_is_sampled_finely_enough():
     """The tanh of saturating motors is projected from samples (not exactly, as a cubic
     is): the default 8 H + 2 samples against 16 H + 2 change the orbit's frequency and

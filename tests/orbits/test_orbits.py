@@ -87,6 +87,7 @@ def test_orbit_equals_long_simulation(base, tol):
     assert abs(rep["wavelength_um"] / sampled - 1) < 1e-2, (rep["wavelength_um"], sampled)
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_floquet_multipliers_past_hopf(two4, p_hopf):
     """Just past the Hopf point on the supercritical branch: one multiplier is 1 (the
     phase), the others lie inside the unit circle and equal the eigenvalues of the
