@@ -21,7 +21,9 @@ when the Gauss-Newton step from the last accepted point is shorter than
 ``standard_errors`` standard errors, i.e. ``|P_J r|^2 <= standard_errors^2`` (``r`` the
 residuals, already divided by their sigmas, and ``P_J`` the projection on the range of
 their Jacobian: the step's length in the metric J^T J, the inverse of the parameters'
-covariance, and twice the chi^2 the quadratic model says is left to gain). This does
+covariance, and twice the chi^2 the quadratic model says is left to gain), the bound
+times chi^2/dof where that is below 1 (sigmas with a floor above the noise overstate the
+standard errors: a synthetic beat's chi2/dof is 0.1). This does
 not depend on how the unknowns are parametrised, and it is the precision a fit can
 claim anyway (:data:`STANDARD_ERRORS`).
 
@@ -57,10 +59,21 @@ def gauss_newton_gain(f_info: optx.FunctionInfo.ResidualJac) -> Float[Array, ""]
     """``|P_J r|^2``: the squared length of the Gauss-Newton step from ``f_info``'s point
     in the metric J^T J (twice the chi^2 the quadratic model says is left), by a thin
     QR of the Jacobian (an upper bound when J is rank deficient)."""
-    r = jnp.concatenate([jnp.ravel(x) for x in jax.tree_util.tree_leaves(f_info.residual)])
-    J = f_info.jac.as_matrix()
-    q, _ = jnp.linalg.qr(J.reshape(r.size, -1))
+    r, J = _residuals_and_jacobian(f_info)
+    q, _ = jnp.linalg.qr(J)
     return jnp.sum((q.T @ r) ** 2)
+
+
+def _residuals_and_jacobian(f_info):
+    r = jnp.concatenate([jnp.ravel(x) for x in jax.tree_util.tree_leaves(f_info.residual)])
+    return r, f_info.jac.as_matrix().reshape(r.size, -1)
+
+
+def residual_variance(f_info: optx.FunctionInfo.ResidualJac) -> Float[Array, ""]:
+    """``|r|^2 / (m - k)``: chi^2 per degree of freedom at ``f_info``'s point (m
+    residuals, k unknowns; at least one degree of freedom)."""
+    r, J = _residuals_and_jacobian(f_info)
+    return jnp.sum(r**2) / max(r.size - J.shape[1], 1)
 
 
 class StatisticalLevenbergMarquardt(optx.AbstractGaussNewton):
@@ -93,8 +106,11 @@ class StatisticalLevenbergMarquardt(optx.AbstractGaussNewton):
         self.standard_errors = standard_errors
 
     def terminate(self, fn, y, args, options: dict[str, Any], state, tags):
+        # a standard error as the residuals' own scatter gives it, where that is below
+        # the sigmas' (chi^2/dof < 1: sigmas with a floor); never looser than the sigmas'
+        scatter = jnp.minimum(1.0, residual_variance(state.f_info))
         close = (state.num_accepted_steps > 0) & (
-            gauss_newton_gain(state.f_info) <= self.standard_errors**2
+            gauss_newton_gain(state.f_info) <= self.standard_errors**2 * scatter
         )
         done = state.terminate | close
         return done, optx.RESULTS.where(close, optx.RESULTS.successful, state.result)
