@@ -37,6 +37,7 @@ from .terms import (
     mechanism_terms,
     moment_load,
     pair_forces,
+    refuse_normal_force,
     static_couple,
     terms,
 )
@@ -59,6 +60,7 @@ __all__ = [
     "node_major",
     "pair_forces",
     "pencil_of",
+    "refuse_normal_force",
     "static_couple",
     "terms",
 ]
