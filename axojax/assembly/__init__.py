@@ -27,6 +27,7 @@ from ..linalg import BlockTridiagonal, Bordered, bordered
 from ..models.section import Model
 from ..params import Params
 from .border import Border, border_terms, check_base_params
+from .normal_force import NormalSystem, assemble_normal
 from .terms import (
     MatrixName,
     Term,
@@ -46,9 +47,11 @@ __all__ = [
     "Border",
     "BlockSystem",
     "MatrixName",
+    "NormalSystem",
     "System",
     "Term",
     "assemble",
+    "assemble_normal",
     "assemble_blocks",
     "bending_rigidity",
     "border_terms",
