@@ -49,6 +49,7 @@ from __future__ import annotations
 import functools
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
@@ -168,9 +169,13 @@ def assemble_normal(model: Model, params: Params) -> NormalSystem:
     Returns:
         :class:`NormalSystem` with (N + P N_e)-square A, C and b, N = ``model.n_unknowns``.
     """
+    check_normal_model(model, params)
+    return _assemble_normal_jit(model, params)
+
+
+def _assemble_normal(model: Model, params: Params) -> NormalSystem:
     from . import assemble
 
-    check_normal_model(model, params)
     t = _tables(model)
     w = jnp.asarray(model.pair_w, dtype=float)  # (P, n_fd)
     n_pairs, ne, n = w.shape[0], model.n_elements, model.n_unknowns
@@ -190,3 +195,6 @@ def assemble_normal(model: Model, params: Params) -> NormalSystem:
     A = jnp.block([[base.A, couple], [-g_re * sensed, ones - g_re * per_pair]])
     C = jnp.block([[base.C, jnp.zeros((n, nf))], [-g_d * sensed, -g_d * per_pair]])
     return NormalSystem(A=A, C=C, b=jnp.concatenate([base.b, jnp.zeros(nf)]), n=n)
+
+
+_assemble_normal_jit = jax.jit(_assemble_normal, static_argnums=0)
