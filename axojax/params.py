@@ -47,6 +47,8 @@ PARAM_NAMES = (
     "chi_im",
     "beta_re",
     "beta_im",
+    "normal_re",
+    "normal_im",
     "omega0",
     "kb",
     "xib",
@@ -64,14 +66,18 @@ DERIVED_NAMES = ("cb",)
 base: the base without compliance, inside a fit's range (issue 45's nested hypotheses;
 the spring of 1e9 moves the eigenvalues by about 1e-9 of chi / kb's scale, far below any
 fit's tolerance: tests/comparison/test_nested.py)."""
-MECHANISM_NAMES = ("chi_re", "chi_im", "beta_re", "beta_im", "omega0")
+MECHANISM_NAMES = ("chi_re", "chi_im", "beta_re", "beta_im", "normal_re", "normal_im", "omega0")
 """The regulated-dynein coefficients (docs/model.md section 8); all 0 is the steady load."""
 KNOT_NAMES = ("ei_knots", "drag_knots", "p_knots")
 """The non-uniform profiles (docs/model.md section 8): relative values at knots along x,
 arrays whose last axis holds the K knots; None (default) is uniform."""
-DYNAMIC_NAMES = ("chi_im", "beta_im")
-"""The coefficients that act through d/dt (chi''/omega0, beta''/omega0): non-zero only with
-omega0 > 0."""
+DYNAMIC_NAMES = ("chi_im", "beta_im", "normal_im")
+"""The coefficients that act through d/dt (chi''/omega0, beta''/omega0, g''/omega0): non-zero
+only with omega0 > 0."""
+NORMAL_NAMES = ("normal_re", "normal_im")
+"""The normal-force gain g = g' + i g'' (docs/model.md section 8): non-zero only through
+:func:`axojax.assembly.normal_force.assemble_normal` (its own unknowns, the pairs'
+regulated forces)."""
 
 _KNOT_ELEMENT = re.compile(r"^(ei_knots|drag_knots|p_knots)\[(\d+)\]$")
 
@@ -138,6 +144,13 @@ class Params(eqx.Module):
             responds to the pair's curvature kappa_a as beta' kappa_a + (beta''/omega0)
             dkappa_a/dt; dimensionless beta_dim L^2 / EI
             (:meth:`axojax.Units.beta_from_pn`). 0 (default): no curvature control.
+        normal_re, normal_im: normal-force control g = g' + i g'' (dimensionless; docs/model.md
+            section 8): the motor force per length of each active pair responds to its
+            normal force N_a = kappa_a,0 F_a + F_a,0 kappa_a about the static state (F_a the
+            pair's integrated regulated force, kappa_a its curvature) as g' N_a +
+            (g''/omega0) dN_a/dt. It needs its own unknowns (the pairs' forces): only
+            :func:`axojax.assembly.normal_force.assemble_normal` and what is built on it
+            take it (:func:`axojax.assemble` refuses a non-zero g). 0 (default): none.
         omega0: angular frequency at which chi and beta hold, omega0_dim tau (the observed
             beat's; :meth:`axojax.Units.omega0_from_hz`): at lambda = i omega0 the terms
             equal chi and beta exactly. Must be > 0 when chi_im or beta_im is non-zero;
@@ -180,6 +193,8 @@ class Params(eqx.Module):
     chi_im: ArrayLike = 0.0
     beta_re: ArrayLike = 0.0
     beta_im: ArrayLike = 0.0
+    normal_re: ArrayLike = 0.0
+    normal_im: ArrayLike = 0.0
     omega0: ArrayLike = 0.0
     kb: ArrayLike = 0.0
     xib: ArrayLike = 0.0

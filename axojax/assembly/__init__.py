@@ -27,6 +27,7 @@ from ..linalg import BlockTridiagonal, Bordered, bordered
 from ..models.section import Model
 from ..params import Params
 from .border import Border, border_terms, check_base_params
+from .normal_force import NormalSystem, assemble_normal
 from .terms import (
     MatrixName,
     Term,
@@ -37,6 +38,7 @@ from .terms import (
     mechanism_terms,
     moment_load,
     pair_forces,
+    refuse_normal_force,
     static_couple,
     terms,
 )
@@ -45,9 +47,11 @@ __all__ = [
     "Border",
     "BlockSystem",
     "MatrixName",
+    "NormalSystem",
     "System",
     "Term",
     "assemble",
+    "assemble_normal",
     "assemble_blocks",
     "bending_rigidity",
     "border_terms",
@@ -59,6 +63,7 @@ __all__ = [
     "node_major",
     "pair_forces",
     "pencil_of",
+    "refuse_normal_force",
     "static_couple",
     "terms",
 ]

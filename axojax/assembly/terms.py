@@ -7,13 +7,14 @@ from __future__ import annotations
 
 from typing import Union
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Float
 
 from ..fem.knots import KnotMatrix, knot_matrices, knot_matrix
 from ..models.section import Model
-from ..params import Params
+from ..params import NORMAL_NAMES, Params
 
 
 def imbalanced_forces(model: Model, params: Params) -> Float[Array, " P"]:
@@ -59,6 +60,23 @@ def static_moment_direction(model: Model) -> np.ndarray:
     net = group0.reshape(-1, model.n_dirs).sum(axis=0)
     norm = float(np.linalg.norm(net))
     return group0 / norm if norm > 0 else np.zeros_like(group0)
+
+
+def refuse_normal_force(params: Params) -> Params:
+    """One-line ``ValueError`` where a concrete ``params`` has a non-zero normal-force gain:
+    the plain system (:func:`~axojax.assembly.assemble` and the eigen-solvers on it) has no
+    unknowns for the pairs' forces, and would drop it. Traced values pass. Returns
+    ``params``."""
+    for name in NORMAL_NAMES:
+        value = getattr(params, name)
+        if isinstance(value, jax.core.Tracer):
+            continue
+        if bool(np.any(np.asarray(value, dtype=float) != 0)):
+            raise ValueError(
+                f"parameter {name} is {np.asarray(value).tolist()!r}: normal-force control has unknowns of its own, "
+                "solve it with axojax.assembly.normal_force (or axojax modes --mechanism normal-force)"
+            )
+    return params
 
 
 def link_stiffness(model: Model, params: Params) -> Float[Array, " E"]:
@@ -190,6 +208,7 @@ def terms(model: Model, params: Params) -> tuple[list[Term], list[Term], Float[A
     The single source of the equations (docs/model.md section 3): :func:`assemble` sums the
     terms as dense Kronecker products, :func:`assemble_blocks` as node blocks.
     """
+    refuse_normal_force(params)  # concrete values; the pre-jit checks of the solvers too
     nfd = model.n_fd
     drag = jnp.repeat(jnp.asarray(model.section.drag, dtype=float), model.n_dirs)
     ei = bending_rigidity(model, params)

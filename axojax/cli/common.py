@@ -124,7 +124,8 @@ def add_model_flags(
         choices=MECHANISMS,
         default="steady",
         help="dynein regulation (docs/model.md section 8): the steady load (default), sliding "
-        "control (--chi), curvature control (--beta) or both",
+        "control (--chi), curvature control (--beta), both, or normal-force control "
+        "(--normal-gain; axojax modes only so far)",
     )
     g.add_argument(
         "--chi",
@@ -139,11 +140,19 @@ def add_model_flags(
         help="curvature-control coefficient beta' + i beta'' in pN (with --mechanism curvature)",
     )
     g.add_argument(
+        "--normal-gain",
+        default=None,
+        metavar="RE,IM",
+        help="normal-force gain g' + i g'' (dimensionless: motor force per unit normal force; with "
+        "--mechanism normal-force and a static bend, e.g. --static-moment-pn)",
+    )
+    g.add_argument(
         "--omega0-hz",
         type=finite_float,
         default=None,
         metavar="HZ",
-        help="beat frequency at which --chi and --beta hold (needed when an IM part is non-zero)",
+        help="beat frequency at which --chi, --beta and --normal-gain hold (needed when an IM part "
+        "is non-zero)",
     )
     g.add_argument(
         "--static-moment-pn",

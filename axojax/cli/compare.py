@@ -63,7 +63,11 @@ COMPLIANCE_MODES = {
 COEFFICIENTS = {
     "chi": "sliding",
     "beta": "curvature",
-    **{n: ("sliding" if n.startswith("chi") else "curvature") for n in MECHANISM_NAMES},
+    **{
+        n: ("sliding" if n.startswith("chi") else "curvature")
+        for n in MECHANISM_NAMES
+        if not n.startswith("normal")  # normal-force rows of compare: issue 55, later
+    },
 }
 """Coefficient names a user may type instead of a mechanism, and the mechanism they belong
 to (``omega0`` is every regulated mechanism's: it is pinned at the data's frequency)."""

@@ -14,6 +14,9 @@ from . import common
 from .regulation import add_motor_tau_flag, motor_tau_from_args
 
 METRICS = ("growth_rate_per_s", "frequency_hz", "wavelength_um")
+INFINITE_RATIO = 1e8
+"""An eigenvalue of normal-force control's pencil with |lambda| beyond this times
+max |A| / max |C| is an infinite one (QZ's beta at rounding level), not listed."""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -56,6 +59,63 @@ def motor_kinetics(model, params, units: Units, tau_m: float, tau_ms: float) -> 
     }
 
 
+def normal_force(args: argparse.Namespace, model, params, units: Units) -> dict:
+    """``axojax modes --mechanism normal-force``: the augmented pencil of normal-force
+    control (:func:`axojax.assembly.assemble_normal`, dense): its eigenvalues (LAPACK's QZ,
+    the infinite ones of an algebraic force row left out), the dominant mode and, with
+    ``--omega0-hz``, the beat (each by a shift-and-invert about it,
+    :func:`axojax.eigen.normal_force_mode`)."""
+    import scipy.linalg as sl
+
+    from ..assembly import assemble_normal
+    from ..eigen import normal_force_mode
+
+    for flag, given in (
+        ("--grad", args.grad is not None),
+        ("--motor-tau-ms", getattr(args, "motor_tau_ms", None) is not None),
+        ("--solver", getattr(args, "solver", None) not in (None, "auto", "dense")),
+    ):
+        if given:
+            raise common.CLIError(
+                f"{flag}: not with --mechanism normal-force yet (its pencil is solved densely, issue 55)"
+            )
+    if float(params.p) == 0 and float(params.m0) == 0:
+        raise common.CLIError(
+            "--mechanism normal-force: no static normal force (p = 0 and no --static-moment-pn): "
+            "the gain would act on nothing"
+        )
+    try:
+        system = assemble_normal(model, params)
+    except ValueError as err:
+        raise common.CLIError(f"--mechanism normal-force: {err}") from None
+    A, C = np.asarray(system.A), np.asarray(system.C)
+    alpha, beta = sl.eigvals(-A, C, homogeneous_eigvals=True)
+    # QZ leaves an infinite eigenvalue (an algebraic force row, g'' = 0) as beta ~ eps |C|:
+    # |lambda| ~ |A| / (eps |C|), far beyond any finite one (~ 1e2 |A| / |C| at most)
+    finite = np.abs(alpha) < INFINITE_RATIO * np.max(np.abs(A)) / np.max(np.abs(C)) * np.abs(beta)
+    lam = alpha[finite] / beta[finite]
+    lam = lam[np.argsort(-lam.real)]
+    mode = normal_force_mode(model, params, complex(lam[0]))
+    doc = {
+        "model": model.name,
+        "n_dof": model.n_unknowns,
+        "tau_s": units.tau_s,
+        "eigenvalues": [[float(z.real), float(z.imag)] for z in lam[: args.top]],
+        "dominant": mode.to_json(units),
+        "normal_force": {
+            "gain": [float(params.normal_re), float(params.normal_im)],
+            "n_unknowns": int(system.A.shape[0]),
+        },
+    }
+    if float(params.omega0) > 0:
+        beat = normal_force_mode(model, params, 1j * float(params.omega0))
+        doc["beat"] = {
+            **beat.to_json(units),
+            "omega0_hz": float(params.omega0) / (2 * np.pi * units.tau_s),
+        }
+    return doc
+
+
 def metric_gradients(
     model, params, names: list[str], kl_ratio, units: Units, solver=DEFAULT_SOLVER
 ) -> dict:
@@ -80,6 +140,8 @@ def run(args: argparse.Namespace) -> dict:
     units = common.units_from_args(args)
     if args.top < 1:
         raise common.CLIError(f"--top: expected an integer >= 1, got {args.top}")
+    if args.mechanism == "normal-force":
+        return normal_force(args, model, params, units)
     names = common.parse_names(args.grad, "--grad") if args.grad is not None else []
     tau_m = motor_tau_from_args(args, params)  # one line naming --motor-tau-ms, before the solves
     # the spectrum is the dense pencil's, whatever --solver finds the dominant mode with
@@ -152,11 +214,18 @@ def render(doc: dict) -> str:
             + sensitive_note(b.get("amplitude_dip") if b["wavelength_um"] is not None else None),
             f"  direction       {b['direction'] or '-'}",
         ]
-        if b["active_friction"]:
+        if b.get("active_friction"):
             lines.append(
                 "  note: the friction is active (chi'' or beta'' < 0), so the dominant mode above is a "
                 "spurious short wave that grows faster on finer meshes; read the mode nearest i omega0 as the beat"
             )
+    if "normal_force" in doc:
+        g = doc["normal_force"]["gain"]
+        lines += [
+            "",
+            f"normal-force control, gain g = {g[0]:.6g} {g[1]:+.6g}i: a pencil of "
+            f"{doc['normal_force']['n_unknowns']} unknowns with the pairs' forces (dense)",
+        ]
     if "motor_kinetics" in doc:
         m, b = doc["motor_kinetics"], doc["motor_kinetics"]["beat"]
         lines += [

@@ -12,13 +12,17 @@ from ..models import Base, Model
 from ..params import Params
 from ._values import CLIError, _complex_pair, _pair, finite_float, units_from_args
 
-MECHANISMS = ("steady", "sliding", "curvature", "sliding+curvature")
+MECHANISMS = ("steady", "sliding", "curvature", "sliding+curvature", "normal-force")
 """``--mechanism`` choices (docs/model.md section 8)."""
+NORMAL_FORCE_COMMANDS = ("modes",)
+"""The subcommands that take ``--mechanism normal-force`` so far (issue 55, first step)."""
 MECHANISM_FLAGS = {
     "chi_re": "chi",
     "chi_im": "chi",
     "beta_re": "beta",
     "beta_im": "beta",
+    "normal_re": "normal-gain",
+    "normal_im": "normal-gain",
     "omega0": "omega0-hz",
     "m0": "static-moment-pn",
 }
@@ -119,23 +123,34 @@ def mechanism_values(args: argparse.Namespace) -> dict[str, float]:
     parts = set(mechanism.split("+")) - {"steady"}
     values: dict[str, float] = {}
     units = units_from_args(args)
+    command = getattr(args, "command", None)
+    if "normal-force" in parts and command not in NORMAL_FORCE_COMMANDS:
+        raise CLIError(
+            f"--mechanism normal-force: only axojax {' and '.join(NORMAL_FORCE_COMMANDS)} takes it so far, "
+            f"not {command} (issue 55)"
+        )
     for flag, part, names, convert in (
         ("chi", "sliding", ("chi_re", "chi_im"), units.chi_from_pn_per_um2),
         ("beta", "curvature", ("beta_re", "beta_im"), units.beta_from_pn),
+        ("normal_gain", "normal-force", ("normal_re", "normal_im"), float),
     ):
         text = getattr(args, flag, None)
+        shown = flag.replace("_", "-")
         if text is None:
             if part in parts:
-                raise CLIError(f"--mechanism {mechanism}: needs --{flag} RE,IM")
+                raise CLIError(f"--mechanism {mechanism}: needs --{shown} RE,IM")
             continue
         if part not in parts:
-            raise CLIError(f"--{flag}: needs --mechanism {part} or sliding+curvature")
-        re, im = _complex_pair(text, flag)
+            also = "" if part == "normal-force" else " or sliding+curvature"
+            raise CLIError(f"--{shown}: needs --mechanism {part}{also}")
+        re, im = _complex_pair(text, shown)
         values[names[0]], values[names[1]] = float(convert(re)), float(convert(im))
     hz = getattr(args, "omega0_hz", None)
     if hz is not None:
         if not parts:
-            raise CLIError("--omega0-hz: needs --mechanism sliding, curvature or sliding+curvature")
+            raise CLIError(
+                "--omega0-hz: needs --mechanism sliding, curvature, sliding+curvature or normal-force"
+            )
         if hz <= 0:
             raise CLIError(f"--omega0-hz: must be > 0, got {hz:g}")
         values["omega0"] = float(units.omega0_from_hz(hz))

@@ -24,6 +24,7 @@ from .mode import (
     spectrum,
 )
 from .nearest import nearest_eigenpair, nearest_mode
+from .normal_force import normal_force_mode, shift_invert_eigenpair
 from .pencil import eigensystem, eigenvalues
 from .solvers import (
     SOLVERS,
@@ -60,6 +61,8 @@ __all__ = [
     "mode_shapes",
     "nearest_eigenpair",
     "nearest_mode",
+    "normal_force_mode",
+    "shift_invert_eigenpair",
     "solver_from_name",
     "spectrum",
     "tangent_measures",

@@ -10,7 +10,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, Complex, Float, Int
 
 from .. import results
-from ..assembly import assemble, check_base_params
+from ..assembly import assemble, check_base_params, refuse_normal_force
 from ..models.section import Model
 from ..params import Params, require_scalars, valid
 from ..results import RESULTS
@@ -270,7 +270,9 @@ def dominant_mode(
     if not isinstance(params, Params):
         raise TypeError(f"params must be an ax.Params, got {params!r}")
     require_scalars(params, "dominant_mode")
-    mode = _dominant_mode_jit(model, check_base_params(model, params.validate()), solver)
+    mode = _dominant_mode_jit(
+        model, check_base_params(model, refuse_normal_force(params.validate())), solver
+    )
     if throw:
         mode = mode.result.error_if(mode, mode.result != RESULTS.successful)
     return mode
@@ -279,4 +281,6 @@ def dominant_mode(
 def spectrum(model: Model, params: Params, top: int | None = None) -> Complex[Array, " k"]:
     """Eigenvalues of the pencil (A + lambda C) v = 0 sorted by decreasing real part;
     the ``top`` first (all n by default). Dimensionless (1/tau)."""
-    return _spectrum_jit(model, check_base_params(model, params.validate()), top)
+    return _spectrum_jit(
+        model, check_base_params(model, refuse_normal_force(params.validate())), top
+    )

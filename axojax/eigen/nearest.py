@@ -25,6 +25,7 @@ import jax
 import jax.numpy as jnp
 from jaxtyping import Array, ArrayLike, Complex, Float
 
+from ..assembly import refuse_normal_force
 from ..models.section import Model
 from ..params import Params, require_scalars, valid
 from .dominant import CLUSTER_RTOL, MAX_CLUSTER, _inverse_iteration, _primal, eigenpair_jvp
@@ -130,7 +131,7 @@ def nearest_mode(
     require_scalars(params, "nearest_mode")
     shift = complex(shift) if not isinstance(shift, jax.core.Tracer) else shift
     if tau_m is None:
-        return _nearest_mode_jit(model, params.validate(), shift, solver)
+        return _nearest_mode_jit(model, refuse_normal_force(params.validate()), shift, solver)
     if type(solver) is not Dense:
         raise ValueError(
             f"motor kinetics (tau_m) is solved densely only: pass solver=Dense() or none, got {solver!r}"
@@ -138,4 +139,4 @@ def nearest_mode(
     from ..assembly.motor_kinetics import check_tau_m
 
     check_tau_m(params, tau_m)
-    return _nearest_mode_jit(model, params.validate(), shift, solver, tau_m)
+    return _nearest_mode_jit(model, refuse_normal_force(params.validate()), shift, solver, tau_m)

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-from ..params import MECHANISM_NAMES, PARAM_NAMES, is_parameter_name
+from ..params import MECHANISM_NAMES, NORMAL_NAMES, PARAM_NAMES, is_parameter_name
 from .conditions import Condition
 from .parameters import ORBIT_FIELDS, coordinate_bounds
 
@@ -42,6 +42,10 @@ def _check(conditions, free, per_condition, kl_ratio, shape_floor, exclude_base_
         if not is_parameter_name(name) and name not in ORBIT_FIELDS:
             raise ValueError(
                 f"free: unknown parameter {name!r}; choose from {', '.join((*PARAM_NAMES, *sorted(ORBIT_FIELDS)))}"
+            )
+        if name in NORMAL_NAMES:
+            raise ValueError(
+                f"free: {name} (normal-force control) is not fitted yet; its modes are in axojax modes (issue 55)"
             )
     both = set(free) & set(per_condition)
     if both or len(set(free)) < len(free) or len(set(per_condition)) < len(per_condition):

@@ -45,6 +45,7 @@ from jax.sharding import Mesh, NamedSharding, PartitionSpec
 
 from .. import _io
 from .._progress import progress as progress_bar
+from ..assembly import refuse_normal_force
 from ..eigen.mode import DEFAULT_SOLVER, dominant_mode_impl
 from ..eigen.solvers import AbstractEigenSolver
 from ..models.section import Model
@@ -227,7 +228,7 @@ def sweep(
     for n, v in coords.items():
         if v.ndim != 1 or v.size == 0:
             raise ValueError(f"axis {n} must be a non-empty 1-D list of values")
-        Params().replace(**{n: v}).validate()
+        refuse_normal_force(Params().replace(**{n: v}).validate())
     if kl_ratio is not None and not kl_ratio > 0:
         raise ValueError(f"kl_ratio must be > 0, got {kl_ratio}")
     if chunk_size < 1:
@@ -240,7 +241,7 @@ def sweep(
         raise ValueError(
             f"a sweep over {share.count} processes (jax.distributed) needs out=FILE.npz on a shared file system"
         )
-    params = params.validate()
+    params = refuse_normal_force(params.validate())
     shape = tuple(len(v) for v in coords.values())
     solver = solver.resolve(model, int(np.prod(shape)))
     grid = np.stack(

@@ -39,7 +39,7 @@ from typing import Any
 import numpy as np
 
 from ... import _io
-from ...params import BASAL_NAMES, MECHANISM_NAMES, PARAM_NAMES, Params
+from ...params import BASAL_NAMES, MECHANISM_NAMES, NORMAL_NAMES, PARAM_NAMES, Params
 from ...results import RESULTS, jsonable, message
 from ...results import name as result_name
 from .._arguments import SIGNED
@@ -589,11 +589,13 @@ def _at_bound(name: str, p, u: float) -> str:
 
 def _condition_params(full: Params) -> dict[str, float]:
     """Every parameter of a condition, without the regulated-dynein coefficients when they
-    are all 0 (the steady load), without the basal compliance when it is all 0 (no
+    are all 0 (the steady load), without the normal-force gain when 0 (as before it
+    existed), without the basal compliance when it is all 0 (no
     compliance) and without the static moment m0 when 0: its report stays as it was, and
     each name it lists is a command-line flag, e.g. for ``axojax modes``."""
     values = {f: float(np.asarray(getattr(full, f))) for f in PARAM_NAMES}
-    for group in (MECHANISM_NAMES, BASAL_NAMES, ("m0",)):
+    regulated = tuple(n for n in MECHANISM_NAMES if n not in NORMAL_NAMES)
+    for group in (regulated, NORMAL_NAMES, BASAL_NAMES, ("m0",)):
         if not any(values[f] for f in group):
             values = {f: v for f, v in values.items() if f not in group}
     return values
