@@ -588,11 +588,10 @@ def _at_bound(name: str, p, u: float) -> str:
 
 
 def _condition_params(full: Params) -> dict[str, float]:
-    """Every parameter of a condition, without the regulated-dynein coefficients when they
-    are all 0 (the steady load), without the normal-force gain when 0 (as before it
-    existed), without the basal compliance when it is all 0 (no
-    compliance) and without the static moment m0 when 0: its report stays as it was, and
-    each name it lists is a command-line flag, e.g. for ``axojax modes``."""
+    """Every parameter of a condition, less each group that is all 0: the regulated-dynein
+    coefficients (the steady load), the normal-force gain, the basal compliance and the
+    static moment m0. Its report stays as it was before those existed, and each name it
+    lists is a command-line flag, e.g. for ``axojax modes``."""
     values = {f: float(np.asarray(getattr(full, f))) for f in PARAM_NAMES}
     regulated = tuple(n for n in MECHANISM_NAMES if n not in NORMAL_NAMES)
     for group in (regulated, NORMAL_NAMES, BASAL_NAMES, ("m0",)):
