@@ -233,6 +233,7 @@ def rotated(shape: ShapeTarget, angle: float) -> ShapeTarget:
     return dataclasses.replace(shape, psi0=np.asarray(shape.psi0) + angle)
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_a_beat_rotated_by_a_constant_has_the_same_residuals():
     """A recording's psi is measured from an arbitrary direction: the whole beat's
     residuals at the truth's orbit are the same for the noisy beat turned by 0, 1.7 and

@@ -39,6 +39,7 @@ def _beat(noise=0.02, seed=2):
     return clean, moved
 
 
+@pytest.mark.slow  # issue 53: the quick suite within 20 CPU-minutes, cold (CI runs -m slow)
 def test_the_basal_frame_measures_the_orbit_from_its_basal_tangent():
     """On a pivot (its base turns: |psi_1(0)| well above 0), the orbit's basal-frame psi_0
     and psi_1 are the time Fourier coefficients of psi(s, t) - psi(0, t) sampled over one
