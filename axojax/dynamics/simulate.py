@@ -42,9 +42,11 @@ MEASURE_PERIODS = 2
 """Whole periods at the end of a limit-cycle record whose psi_0, psi_1 give the waveform
 measures (the frequency comes from the last two cycles too)."""
 
-_integrate_jit = jax.jit(
+integrate_jit = jax.jit(
     integrate, static_argnums=0, static_argnames=("rtol", "atol", "max_steps", "progress")
 )
+""":func:`~axojax.dynamics.integrate.integrate` compiled once per model (the simulation's,
+and the large cycle's start: :mod:`axojax.orbits.large_cycle`)."""
 
 
 @dataclasses.dataclass
@@ -440,7 +442,7 @@ def simulate(
     if tau_m is not None:
         q0 = np.concatenate([q0, np.zeros(model.n_unknowns)])  # the motors' copy y(0) = 0
 
-    traj = _integrate_jit(
+    traj = integrate_jit(
         model,
         params,
         jnp.asarray(cubic),

@@ -6,7 +6,7 @@ normal form (:mod:`axojax.orbits.guess`) starts Newton on it. Past a subcritical
 motors saturate, onto a distant cycle, the beat a recording shows. Newton needs a start
 on that cycle; :func:`large_cycle` makes one the way a beat is found in a lab:
 
-1. integrate ``C dX/dt = ...`` (:func:`axojax.dynamics.integrate.integrate`, motor
+1. integrate ``C dX/dt = ...`` (:func:`axojax.dynamics.integrate.integrate`, compiled, motor
    kinetics and saturation included) from the static tip deflection scaled to ``bend``
    (L; the motors' copy y starts equal to q, already adapted to the bend) for
    ``periods`` periods of the linear beat;
@@ -28,8 +28,7 @@ import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 
-from ..dynamics.integrate import integrate
-from ..dynamics.simulate import tip_deflection
+from ..dynamics.simulate import integrate_jit, tip_deflection
 from ..models.section import Model
 from ..params import Params
 from ..waveform.shapes import centreline
@@ -47,7 +46,7 @@ SAMPLES = 64
 
 def _last_period(t: np.ndarray, tip: np.ndarray) -> tuple[float, float]:
     """(start, period) of the last whole period: between the last two upward crossings of
-    the tip's mean (linear interpolation); NaN when fewer than two."""
+    the tip's mean (linear interpolation); NaN when it crosses fewer than three times."""
     y = tip - tip[len(tip) // 2 :].mean()
     up = np.nonzero((y[:-1] < 0) & (y[1:] >= 0))[0]
     if len(up) < 3:
@@ -98,7 +97,7 @@ def large_cycle(
     t = np.linspace(0.0, periods * T, periods * SAMPLES + 1)
     q0 = bend * np.concatenate([tip_deflection(model), np.zeros(model.n_border)])
     X0 = np.concatenate([q0, q0])  # the motors' copy adapted to the bend
-    traj = integrate(
+    traj = integrate_jit(
         model,
         params,
         jnp.asarray(kappa),
