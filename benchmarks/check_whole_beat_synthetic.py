@@ -62,11 +62,24 @@ CYCLES, FRAMES, POINTS, ELEMENTS = 8, 48, 31, 10
 SWING = 4.0  # rad: the largest swing of psi at any point (a beat's, not a rotation's)
 
 
+def _swing(cycle) -> float:
+    """The largest swing of psi (rad) over one period at any point."""
+    _, psi = cycle.centreline_beat(np.linspace(0.0, 1.0, POINTS), n_frames=FRAMES, derivative=1)
+    return float(np.max(np.ptp(np.asarray(psi), axis=0)))
+
+
+def _orbit(spec, prm, tau_m, f_sat, start):
+    cycle = ax.limit_cycle(spec.model, prm, 0.0, tau_m=tau_m, f_sat=f_sat, start=start)
+    return cycle if bool(cycle.converged) else None
+
+
 def truth_of(spec, units, static, amplitude):
-    """(params, tau_m, f_sat, start orbit or None) of the truth (module docstring)."""
+    """(params, tau_m, f_sat, cycle) of the truth (module docstring): the first Hopf point
+    whose start gives an orbit that swings psi at most SWING rad (f_sat lowered, the
+    beat's size with it, while it swings more)."""
     s = np.linspace(0.0, units.length_um, 11)
     problem = row_problem(spec, ShapeTarget(s, np.exp(-1j * s / units.length_um), 1.0), units)
-    for u in values_to_u(problem, hopf_starts(spec)):
+    for u in values_to_u(problem, hopf_starts(spec))[:20]:
         hopf = problem.condition_params(u, 0)
         try:
             tau_m = motor_time(spec.model, hopf)
@@ -82,8 +95,15 @@ def truth_of(spec, units, static, amplitude):
             )
         except ValueError:
             continue
-        return prm, tau_m, f_sat, orbit
-    raise ValueError("no Hopf point of the row is the onset mode for any motor time")
+        cycle = _orbit(spec, prm, tau_m, f_sat, orbit)
+        for _ in range(4):
+            if cycle is None or _swing(cycle) <= SWING:
+                break
+            f_sat *= 0.8 * SWING / _swing(cycle)
+            cycle = _orbit(spec, prm, tau_m, f_sat, cycle)
+        if cycle is not None and _swing(cycle) <= SWING:
+            return prm, tau_m, f_sat, cycle
+    raise ValueError("no Hopf point of the row gives an orbit of a recording's size")
 
 
 def recording(path, cycle, units, seed):
@@ -105,16 +125,7 @@ def check(system, base, mechanism, folder, seed=0):
     units = ORGANISMS[organism].flagellum.units(length, 2)
     spec = row(mechanism, base, build_model("two", ELEMENTS, base, units), units, hz)
     t0 = time.perf_counter()
-    prm, tau_m, f_sat, orbit = truth_of(spec, units, static, amplitude)
-    for _ in range(4):  # f_sat lowered (the beat's size with it) while psi swings > SWING
-        cycle = ax.limit_cycle(
-            spec.model, prm, 0.0, tau_m=tau_m, f_sat=f_sat, start=orbit, throw=True
-        )
-        _, psi = cycle.centreline_beat(np.linspace(0.0, 1.0, POINTS), n_frames=FRAMES, derivative=1)
-        swing = float(np.max(np.ptp(np.asarray(psi), axis=0)))
-        if swing <= SWING:
-            break
-        f_sat, orbit = f_sat * 0.8 * SWING / swing, cycle
+    prm, tau_m, f_sat, cycle = truth_of(spec, units, static, amplitude)
     m = ax.orbits.cycle_measures(cycle, None, units)
     path = pathlib.Path(folder) / f"{system}_{base}_{mechanism}.npz".replace("+", "_")
     recording(path, cycle, units, seed)

@@ -24,7 +24,7 @@ from .mode import (
     spectrum,
 )
 from .nearest import nearest_eigenpair, nearest_mode
-from .normal_force import normal_force_mode, shift_invert_eigenpair
+from .normal_force import NormalForce, normal_force_mode, shift_invert_eigenpair
 from .pencil import eigensystem, eigenvalues
 from .solvers import (
     SOLVERS,
@@ -61,6 +61,7 @@ __all__ = [
     "mode_shapes",
     "nearest_eigenpair",
     "nearest_mode",
+    "NormalForce",
     "normal_force_mode",
     "shift_invert_eigenpair",
     "solver_from_name",
