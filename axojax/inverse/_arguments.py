@@ -43,10 +43,6 @@ def _check(conditions, free, per_condition, kl_ratio, shape_floor, exclude_base_
             raise ValueError(
                 f"free: unknown parameter {name!r}; choose from {', '.join((*PARAM_NAMES, *sorted(ORBIT_FIELDS)))}"
             )
-        if name in NORMAL_NAMES:
-            raise ValueError(
-                f"free: {name} (normal-force control) is not fitted yet; its modes are in axojax modes (issue 55)"
-            )
     both = set(free) & set(per_condition)
     if both or len(set(free)) < len(free) or len(set(per_condition)) < len(per_condition):
         raise ValueError(
@@ -65,3 +61,34 @@ def _check(conditions, free, per_condition, kl_ratio, shape_floor, exclude_base_
     if len(set(labels)) < len(labels):
         raise ValueError(f"conditions: labels must differ, got {labels}")
     return conditions, labels
+
+
+def check_normal_force(solver, shift, needs_cycle, models, base, fitted) -> None:
+    """Normal-force control (a gain free, or non-zero in ``base``, the conditions'
+    params) needs its own eigen-solver (:class:`~axojax.eigen.NormalForce`: the augmented
+    pencil) and the beat's ``shift``, and has no limit cycle yet; the plain solvers would
+    drop the gain silently. One-line ``ValueError``."""
+    from ..assembly.normal_force import check_normal_model
+    from ..eigen.normal_force import NormalForce
+
+    gains = set(fitted) & set(NORMAL_NAMES) or {
+        n for prm in base for n in NORMAL_NAMES if float(getattr(prm, n)) != 0.0
+    }
+    if isinstance(solver, NormalForce):
+        if shift is None:
+            raise ValueError(
+                "shift: normal-force control follows the beat nearest a shift; give "
+                "shift=1j * omega0"
+            )
+        if any(needs_cycle):
+            raise ValueError(
+                "targets: normal-force control has no limit cycle yet; fit psi_1 and the "
+                "linear beat (source='linear')"
+            )
+        for model, prm in zip(models, base):
+            check_normal_model(model, prm)
+    elif gains:
+        raise ValueError(
+            f"solver: {', '.join(sorted(gains))} (normal-force control) needs "
+            "solver=ax.eigen.NormalForce() and shift=1j * omega0"
+        )

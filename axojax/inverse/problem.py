@@ -48,7 +48,7 @@ from ..orbits.cycle import LimitCycle
 from ..orbits.solvers import AbstractOrbitSolver, HarmonicBalance
 from ..params import DEFAULT_CUBIC, Params
 from ..units import Units
-from ._arguments import _check, _coordinate_bounds
+from ._arguments import _check, _coordinate_bounds, check_normal_force
 from .conditions import Condition
 from .cycle_targets import CYCLE_TARGETS as CYCLE_MEASURES
 from .cycle_targets import aligned_psi1, offset_fitted, psi_offset, shape_measures
@@ -159,6 +159,9 @@ class Problem:
         orbit = OrbitSetup(orbit_solver, float(cubic), tau_m, f_sat)
         self._set_parameters(params, free, per_condition, orbit)
         self._set_targets(orbit, set(free + per_condition))
+        check_normal_force(
+            solver, self.shift, self.needs_cycle, self.models, self.base, free + per_condition
+        )
         self._set_layout()
         self._set_groups(solver)
         self._jit_residuals = jax.jit(self.residuals)
