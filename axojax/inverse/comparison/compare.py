@@ -33,6 +33,7 @@ from ...beats.frames import in_basal_frame
 from ...beats.targets import FRAMES
 from ...beats.units import beat_units
 from ...models.presets import preset_section
+from ...params import Params
 from ...results import jsonable
 from ...results import name as result_name
 from ...units import ORGANISMS, Organism, Units
@@ -57,12 +58,9 @@ from .mechanisms import (
 )
 from .robustness import cycle_bootstrap
 from .starts import SCREEN, hopf_starts, nested_starts, row_starts, screened_starts, values_to_u
+from .static_state import NORMAL_MECHANISMS, matching_moment, not_applicable_reason
 from .table import PHYSICAL, render_params, render_table
-from .verdict import (
-    rank,
-    row_status,
-    verdict,
-)
+from .verdict import rank, row_status, verdict
 
 POLISH = 4
 """Further runs of a row's solver from its best start's end while that stopped at the step
@@ -103,7 +101,8 @@ class CompareRow:
             their optima too, so it fits at least as well as each (they are fitted
             first even when not asked for, and then not ranked).
         psi1_model: (S,) complex: the fitted psi_1 (rad) at the data's s.
-        fit: the row's full :class:`~axojax.inverse.FitResult`.
+        fit: the row's full :class:`~axojax.inverse.FitResult` (None for a row that
+            cannot apply, found before any fit).
         problem: the row's :class:`~axojax.inverse.Problem` (not in the JSON), e.g. for
             its posterior: ``ax.posterior(row.problem, init=row.fit, ...)``.
     """
@@ -122,7 +121,7 @@ class CompareRow:
     n_free: int
     at_bound: list[str]
     psi1_model: np.ndarray
-    fit: FitResult
+    fit: FitResult | None
     wall_s: float
     delta_bic: float | None = None
     problem: Problem | None = dataclasses.field(default=None, repr=False)
@@ -136,6 +135,14 @@ class CompareRow:
     @property
     def successful(self) -> bool:
         return self.status == "successful"
+
+    @classmethod
+    def not_applicable(cls, mechanism: str, base: str, free, reason: str) -> CompareRow:
+        """A row that cannot apply to the beat and was not fitted (``fit`` None)."""
+        nan = math.nan
+        return cls(mechanism, base, tuple(free), {}, {}, nan, nan, None, None, None, None,
+                   len(free), [], np.zeros(0, complex), None, 0.0,
+                   status="not_applicable", reason=reason)  # fmt: skip
 
     def laplace(self, jacobian=None):
         """The Laplace approximation of the row's posterior at its optimum: normal in the
@@ -468,6 +475,15 @@ def compare(
         the_model = build_model(model, n_elements, base, units, head, profiles)
         spec = row(mech, base, the_model, units, f_obs, pin_tolerance=pin_tolerance)
         inner = [fitted[c] for c in contained(mech, base) if c in fitted]
+        reason = not_applicable_reason(mech, base, shape)
+        if reason is not None:
+            fitted[(mech, base)] = CompareRow.not_applicable(mech, base, spec.free, reason)
+            rows.extend([fitted[(mech, base)]] if (mech, base) in asked else [])
+            continue
+        if mech in NORMAL_MECHANISMS:  # the static state of the observed static bend
+            m0 = matching_moment(the_model, spec.params, shape, units)
+            spec = row(mech, base, the_model, units, f_obs, params=Params(m0=m0),
+                       pin_tolerance=pin_tolerance)  # fmt: skip
         r = fit_row(
             spec, shape, units, optimiser, starts, seed, shape_floor, f_obs, pin_tolerance, inner
         )
@@ -513,6 +529,7 @@ def row_problem(spec, shape, units: Units, shape_floor: float = SHAPE_FLOOR) -> 
         shift=spec.shift,
         mechanism=spec.mechanism,
         base=spec.base,
+        **({} if spec.solver is None else {"solver": spec.solver}),
     )
 
 

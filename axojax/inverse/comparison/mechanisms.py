@@ -72,6 +72,8 @@ import math
 import numpy as np
 
 from ...beats.targets import Target
+from ...eigen.normal_force import NormalForce
+from ...eigen.solvers import AbstractEigenSolver
 from ...fem import Profiles
 from ...models import Base, presets
 from ...models import build_model as build_section_model
@@ -80,8 +82,19 @@ from ...params import CB_FLOOR, Params
 from ...units import Units
 from ..parameters import DEFAULT_BOUNDS
 
-MECHANISMS = ("steady", "sliding", "curvature", "sliding+curvature")
-"""Every mechanism a row can have (docs/model.md section 8); the default set of compare."""
+MECHANISMS = (
+    "steady",
+    "sliding",
+    "curvature",
+    "sliding+curvature",
+    "normal-force",
+    "sliding+normal-force",
+)
+"""Every mechanism a row can have (docs/model.md section 8); the default set of compare.
+The normal-force rows need a static bend and a clamped base
+(:mod:`~axojax.inverse.comparison.static_state`; elsewhere ``not_applicable``)."""
+ORBIT_MECHANISMS = ("sliding", "curvature", "sliding+curvature")
+"""The regulated mechanisms with a limit cycle (the whole beat's rows)."""
 BASES = ("clamped", "pivot", "free", "head")
 """Base conditions of docs/model.md section 8."""
 AVAILABLE_BASES = BASES
@@ -114,6 +127,8 @@ FREE = {
     "sliding": ("chi_re", "chi_im"),
     "curvature": ("chi_re", "beta_re", "beta_im"),
     "sliding+curvature": ("chi_re", "chi_im", "beta_re", "beta_im"),
+    "normal-force": ("normal_re", "normal_im"),
+    "sliding+normal-force": ("chi_re", "chi_im", "normal_re", "normal_im"),
 }
 BASAL_FREE = {"": (), "elastic": ("cb",), "compliance": ("cb", "xib")}
 """What a basal compliance adds to a row's free values (module docstring): the compliance
@@ -129,7 +144,10 @@ def free_values(mechanism: str, model: Model, mode: str = "") -> tuple[str, ...]
     return (*own, *BASAL_FREE[mode])
 
 
-MECHANISM_CONTAINS = {"sliding+curvature": ("sliding", "curvature")}
+MECHANISM_CONTAINS = {
+    "sliding+curvature": ("sliding", "curvature"),
+    "sliding+normal-force": ("sliding", "normal-force"),
+}
 """The mechanisms each generalises (its free values contain theirs, the rest at 0)."""
 COMPLIANCE_CONTAINS = {"compliance": ("elastic", ""), "elastic": ("",)}
 """The compliance modes each generalises: xib at its low end is the elastic base, cb = 0
@@ -180,6 +198,8 @@ class Row:
         shift: None (the beat is the dominant mode) or i omega0 (the mode nearest it).
         targets: the pins (growth rate 0 and the observed frequency, sigma ``tol``).
         omega: the observed angular frequency (dimensionless, omega0 of the beat).
+        solver: the eigen-solver its beat needs (None: the problem's default;
+            :class:`~axojax.eigen.NormalForce` for normal-force control).
     """
 
     mechanism: str
@@ -192,6 +212,7 @@ class Row:
     shift: complex | None
     targets: tuple[Target, ...]
     omega: float = 0.0
+    solver: AbstractEigenSolver | None = None
 
     @property
     def compliance(self) -> bool:
@@ -296,11 +317,15 @@ def coefficient_bounds(model: Model, params: Params) -> dict[str, tuple[float, f
     f = model.n_filaments
     chi = 20.0 * (1.0 + math.sqrt(sp)) * f / a0**2
     beta = 10.0 * (1.0 + sp**0.25) * f / a0
+    # the normal-force gain acts through the static moment: g m0 / F plays beta's part
+    normal = beta * a0 / max(abs(float(params.m0)), 1e-12)
     return {
         "chi_re": (-chi, chi),
         "chi_im": (-chi, chi),
         "beta_re": (-beta, beta),
         "beta_im": (-beta, beta),
+        "normal_re": (-normal, normal),
+        "normal_im": (-normal, normal),
     }
 
 
@@ -385,8 +410,10 @@ def row(
         raise ValueError(f"base: the model's base is not {base!r} (build it with build_model)")
     omega0 = float(units.omega0_from_hz(frequency_hz))
     targets = pins(frequency_hz, pin_tolerance)
-    zero = {"chi_re": 0.0, "chi_im": 0.0, "beta_re": 0.0, "beta_im": 0.0, "omega0": 0.0}
+    zero = dict.fromkeys(("chi_re", "chi_im", "beta_re", "beta_im", "normal_re", "normal_im"), 0.0)
+    zero["omega0"] = 0.0
     free = free_values(mechanism, model, mode)
+    solver = None
     if mechanism == "steady":
         ratio = STEADY_KL_RATIO if "ks" in free else None
         prm = params.replace(**zero)
@@ -398,6 +425,8 @@ def row(
         prm = params.replace(**zero).replace(p=0.0, omega0=omega0)
         bounds = {k: v for k, v in coefficient_bounds(model, prm).items() if k in free}
         ratio, shift = None, 1j * omega0
+        if "normal_re" in free:
+            solver = NormalForce()
     if mode:
         basal = compliance_bounds(model, prm, omega0)
         # start at the geometric middle of the box (both > 0: xib keeps C regular); an
@@ -408,7 +437,7 @@ def row(
         bounds["cb"] = (0.0, 1.0 / basal["kb"][0])  # from a rigid base (cb = 0)
         if "xib" in free:
             bounds["xib"] = basal["xib"]
-    return Row(mechanism, base, model, prm, free, bounds, ratio, shift, targets, omega0)
+    return Row(mechanism, base, model, prm, free, bounds, ratio, shift, targets, omega0, solver)
 
 
 def row_at_bound(row: Row, values: dict[str, float], at_bound) -> list[str]:

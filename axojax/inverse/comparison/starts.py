@@ -221,6 +221,8 @@ def _mechanism_hopf(row: Row) -> np.ndarray:
     """:func:`hopf_starts` of a row whose compliance, if any, is fixed in its params."""
     if row.shift is None or row.mechanism == "steady":
         return np.zeros((0, len(row.free)))
+    if "normal_re" in row.free:
+        return _normal_hopf(row)
     k0, u_chi, u_beta = _unit_terms(row)
     b = row.bounds
     points: list[dict[str, float]] = []
@@ -247,5 +249,40 @@ def _mechanism_hopf(row: Row) -> np.ndarray:
                 points.append(
                     {"chi_re": chi, "chi_im": 0.0, "beta_re": beta.real, "beta_im": beta.imag}
                 )
+    out = np.array([[p[f] for f in row.free] for p in points]).reshape(-1, len(row.free))
+    return _inside(row, out)
+
+
+def _normal_hopf(row: Row) -> np.ndarray:
+    """:func:`hopf_starts` of a normal-force row: at lambda = i omega0 the augmented pencil
+    (:func:`~axojax.assembly.normal_force.assemble_normal`) is K0 + chi U_chi + g U_g,
+    linear in the complex chi and the complex gain g (its friction g''/omega0 d/dt is
+    i g'' there). ``normal-force``: every g; ``sliding+normal-force``: g along a ladder
+    of complex chi, and chi at g = 0 (the sliding row's points)."""
+    from ...assembly.normal_force import assemble_normal
+
+    lam = row.shift
+    base = row.params.replace(chi_re=0.0, chi_im=0.0, normal_re=0.0, normal_im=0.0)
+
+    def pencil(prm: Params) -> np.ndarray:
+        system = assemble_normal(row.model, prm)
+        return np.asarray(system.A) + lam * np.asarray(system.C)
+
+    k0 = pencil(base)
+    u_chi, u_g = pencil(base.replace(chi_re=1.0)) - k0, pencil(base.replace(normal_re=1.0)) - k0
+    chis = [0.0]
+    if "chi_im" in row.free:
+        ladder = _grid(row.bounds["chi_re"][1], 3)
+        chis += [complex(x, y) for x in ladder for y in ladder]
+    points = [
+        {"chi_re": chi.real, "chi_im": chi.imag, "normal_re": g.real, "normal_im": g.imag}
+        for chi in map(complex, chis)
+        for g in _solve(k0 + chi * u_chi, u_g)
+    ]
+    if "chi_im" in row.free:
+        points += [
+            {"chi_re": chi.real, "chi_im": chi.imag, "normal_re": 0.0, "normal_im": 0.0}
+            for chi in _solve(k0, u_chi)
+        ]
     out = np.array([[p[f] for f in row.free] for p in points]).reshape(-1, len(row.free))
     return _inside(row, out)

@@ -45,8 +45,9 @@ def render_table(doc: dict[str, Any]) -> str:
 
     f_obs = doc["data"].get("frequency_hz")
     wb = max([8] + [len(r["base"]) for r in doc["rows"]])  # "clamped+compliance": 18
+    wm = max([18] + [len(r["mechanism"]) for r in doc["rows"]])  # "sliding+normal-force": 20
     head = (
-        f"{'rank':>4}{'':4} {'mechanism':<18} {'base':<{wb}} {'R^2':>7} {'f (Hz)':>8} {'df %':>7} "
+        f"{'rank':>4}{'':4} {'mechanism':<{wm}} {'base':<{wb}} {'R^2':>7} {'f (Hz)':>8} {'df %':>7} "
         f"{'chi2/dof':>9} {'BIC':>10} {'dBIC':>9} {'weight':>6} {'n':>2}  at bound"
     )
     lines = [head]
@@ -58,7 +59,7 @@ def render_table(doc: dict[str, Any]) -> str:
         )
         w = r.get("weight")
         lines.append(
-            f"{i:>4}{mark(r):<4} {r['mechanism']:<18} {r['base']:<{wb}} {num(r['r2'], '7.3f')} "
+            f"{i:>4}{mark(r):<4} {r['mechanism']:<{wm}} {r['base']:<{wb}} {num(r['r2'], '7.3f')} "
             f"{num(r['frequency_hz'], '8.3f')} {num(df, '+7.2f')} {num(r['chi2_per_dof'], '9.3g')} "
             f"{num(r['bic'], '10.1f')} {num(r['delta_bic'], '9.1f')} {num(w, '6.2f')} "
             f"{len(r.get('free', ())):>2}  " + (", ".join(r["at_bound"]) or "-")

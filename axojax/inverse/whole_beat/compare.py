@@ -40,13 +40,19 @@ from ...results import jsonable
 from ...results import name as result_name
 from ...units import Units
 from ..comparison.compare import as_beat, model_json, organism_of, physical_values
-from ..comparison.mechanisms import DEFAULT_PRESET, FREE, build_model, check_names, row
+from ..comparison.mechanisms import (
+    DEFAULT_PRESET,
+    ORBIT_MECHANISMS,
+    build_model,
+    check_names,
+    row,
+)
 from ..comparison.robustness import phase_chi2, whole_beat_bootstrap
 from ..comparison.table import physical_text
 from ..comparison.verdict import FREQUENCY_MATCH, mark, rank, verdict
 from .fit import WholeBeatFit, fit_whole_beat, linear_hopf, observed_measures
 
-MECHANISMS = tuple(FREE)
+MECHANISMS = ORBIT_MECHANISMS
 """The regulated mechanisms (the steady load's whole beat: ``axojax fit --target
 limit-cycle`` without ``--mechanism``)."""
 DEFAULT_BASES = ("clamped",)

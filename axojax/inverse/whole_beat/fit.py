@@ -59,7 +59,7 @@ from ...units import Units
 from ...waveform import measures as wm
 from .._arguments import SIGNED
 from ..comparison.compare import fit_row
-from ..comparison.mechanisms import FREE, Row
+from ..comparison.mechanisms import FREE, ORBIT_MECHANISMS, Row
 from ..fitting.fit import build_problem
 from ..fitting.least_squares import least_squares, solver_from_name
 from ..fitting.report import FitResult
@@ -396,7 +396,7 @@ def fit_whole_beat(
     Returns:
         :class:`WholeBeatFit`.
     """
-    if spec.mechanism not in FREE:
+    if spec.mechanism not in ORBIT_MECHANISMS:
         raise ValueError(
             f"mechanism: a whole-beat fit of a regulated row needs sliding, curvature or "
             f"sliding+curvature, got {spec.mechanism!r} (the steady load: axojax fit "
