@@ -14,6 +14,7 @@ import scipy.linalg as sl
 
 import axojax as ax
 from axojax.assembly import assemble_normal
+from axojax.beats.targets import ShapeTarget
 from axojax.dynamics.motors import equilibrium
 from axojax.eigen import normal_force_mode
 from axojax.inverse.comparison.mechanisms import build_model, row
@@ -22,7 +23,6 @@ from axojax.inverse.comparison.static_state import (
     not_applicable_reason,
     observed_static_curvature,
 )
-from axojax.beats.targets import ShapeTarget
 from axojax.inverse.predictions import model_psi1
 from axojax.waveform.shapes import centreline
 
