@@ -123,6 +123,21 @@ def test_verdict_fits_and_shape_only():
     assert 1.3 < shape["chi2_per_dof_max"] < 1.7
 
 
+def test_verdict_names_rows_within_two_bic_as_indistinguishable():
+    """Successful rows less than 2 BIC behind the best are named indistinguishable from
+    it; one 2.5 behind, and a failed one 0.5 behind, are not (issue 55)."""
+    rows = [
+        {"r2": 0.97, "chi2_per_dof": 1.0, "mechanism": "curvature", "delta_bic": 0.0},
+        {"r2": 0.96, "chi2_per_dof": 1.0, "mechanism": "normal-force", "delta_bic": 1.4},
+        {"r2": 0.95, "chi2_per_dof": 1.1, "mechanism": "sliding", "delta_bic": 2.5},
+        {"r2": 0.99, "mechanism": "sliding+curvature", "delta_bic": 0.5, "status": "missed_beat"},
+    ]
+    v = verdict(_doc(rows))
+    assert v["indistinguishable"] == ["normal-force on clamped"]
+    assert "indistinguishable from it by BIC (within 2): normal-force on clamped" in v["text"]
+    assert verdict(_doc(rows[:1]))["indistinguishable"] == []
+
+
 def test_verdict_ignores_rows_that_are_not_successful():
     v = verdict(
         _doc(

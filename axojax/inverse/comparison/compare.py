@@ -381,7 +381,8 @@ def compare(
         data: a :class:`~axojax.beats.BeatData`, a beat file or a bundled name
             (``"human_sperm"``).
         mechanisms: names of :data:`~axojax.inverse.comparison.mechanisms.MECHANISMS` (default all:
-            steady, sliding, curvature, sliding+curvature).
+            steady, sliding, curvature, sliding+curvature, normal-force,
+            sliding+normal-force).
         bases: names of :data:`~axojax.inverse.comparison.mechanisms.BASES` (default
             :data:`~axojax.inverse.comparison.mechanisms.DEFAULT_BASES`: clamped, free, head), each
             optionally with ``+compliance`` (``"head+compliance"``: a basal compliance,
@@ -413,7 +414,7 @@ def compare(
             (kb fitted; three of its own), ``"both"`` / ``"both-elastic"`` every base
             without and with the one or the other, ``"all"`` all three, ``False`` the bases
             as named. Default ``None``: the default bases without and with a basal spring
-            (``"both-elastic"``: 24 rows), named bases as named.
+            (``"both-elastic"``: 36 rows), named bases as named.
         organism: a name of :data:`axojax.units.ORGANISMS` (``"human_sperm"``,
             ``"bull_sperm"``, ``"sea_urchin_sperm"``, ``"chlamydomonas"``) or an
             :class:`~axojax.units.Organism`: its kappa and xi_n (unless ``units`` are given)

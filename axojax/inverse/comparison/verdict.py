@@ -152,6 +152,14 @@ def verdict(doc: dict[str, Any]) -> dict[str, Any]:
         )
     else:
         fits, text = "none", f"no row fits this beat (best R^2 {top_r2:.2f}; best by BIC: {name})"
+    close = [
+        f"{r['mechanism']} on {r['base']}"
+        for r in ok[1:]
+        if r.get("delta_bic") is not None and r["delta_bic"] < INDISTINGUISHABLE_BIC
+    ]
+    if close:
+        shown = ", ".join(close[:3]) + (f" and {len(close) - 3} more" if len(close) > 3 else "")
+        text += f"; indistinguishable from it by BIC (within {INDISTINGUISHABLE_BIC:g}): {shown}"
     warning = base_warning(doc, best)
     robust = doc.get("robustness")
     if robust and robust.get("identical"):
@@ -171,9 +179,13 @@ def verdict(doc: dict[str, Any]) -> dict[str, Any]:
         "chi2_per_dof_max": limit,
         "text": text,
         "warning": warning,
+        "indistinguishable": close,
     }
 
 
+INDISTINGUISHABLE_BIC = 2.0
+"""Successful rows within this BIC of the best are named as indistinguishable from it
+(Kass & Raftery 1995: a difference below 2 is "not worth more than a bare mention")."""
 BASE_PSI1_SHARE = 0.2
 """|psi_1(0)| above this share of max |psi_1| (and 3 of the data's median sigmas) contradicts
 a winning base that holds the tangent (clamped or pivot on a spring: psi_1(0) = 0)."""
