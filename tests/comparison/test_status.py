@@ -179,6 +179,28 @@ def test_table_marks_and_explains_rows_that_are_not_successful():
     assert "verdict: sliding on clamped fits this beat" in text
 
 
+def test_rows_sharing_a_reason_are_explained_in_one_line():
+    """Three not_applicable rows with one reason: one line with their ranks (a range),
+    mechanisms and bases, the reason once; a lone reason keeps its own line."""
+    why = "normal-force control is built on the clamped base only so far"
+    rows = [{"r2": 0.95, "chi2_per_dof": 1.0, "weight": 1.0}]
+    rows += [
+        {"mechanism": m, "base": b, "status": "not_applicable", "reason": why}
+        for m, b in (
+            ("normal-force", "free"),
+            ("normal-force", "head"),
+            ("sliding+normal-force", "free"),
+        )
+    ]
+    rows.append(
+        {"mechanism": "steady", "base": "head", "status": "not_applicable", "reason": "other"}
+    )
+    text = render_table(_doc(rows))
+    assert f"  2-4 (normal-force, sliding+normal-force on free, head): {why}" in text
+    assert text.count(why) == 1
+    assert "   5 steady on head: other" in text
+
+
 def test_params_table_has_units_and_errors():
     doc = _doc(
         [

@@ -72,7 +72,7 @@ def render_table(doc: dict[str, Any]) -> str:
         these = [(i, r) for i, r in failed if mark(r) == symbol]
         if these:
             lines.append(f"{symbol} {meaning}:")
-            lines += [f"  {i:>2} {r['mechanism']} on {r['base']}: {r['reason']}" for i, r in these]
+            lines += _reason_lines(these)
     v = doc.get("verdict") or verdict(doc)
     lines.append(f"verdict: {v['text']}")
     lines.append(f"  ({v['rule']})")
@@ -157,3 +157,23 @@ def render_params(doc: dict[str, Any]) -> str:
         "the observed frequency), so without an error from the data"
     )
     return "\n".join(lines)
+
+
+def _reason_lines(rows: list[tuple[int, dict]]) -> list[str]:
+    """One line per row and reason; rows that share a reason (more than two) in one line:
+    their ranks, mechanisms and bases, then the reason once."""
+    groups: dict[str, list[tuple[int, dict]]] = {}
+    for i, r in rows:
+        groups.setdefault(str(r["reason"]), []).append((i, r))
+    out = []
+    for reason, these in groups.items():
+        if len(these) <= 2:
+            out += [f"  {i:>2} {r['mechanism']} on {r['base']}: {reason}" for i, r in these]
+            continue
+        idx = [i for i, _ in these]
+        contiguous = idx == list(range(idx[0], idx[-1] + 1))
+        ranks = f"{idx[0]}-{idx[-1]}" if contiguous else ", ".join(map(str, idx))
+        mechs = ", ".join(dict.fromkeys(r["mechanism"] for _, r in these))
+        bases = ", ".join(dict.fromkeys(r["base"] for _, r in these))
+        out.append(f"  {ranks} ({mechs} on {bases}): {reason}")
+    return out
