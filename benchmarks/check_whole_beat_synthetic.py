@@ -10,7 +10,7 @@ and each regulated mechanism, a recording is made with the model:
   (:func:`~axojax.inverse.comparison.starts.hopf_starts`) whose beat is the onset mode for
   some motor time (:func:`~axojax.inverse.whole_beat.fit.motor_time`), its coefficients
   20 % past it, m0 and f_sat set to the unit system's static curvature and amplitude
-  (lowered where psi would swing more than 4 rad at some point)
+  (f_sat lowered in steps of 15 % where psi would swing more than 5.5 rad at some point)
   (:func:`~axojax.inverse.whole_beat.fit.start_values`, used here only to place the truth);
 - its limit cycle (:func:`axojax.limit_cycle`) written as a kymograph of 8 cycles of 48
   frames: psi(s, t) as the orbit draws it (its own psi_2 and higher harmonics), plus a
@@ -59,7 +59,7 @@ MECHANISMS = ("sliding", "curvature", "sliding+curvature")
 PAST = 1.2
 BASE_ANGLE = 1.7
 CYCLES, FRAMES, POINTS, ELEMENTS = 8, 48, 31, 10
-SWING = 4.0  # rad: the largest swing of psi at any point (a beat's, not a rotation's)
+SWING = 5.5  # rad: the largest swing of psi at any point (a reader takes up to 2 pi)
 
 
 def _swing(cycle) -> float:
@@ -96,10 +96,10 @@ def truth_of(spec, units, static, amplitude):
         except ValueError:
             continue
         cycle = _orbit(spec, prm, tau_m, f_sat, orbit)
-        for _ in range(4):
+        for _ in range(16):  # continued in steps of 15 % (a larger one loses the orbit)
             if cycle is None or _swing(cycle) <= SWING:
                 break
-            f_sat *= 0.8 * SWING / _swing(cycle)
+            f_sat *= 0.85
             cycle = _orbit(spec, prm, tau_m, f_sat, cycle)
         if cycle is not None and _swing(cycle) <= SWING:
             return prm, tau_m, f_sat, cycle

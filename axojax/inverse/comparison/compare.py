@@ -33,7 +33,6 @@ from ...beats.frames import in_basal_frame
 from ...beats.targets import FRAMES
 from ...beats.units import beat_units
 from ...models.presets import preset_section
-from ...params import Params
 from ...results import jsonable
 from ...results import name as result_name
 from ...units import ORGANISMS, Organism, Units
@@ -42,6 +41,7 @@ from ..fitting.identifiability import distinct_optima
 from ..fitting.least_squares import least_squares, solver_from_name
 from ..fitting.report import FitResult
 from ..problem import SHAPE_FLOOR, Problem
+from . import static_state
 from .errors import physical_stderr
 from .mechanisms import (
     DEFAULT_ELEMENTS,
@@ -58,7 +58,6 @@ from .mechanisms import (
 )
 from .robustness import cycle_bootstrap
 from .starts import SCREEN, hopf_starts, nested_starts, row_starts, screened_starts, values_to_u
-from .static_state import NORMAL_MECHANISMS, matching_moment, not_applicable_reason
 from .table import PHYSICAL, render_params, render_table
 from .verdict import rank, row_status, verdict
 
@@ -476,15 +475,12 @@ def compare(
         the_model = build_model(model, n_elements, base, units, head, profiles)
         spec = row(mech, base, the_model, units, f_obs, pin_tolerance=pin_tolerance)
         inner = [fitted[c] for c in contained(mech, base) if c in fitted]
-        reason = not_applicable_reason(mech, base, shape)
+        reason = static_state.not_applicable_reason(mech, base, shape)
         if reason is not None:
             fitted[(mech, base)] = CompareRow.not_applicable(mech, base, spec.free, reason)
             rows.extend([fitted[(mech, base)]] if (mech, base) in asked else [])
             continue
-        if mech in NORMAL_MECHANISMS:  # the static state of the observed static bend
-            m0 = matching_moment(the_model, spec.params, shape, units)
-            spec = row(mech, base, the_model, units, f_obs, params=Params(m0=m0),
-                       pin_tolerance=pin_tolerance)  # fmt: skip
+        spec = static_state.with_static_state(spec, shape, units, f_obs, pin_tolerance)
         r = fit_row(
             spec, shape, units, optimiser, starts, seed, shape_floor, f_obs, pin_tolerance, inner
         )
@@ -595,5 +591,7 @@ def fit_row(
         contains=[f"{r.mechanism}/{r.base}" for r in inner],
     )
     out.physical_stderr, out.pinned = physical_stderr(out, units)
+    if spec.mechanism in static_state.NORMAL_MECHANISMS:  # the measured static state's error
+        static_state.add_static_errors(out, spec, shape, units, shape_floor)
     out.wall_s = time.perf_counter() - t0
     return out

@@ -8,6 +8,12 @@ observed static curvature (the least-squares slope of psi_0 over arc length, rad
 :func:`axojax.waveform.measures.static_curvature` measures it). The equilibrium is linear
 in m0 (the passive model under the static load), so one solve at a unit moment gives it.
 
+The static curvature is measured with an error, and the fitted values move with it (the
+gain most: psi_1 and the pins determine g m0, not g): :func:`add_static_errors` adds, in
+quadrature, the error it carries into each fitted value (the Gauss-Newton sensitivity of
+the optimum to m0, from one Jacobian of the row's problem with m0 free too) to the row's
+standard errors; a value the pins alone would fix is then no longer "pinned".
+
 Where the beat's static curvature is below :data:`SIGNIFICANT` standard errors there is no
 static normal force to regulate by: the rows are ``not_applicable`` with that reason
 (:func:`not_applicable_reason`). The standard error is the least-squares slope's with
@@ -26,6 +32,7 @@ from ...params import MECHANISM_NAMES, Params
 from ...units import Units
 from ...waveform import measures as wm
 from ...waveform.shapes import centreline
+from .mechanisms import row
 
 SIGNIFICANT = 2.0
 """A static curvature counts when it is at least this many standard errors from 0."""
@@ -80,3 +87,77 @@ def matching_moment(model: Model, params: Params, shape: ShapeTarget, units: Uni
     if per_m0 == 0.0:
         raise ValueError("m0: the model's static moment bends nothing (no active pairs?)")
     return observed_static_curvature(shape)[0] / per_m0
+
+
+def with_static_state(spec, shape: ShapeTarget, units: Units, frequency_hz: float, pin_tolerance):
+    """``spec`` itself, or for a normal-force row the same row at the static moment of
+    :func:`matching_moment` (its gain's bounds follow the moment)."""
+    if spec.mechanism not in NORMAL_MECHANISMS:
+        return spec
+    m0 = matching_moment(spec.model, spec.params, shape, units)
+    return row(spec.mechanism, spec.base, spec.model, units, frequency_hz,
+               params=Params(m0=m0), pin_tolerance=pin_tolerance)  # fmt: skip
+
+
+def static_sensitivity(spec, shape: ShapeTarget, units: Units, values: dict, shape_floor: float):
+    """d(fitted value)/d m0 at the optimum ``values`` of the row ``spec`` (a
+    :class:`~axojax.inverse.comparison.mechanisms.Row` whose params hold the static
+    moment): -(J^T J)^-1 J^T dr/dm0, J the Jacobian of the normalised residuals in the
+    fitted values (pins included) and dr/dm0 their derivative in m0, from the row's
+    problem with m0 free too (one compiled Jacobian)."""
+    from ..fitting.fit import build_problem
+
+    m0 = float(spec.params.m0)
+    bound = 10.0 * abs(m0) + 1.0
+    problem = build_problem(
+        spec.model,
+        spec.params,
+        list(spec.targets),
+        (*spec.free, "m0"),
+        shape=shape,
+        bounds={**spec.bounds, "m0": (-bound, bound)},
+        kl_ratio=spec.kl_ratio,
+        units=units,
+        shape_floor=shape_floor,
+        shift=spec.shift,
+        mechanism=spec.mechanism,
+        base=spec.base,
+        **({} if spec.solver is None else {"solver": spec.solver}),
+    )
+    v = np.array([values[n] for n in spec.free] + [m0])
+    J = problem.jacobian(np.array([p.to_u(x) for p, x in zip(problem.parameters, v)]))
+    du = -np.linalg.lstsq(J[:, :-1], J[:, -1], rcond=None)[0]  # m0 is linear: u = m0
+    # back to values: a log coordinate's d value = value d u
+    return {
+        p.name: float(du[i] * (v[i] if p.log else 1.0))
+        for i, p in enumerate(problem.parameters[:-1])
+    }
+
+
+def add_static_errors(out, spec, shape: ShapeTarget, units: Units, shape_floor: float) -> None:
+    """Add to the normal-force row ``out`` (a :class:`~.compare.CompareRow`, fitted) the
+    error its static state carries into each fitted value (module docstring), in
+    quadrature with the data's, in ``out.physical_stderr`` (and out of ``out.pinned``)."""
+    from .table import PHYSICAL
+
+    if out.fit is None or not out.params:
+        return
+    c0, se_c0 = observed_static_curvature(shape)
+    m0 = float(spec.params.m0)
+    if c0 == 0.0 or m0 == 0.0:
+        return
+    se_m0 = abs(m0) * se_c0 / abs(c0)  # m0 is proportional to the static curvature
+    try:
+        slope = static_sensitivity(spec, shape, units, out.params, shape_floor)
+    except (ValueError, np.linalg.LinAlgError):
+        return
+    for name, d in slope.items():
+        if name not in PHYSICAL:
+            continue
+        key, conv = PHYSICAL[name]
+        extra = abs(d) * se_m0
+        extra = extra if conv is None else abs(float(getattr(units, conv)(extra)))
+        data = out.physical_stderr.get(key)
+        out.physical_stderr[key] = float(np.hypot(data or 0.0, extra))
+        if key in out.pinned and extra > 0:
+            out.pinned.remove(key)

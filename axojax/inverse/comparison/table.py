@@ -21,6 +21,8 @@ PHYSICAL = {
     "ks": ("ks_pn_per_um2", "k_to_pn_per_um2"),
     "cl": ("cl_pn_s_per_um2", "c_to_pn_s_per_um2"),
     "gamma": ("gamma", None),
+    "normal_re": ("normal_re", None),
+    "normal_im": ("normal_im", None),
     "m0": ("m0_pn", "moment_to_pn"),
     "f_sat": ("f_sat_pn_per_um", "p_to_pn_per_um"),
     "tau_m": ("tau_m_ms", "time_to_ms"),
@@ -29,7 +31,8 @@ PHYSICAL = {
 conversion to it (docs/model.md section 1 and 8): chi in pN/um^2, beta in pN, the steady
 load p in pN/um, the basal spring k_b in pN/um (fitted as its compliance 1/k_b, um/pN: 0 is
 a rigid base) and friction xi_b in pN s/um, the links'
-stiffness (pN/um^2) and damping (pN s/um^2); the dynein moment gain gamma is a number; a
+stiffness (pN/um^2) and damping (pN s/um^2); the dynein moment gain gamma and the
+normal-force gain g = g' + i g'' are numbers; a
 whole beat's static moment m0 in pN, motor saturation f_sat in pN/um and motor time tau_m
 in ms."""
 
