@@ -45,6 +45,7 @@ from axojax.beats.targets import ShapeTarget
 from axojax.eigen import normal_force_mode
 from axojax.inverse.comparison.mechanisms import build_model, row
 from axojax.inverse.comparison.static_state import matching_moment
+from axojax.inverse.comparison.synthetic import write_fourier_modes
 from axojax.inverse.predictions import model_psi1
 from axojax.units import ORGANISMS
 from axojax.waveform.shapes import centreline
@@ -71,25 +72,19 @@ def make_beat(path, truth: str, seed: int, elements: int):
     spec = row("normal-force", "clamped", model, units, hz)
     prm = spec.params.replace(m0=matching_moment(model, spec.params, line, units))
     w = 1j * float(prm.omega0)
-    if truth == "normal-force":
+    normal = truth == "normal-force"
+    field = "normal" if normal else "beta"
 
-        def pencil(p):
-            m = assemble_normal(model, p)
-            return np.asarray(m.A) + w * np.asarray(m.C)
+    def pencil(p):  # at lambda = i omega0, linear in the complex gain of ``field``
+        m = (assemble_normal if normal else assemble)(model, p)
+        return np.asarray(m.A) + w * np.asarray(m.C)
 
-        k0 = pencil(prm)
-        value = smallest_root(k0, pencil(prm.replace(normal_re=1.0)) - k0)
-        params = prm.replace(normal_re=value.real, normal_im=value.imag)
+    k0 = pencil(prm)
+    value = smallest_root(k0, pencil(prm.replace(**{f"{field}_re": 1.0})) - k0)
+    params = prm.replace(**{f"{field}_re": value.real, f"{field}_im": value.imag})
+    if normal:
         mode = normal_force_mode(model, params, w)
     else:
-
-        def pencil(p):
-            m = assemble(model, p)
-            return np.asarray(m.A) + w * np.asarray(m.C)
-
-        k0 = pencil(prm)
-        value = smallest_root(k0, pencil(prm.replace(beta_re=1.0)) - k0)
-        params = prm.replace(beta_re=value.real, beta_im=value.imag)
         mode = ax.nearest_mode(model, params, w, solver=ax.eigen.Dense())
     psi1 = np.asarray(model_psi1(model, mode, s / LENGTH_UM))
     psi1 = PEAK * psi1 / np.abs(psi1).max() * np.exp(2j * np.pi * rng.random())
@@ -99,17 +94,7 @@ def make_beat(path, truth: str, seed: int, elements: int):
     noise = 0.05 * float(np.mean(np.abs(psi1)))
     psi1 = psi1 + noise * (rng.normal(size=POINTS) + 1j * rng.normal(size=POINTS))
     psi0 = psi0 + noise / np.sqrt(2.0) * rng.normal(size=POINTS)  # a kymograph's ratio
-    np.savez(
-        path,
-        s_um=s,
-        psi0_rad=psi0,
-        psi1_re_rad=psi1.real,
-        psi1_im_rad=psi1.imag,
-        psi1_sigma_rad=np.full(POINTS, noise),
-        length_um=LENGTH_UM,
-        frequency_hz=hz,
-        frequency_sigma_hz=0.01 * hz,
-    )
+    write_fourier_modes(path, s, psi1, noise, hz, LENGTH_UM, psi0=psi0)
     return value
 
 

@@ -23,6 +23,7 @@ from axojax.inverse.comparison.static_state import (
     not_applicable_reason,
     observed_static_curvature,
 )
+from axojax.inverse.comparison.synthetic import write_fourier_modes
 from axojax.inverse.predictions import model_psi1
 from axojax.waveform.shapes import centreline
 
@@ -65,17 +66,7 @@ def beat(tmp_path_factory):
     psi1 = psi1 + NOISE * (rng.normal(size=S_UM.size) + 1j * rng.normal(size=S_UM.size))
     psi0 = _static_psi0(model, truth) + 0.7 + NOISE / np.sqrt(2) * rng.normal(size=S_UM.size)
     path = tmp_path_factory.mktemp("nf") / "beat.npz"
-    np.savez(
-        path,
-        s_um=S_UM,
-        psi0_rad=psi0,
-        psi1_re_rad=psi1.real,
-        psi1_im_rad=psi1.imag,
-        psi1_sigma_rad=np.full(S_UM.size, NOISE),
-        length_um=12.0,
-        frequency_hz=HZ,
-        frequency_sigma_hz=0.5,
-    )
+    write_fourier_modes(path, S_UM, psi1, NOISE, HZ, 12.0, psi0=psi0)
     return path, truth, g
 
 

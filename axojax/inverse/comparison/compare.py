@@ -592,6 +592,7 @@ def fit_row(
     )
     out.physical_stderr, out.pinned = physical_stderr(out, units)
     if spec.mechanism in static_state.NORMAL_MECHANISMS:  # the measured static state's error
-        static_state.add_static_errors(out, spec, shape, units, shape_floor)
+        problem_of = lambda s: row_problem(s, shape, units, shape_floor)  # noqa: E731
+        static_state.add_static_errors(out, spec, shape, units, problem_of)
     out.wall_s = time.perf_counter() - t0
     return out

@@ -92,21 +92,28 @@ def nested_starts(problem: Problem, spec: Row, inner: list) -> np.ndarray:
 
 
 # -- exact Hopf points: starts of a regulated row ------------------------------------------
-def _unit_terms(row: Row) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(K0, U_chi, U_beta): at lambda = i omega0 the pencil A + lambda C of the row's
+def _unit_terms(row: Row, second: str = "beta") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(K0, U_chi, U_second): at lambda = i omega0 the pencil A + lambda C of the row's
     model is K0 + chi U_chi + beta U_beta, linear in the complex chi = chi' + i chi'' and
-    beta = beta' + i beta'' (docs/model.md section 8: the terms equal chi and beta there)."""
+    beta = beta' + i beta'' (docs/model.md section 8: the terms equal chi and beta there);
+    ``second="normal"``: the augmented pencil of normal-force control
+    (:func:`~axojax.assembly.normal_force.assemble_normal`), K0 + chi U_chi + g U_g (the
+    gain's friction g''/omega0 d/dt is i g'' there)."""
     from ...assembly import assemble
+    from ...assembly.normal_force import assemble_normal
 
     lam = row.shift
-    base = row.params.replace(chi_re=0.0, chi_im=0.0, beta_re=0.0, beta_im=0.0)
+    build = assemble_normal if second == "normal" else assemble
+    zero = ("chi_re", "chi_im", f"{second}_re", f"{second}_im")
+    base = row.params.replace(**dict.fromkeys(zero, 0.0))
 
     def pencil(prm: Params) -> np.ndarray:
-        system = assemble(row.model, prm)
+        system = build(row.model, prm)
         return np.asarray(system.A) + lam * np.asarray(system.C)
 
     k0 = pencil(base)
-    return k0, pencil(base.replace(chi_re=1.0)) - k0, pencil(base.replace(beta_re=1.0)) - k0
+    unit = pencil(base.replace(**{f"{second}_re": 1.0})) - k0
+    return k0, pencil(base.replace(chi_re=1.0)) - k0, unit
 
 
 def _solve(k: np.ndarray, unit: np.ndarray) -> np.ndarray:
@@ -259,17 +266,7 @@ def _normal_hopf(row: Row) -> np.ndarray:
     linear in the complex chi and the complex gain g (its friction g''/omega0 d/dt is
     i g'' there). ``normal-force``: every g; ``sliding+normal-force``: g along a ladder
     of complex chi, and chi at g = 0 (the sliding row's points)."""
-    from ...assembly.normal_force import assemble_normal
-
-    lam = row.shift
-    base = row.params.replace(chi_re=0.0, chi_im=0.0, normal_re=0.0, normal_im=0.0)
-
-    def pencil(prm: Params) -> np.ndarray:
-        system = assemble_normal(row.model, prm)
-        return np.asarray(system.A) + lam * np.asarray(system.C)
-
-    k0 = pencil(base)
-    u_chi, u_g = pencil(base.replace(chi_re=1.0)) - k0, pencil(base.replace(normal_re=1.0)) - k0
+    k0, u_chi, u_g = _unit_terms(row, "normal")
     chis = [0.0]
     if "chi_im" in row.free:
         ladder = _grid(row.bounds["chi_re"][1], 3)

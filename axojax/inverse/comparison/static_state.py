@@ -23,6 +23,8 @@ both; a Fourier-mode file's sigma is its psi_1's).
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from ...assembly import assemble
@@ -99,31 +101,19 @@ def with_static_state(spec, shape: ShapeTarget, units: Units, frequency_hz: floa
                params=Params(m0=m0), pin_tolerance=pin_tolerance)  # fmt: skip
 
 
-def static_sensitivity(spec, shape: ShapeTarget, units: Units, values: dict, shape_floor: float):
+def static_sensitivity(problem_of, spec, values: dict) -> dict[str, float]:
     """d(fitted value)/d m0 at the optimum ``values`` of the row ``spec`` (a
     :class:`~axojax.inverse.comparison.mechanisms.Row` whose params hold the static
     moment): -(J^T J)^-1 J^T dr/dm0, J the Jacobian of the normalised residuals in the
     fitted values (pins included) and dr/dm0 their derivative in m0, from the row's
-    problem with m0 free too (one compiled Jacobian)."""
-    from ..fitting.fit import build_problem
-
+    problem with m0 free too (``problem_of(row)``: compare's ``row_problem`` on the
+    observed shape; one compiled Jacobian)."""
     m0 = float(spec.params.m0)
     bound = 10.0 * abs(m0) + 1.0
-    problem = build_problem(
-        spec.model,
-        spec.params,
-        list(spec.targets),
-        (*spec.free, "m0"),
-        shape=shape,
-        bounds={**spec.bounds, "m0": (-bound, bound)},
-        kl_ratio=spec.kl_ratio,
-        units=units,
-        shape_floor=shape_floor,
-        shift=spec.shift,
-        mechanism=spec.mechanism,
-        base=spec.base,
-        **({} if spec.solver is None else {"solver": spec.solver}),
+    free = dataclasses.replace(
+        spec, free=(*spec.free, "m0"), bounds={**spec.bounds, "m0": (-bound, bound)}
     )
+    problem = problem_of(free)
     v = np.array([values[n] for n in spec.free] + [m0])
     J = problem.jacobian(np.array([p.to_u(x) for p, x in zip(problem.parameters, v)]))
     du = -np.linalg.lstsq(J[:, :-1], J[:, -1], rcond=None)[0]  # m0 is linear: u = m0
@@ -134,10 +124,11 @@ def static_sensitivity(spec, shape: ShapeTarget, units: Units, values: dict, sha
     }
 
 
-def add_static_errors(out, spec, shape: ShapeTarget, units: Units, shape_floor: float) -> None:
+def add_static_errors(out, spec, shape: ShapeTarget, units: Units, problem_of) -> None:
     """Add to the normal-force row ``out`` (a :class:`~.compare.CompareRow`, fitted) the
     error its static state carries into each fitted value (module docstring), in
-    quadrature with the data's, in ``out.physical_stderr`` (and out of ``out.pinned``)."""
+    quadrature with the data's, in ``out.physical_stderr`` (and out of ``out.pinned``);
+    ``problem_of``: as :func:`static_sensitivity`'s."""
     from .table import PHYSICAL
 
     if out.fit is None or not out.params:
@@ -148,7 +139,7 @@ def add_static_errors(out, spec, shape: ShapeTarget, units: Units, shape_floor: 
         return
     se_m0 = abs(m0) * se_c0 / abs(c0)  # m0 is proportional to the static curvature
     try:
-        slope = static_sensitivity(spec, shape, units, out.params, shape_floor)
+        slope = static_sensitivity(problem_of, spec, out.params)
     except (ValueError, np.linalg.LinAlgError):
         return
     for name, d in slope.items():

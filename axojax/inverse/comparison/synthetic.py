@@ -50,15 +50,37 @@ def synthetic_beat(
     psi1 = np.asarray(problem.evaluate(u)["conditions"][0]["psi1_fit"])
     psi1 = peak_rad * psi1 / np.abs(psi1).max()
     psi1 = psi1 + noise_rad * (rng.normal(size=s.size) + 1j * rng.normal(size=s.size))
-    np.savez(
-        path,
-        s_um=s,
-        psi0_rad=np.zeros_like(s),
+    write_fourier_modes(path, s, psi1, noise_rad, frequency_hz, length_um, psi0=np.zeros_like(s))
+    return str(path), problem.values(u)
+
+
+def write_fourier_modes(
+    path,
+    s_um: np.ndarray,
+    psi1: np.ndarray,
+    sigma_rad,
+    frequency_hz: float,
+    length_um: float,
+    *,
+    psi0: np.ndarray | None = None,
+    frequency_sigma_hz: float | None = None,
+) -> None:
+    """Write a Fourier-mode beat file (docs/own_beat.md: ``s_um``, ``psi1_re_rad``,
+    ``psi1_im_rad``, ``psi1_sigma_rad``, ``psi0_rad`` when given, ``length_um``,
+    ``frequency_hz`` and ``frequency_sigma_hz``, default 1 % of the frequency) to ``path``."""
+    s_um = np.asarray(s_um, dtype=float)
+    psi1 = np.asarray(psi1, dtype=complex)
+    fields = dict(
+        s_um=s_um,
         psi1_re_rad=psi1.real,
         psi1_im_rad=psi1.imag,
-        psi1_sigma_rad=np.full_like(s, noise_rad),
+        psi1_sigma_rad=np.broadcast_to(np.asarray(sigma_rad, dtype=float), s_um.shape),
         length_um=length_um,
         frequency_hz=frequency_hz,
-        frequency_sigma_hz=0.01 * frequency_hz,
+        frequency_sigma_hz=0.01 * frequency_hz
+        if frequency_sigma_hz is None
+        else frequency_sigma_hz,
     )
-    return str(path), problem.values(u)
+    if psi0 is not None:
+        fields["psi0_rad"] = np.asarray(psi0, dtype=float)
+    np.savez(path, **fields)
