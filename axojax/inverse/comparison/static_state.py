@@ -4,8 +4,8 @@ observed static bend, and the static moment that gives the model the same one.
 Normal-force control responds to departures of the normal force N_a = kappa_a,0 F_a +
 F_a,0 kappa_a from the static state, so a row needs that state: as Sartori et al. (2016)
 take C_0 from the recording, a row's static moment m0 is the one whose equilibrium has the
-observed static curvature (the least-squares slope of psi_0 over arc length, rad/um, as
-:func:`axojax.waveform.measures.static_curvature` measures it). The equilibrium is linear
+observed static curvature (the least-squares slope of psi_0 over arc length, rad/um,
+weighted by psi_0's sigma, for model and data alike). The equilibrium is linear
 in m0 (the passive model under the static load), so one solve at a unit moment gives it.
 
 The static curvature is measured with an error, and the fitted values move with it (the
@@ -32,7 +32,6 @@ from ...beats.targets import ShapeTarget
 from ...models.section import Model
 from ...params import MECHANISM_NAMES, Params
 from ...units import Units
-from ...waveform import measures as wm
 from ...waveform.shapes import centreline
 from .mechanisms import row
 
@@ -47,8 +46,14 @@ def observed_static_curvature(shape: ShapeTarget) -> tuple[float, float]:
     the observed psi_0 over s (module docstring). One-line ``ValueError`` without psi_0."""
     if shape.psi0 is None:
         raise ValueError("shape: normal-force rows need the observed psi_0 (the static bend)")
+    return _weighted_slope(shape, shape.psi0)
+
+
+def _weighted_slope(shape: ShapeTarget, psi0) -> tuple[float, float]:
+    """(slope, its standard error) of ``psi0`` over the shape's s, weighted by psi_0's
+    sigma (psi_1's over sqrt 2)."""
     s = np.asarray(shape.s_um, dtype=float)
-    psi0 = np.asarray(shape.psi0, dtype=float)
+    psi0 = np.asarray(psi0, dtype=float)
     sigma = np.broadcast_to(np.asarray(shape.sigma, dtype=float), s.shape) / np.sqrt(2.0)
     w = 1.0 / sigma**2
     mean = np.sum(w * s) / np.sum(w)
@@ -85,7 +90,7 @@ def matching_moment(model: Model, params: Params, shape: ShapeTarget, units: Uni
     s = np.asarray(shape.s_um, dtype=float)
     slope = np.asarray(centreline(model, q0[None], s / units.length_um, 1))[0]  # (d, S)
     slope = slope[np.argmax(np.linalg.norm(slope, axis=1))]  # the bend's direction
-    per_m0 = float(wm.static_curvature(s, slope))
+    per_m0 = _weighted_slope(shape, slope)[0]  # measured as the observed one
     if per_m0 == 0.0:
         raise ValueError("m0: the model's static moment bends nothing (no active pairs?)")
     return observed_static_curvature(shape)[0] / per_m0
