@@ -137,3 +137,7 @@ def test_compare_fits_the_normal_force_row_that_made_the_beat(beat):
     doc = result.to_json()
     assert any(r["status"] == "not_applicable" for r in doc["rows"])
     assert "sliding+normal-force" in result.table()
+    line = next(
+        x for x in result.table(params=True).splitlines() if "normal-force on clamped:" in x
+    )
+    assert "g' " in line and "g'' " in line and "+-" in line  # the gain with its error

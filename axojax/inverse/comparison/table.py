@@ -110,6 +110,8 @@ PARAM_UNITS = {
     "ks_pn_per_um2": ("k_s", "pN/um^2"),
     "cl_pn_s_per_um2": ("c_l", "pN s/um^2"),
     "gamma": ("gamma", ""),
+    "normal_re": ("g'", ""),
+    "normal_im": ("g''", ""),
     "m0_pn": ("m0", "pN"),
     "f_sat_pn_per_um": ("f_sat", "pN/um"),
     "tau_m_ms": ("tau_m", "ms"),
@@ -154,6 +156,7 @@ def render_params(doc: dict[str, Any]) -> str:
         lines.append(f"{i:>4}{mark(r):<4} {r['mechanism']} on {r['base']}: " + physical_text(r))
     lines.append(
         "chi = chi' + i chi'' (sliding control), beta = beta' + i beta'' (curvature control), "
+        "g = g' + i g'' (normal-force control, dimensionless), "
         "p the steady dynein load, 1/k_b and xi_b the basal compliance and friction, k_l and c_l the "
         "links' stiffness and damping (docs/mechanisms.md); ? = not determined by the data; "
         "pinned = fixed by the pins that hold the row's beat at the observed one (growth rate 0, "
