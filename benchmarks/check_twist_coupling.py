@@ -3,9 +3,8 @@ measurement; docs/model.md section 8 argues that the four and seven presets cann
 
 Twist is the cross-section's rigid rotation Theta(x) in its own plane: filament f at
 (y_f, z_f) moves by Theta (-z_f, y_f); bending is the section's rigid translation w(x) in
-y or z. With T and B the matrices whose columns span these in the model's unknowns (every
-finite-element shape of Theta and w; filament-major order, checked here: the twist's
-centreline is 0, a y translation's is y only), the script prints per preset and load:
+y or z. With T and B the matrices whose columns span these in the model's unknowns
+(:func:`axojax.models.section_motions`), the script prints per preset and load:
 
 - |T^T A B| / |T^T A T| and |B^T A T| / |B^T A B|: the stiffness's coupling of twist and
   bending, relative to each block (0 to rounding: no coupling at linear order);
@@ -30,7 +29,7 @@ import argparse
 import numpy as np
 
 import axojax as ax
-from axojax.waveform.shapes import centreline
+from axojax.models import section_motions
 
 LOADS = {
     "passive": ax.Params(p=0.0),
@@ -38,25 +37,6 @@ LOADS = {
     "p=300, imbalance 2": ax.Params(p=300.0, imbalance=2.0),
     "static moment m0=10": ax.Params(p=0.0, m0=10.0),
 }
-
-
-def subspaces(model) -> tuple[np.ndarray, np.ndarray]:
-    """(T (n, m), B (n, 2 m)): the twist and the y and z translations of the section, m
-    finite-element values per field (module docstring)."""
-    pos = np.asarray(model.section.positions, dtype=float)
-    m = model.n_unknowns // model.n_fd
-    eye = np.eye(m)
-    T = np.zeros((model.n_unknowns, m))
-    B = np.zeros((model.n_unknowns, 2 * m))
-    for f, (y, z) in enumerate(pos):
-        for d, c in ((0, -z), (1, y)):
-            T[(2 * f + d) * m : (2 * f + d + 1) * m] = c * eye
-            B[(2 * f + d) * m : (2 * f + d + 1) * m, d * m : (d + 1) * m] = eye
-    x = np.linspace(0.1, 1.0, 5)
-    twist_centre = np.abs(np.asarray(centreline(model, T.T, x))).max()
-    leak = np.abs(np.asarray(centreline(model, B[:, :m].T, x))[:, 1]).max()
-    assert twist_centre < 1e-12 and leak == 0.0, "the unknowns' order is not filament-major"
-    return T, B
 
 
 def main() -> None:
@@ -68,7 +48,7 @@ def main() -> None:
     )
     for name in ("four", "seven", "nine"):
         model = getattr(ax.models, name)(n_elements=args.elements)
-        T, B = subspaces(model)
+        T, B = section_motions(model)
         for label, prm in LOADS.items():
             s = ax.assemble(model, prm)
             A, C, b = np.asarray(s.A), np.asarray(s.C), np.asarray(s.b)

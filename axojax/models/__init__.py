@@ -9,6 +9,7 @@ from .base import BASE_KINDS, Base, spheroid_drags
 from .io import load_section, section_from_dict
 from .presets import PRESETS, beck, four, nine, preset, seven, single, two
 from .section import IMBALANCE_KINDS, ActivePair, CrossSection, Link, Model, build_model
+from .section_motions import section_motions
 
 
 def from_file(
@@ -23,6 +24,7 @@ def from_file(
 
 
 __all__ = [
+    "section_motions",
     "BASE_KINDS",
     "Base",
     "spheroid_drags",
