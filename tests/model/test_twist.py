@@ -1,7 +1,7 @@
 """Twist and bending at linear order (issue 55 item 2; docs/model.md section 8, "Twist").
 
 The section's rigid rotation in its own plane (twist) and its translations (bending),
-as subspaces of the unknowns (:func:`axojax.models.section_motions`). MODEL.md section 8's
+as subspaces of the unknowns (:func:`axojax.models.section_motions`). docs/model.md section 8's
 argument: the four and seven presets are symmetric under a half-turn about the axis, under
 which bending is odd and twist even, so no linear operator of theirs couples the two; the
 references here are that symmetry (coupling 0 to rounding), checked on the assembled
