@@ -41,6 +41,7 @@ import scipy.linalg as sl
 
 import axojax as ax
 from axojax.assembly import assemble, assemble_normal
+from axojax.assembly.normal_force import passive_equilibrium
 from axojax.beats.targets import ShapeTarget
 from axojax.eigen import normal_force_mode
 from axojax.inverse.comparison.mechanisms import build_model, row
@@ -88,8 +89,7 @@ def make_beat(path, truth: str, seed: int, elements: int):
         mode = ax.nearest_mode(model, params, w, solver=ax.eigen.Dense())
     psi1 = np.asarray(model_psi1(model, mode, s / LENGTH_UM))
     psi1 = PEAK * psi1 / np.abs(psi1).max() * np.exp(2j * np.pi * rng.random())
-    sys_ = assemble(model, prm)
-    q0 = np.linalg.solve(np.asarray(sys_.A), np.asarray(sys_.b))
+    q0 = np.asarray(passive_equilibrium(model, prm))
     psi0 = np.asarray(centreline(model, q0[None], s / LENGTH_UM, 1))[0, 0] + BASE_ANGLE
     noise = 0.05 * float(np.mean(np.abs(psi1)))
     psi1 = psi1 + noise * (rng.normal(size=POINTS) + 1j * rng.normal(size=POINTS))

@@ -143,14 +143,21 @@ def static_forces(model: Model, params: Params) -> Float[Array, " P"]:
     return imbalanced_forces(model, params) + jnp.where(jnp.asarray(group0), share, 0.0)
 
 
-def static_curvature(model: Model, params: Params) -> Float[Array, "P nq"]:
-    """kappa_a,0 at the mesh's quadrature points: n_a . u_bar_0'' of the passive model's
-    equilibrium A_passive q_0 = b (every regulated coefficient 0)."""
+def passive_equilibrium(model: Model, params: Params) -> Float[Array, " N"]:
+    """q_0 (N,): the static state the regulated forces respond to, the passive model's
+    equilibrium A_passive q_0 = b under the static load (every regulated coefficient 0;
+    a clamped base: A_passive regular). Traceable."""
     from . import assemble
 
     passive = params.replace(**{k: 0.0 for k in MECHANISM_NAMES})
     system = assemble(model, passive)
-    q0 = jnp.linalg.solve(system.A, system.b)
+    return jnp.linalg.solve(system.A, system.b)
+
+
+def static_curvature(model: Model, params: Params) -> Float[Array, "P nq"]:
+    """kappa_a,0 at the mesh's quadrature points: n_a . u_bar_0'' of the passive model's
+    equilibrium (:func:`passive_equilibrium`)."""
+    q0 = passive_equilibrium(model, params)
     ddu = q0.reshape(model.n_fd, -1) @ jnp.asarray(_tables(model)["ddphi"]).T  # (n_fd, nq)
     return jnp.asarray(model.pair_w) @ ddu
 

@@ -27,13 +27,14 @@ import dataclasses
 
 import numpy as np
 
-from ...assembly import assemble
+from ...assembly.normal_force import passive_equilibrium
 from ...beats.targets import ShapeTarget
 from ...models.section import Model
-from ...params import MECHANISM_NAMES, Params
+from ...params import Params
 from ...units import Units
 from ...waveform.shapes import centreline
 from .mechanisms import row
+from .table import PHYSICAL
 
 SIGNIFICANT = 2.0
 """A static curvature counts when it is at least this many standard errors from 0."""
@@ -84,9 +85,7 @@ def not_applicable_reason(mechanism: str, base: str, shape: ShapeTarget) -> str 
 def matching_moment(model: Model, params: Params, shape: ShapeTarget, units: Units) -> float:
     """The static moment m0 (dimensionless) whose equilibrium (the passive model: every
     regulated coefficient 0) has the observed static curvature at the data's points."""
-    passive = params.replace(**{n: 0.0 for n in MECHANISM_NAMES if n != "omega0"}, m0=1.0)
-    system = assemble(model, passive)
-    q0 = np.linalg.solve(np.asarray(system.A), np.asarray(system.b))
+    q0 = np.asarray(passive_equilibrium(model, params.replace(m0=1.0)))
     s = np.asarray(shape.s_um, dtype=float)
     slope = np.asarray(centreline(model, q0[None], s / units.length_um, 1))[0]  # (d, S)
     slope = slope[np.argmax(np.linalg.norm(slope, axis=1))]  # the bend's direction
@@ -134,8 +133,6 @@ def add_static_errors(out, spec, shape: ShapeTarget, units: Units, problem_of) -
     error its static state carries into each fitted value (module docstring), in
     quadrature with the data's, in ``out.physical_stderr`` (and out of ``out.pinned``);
     ``problem_of``: as :func:`static_sensitivity`'s."""
-    from .table import PHYSICAL
-
     if out.fit is None or not out.params:
         return
     c0, se_c0 = observed_static_curvature(shape)
