@@ -99,13 +99,13 @@ def test_posterior_default_solver_is_the_structured_one_where_it_pays():
     explicit --solver is kept."""
     import argparse
 
-    from axojax.cli.fit import _eigen_solver
+    from axojax.cli.fit import eigen_solver
 
     seven, two = ax.models.seven(n_elements=10), ax.models.two(n_elements=10)
 
     def chosen(posterior, solver="auto", model=seven):
         args = argparse.Namespace(solver=solver, posterior=posterior)
-        return type(_eigen_solver(args).resolve(model, 1)).__name__
+        return type(eigen_solver(args).resolve(model, 1)).__name__
 
     assert chosen(None) == "Dense"
     assert chosen(200) == "Arnoldi"
@@ -166,7 +166,7 @@ def test_the_command_leaves_the_defaults_to_the_library(monkeypatch, capsys):
 
 
 def test_text_report_names_the_transport():
-    from axojax.cli.fit.text import _render_posterior
+    from axojax.cli.fit.text import render_posterior
 
     post = {
         "chains": 4, "draws": 10, "seconds": 1.0, "mean": {"p": 1.0}, "sd": {"p": 0.1},
@@ -174,8 +174,8 @@ def test_text_report_names_the_transport():
         "sd_ratio": {"p": 1.0}, "tree_depth": 2.0, "max_num_doublings": 8,
         "tree_depth_saturated": 0.0, "gradients_per_draw": 4.5,
     }  # fmt: skip
-    plain = "\n".join(_render_posterior(post))
-    along = "\n".join(_render_posterior({**post, "transport": "ks"}))
+    plain = "\n".join(render_posterior(post))
+    along = "\n".join(render_posterior({**post, "transport": "ks"}))
     assert "straightened" not in plain
     assert "4.5 gradients per draw, in coordinates straightened along the profile of ks" in along
 

@@ -39,7 +39,7 @@ def test_bad_whole_beat_comparisons_are_one_line(tmp_path, capsys, extra, flag):
 @pytest.mark.parametrize("frame", ["basal"])  # the default, lab, is every other test's
 def test_the_frame_reaches_the_whole_beat(tmp_path, capsys, monkeypatch, frame):
     """``--frame lab|basal`` with ``--target limit-cycle``: compare passes it to
-    ``compare_whole_beat``, fit to its linear start (each stopped there by a stand-in, so
+    ``compare_whole_beat``, fit to ``fit_recording`` (each stopped there by a stand-in, so
     no fit runs); a fit that is not of the whole beat refuses ``--frame basal`` in one
     line."""
     import axojax.cli.fit.whole_beat as fit_cli
@@ -55,13 +55,13 @@ def test_the_frame_reaches_the_whole_beat(tmp_path, capsys, monkeypatch, frame):
         return stand_in
 
     monkeypatch.setattr(wbc, "compare_whole_beat", stop("compare"))
-    monkeypatch.setattr(fit_cli, "linear_hopf", stop("linear_hopf"))
+    monkeypatch.setattr(fit_cli, "fit_recording", stop("fit_recording"))
     path = beat_file(tmp_path)
     argv = ["compare", "--target", "limit-cycle", "--data", str(path), *UNIT_FLAGS]
     assert main([*argv, "--frame", frame]) == 2
     argv = ["fit", "--target", "limit-cycle", "--mechanism", "curvature", "--data", str(path)]
     assert main([*argv, *UNIT_FLAGS, "--frame", frame]) == 2
-    assert seen == {"compare": frame, "linear_hopf": frame}
+    assert seen == {"compare": frame, "fit_recording": frame}
     capsys.readouterr()
     argv = ["fit", "--free", "p", "--target-frequency", "30", "--frame", "basal"]
     assert main(argv) == 2

@@ -15,7 +15,7 @@ import warnings
 
 from ... import _progress
 from ...beats import OBSERVATIONS, Target, observation_targets, observed_target
-from ...eigen.solvers import AbstractEigenSolver, Auto
+from ...eigen.solvers import AbstractEigenSolver
 from ...inverse import (
     SHAPE_FLOOR,
     build_problem,
@@ -24,7 +24,10 @@ from ...inverse import (
     solver_from_name,
 )
 from ...inverse.fitting.checks import fit_checks
-from ...inverse.sampling import POSTERIOR_STARTS  # a posterior's fit: the library's default
+from ...inverse.sampling import (  # a posterior's fit: the library's defaults
+    POSTERIOR_STARTS,
+    posterior_eigen_solver,
+)
 from ...params import DEFAULT_CUBIC
 from .. import common
 from ..regulation import add_motor_tau_flag
@@ -265,16 +268,11 @@ def _targets(args: argparse.Namespace) -> list[Target]:
     return out
 
 
-def _eigen_solver(args: argparse.Namespace) -> AbstractEigenSolver:
-    """``--solver``; with ``--posterior`` the default (``auto``) counts the posterior's
-    thousands of gradient evaluations as a batch, so models of ``Auto.min_batch_dof``
-    unknowns or more (seven filaments at 10 elements: 280) get the structured solver,
-    whose longer compilation pays there (benchmarks/bench_gradients.py: value + gradient
-    6.2 against 21.2 ms per point on seven filaments)."""
+def eigen_solver(args: argparse.Namespace) -> AbstractEigenSolver:
+    """``--solver``; with ``--posterior`` the library's choice for a posterior's problem
+    (:func:`~axojax.inverse.sampling.posterior_eigen_solver`)."""
     solver = common.solver_from_args(args)
-    if args.posterior is not None and isinstance(solver, Auto):
-        return dataclasses.replace(solver, min_batch_points=1)
-    return solver
+    return solver if args.posterior is None else posterior_eigen_solver(solver)
 
 
 def _fit_options(args: argparse.Namespace) -> dict:
@@ -291,7 +289,7 @@ def _fit_options(args: argparse.Namespace) -> dict:
         "starts": starts,
         "method": args.method,
         "progress": _progress.enabled(),
-        "solver": _eigen_solver(args),
+        "solver": eigen_solver(args),
         "shape_floor": args.shape_floor,
         "exclude_base_um": args.exclude_base_um,
     }

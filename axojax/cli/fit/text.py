@@ -71,13 +71,13 @@ def render(doc: dict) -> str:
     lines.append(f"targets met: {doc['targets_met']}; {doc['message']}")
     if doc["result"] != "successful":
         lines.append(f"solver: {doc['result_message']}")
-    lines += _render_posterior(doc.get("posterior"))
+    lines += render_posterior(doc.get("posterior"))
     if doc.get("out"):
         lines.append(f"wrote {doc['out']}")
     return "\n".join(lines)
 
 
-def _render_posterior(post: dict | None) -> list[str]:
+def render_posterior(post: dict | None) -> list[str]:
     """The text of a report's posterior block (none without one)."""
     if not post:
         return []

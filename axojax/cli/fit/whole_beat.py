@@ -15,7 +15,7 @@ import argparse
 
 from ... import _progress
 from ...inverse.comparison.mechanisms import build_model, row
-from ...inverse.whole_beat.fit import fit_whole_beat, linear_hopf
+from ...inverse.whole_beat.fit import fit_recording
 from .. import common
 from ..regulation import motor_tau_from_args
 from .inputs import data_inputs, finish, given
@@ -82,16 +82,13 @@ def run(args: argparse.Namespace) -> dict:
         elements = int(args.elements)
         model = build_model(preset, elements, args.base, units)
         spec = row(args.mechanism, args.base, model, units, frequency.value)
-        with _progress.stage("fit: the linear fit's Hopf point (compiling, then fitting)"):
-            hopf, linear = linear_hopf(spec, shape, units, frame=args.frame)
-        tau_m = None
-        if getattr(args, "motor_tau_ms", None) is not None:
-            tau_m = motor_tau_from_args(args, hopf)
+        tau_m = motor_tau_from_args(args, spec.params)  # at the observed beat; None: default
         extra = _extra_free(args)
-        with _progress.stage("fit: the whole beat (compiling, then fitting)"):
-            out = fit_whole_beat(
+        with _progress.stage(
+            "fit: the linear row's Hopf point, then the whole beat (compiling, then fitting)"
+        ):
+            out, linear = fit_recording(
                 spec,
-                hopf,
                 shape,
                 frequency,
                 units,

@@ -7,7 +7,8 @@ independence chains from a fitted mixture (``_mode_mixture``; its tempered fit i
 ``_mode_tempering``); the coordinates that straighten a curved ridge for NUTS
 (:mod:`.transport`, :mod:`.transport_choice`), the Laplace approximation where chains
 start, their start-up cache and diagnostics; which sampler a posterior gets when none is
-named (:func:`choose_sampler`, ``axojax fit --sampler auto``). What every sampler shares, and a sampler of
+named (:func:`choose_sampler`, ``axojax fit --sampler auto``) and the eigen-solver its
+problem should use (:func:`posterior_eigen_solver`). What every sampler shares, and a sampler of
 one's own may use, is public: :mod:`.summaries` (draws as values, statistics, a
 gradient-free sampler's :class:`Posterior`) and :mod:`.programs` (compiled pieces and
 their clock).
@@ -38,7 +39,7 @@ from ._posterior import posterior
 from ._posterior_result import Posterior, load_truth
 from ._sampler import AbstractSampler
 from ._smc import SMC
-from .choice import MODES_MAX_FREE, choose_sampler
+from .choice import MODES_MAX_FREE, choose_sampler, posterior_eigen_solver
 from .transport import ProfileTransport
 from .transport_choice import suggest_transport
 
@@ -64,6 +65,7 @@ __all__ = [
     "load_truth",
     "normal_prior",
     "posterior",
+    "posterior_eigen_solver",
     "suggest_transport",
     "vectorize_chains",
     "warmup_steps",

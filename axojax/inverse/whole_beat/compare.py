@@ -50,7 +50,7 @@ from ..comparison.mechanisms import (
 from ..comparison.robustness import phase_chi2, whole_beat_bootstrap
 from ..comparison.table import physical_text
 from ..comparison.verdict import FREQUENCY_MATCH, mark, rank, verdict
-from .fit import WholeBeatFit, fit_whole_beat, linear_hopf, observed_measures
+from .fit import WholeBeatFit, fit_recording, observed_measures
 
 MECHANISMS = ORBIT_MECHANISMS
 """The regulated mechanisms (the steady load's whole beat: ``axojax fit --target
@@ -144,8 +144,7 @@ def fit_whole_row(spec, shape, frequency, units: Units, frame: str = "lab") -> W
     in ``frame`` (:func:`~axojax.inverse.whole_beat.fit.fit_whole_beat`'s)."""
     t0 = time.perf_counter()
     try:
-        hopf, linear = linear_hopf(spec, shape, units, frame=frame)
-        fit = fit_whole_beat(spec, hopf, shape, frequency, units, frame=frame)
+        fit, linear = fit_recording(spec, shape, frequency, units, frame=frame)
     except ValueError as err:
         out = WholeBeatRow(spec.mechanism, spec.base, "not_applicable", str(err))
         out.wall_s = time.perf_counter() - t0
