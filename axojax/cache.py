@@ -7,7 +7,14 @@ programs on disk (``jax_compilation_cache_dir``); the command line turns that on
 
 - ``AXOJAX_CACHE_DIR=PATH``: keep them in PATH;
 - unset: ``$XDG_CACHE_HOME/axojax/jax`` (``~/.cache/axojax/jax``);
-- ``AXOJAX_CACHE_DIR=off`` (or empty): no cache.
+- ``AXOJAX_CACHE_DIR=off`` (or empty): no cache;
+- ``AXOJAX_CACHE_MAX_MB=N``: keep at most N MB of programs, the least recently used
+  removed first (default :data:`DEFAULT_MAX_MB`; ``-1``: no bound). JAX's own bounded
+  cache does this, with ``filelock`` for the lock several processes share.
+
+A command that finds the cache empty says once on stderr that it compiles and that later
+runs start faster; ``axojax cache`` shows what the cache holds and ``axojax cache clear``
+empties it (:func:`cache_contents`, :func:`clear_cache`).
 
 Only on jax 0.10 and newer: older jaxlibs log spurious "machine feature" errors on
 stderr each time they load a cached CPU program. Only the ``axojax`` command (its
@@ -26,10 +33,18 @@ in Python, ``posterior(..., cache=True)`` (the same directory, ``off`` honoured)
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import pathlib
+import shutil
 
 CACHE_ENV = "AXOJAX_CACHE_DIR"
+MAX_MB_ENV = "AXOJAX_CACHE_MAX_MB"
+DEFAULT_MAX_MB = 1024
+"""The cache's bound (MB) unless ``AXOJAX_CACHE_MAX_MB`` says otherwise: the programs of
+every command in the README take about 100 MB."""
+PROGRAM_SUFFIXES = ("-cache", "-atime")
+"""JAX's files in the cache directory: a program, and its last use (for the LRU bound)."""
 WARM_SUBDIR = "posterior"
 """The posterior warm-state files' folder inside the cache directory."""
 MIN_COMPILE_SECONDS = 0.5
@@ -42,17 +57,51 @@ def default_cache_dir() -> pathlib.Path:
     return pathlib.Path(base) / "axojax" / "jax"
 
 
-def enable_compilation_cache(path: str | os.PathLike | None = None) -> pathlib.Path:
+def enable_compilation_cache(
+    path: str | os.PathLike | None = None, max_mb: float | None = None
+) -> pathlib.Path:
     """Keep compiled programs in ``path`` (default :func:`default_cache_dir`) from now on,
-    for this process. Returns the directory."""
+    for this process, at most ``max_mb`` MB of them (default :func:`max_mb_setting`; -1:
+    no bound; the least recently used go first). Returns the directory."""
     import jax
 
     directory = pathlib.Path(path) if path is not None else default_cache_dir()
     directory.mkdir(parents=True, exist_ok=True)
+    bound = max_mb_setting() if max_mb is None else max_mb
+    if not (bound == -1 or bound > 0):
+        raise ValueError(f"max_mb: expected a size in MB > 0, or -1 for no bound, got {bound!r}")
     jax.config.update("jax_compilation_cache_dir", str(directory))
     jax.config.update("jax_persistent_cache_min_compile_time_secs", MIN_COMPILE_SECONDS)
     jax.config.update("jax_persistent_cache_min_entry_size_bytes", 0)
+    if bound != -1 and not _can_bound():
+        bound = -1  # JAX's eviction needs filelock (a dependency; absent only in odd installs)
+    jax.config.update("jax_compilation_cache_max_size", -1 if bound == -1 else int(bound * 1e6))
     return directory
+
+
+def _can_bound() -> bool:
+    try:
+        import filelock  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def max_mb_setting() -> float:
+    """``AXOJAX_CACHE_MAX_MB`` (MB, or -1: no bound), :data:`DEFAULT_MAX_MB` when unset;
+    a ``ValueError`` naming the variable for anything else."""
+    text = os.environ.get(MAX_MB_ENV)
+    if text is None or not text.strip():
+        return float(DEFAULT_MAX_MB)
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not (value == -1 or value > 0):
+        raise ValueError(
+            f"{MAX_MB_ENV}: expected a size in MB > 0, or -1 for no bound, got {text!r}"
+        )
+    return value
 
 
 def command_line_cache() -> pathlib.Path | None:
@@ -95,10 +144,72 @@ def posterior_cache_dir(cache) -> pathlib.Path | None:
     if cache is None or cache is False:
         return None
     if cache is True:
-        setting = os.environ.get(CACHE_ENV)
-        if setting is not None and _off(setting):
-            return None
-        return (pathlib.Path(setting) if setting else default_cache_dir()) / WARM_SUBDIR
+        directory = configured_cache_dir()
+        return None if directory is None else directory / WARM_SUBDIR
     if isinstance(cache, (str, os.PathLike)) and str(cache):
         return pathlib.Path(cache)
     raise TypeError(f"cache must be None, True, False or a directory path, got {cache!r}")
+
+
+@dataclasses.dataclass(frozen=True)
+class CacheContents:
+    """What a cache directory holds: compiled programs (JAX's ``*-cache`` files, with
+    their ``*-atime`` companions) and posterior warm states (``posterior/``), in bytes."""
+
+    directory: pathlib.Path
+    programs: int
+    program_bytes: int
+    warm_states: int
+    warm_bytes: int
+
+    @property
+    def total_mb(self) -> float:
+        return (self.program_bytes + self.warm_bytes) / 1e6
+
+
+def _program_files(directory: pathlib.Path) -> list[pathlib.Path]:
+    if not directory.is_dir():
+        return []
+    return [f for f in directory.iterdir() if f.is_file() and f.name.endswith(PROGRAM_SUFFIXES)]
+
+
+def _warm_files(directory: pathlib.Path) -> list[pathlib.Path]:
+    warm = directory / WARM_SUBDIR
+    return [f for f in warm.rglob("*") if f.is_file()] if warm.is_dir() else []
+
+
+def cache_contents(directory: str | os.PathLike) -> CacheContents:
+    """What ``directory`` (a cache directory) holds; zeros where it does not exist."""
+    directory = pathlib.Path(directory)
+    programs = _program_files(directory)
+    warm = _warm_files(directory)
+    return CacheContents(
+        directory,
+        sum(f.name.endswith("-cache") for f in programs),
+        sum(f.stat().st_size for f in programs),
+        len(warm),
+        sum(f.stat().st_size for f in warm),
+    )
+
+
+def clear_cache(directory: str | os.PathLike) -> CacheContents:
+    """Remove the compiled programs and posterior warm states from ``directory`` (nothing
+    else: a cache pointed at a folder of one's own keeps one's files). Returns what was
+    removed."""
+    directory = pathlib.Path(directory)
+    removed = cache_contents(directory)
+    for f in _program_files(directory):
+        f.unlink(missing_ok=True)
+    (directory / ".lockfile").unlink(missing_ok=True)
+    if (directory / WARM_SUBDIR).is_dir():
+        shutil.rmtree(directory / WARM_SUBDIR)
+    return removed
+
+
+def configured_cache_dir() -> pathlib.Path | None:
+    """The directory the command line would use (``AXOJAX_CACHE_DIR``, else
+    :func:`default_cache_dir`), or None when that is ``off``; nothing is created."""
+    setting = os.environ.get(CACHE_ENV)
+    if setting is not None and _off(setting):
+        return None
+    return pathlib.Path(setting) if setting else default_cache_dir()

@@ -9,7 +9,7 @@ import re
 import sys
 
 from .. import _progress
-from ..cache import command_line_cache
+from ..cache import cache_contents, command_line_cache
 from .common import CLIError, emit_json
 
 SUBCOMMANDS = {
@@ -26,7 +26,11 @@ SUBCOMMANDS = {
     "data": "what axojax extracts from beat data (frequency, psi_0, psi_1, planarity) before any fit",
     "compare": "rank mechanisms (steady load, sliding and curvature control) x base conditions on one observed beat",
     "plot": "figures of a sweep, simulation, orbit branch, posterior or fit report, or of a cross-section",
+    "cache": "what the compiled-program cache holds (later runs skip compilation); 'clear' empties it",
 }
+
+COMPILING = ("modes", "critical", "sweep", "fit", "simulate", "orbit", "compare")
+"""The commands whose first run on a machine is mostly compilation."""
 
 
 VALUE_LIKE = re.compile(r"^-(\d|\.\d|inf|nan)", re.IGNORECASE)
@@ -135,8 +139,27 @@ def _stdout_gone() -> int:
 def console() -> int:
     """The ``axojax`` command: :func:`main` with compiled programs kept across commands
     (:mod:`axojax.cache`)."""
-    command_line_cache()
-    return main()
+    argv = sys.argv[1:]
+    try:
+        directory = command_line_cache()
+    except ValueError as err:  # AXOJAX_CACHE_MAX_MB
+        print(f"axojax: error: {err}", file=sys.stderr)
+        return 2
+    if directory is not None and first_run(argv, cache_contents(directory).programs):
+        print(
+            f"axojax: the first run on this machine compiles its programs (minutes); they are "
+            f"kept in {directory}, so later runs start faster",
+            file=sys.stderr,
+        )
+    return main(argv)
+
+
+def first_run(argv: list[str], programs: int) -> bool:
+    """Whether to say that this run compiles and later ones will not: a compiling command
+    (:data:`COMPILING`), not asked for help or quiet, and a cache with no programs yet."""
+    command = next((a for a in argv if not a.startswith("-")), None)
+    asked = {"-h", "--help", "--quiet", "--version"} & set(argv)
+    return command in COMPILING and not asked and programs == 0
 
 
 if __name__ == "__main__":
