@@ -24,6 +24,7 @@ from ...inverse import (
     solver_from_name,
 )
 from ...inverse.fitting.checks import fit_checks
+from ...inverse.fitting.least_squares import FIT_STARTS
 from ...inverse.sampling import (  # a posterior's fit: the library's defaults
     POSTERIOR_STARTS,
     posterior_eigen_solver,
@@ -40,8 +41,8 @@ from .text import (
 METHODS = ("lm", "lbfgs", "adam")
 MAX_STARTS = 10_000
 """Most starts of a multi-start fit (each is a full local fit; 1e11 asked for 745 GiB)."""
-DEFAULT_STARTS = 4
-"""Starts of a fit without --posterior."""
+DEFAULT_STARTS = FIT_STARTS
+"""Starts of a fit without --posterior: the library's."""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

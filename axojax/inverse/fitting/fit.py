@@ -25,7 +25,7 @@ from ..conditions import Condition
 from ..parameters import DEFAULT_BOUNDS, LINEAR
 from ..problem import CYCLE_FAILED, SHAPE_FLOOR, Problem
 from .identifiability import IDENTIFIABLE_MAX_LOG_SE
-from .least_squares import LeastSquaresSolver, least_squares, solver_from_name
+from .least_squares import FIT_STARTS, LeastSquaresSolver, least_squares, solver_from_name
 from .report import SHAPE_RMS_OK, FitResult
 
 __all__ = [
@@ -50,7 +50,7 @@ def fit(
     bounds: dict[str, tuple[float, float]] | None = None,
     kl_ratio: float | None = None,
     units: Units = Units(),  # noqa: B008
-    starts: int = 4,
+    starts: int = FIT_STARTS,
     method: str | LeastSquaresSolver = "lm",
     max_steps: int | None = None,
     seed: int = 0,

@@ -41,6 +41,10 @@ from ..problem import Problem
 from .marquardt import STANDARD_ERRORS, StatisticalLevenbergMarquardt, column_scales
 from .report import FitResult, build_report
 
+FIT_STARTS = 4
+"""Starts of a fit (the given point plus a Sobol design in the bounds) unless told:
+``ax.fit``'s, :func:`least_squares`'s and ``axojax fit``'s default."""
+
 
 class LeastSquaresSolver(eqx.Module):
     """Minimises a problem's loss from one start in z."""
@@ -335,7 +339,7 @@ def least_squares(
     problem: Problem,
     solver: LeastSquaresSolver | str = "lm",
     *,
-    starts: int = 4,
+    starts: int = FIT_STARTS,
     seed: int = 0,
     progress: bool = False,
     polish: int = 0,
