@@ -75,8 +75,26 @@ def enable_compilation_cache(
     jax.config.update("jax_persistent_cache_min_entry_size_bytes", 0)
     if bound != -1 and not _can_bound():
         bound = -1  # JAX's eviction needs filelock (a dependency; absent only in odd installs)
+    if bound != -1:
+        stamp_unstamped(directory)
     jax.config.update("jax_compilation_cache_max_size", -1 if bound == -1 else int(bound * 1e6))
     return directory
+
+
+def stamp_unstamped(directory: pathlib.Path) -> int:
+    """Give each program written without a bound (no ``-atime`` file beside it: axojax
+    before the bound, or ``-1``) its last use, from its modification time, as JAX's
+    bounded cache writes it; without one every later write fails. Returns how many."""
+    stamped = 0
+    for program in directory.glob("*-cache"):
+        atime = program.with_name(program.name.removesuffix("-cache") + "-atime")
+        if not atime.exists():
+            try:
+                atime.write_bytes(program.stat().st_mtime_ns.to_bytes(8, "little"))
+                stamped += 1
+            except OSError:  # gone meanwhile, or read-only: JAX copes or says so
+                pass
+    return stamped
 
 
 def _can_bound() -> bool:

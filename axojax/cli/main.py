@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import os
 import re
@@ -72,10 +73,19 @@ QUIET_HELP = (
 )
 
 
+PROFILE_HELP = (
+    "at the end, a table on stderr of the programs this run compiled (seconds tracing, "
+    "lowering, XLA; how often each; programs loaded from the cache instead)"
+)
+
+
 def add_quiet_flag(parser: argparse.ArgumentParser, default) -> None:
-    """``--quiet``, before or after the subcommand's name (the subcommand's default is
-    ``SUPPRESS``, so that it keeps a ``--quiet`` given before it)."""
+    """``--quiet`` and ``--profile-compile``, before or after the subcommand's name (the
+    subcommand's default is ``SUPPRESS``, so that it keeps a flag given before it)."""
     parser.add_argument("--quiet", action="store_true", default=default, help=QUIET_HELP)
+    parser.add_argument(
+        "--profile-compile", action="store_true", default=default, help=PROFILE_HELP
+    )
 
 
 def build_parser(only: str | None = None) -> argparse.ArgumentParser:
@@ -108,7 +118,7 @@ def main(argv: list[str] | None = None) -> int:
         if args.command is None:
             parser.print_help(sys.stderr)
             return 2
-        with _progress.quiet(args.quiet):
+        with _progress.quiet(args.quiet), _profiled(args.profile_compile):
             doc = args._module.run(args)
     except CLIError as err:
         print(f"axojax: error: {err}", file=sys.stderr)
@@ -123,6 +133,23 @@ def main(argv: list[str] | None = None) -> int:
         except BrokenPipeError:
             return _stdout_gone()
     return getattr(args, "_exit_code", 0)
+
+
+@contextlib.contextmanager
+def _profiled(on: bool):
+    """``--profile-compile``: the run inside :func:`~axojax.compile_profile.compile_profile`,
+    its table on stderr after (also when the run stops with an error)."""
+    if not on:
+        yield
+        return
+    from ..compile_profile import compile_profile
+
+    with compile_profile() as profile:
+        try:
+            yield
+        finally:
+            pass
+    print(profile.table(), file=sys.stderr)
 
 
 def _stdout_gone() -> int:
