@@ -32,6 +32,14 @@
    Same results to the last bits (tests/house/test_compile_flags.py compares a process
    without these settings). Other versions are left alone: XLA aborts on a flag it does
    not know.
+5. ``axojax compare`` (the linear one) only, set by the command line before jax starts:
+   ``--xla_backend_optimization_level=0`` (:func:`compile_for_many_programs`). A
+   comparison builds two programs per row and runs each for a second or two, so XLA's
+   backend optimisation is most of its time: 345.6 s cold at the default level, 256.1 s
+   at 0, 181.3 against 188.2 s warm (docs/benchmarks.md, "Where a comparison's time
+   goes"). Rankings identical, fitted values within 8.3e-4 of their standard errors; the
+   eigenvalues and their gradients equal to 1e-12 (the suite runs at this level,
+   tests/house/test_compile_flags.py).
 """
 
 from __future__ import annotations
@@ -64,6 +72,29 @@ def set_xla_flags() -> None:
         flags = (flags + " " + EMITTER_FLAG).strip()
     os.environ["XLA_FLAGS"] = flags
     widen_intra_op_pool()
+
+
+FAST_COMPILE_FLAG = "--xla_backend_optimization_level=0"
+
+
+def compile_for_many_programs() -> bool:
+    """Before jax starts its CPU backend: XLA's backend optimisation level 0 (item 5 of the
+    module docstring), unless ``XLA_FLAGS`` already sets a level, axojax's settings are
+    opted out of, or the backend has started (then nothing changes). Returns whether the
+    flag is now in effect for this process."""
+    flags = os.environ.get("XLA_FLAGS", "")
+    if "xla_backend_optimization_level" in flags:
+        return FAST_COMPILE_FLAG in flags.split()
+    if not enabled() or _backend_started():
+        return False
+    os.environ["XLA_FLAGS"] = (flags + " " + FAST_COMPILE_FLAG).strip()
+    return True
+
+
+def _backend_started() -> bool:
+    from jax._src import xla_bridge
+
+    return bool(getattr(xla_bridge, "_backends", None))
 
 
 @functools.lru_cache(maxsize=1)

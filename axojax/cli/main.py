@@ -9,7 +9,7 @@ import os
 import re
 import sys
 
-from .. import _progress
+from .. import _progress, _runtime
 from ..cache import cache_contents, command_line_cache
 from .common import CLIError, emit_json
 
@@ -167,6 +167,8 @@ def console() -> int:
     """The ``axojax`` command: :func:`main` with compiled programs kept across commands
     (:mod:`axojax.cache`)."""
     argv = sys.argv[1:]
+    if many_programs(argv):
+        _runtime.compile_for_many_programs()
     try:
         directory = command_line_cache()
     except ValueError as err:  # AXOJAX_CACHE_MAX_MB
@@ -179,6 +181,18 @@ def console() -> int:
             file=sys.stderr,
         )
     return main(argv)
+
+
+def many_programs(argv: list[str]) -> bool:
+    """Whether this command builds many programs and runs each briefly (the linear
+    ``compare``: two per row), so that XLA's backend optimisation level 0 saves more
+    compilation than it costs (``axojax._runtime``, item 5)."""
+    command = next((a for a in argv if not a.startswith("-")), None)
+    whole_beat = any(
+        a == "--target=limit-cycle" or (a == "--target" and b == "limit-cycle")
+        for a, b in zip(argv, [*argv[1:], ""])
+    )
+    return command == "compare" and not whole_beat
 
 
 def first_run(argv: list[str], programs: int) -> bool:

@@ -97,3 +97,42 @@ def test_older_fusion_emitters_only_on_jaxlib_0_10(monkeypatch):
         "--xla_cpu_multi_thread_eigen=false",
     ]
     assert flags_for("0.10.2", "--foo", keep=True) == ["--foo"]
+
+
+def test_the_linear_comparison_compiles_at_level_zero():
+    """``axojax compare`` (linear) builds two programs a row and runs each briefly: the
+    command line sets XLA's backend optimisation level 0 for it, before jax starts, unless
+    a level is already set or axojax's settings are opted out of; no other command."""
+    from axojax.cli.main import many_programs
+
+    assert many_programs(["compare", "--data", "human_sperm"])
+    assert many_programs(["--quiet", "compare", "--data", "human_sperm"])
+    assert not many_programs(["compare", "--target", "limit-cycle", "--data", "x"])
+    assert not many_programs(["compare", "--target=limit-cycle"])
+    assert not many_programs(["modes", "--model", "seven"])
+    # one fresh process (jax not started): the three cases in turn
+    probe = """
+import os
+from axojax import _runtime
+for flags, keep in (("", None), ("--xla_backend_optimization_level=2", None), ("", "1")):
+    os.environ["XLA_FLAGS"] = flags
+    os.environ.pop("AXOJAX_KEEP_XLA_FLAGS", None)
+    if keep:
+        os.environ["AXOJAX_KEEP_XLA_FLAGS"] = keep
+    print(_runtime.compile_for_many_programs(), "|", os.environ["XLA_FLAGS"])
+"""
+    env = {k: v for k, v in os.environ.items() if k not in ("XLA_FLAGS", "AXOJAX_KEEP_XLA_FLAGS")}
+    done = subprocess.run(
+        [sys.executable, "-c", probe],
+        env={**env, "PYTHONPATH": ROOT},
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=120,
+    )
+    seen = [line.split("|") for line in done.stdout.strip().splitlines()]
+    seen = [[on.strip(), flags.strip()] for on, flags in seen]
+    level0 = "--xla_backend_optimization_level=0"
+    assert seen[0][0] == "True" and level0 in seen[0][1].split()  # set
+    assert seen[1][0] == "False" and level0 not in seen[1][1].split()  # a level given
+    assert seen[2] == ["False", ""]  # opted out

@@ -163,15 +163,14 @@ def test_fit_recovers_parameters_from_limit_cycle(two4):
         Target("frequency_hz", f, 1e-3 * f, source="limit_cycle"),
         Target("amplitude_um", a, 1e-3 * a, source="limit_cycle"),
     ]
-    res = ax.fit(
-        two4,
-        ax.Params(p=175.0, cl=0.004),
-        targets,
-        ["p", "cl"],
-        starts=1,
-        cubic=KAPPA,
-        orbit_solver=SOLVER,
-    )
+
+    def fit(**method):
+        start = ax.Params(p=175.0, cl=0.004)
+        return ax.fit(
+            two4, start, targets, ["p", "cl"], starts=1, cubic=KAPPA, orbit_solver=SOLVER, **method
+        )
+
+    res = fit()
     assert res.targets_met
     assert abs(res.achieved["limit_cycle_frequency_hz"] - f) <= 0.5 * 1e-3 * f
     # Fits with limit-cycle targets stop once the Gauss-Newton step is within 0.3
@@ -181,16 +180,7 @@ def test_fit_recovers_parameters_from_limit_cycle(two4):
         assert abs(res.params[name] - truth) <= 0.5 * res.stderr[name], name
     # With that rule off, optimistix's own termination: exact Jacobians of the orbit
     # carry the fit down cl's flat direction to the truth.
-    exact = ax.fit(
-        two4,
-        ax.Params(p=175.0, cl=0.004),
-        targets,
-        ["p", "cl"],
-        starts=1,
-        cubic=KAPPA,
-        orbit_solver=SOLVER,
-        method=ax.inverse.LevenbergMarquardt(standard_errors=0.0),
-    )
+    exact = fit(method=ax.inverse.LevenbergMarquardt(standard_errors=0.0))
     assert abs(exact.params["p"] / 160.0 - 1) < 1e-4
     assert abs(exact.params["cl"] / 0.005 - 1) < 1e-4
     assert abs(exact.achieved["limit_cycle_frequency_hz"] / f - 1) < 1e-6

@@ -481,26 +481,14 @@ def fit_recording(
     frequency: Target,
     units: Units,
     *,
-    tau_m: float | None = None,
-    fit_tau_m: bool = False,
-    fit_cubic: bool = False,
     frame: str = "lab",
+    **options,
 ):
     """The whole-beat fit of the row ``spec`` to a recording, from the start:
     :func:`linear_hopf` (the row's linear fit, a Hopf point at the observed beat), then
-    :func:`fit_whole_beat` from it (the arguments as there). Returns
-    ``(WholeBeatFit, the linear row)`` (a
-    :class:`~axojax.inverse.comparison.compare.CompareRow`)."""
+    :func:`fit_whole_beat` from it (``frame`` and ``options``, e.g. ``tau_m``,
+    ``fit_tau_m``, ``fit_cubic``, as there). Returns ``(WholeBeatFit, the linear row)``
+    (a :class:`~axojax.inverse.comparison.compare.CompareRow`)."""
     hopf, linear = linear_hopf(spec, shape, units, frame=frame)
-    whole = fit_whole_beat(
-        spec,
-        hopf,
-        shape,
-        frequency,
-        units,
-        tau_m=tau_m,
-        fit_tau_m=fit_tau_m,
-        fit_cubic=fit_cubic,
-        frame=frame,
-    )
+    whole = fit_whole_beat(spec, hopf, shape, frequency, units, frame=frame, **options)
     return whole, linear
