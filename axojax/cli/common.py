@@ -125,7 +125,7 @@ def add_model_flags(
         default="steady",
         help="dynein regulation (docs/model.md section 8): the steady load (default), sliding "
         "control (--chi), curvature control (--beta), both, or normal-force control "
-        "(--normal-gain; axojax modes only so far)",
+        "(--normal-gain; axojax modes and the linear fit so far)",
     )
     g.add_argument(
         "--chi",

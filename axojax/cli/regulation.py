@@ -14,8 +14,9 @@ from ._values import CLIError, _complex_pair, _pair, finite_float, units_from_ar
 
 MECHANISMS = ("steady", "sliding", "curvature", "sliding+curvature", "normal-force")
 """``--mechanism`` choices (docs/model.md section 8)."""
-NORMAL_FORCE_COMMANDS = ("modes",)
-"""The subcommands that take ``--mechanism normal-force`` so far (issue 55, first step)."""
+NORMAL_FORCE_COMMANDS = ("modes", "fit")
+"""The subcommands that take ``--mechanism normal-force`` so far (issue 55: the linear
+mode; ``fit`` without ``--target limit-cycle``)."""
 MECHANISM_FLAGS = {
     "chi_re": "chi",
     "chi_im": "chi",

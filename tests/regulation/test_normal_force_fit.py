@@ -8,6 +8,8 @@ lambda = i omega0 the augmented matrix A' + i omega0 C' is K0 - g K1 with g = g'
 eigenvalue at i omega0 are the generalised eigenvalues of (K0, K1).
 """
 
+import json
+
 import numpy as np
 import pytest
 import scipy.linalg as sl
@@ -15,6 +17,7 @@ import scipy.linalg as sl
 import axojax as ax
 from axojax.assembly import assemble_normal
 from axojax.beats.targets import ShapeTarget, Target
+from axojax.cli.main import main
 from axojax.eigen import normal_force_mode
 from axojax.inverse.predictions import model_psi1
 
@@ -102,3 +105,44 @@ def test_normal_gains_need_their_solver_and_shift(truth):
         ax.inverse.build_problem(
             MODEL, params, [cycle], free, solver=ax.eigen.NormalForce(), shift=1j * SP, **common
         )
+
+
+def _cli_fit(*extra, gain=None, omega0=True, moment=True):
+    """``axojax fit --mechanism normal-force`` on the truth's model and values (physical
+    flags from the default units), its gain free, the Hopf pins as targets."""
+    f_hz = float(UNITS.omega0_to_hz(SP))
+    argv = ["fit", "--model", "two", "--elements", "6", "--p", "0", "--kl", "1000"]
+    argv += ["--mechanism", "normal-force", "--normal-gain", gain or "-0.4,-0.8"]
+    argv += ["--omega0-hz", repr(f_hz)] if omega0 else []
+    argv += ["--static-moment-pn", repr(float(UNITS.moment_to_pn(M0)))] if moment else []
+    argv += ["--free", "normal_re,normal_im", "--target-frequency", repr(f_hz)]
+    argv += ["--frequency-sigma", repr(1e-3 * f_hz), "--marginal", "0.2", "--starts", "1"]
+    return main([*argv, "--no-mesh-check", *extra])
+
+
+def test_fit_command_recovers_the_normal_force_gain(truth, capsys):
+    """``axojax fit --mechanism normal-force --free normal_re,normal_im``: the beat nearest
+    i omega0 (--omega0-hz) of the augmented pencil pinned at growth 0 and the frequency
+    recovers scipy's Hopf gain to 1e-6 relative."""
+    g, _, _ = truth
+    assert _cli_fit("--json") == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["params"]["normal_re"] == pytest.approx(g.real, rel=1e-6)
+    assert doc["params"]["normal_im"] == pytest.approx(g.imag, rel=1e-6)
+    assert doc["regime"][0]["regime"] == "near onset"  # the beat's, at the Hopf point
+
+
+@pytest.mark.parametrize(
+    "kwargs, extra, flag",
+    [
+        ({"omega0": False}, (), "--omega0-hz: "),  # the gain's g'' holds at a frequency
+        ({"omega0": False, "gain": "-0.4,0"}, (), "--mechanism normal-force: a fit of"),
+        ({"moment": False}, (), "--mechanism normal-force: no static normal force"),
+        ({}, ("--solver", "arnoldi"), "--solver arnoldi: "),
+    ],
+    ids=["no-omega0", "no-omega0-real-gain", "no-static-moment", "other-solver"],
+)
+def test_fit_command_refuses_a_normal_force_fit_it_cannot_do(capsys, kwargs, extra, flag):
+    assert _cli_fit(*extra, **kwargs) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"axojax: error: {flag}") and "\n" not in err, err

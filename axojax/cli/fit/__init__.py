@@ -15,6 +15,7 @@ import warnings
 
 from ... import _progress
 from ...beats import OBSERVATIONS, Target, observation_targets, observed_target
+from ...eigen.normal_force import NormalForce
 from ...eigen.solvers import AbstractEigenSolver
 from ...inverse import (
     SHAPE_FLOOR,
@@ -23,6 +24,7 @@ from ...inverse import (
     read_spec,
     solver_from_name,
 )
+from ...inverse.comparison.mechanisms import coefficient_bounds
 from ...inverse.fitting.checks import fit_checks
 from ...inverse.fitting.least_squares import FIT_STARTS
 from ...inverse.sampling import (  # a posterior's fit: the library's defaults
@@ -296,7 +298,7 @@ def _fit_options(args: argparse.Namespace) -> dict:
     }
 
 
-PROBLEM_OPTIONS = ("solver", "shape_floor", "exclude_base_um", "cubic")
+PROBLEM_OPTIONS = ("solver", "shape_floor", "exclude_base_um", "cubic", "bounds", "shift")
 """The options of :func:`_fit_options` that shape the problem (the rest drive its solver)."""
 
 
@@ -359,6 +361,8 @@ def run(args: argparse.Namespace) -> dict:
         )
     if args.target == "limit-cycle":
         options["cubic"] = _cubic(args, model)
+    elif (args.mechanism or "steady") != "steady":
+        options.update(_regulated(args, model, params))
     flag = "--exclude-base-um" if args.exclude_base_um else "--free"
     try:
         problem = build_problem(
@@ -377,6 +381,35 @@ def run(args: argparse.Namespace) -> dict:
     extra.update(_checks(args, problem, result))
     extra["units"] = {**dataclasses.asdict(units), "source": units_source}
     return inputs.finish(args, result, extra, sampled)
+
+
+def _regulated(args: argparse.Namespace, model, params) -> dict:
+    """The problem options of a linear fit of regulated dynein (``--mechanism M``), as
+    :func:`axojax.compare` sets them for its rows: the beat is the eigenvalue nearest
+    i omega0 (``--omega0-hz``, the observed frequency), the coefficients' bounds are the
+    comparison's, and normal-force control takes its own eigen-solver (the augmented
+    pencil, :class:`~axojax.eigen.NormalForce`)."""
+    mechanism = args.mechanism
+    omega = float(params.omega0)
+    if not omega > 0:
+        raise common.CLIError(
+            f"--mechanism {mechanism}: a fit of regulated dynein follows the beat nearest "
+            "i omega0; give --omega0-hz (the observed frequency)"
+        )
+    options = {"bounds": coefficient_bounds(model, params), "shift": 1j * omega}
+    if "normal-force" in mechanism.split("+"):
+        if args.solver not in ("auto", "dense"):
+            raise common.CLIError(
+                f"--solver {args.solver}: normal-force control has its own eigen-solver (the "
+                "augmented pencil, solved densely); leave --solver out"
+            )
+        if float(params.p) == 0 and float(params.m0) == 0:
+            raise common.CLIError(
+                "--mechanism normal-force: no static normal force (p = 0 and no "
+                "--static-moment-pn): the gain would act on nothing"
+            )
+        options["solver"] = NormalForce()
+    return options
 
 
 def _checks(args: argparse.Namespace, problem, result) -> dict:

@@ -49,6 +49,7 @@ import numpy as np
 
 from ..._memory import check_model_size
 from ...eigen.mode import IMAG_RTOL, dominant_mode
+from ...eigen.normal_force import NormalForce, normal_force_mode
 from ...models.section import Model, build_model
 from ...results import jsonable
 from ..problem import EDGE, Problem
@@ -94,7 +95,9 @@ def classify_regime(eigenvalue: complex, threshold: float = NEAR_ONSET) -> tuple
 def regime(
     problem: Problem, result: FitResult, threshold: float = NEAR_ONSET
 ) -> list[dict[str, Any]]:
-    """Every condition's dominant mode at the optimum, named by :func:`classify_regime`.
+    """Every condition's dominant mode at the optimum, named by :func:`classify_regime`
+    (normal-force control's beat, the mode nearest the problem's shift: its pencil has
+    no dominant mode to follow).
 
     Returns one dict per condition: ``label``, ``regime`` (``"unknown"`` where the
     eigen-solve gave no finite eigenvalue), ``ratio`` (Re lambda / |Im lambda|, None
@@ -104,7 +107,11 @@ def regime(
     """
     out = []
     for i, label in enumerate(problem.labels):
-        mode = dominant_mode(problem.models[i], result.condition_params[i], problem.solver)
+        model, params = problem.models[i], result.condition_params[i]
+        if isinstance(problem.solver, NormalForce):  # no dominant mode: the beat's
+            mode = normal_force_mode(model, params, problem.shift)
+        else:
+            mode = dominant_mode(model, params, problem.solver)
         lam = complex(mode.eigenvalue)
         if math.isfinite(lam.real) and math.isfinite(lam.imag):
             name, r = classify_regime(lam, threshold)
