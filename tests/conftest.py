@@ -97,7 +97,8 @@ def pytest_configure(config):
         shutil.rmtree(path / WARM_SUBDIR, ignore_errors=True)
     config.stash[_OLD_CACHE_ENV] = os.environ.get(CACHE_ENV)
     os.environ[CACHE_ENV] = str(path)
-    ax.enable_compilation_cache(path)
+    # unbounded: the suite's own folder, read by several workers (no eviction lock to share)
+    ax.enable_compilation_cache(path, max_mb=-1)
 
 
 def pytest_unconfigure(config):
