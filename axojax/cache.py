@@ -58,7 +58,7 @@ def default_cache_dir() -> pathlib.Path:
 
 
 def enable_compilation_cache(
-    path: str | os.PathLike | None = None, max_mb: float | None = None
+    path: str | os.PathLike | None = None, max_mb: float | int | None = None
 ) -> pathlib.Path:
     """Keep compiled programs in ``path`` (default :func:`default_cache_dir`) from now on,
     for this process, at most ``max_mb`` MB of them (default :func:`max_mb_setting`; -1:
