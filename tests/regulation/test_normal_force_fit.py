@@ -120,6 +120,7 @@ def _cli_fit(*extra, gain=None, omega0=True, moment=True):
     return main([*argv, "--no-mesh-check", *extra])
 
 
+@pytest.mark.slow  # an end-to-end fit (the quick suite within 20 CPU-minutes)
 def test_fit_command_recovers_the_normal_force_gain(truth, capsys):
     """``axojax fit --mechanism normal-force --free normal_re,normal_im``: the beat nearest
     i omega0 (--omega0-hz) of the augmented pencil pinned at growth 0 and the frequency

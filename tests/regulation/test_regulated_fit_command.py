@@ -7,6 +7,7 @@ i omega0."""
 import json
 
 import numpy as np
+import pytest
 import scipy.linalg as sl
 
 import axojax as ax
@@ -17,6 +18,7 @@ UNITS = ax.Units()
 F_HZ = 30.0
 
 
+@pytest.mark.slow  # an end-to-end fit (the quick suite within 20 CPU-minutes)
 def test_fit_command_puts_the_curvature_controlled_beat_at_the_hopf_point(capsys):
     argv = ["fit", "--model", "two", "--elements", "6", "--p", "0", "--kl", "1000"]
     argv += ["--mechanism", "curvature", "--beta", "1,1", "--omega0-hz", str(F_HZ)]
