@@ -27,7 +27,6 @@ from typing import Any
 import numpy as np
 
 from ... import _io
-from ..._progress import progress as progress_bar
 from ...beats.data import BeatData, read_beat
 from ...beats.frames import in_basal_frame
 from ...beats.targets import FRAMES
@@ -36,7 +35,6 @@ from ...models.presets import preset_section
 from ...results import jsonable
 from ...results import name as result_name
 from ...units import ORGANISMS, Organism, Units
-from ..fitting.fit import build_problem
 from ..fitting.identifiability import distinct_optima
 from ..fitting.least_squares import least_squares, solver_from_name
 from ..fitting.report import FitResult
@@ -54,9 +52,11 @@ from .mechanisms import (
     nested_order,
     row,
     row_at_bound,
+    row_problem,
     with_compliance,
 )
 from .robustness import cycle_bootstrap
+from .schedule import default_workers, fit_rows
 from .starts import SCREEN, hopf_starts, nested_starts, row_starts, screened_starts, values_to_u
 from .table import PHYSICAL, render_params, render_table
 from .verdict import rank, row_status, verdict
@@ -373,6 +373,7 @@ def compare(
     compliance: bool | str | None = None,
     organism: str | Organism | None = None,
     frame: str = "lab",
+    workers: int | None = None,
 ) -> Comparison:
     """Fit every mechanism x base to one beat and rank them by BIC.
 
@@ -420,6 +421,8 @@ def compare(
             and its head's semi-axes (unless ``head`` is given).
         frame: ``"lab"`` (psi as recorded) or ``"basal"`` (model and data relative to the
             basal tangent, psi(s) - psi(0): :mod:`axojax.beats.frames`).
+        workers: rows fitted at a time (default: the cores, at most 4; each row the
+            same as alone: :mod:`axojax.inverse.comparison.schedule`).
         progress: progress over rows on stderr from the start (the first row's
             compilation included): a bar on a terminal, plain lines into a file or pipe
             (:mod:`axojax._progress`'s rule; ``axojax compare --quiet`` turns it off).
@@ -463,30 +466,26 @@ def compare(
 
         head = Base.head_from_ellipsoid(*head, DEFAULT_VISCOSITY_PA_S, units)
     t0 = time.perf_counter()
-    rows: list[CompareRow] = []
-    fitted: dict[tuple[str, str], CompareRow] = {}
     asked = [(m, b) for b in bases for m in mechanisms]
     # the rows each asked row contains are fitted first, for their optima, even when not
     # asked for (then not ranked): a row's fit must never fall below theirs
     combos = nested_order(list(dict.fromkeys(c for a in asked for c in [*contained(*a), a])))
-    for mech, base in progress_bar(
-        combos, desc="compare rows", unit="row", enable=progress, starting=True
-    ):
+
+    def fit_one(combo: tuple[str, str], inner: list[CompareRow]) -> CompareRow:
+        mech, base = combo
         the_model = build_model(model, n_elements, base, units, head, profiles)
         spec = row(mech, base, the_model, units, f_obs, pin_tolerance=pin_tolerance)
-        inner = [fitted[c] for c in contained(mech, base) if c in fitted]
         reason = static_state.not_applicable_reason(mech, base, shape)
         if reason is not None:
-            fitted[(mech, base)] = CompareRow.not_applicable(mech, base, spec.free, reason)
-            rows.extend([fitted[(mech, base)]] if (mech, base) in asked else [])
-            continue
+            return CompareRow.not_applicable(mech, base, spec.free, reason)
         spec = static_state.with_static_state(spec, shape, units, f_obs, pin_tolerance)
-        r = fit_row(
+        return fit_row(
             spec, shape, units, optimiser, starts, seed, shape_floor, f_obs, pin_tolerance, inner
         )
-        fitted[(mech, base)] = r
-        if (mech, base) in asked:
-            rows.append(r)
+
+    workers = default_workers() if workers is None else workers
+    fitted = fit_rows(combos, fit_one, contained, workers=workers, progress=progress)
+    rows = [fitted[c] for c in combos if c in set(asked)]  # in the order they were fitted
     auxiliary = [r for c, r in fitted.items() if c not in asked]
     rank(rows)
     return Comparison(
@@ -507,26 +506,6 @@ def compare(
         psi1_sigma=np.asarray(shape.sigma, dtype=float),
         frame=frame,
         auxiliary=auxiliary,
-    )
-
-
-def row_problem(spec, shape, units: Units, shape_floor: float = SHAPE_FLOOR) -> Problem:
-    """The inverse problem of one row (a :class:`~axojax.inverse.comparison.mechanisms.Row`)
-    on the observed ``shape`` (a :class:`~axojax.beats.ShapeTarget`)."""
-    return build_problem(
-        spec.model,
-        spec.params,
-        list(spec.targets),
-        spec.free,
-        shape=shape,
-        bounds=spec.bounds,
-        kl_ratio=spec.kl_ratio,
-        units=units,
-        shape_floor=shape_floor,
-        shift=spec.shift,
-        mechanism=spec.mechanism,
-        base=spec.base,
-        **({} if spec.solver is None else {"solver": spec.solver}),
     )
 
 

@@ -80,7 +80,9 @@ from ...models import build_model as build_section_model
 from ...models.section import Model
 from ...params import CB_FLOOR, Params
 from ...units import Units
+from ..fitting.fit import build_problem
 from ..parameters import DEFAULT_BOUNDS
+from ..problem import SHAPE_FLOOR, Problem
 
 MECHANISMS = (
     "steady",
@@ -458,3 +460,23 @@ def row_at_bound(row: Row, values: dict[str, float], at_bound) -> list[str]:
 def compliance_of(kb: float) -> float:
     """The cb that :meth:`Params.replace` maps to exactly ``kb`` (:data:`DERIVED_NAMES`)."""
     return 1.0 / kb - CB_FLOOR
+
+
+def row_problem(spec, shape, units: Units, shape_floor: float = SHAPE_FLOOR) -> Problem:
+    """The inverse problem of one row (a :class:`~axojax.inverse.comparison.mechanisms.Row`)
+    on the observed ``shape`` (a :class:`~axojax.beats.ShapeTarget`)."""
+    return build_problem(
+        spec.model,
+        spec.params,
+        list(spec.targets),
+        spec.free,
+        shape=shape,
+        bounds=spec.bounds,
+        kl_ratio=spec.kl_ratio,
+        units=units,
+        shape_floor=shape_floor,
+        shift=spec.shift,
+        mechanism=spec.mechanism,
+        base=spec.base,
+        **({} if spec.solver is None else {"solver": spec.solver}),
+    )

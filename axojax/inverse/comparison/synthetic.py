@@ -17,8 +17,7 @@ import numpy as np
 
 from ...beats import ShapeTarget
 from ...units import ORGANISMS
-from .compare import row_problem
-from .mechanisms import build_model, row
+from .mechanisms import build_model, row, row_problem
 from .starts import hopf_starts, values_to_u
 
 
