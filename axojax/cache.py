@@ -34,6 +34,7 @@ in Python, ``posterior(..., cache=True)`` (the same directory, ``off`` honoured)
 from __future__ import annotations
 
 import dataclasses
+import math
 import os
 import pathlib
 import shutil
@@ -68,7 +69,7 @@ def enable_compilation_cache(
     directory = pathlib.Path(path) if path is not None else default_cache_dir()
     directory.mkdir(parents=True, exist_ok=True)
     bound = max_mb_setting() if max_mb is None else max_mb
-    if not (bound == -1 or bound > 0):
+    if not (bound == -1 or (math.isfinite(bound) and bound > 0)):
         raise ValueError(f"max_mb: expected a size in MB > 0, or -1 for no bound, got {bound!r}")
     jax.config.update("jax_compilation_cache_dir", str(directory))
     jax.config.update("jax_persistent_cache_min_compile_time_secs", MIN_COMPILE_SECONDS)
@@ -115,9 +116,9 @@ def max_mb_setting() -> float:
         value = float(text)
     except ValueError:
         value = float("nan")
-    if not (value == -1 or value > 0):
+    if not (value == -1 or (math.isfinite(value) and value > 0)):
         raise ValueError(
-            f"{MAX_MB_ENV}: expected a size in MB > 0, or -1 for no bound, got {text!r}"
+            f"{MAX_MB_ENV}: expected a finite size in MB > 0, or -1 for no bound, got {text!r}"
         )
     return value
 

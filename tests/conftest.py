@@ -97,6 +97,9 @@ def pytest_configure(config):
         shutil.rmtree(path / WARM_SUBDIR, ignore_errors=True)
     config.stash[_OLD_CACHE_ENV] = os.environ.get(CACHE_ENV)
     os.environ[CACHE_ENV] = str(path)
+    # the suite's workers already fill the cores: a comparison's rows one at a time there
+    # (tests/comparison/test_schedule.py runs them two at a time and checks they agree)
+    os.environ.setdefault("AXOJAX_COMPARE_WORKERS", "1")
     # unbounded: the suite's own folder, read by several workers (no eviction lock to share)
     ax.enable_compilation_cache(path, max_mb=-1)
 

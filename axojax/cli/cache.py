@@ -43,7 +43,10 @@ def run(args: argparse.Namespace) -> dict:
         "removed": None,
     }
     if directory is not None and args.action == "clear":
-        gone = cache.clear_cache(directory)
+        try:
+            gone = cache.clear_cache(directory)
+        except OSError as err:  # a read-only folder, a file in the way
+            raise common.CLIError(f"cache clear: {directory}: {err.strerror or err}") from None
         doc["removed"] = {
             "programs": gone.programs,
             "warm_states": gone.warm_states,

@@ -317,6 +317,8 @@ def run(args: argparse.Namespace) -> dict:
                 frame=args.frame,
             )
     except ValueError as err:
+        if str(err).startswith("AXOJAX_"):  # an environment setting names itself
+            raise common.CLIError(str(err)) from None
         raise common.CLIError(f"--data: {err}") from None
     return _document(args, result)
 

@@ -32,7 +32,17 @@ def test_a_row_starts_after_the_rows_it_contains_and_results_keep_their_order():
     assert list(one) == list(two) == combos
     assert one == two
     assert two[("a+b", "x")] == (("a+b", "x"), [("a", "x"), ("b", "x")])
+
+
+def test_workers_by_default_follow_the_setting_or_the_cores(monkeypatch):
+    monkeypatch.setenv("AXOJAX_COMPARE_WORKERS", "3")
+    assert default_workers() == 3
+    monkeypatch.delenv("AXOJAX_COMPARE_WORKERS")
     assert 1 <= default_workers() <= 4
+    for bad in ("0", "two", "-1", "1.5"):
+        monkeypatch.setenv("AXOJAX_COMPARE_WORKERS", bad)
+        with pytest.raises(ValueError, match=f"AXOJAX_COMPARE_WORKERS: .*{bad!r}"):
+            default_workers()
 
 
 def test_a_failing_row_fails_the_schedule():
@@ -62,3 +72,13 @@ def test_two_rows_at_a_time_give_the_same_comparison():
     for a, b in zip(one.rows, two.rows):
         assert a.params == b.params and a.status == b.status
         np.testing.assert_array_equal(a.psi1_model, b.psi1_model)
+
+
+def test_a_bad_workers_setting_is_one_line_from_the_command(monkeypatch, capsys):
+    from axojax.cli.main import main
+
+    monkeypatch.setenv("AXOJAX_COMPARE_WORKERS", "zero")
+    argv = ["compare", "--data", "human_sperm", "--mechanisms", "steady", "--bases", "clamped"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == "axojax: error: AXOJAX_COMPARE_WORKERS: expected an integer >= 1, got 'zero'"

@@ -147,7 +147,7 @@ def test_cache_bound_setting_accepts_sizes_and_no_bound(monkeypatch, value, expe
     assert ax.cache.max_mb_setting() == expected
 
 
-@pytest.mark.parametrize("value", ["0", "-5", "lots", "nan"])
+@pytest.mark.parametrize("value", ["0", "-5", "lots", "nan", "inf"])
 def test_cache_bound_setting_refuses_in_one_line(monkeypatch, capsys, value):
     monkeypatch.setenv("AXOJAX_CACHE_MAX_MB", value)
     assert main(["cache"]) == 2
@@ -199,3 +199,14 @@ def test_first_run_message_only_for_compiling_commands_on_an_empty_cache():
     assert not first_run(["compare", "--quiet"], 0)
     assert not first_run(["modes", "--help"], 0)
     assert not first_run(["plot", "a.json"], 0) and not first_run(["cache", "clear"], 0)
+
+
+def test_cache_clear_that_cannot_remove_says_so_in_one_line(tmp_path, monkeypatch, capsys):
+    def refuse(directory):
+        raise PermissionError(13, "Permission denied")
+
+    monkeypatch.setenv("AXOJAX_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(ax.cache, "clear_cache", refuse)
+    assert main(["cache", "clear"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == f"axojax: error: cache clear: {tmp_path}: Permission denied", err

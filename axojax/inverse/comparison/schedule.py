@@ -27,8 +27,19 @@ MAX_WORKERS = 4
 Combo = tuple[str, str]
 
 
+WORKERS_ENV = "AXOJAX_COMPARE_WORKERS"
+"""Rows at a time when ``compare`` is not told (e.g. 1 where other jobs fill the cores)."""
+
+
 def default_workers() -> int:
-    """Rows at a time by default: the machine's cores, at most :data:`MAX_WORKERS`."""
+    """Rows at a time by default: ``AXOJAX_COMPARE_WORKERS`` when set (an integer >= 1;
+    a ``ValueError`` naming it otherwise), else the machine's cores, at most
+    :data:`MAX_WORKERS`."""
+    text = os.environ.get(WORKERS_ENV, "").strip()
+    if text:
+        if not (text.isdigit() and int(text) >= 1):
+            raise ValueError(f"{WORKERS_ENV}: expected an integer >= 1, got {text!r}")
+        return int(text)
     return max(1, min(os.cpu_count() or 1, MAX_WORKERS))
 
 
