@@ -110,7 +110,7 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
-    first = next((a for a in argv if not a.startswith("-")), None)
+    first = _command(argv)
     parser = build_parser(first if first in SUBCOMMANDS else None)
     try:
         args = parser.parse_args(argv)
@@ -144,12 +144,11 @@ def _profiled(on: bool):
         return
     from ..compile_profile import compile_profile
 
-    with compile_profile() as profile:
-        try:
+    try:
+        with compile_profile() as profile:
             yield
-        finally:
-            pass
-    print(profile.table(), file=sys.stderr)
+    finally:
+        print(profile.table(), file=sys.stderr)
 
 
 def _stdout_gone() -> int:
@@ -187,20 +186,24 @@ def many_programs(argv: list[str]) -> bool:
     """Whether this command builds many programs and runs each briefly (the linear
     ``compare``: two per row), so that XLA's backend optimisation level 0 saves more
     compilation than it costs (``axojax._runtime``, item 5)."""
-    command = next((a for a in argv if not a.startswith("-")), None)
     whole_beat = any(
         a == "--target=limit-cycle" or (a == "--target" and b == "limit-cycle")
         for a, b in zip(argv, [*argv[1:], ""])
     )
-    return command == "compare" and not whole_beat
+    return _command(argv) == "compare" and not whole_beat
 
 
 def first_run(argv: list[str], programs: int) -> bool:
     """Whether to say that this run compiles and later ones will not: a compiling command
     (:data:`COMPILING`), not asked for help or quiet, and a cache with no programs yet."""
-    command = next((a for a in argv if not a.startswith("-")), None)
     asked = {"-h", "--help", "--quiet", "--version"} & set(argv)
-    return command in COMPILING and not asked and programs == 0
+    return _command(argv) in COMPILING and not asked and programs == 0
+
+
+def _command(argv: list[str]) -> str | None:
+    """The subcommand's name: the first argument that is not a flag (the flags before it,
+    --quiet and --profile-compile, take no value)."""
+    return next((a for a in argv if not a.startswith("-")), None)
 
 
 if __name__ == "__main__":

@@ -45,3 +45,9 @@ def test_profile_compile_flag_prints_the_table_on_stderr(capsys):
     assert capsys.readouterr().err.startswith("compilation: ")
     assert main(["modes", "--model", "two", "--elements", "3"]) == 0
     assert "compilation: " not in capsys.readouterr().err
+
+
+def test_profile_table_also_after_a_refused_run(capsys):
+    assert main(["--profile-compile", "modes", "--model", "two", "--elements", "0"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("compilation: ") and "axojax: error: " in err, err
