@@ -68,9 +68,7 @@ def enable_compilation_cache(
 
     directory = pathlib.Path(path) if path is not None else default_cache_dir()
     directory.mkdir(parents=True, exist_ok=True)
-    bound = max_mb_setting() if max_mb is None else max_mb
-    if not (bound == -1 or (math.isfinite(bound) and bound > 0)):
-        raise ValueError(f"max_mb: expected a size in MB > 0, or -1 for no bound, got {bound!r}")
+    bound = max_mb_setting() if max_mb is None else _bound(max_mb, "max_mb", repr(max_mb))
     jax.config.update("jax_compilation_cache_dir", str(directory))
     jax.config.update("jax_persistent_cache_min_compile_time_secs", MIN_COMPILE_SECONDS)
     jax.config.update("jax_persistent_cache_min_entry_size_bytes", 0)
@@ -115,25 +113,29 @@ def max_mb_setting() -> float:
     try:
         value = float(text)
     except ValueError:
-        value = float("nan")
+        value = math.nan
+    return _bound(value, MAX_MB_ENV, repr(text))
+
+
+def _bound(value: float | int, name: str, shown: str) -> float:
+    """``value`` as a cache bound in MB (finite and > 0, or -1), else a one-line
+    ``ValueError`` naming ``name`` and the value as given (``shown``)."""
     if not (value == -1 or (math.isfinite(value) and value > 0)):
         raise ValueError(
-            f"{MAX_MB_ENV}: expected a finite size in MB > 0, or -1 for no bound, got {text!r}"
+            f"{name}: expected a finite size in MB > 0, or -1 for no bound, got {shown}"
         )
-    return value
+    return float(value)
 
 
 def command_line_cache() -> pathlib.Path | None:
     """The command line's choice (module docstring): the directory now in use, or None."""
     import jax
 
-    setting = os.environ.get(CACHE_ENV)
-    if setting is not None and _off(setting):
-        return None
-    if not quiet_loader(jax.__version__):
+    directory = configured_cache_dir()
+    if directory is None or not quiet_loader(jax.__version__):
         return None
     try:
-        return enable_compilation_cache(setting or None)
+        return enable_compilation_cache(directory)
     except OSError:  # e.g. a read-only home: run without the cache
         return None
 
