@@ -104,6 +104,7 @@ def test_rows_without_a_static_bend_or_off_the_clamped_base_say_why():
     assert not_applicable_reason("sliding", "free", flat) is None
 
 
+@pytest.mark.slow  # the longest quick test (29 s): the quick suite within 20 CPU-minutes
 def test_compare_fits_the_normal_force_row_that_made_the_beat(beat):
     """The normal-force row converges with R^2 > 0.99 and its gain within 3 standard
     errors of the truth (the row's reported errors, which hold the measured static
