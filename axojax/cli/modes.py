@@ -11,7 +11,7 @@ from ..eigen.mode import DEFAULT_SOLVER, dominant_mode, spectrum
 from ..units import Units
 from ..waveform.measures import sensitive_note, wavelength_text
 from . import common
-from .regulation import add_motor_tau_flag, motor_tau_from_args
+from .regulation import add_motor_tau_flag, motor_tau_from_args, require_static_normal_force
 
 METRICS = ("growth_rate_per_s", "frequency_hz", "wavelength_um")
 INFINITE_RATIO = 1e8
@@ -79,11 +79,7 @@ def normal_force(args: argparse.Namespace, model, params, units: Units) -> dict:
             raise common.CLIError(
                 f"{flag}: not with --mechanism normal-force yet (its pencil is solved densely, issue 55)"
             )
-    if float(params.p) == 0 and float(params.m0) == 0:
-        raise common.CLIError(
-            "--mechanism normal-force: no static normal force (p = 0 and no --static-moment-pn): "
-            "the gain would act on nothing"
-        )
+    require_static_normal_force(params)
     try:
         system = assemble_normal(model, params)
     except ValueError as err:

@@ -243,3 +243,13 @@ def motor_kinetics_lines(doc: dict, what: str) -> list[str]:
         f"motor kinetics: tau_m = {motors['tau_ms']:g} ms ({what})"
         + ("" if sat is None else f", saturating at {sat:g} pN/um")
     ]
+
+
+def require_static_normal_force(params: Params) -> None:
+    """One-line :class:`CLIError` for normal-force control without a static normal force
+    (p = 0 and no ``--static-moment-pn``): its gain would act on nothing."""
+    if float(params.p) == 0 and float(params.m0) == 0:
+        raise CLIError(
+            "--mechanism normal-force: no static normal force (p = 0 and no "
+            "--static-moment-pn): the gain would act on nothing"
+        )

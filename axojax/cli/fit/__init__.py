@@ -33,7 +33,7 @@ from ...inverse.sampling import (  # a posterior's fit: the library's defaults
 )
 from ...params import DEFAULT_CUBIC
 from .. import common
-from ..regulation import add_motor_tau_flag
+from ..regulation import add_motor_tau_flag, require_static_normal_force
 from . import inputs, whole_beat
 from . import posterior as fit_posterior
 from .text import (
@@ -403,11 +403,7 @@ def _regulated(args: argparse.Namespace, model, params) -> dict:
                 f"--solver {args.solver}: normal-force control has its own eigen-solver (the "
                 "augmented pencil, solved densely); leave --solver out"
             )
-        if float(params.p) == 0 and float(params.m0) == 0:
-            raise common.CLIError(
-                "--mechanism normal-force: no static normal force (p = 0 and no "
-                "--static-moment-pn): the gain would act on nothing"
-            )
+        require_static_normal_force(params)
         options["solver"] = NormalForce()
     return options
 
